@@ -1,0 +1,32 @@
+//! The JavaScript surface: one file per widget, each a thin wrapper that
+//! validates nothing itself (the core does), converts types, and turns
+//! [`crate::OccError`] into a JavaScript `Error` through `?` (`JsError`
+//! takes any `std::error::Error`). No algorithm lives here.
+
+use wasm_bindgen::prelude::*;
+
+pub mod cell_filter;
+pub mod real_log;
+
+#[wasm_bindgen(start)]
+fn start() {
+    // A panic would be a bug (every input path returns errors); if one ever
+    // happens, make its message readable in the console.
+    console_error_panic_hook::set_once();
+}
+
+/// Serialises a small readout for JavaScript (plain objects, not Maps).
+pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
+    let serializer = serde_wasm_bindgen::Serializer::json_compatible();
+    value
+        .serialize(&serializer)
+        .map_err(|e| JsError::new(&format!("cannot pass a readout to JavaScript: {e}")))
+}
+
+/// Reads a settings object from JavaScript, naming the object in the error.
+pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
+    what: &str,
+    value: JsValue,
+) -> Result<T, JsError> {
+    serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("invalid {what}: {e}")))
+}
