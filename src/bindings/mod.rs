@@ -30,3 +30,20 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
 ) -> Result<T, JsError> {
     serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("invalid {what}: {e}")))
 }
+
+/// An RGBA image of a map, kept in wasm memory so that a widget draws it
+/// through a `Uint8ClampedArray` view over `memory.buffer` instead of
+/// copying cells one by one (rebuild the view when `memory.buffer` changes).
+#[derive(Default)]
+pub(crate) struct Pixels(Vec<u8>);
+
+impl Pixels {
+    /// Renders `grid` (north up) and returns the address of its pixels.
+    pub(crate) fn render(&mut self, grid: &crate::grid::LogOddsGrid) -> *const u8 {
+        let n = grid.geometry().len() * 4;
+        self.0.resize(n, 0);
+        grid.render_rgba(&mut self.0)
+            .expect("the buffer was just sized to the grid");
+        self.0.as_ptr()
+    }
+}
