@@ -1,0 +1,30 @@
+// Loads the wasm core (the --target web package in pkg/) in Node, building it
+// first when it is missing.
+import fs from 'node:fs';
+import path from 'node:path';
+import { execFileSync } from 'node:child_process';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+
+export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+
+export async function loadCore() {
+  const wasmPath = path.join(root, 'pkg/occgrid_bg.wasm');
+  if (!fs.existsSync(wasmPath)) {
+    execFileSync('bash', [path.join(root, 'scripts/build.sh')], { stdio: ['ignore', process.stderr, 'inherit'] });
+  }
+  const core = await import(pathToFileURL(path.join(root, 'pkg/occgrid.js')).href);
+  const exports = await core.default({ module_or_path: fs.readFileSync(wasmPath) });
+  return { core, memory: exports.memory };
+}
+
+/** Runs every module of a folder (sorted by name) with `(core, args)`. */
+export async function runModules(folder, core, args) {
+  const dir = path.join(root, folder);
+  const files = fs.readdirSync(dir).filter((f) => f.endsWith('.mjs')).sort();
+  const results = [];
+  for (const f of files) {
+    const mod = await import(pathToFileURL(path.join(dir, f)).href);
+    results.push(await mod.default(core, args));
+  }
+  return results;
+}

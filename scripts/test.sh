@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Every test tier: the native core, the bindings as wasm under Node, and the
+# widgets in a real browser.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/env.sh
+bash scripts/setup.sh --browser
+
+echo "== native: cargo test"
+cargo test --quiet
+
+echo "== wasm: wasm-pack test --node"
+wasm-pack --log-level warn test --node
+
+echo "== browser: Chromium"
+bash scripts/build.sh
+node --test --test-concurrency=1 tests/browser/

@@ -1,0 +1,68 @@
+// Opens pages of the chapter in Debian's Chromium (driven by playwright-core)
+// against the project's own server on a free loopback port, and collects
+// every console error and uncaught page error.
+import fs from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+import { listen } from '../../scripts/serve.mjs';
+
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+const FLAGS = [
+  '--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync', '--no-first-run', '--disable-quic',
+];
+export const SCREENSHOTS = path.resolve(path.dirname(new URL(import.meta.url).pathname), 'screenshots');
+
+let shared = null;
+
+/** One server and one browser for the whole test file. */
+async function startShared() {
+  if (!shared) {
+    shared = (async () => {
+      const { server, port } = await listen(0);
+      const browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
+      return { server, port, browser };
+    })();
+  }
+  return shared;
+}
+
+/** The base URL of the test server, e.g. http://127.0.0.1:PORT */
+export async function baseUrl() {
+  const { port } = await startShared();
+  return `http://127.0.0.1:${port}`;
+}
+
+/**
+ * Opens `urlPath` and returns `{ page, errors, close }`. `errors` holds the
+ * text of every console error and page error seen so far.
+ */
+export async function openPage(urlPath = '/', { viewport = { width: 1200, height: 900 }, reducedMotion = 'no-preference', deviceScaleFactor = 1 } = {}) {
+  const { port, browser } = await startShared();
+  const context = await browser.newContext({ viewport, reducedMotion, deviceScaleFactor });
+  const page = await context.newPage();
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
+  const url = urlPath.startsWith('http') ? urlPath : `http://127.0.0.1:${port}${urlPath}`;
+  await page.goto(url, { waitUntil: 'load' });
+  return { page, errors, close: () => context.close() };
+}
+
+/** Saves a screenshot of a locator or page under tests/browser/screenshots/. */
+export async function screenshot(target, name) {
+  fs.mkdirSync(SCREENSHOTS, { recursive: true });
+  const file = path.join(SCREENSHOTS, `${name}.png`);
+  await target.screenshot({ path: file });
+  return file;
+}
+
+/** Closes the shared browser and server (call from `after`). */
+export async function shutdown() {
+  if (!shared) return;
+  const { server, browser } = await shared;
+  shared = null;
+  await browser.close();
+  await new Promise((r) => server.close(r));
+}

@@ -1,0 +1,104 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! The chapter's single-cell numbers and the bookkeeping of the prior.
+
+use approx::assert_abs_diff_eq;
+use occgrid::cell_filter::{self, CellFilterParams};
+use occgrid::grid::{binary_entropy_bits, logit, FilterSettings, GridGeometry, LogOddsGrid};
+
+#[test]
+fn worked_example_matches_the_chapter_to_four_decimals() {
+    let lo = cell_filter::log_odds_of(&CellFilterParams::WORKED_EXAMPLE).unwrap();
+    assert_abs_diff_eq!(lo.l_occ, 0.8473, epsilon = 1e-4);
+    assert_abs_diff_eq!(lo.l_free, -0.8473, epsilon = 1e-4);
+    let steps = cell_filter::run(&CellFilterParams::WORKED_EXAMPLE, &[true, true, false], true).unwrap();
+    let expected = [(0.8473, 0.7000), (1.6946, 0.8448), (0.8473, 0.7000)];
+    for (s, (l, p)) in steps.iter().zip(expected) {
+        assert_abs_diff_eq!(s.l, l, epsilon = 1e-4);
+        assert_abs_diff_eq!(s.p, p, epsilon = 1e-4);
+    }
+}
+
+#[test]
+fn any_order_of_the_same_readings_ends_at_the_same_log_odds() {
+    let orders = [
+        [true, true, false],
+        [true, false, true],
+        [false, true, true],
+    ];
+    let params = CellFilterParams { prior: 0.3, ..CellFilterParams::WORKED_EXAMPLE };
+    let ends: Vec<f64> = orders
+        .iter()
+        .map(|o| cell_filter::run(&params, o, true).unwrap().last().unwrap().l)
+        .collect();
+    for e in &ends {
+        assert_abs_diff_eq!(*e, ends[0], epsilon = 1e-12);
+    }
+    // The same holds for a grid cell updated through `apply`.
+    let g = GridGeometry::new(1, 1, 0.1, 0.0, 0.0).unwrap();
+    let mut a = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    let mut b = a.clone();
+    for e in [0.85f32, -0.4, 0.85, 0.85, -0.4] {
+        a.apply(0, e);
+    }
+    for e in [-0.4f32, -0.4, 0.85, 0.85, 0.85] {
+        b.apply(0, e);
+    }
+    assert_abs_diff_eq!(a.log_odds()[0], b.log_odds()[0], epsilon = 1e-6);
+}
+
+#[test]
+fn forgetting_to_subtract_l0_with_prior_0_2_drifts_by_l0_per_reading() {
+    let params = CellFilterParams { p_occ: 0.37, p_free: 0.1, prior: 0.2, clamp: 100.0 };
+    let readings: Vec<bool> = (0..10).map(|i| i % 2 == 0).collect();
+    let kept = cell_filter::run(&params, &readings, true).unwrap();
+    let forgot = cell_filter::run(&params, &readings, false).unwrap();
+    let l0 = logit(0.2);
+    for (i, (k, f)) in kept.iter().zip(&forgot).enumerate() {
+        // Each reading counts the prior once more: after n readings the gap is n * l0.
+        assert_abs_diff_eq!(f.l - k.l, (i + 1) as f64 * l0, epsilon = 1e-9);
+    }
+    // With the subtraction, readings symmetric around the prior stay near it;
+    // without it the cell ends far on the free side.
+    assert!((kept.last().unwrap().l - l0).abs() < 0.3);
+    assert!(forgot.last().unwrap().p < 1e-5);
+}
+
+#[test]
+fn clamp_saturates_and_keeps_the_cell_revisable() {
+    let params = CellFilterParams { clamp: 3.5, ..CellFilterParams::WORKED_EXAMPLE };
+    let mut readings = vec![true; 40];
+    let steps = cell_filter::run(&params, &readings, true).unwrap();
+    assert_eq!(steps.last().unwrap().l, 3.5, "saturates at the clamp");
+    // From the clamp, ceil(3.5 / 0.8473) = 5 free readings bring it below 0.5.
+    readings.extend([false; 5]);
+    let steps = cell_filter::run(&params, &readings, true).unwrap();
+    assert!(steps.last().unwrap().p < 0.5);
+    assert!(steps[steps.len() - 2].p > 0.5);
+    // Without a clamp (a huge one), the same 5 free readings barely dent it.
+    let unclamped = CellFilterParams { clamp: 1e6, ..params };
+    let steps = cell_filter::run(&unclamped, &readings, true).unwrap();
+    assert!(steps.last().unwrap().p > 0.99);
+}
+
+#[test]
+fn a_fresh_map_holds_exactly_one_bit_per_cell() {
+    let g = GridGeometry::new(120, 90, 0.1, 0.0, 0.0).unwrap();
+    let m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    assert_eq!(m.entropy_bits(), 10_800.0);
+    let biased = LogOddsGrid::new(g, FilterSettings { prior: 0.2, clamp: 12.0 }).unwrap();
+    // l0 is stored as f32, so the prior comes back to about 1e-8.
+    assert_abs_diff_eq!(biased.entropy_bits(), 10_800.0 * binary_entropy_bits(0.2), epsilon = 1e-3);
+}
+
+#[test]
+fn brier_score_of_a_certain_map_is_zero_and_of_a_fresh_one_a_quarter() {
+    let g = GridGeometry::new(4, 1, 0.1, 0.0, 0.0).unwrap();
+    let mut m = LogOddsGrid::new(g, FilterSettings { prior: 0.5, clamp: 40.0 }).unwrap();
+    let truth = [true, false, true, false];
+    assert_abs_diff_eq!(m.brier_score(&truth, None).unwrap(), 0.25, epsilon = 1e-12);
+    for (i, &t) in truth.iter().enumerate() {
+        m.apply(i, if t { 40.0 } else { -40.0 });
+    }
+    assert!(m.brier_score(&truth, None).unwrap() < 1e-12);
+    assert!(m.brier_score(&truth, Some(&[0, 1])).unwrap() < 1e-12);
+}

@@ -1,0 +1,185 @@
+// <occgrid-cell-filter>: one cell's binary Bayes filter, reading by reading
+// (Table 9.1, line 4). The reader clicks "occupied" / "free" readings and
+// sees step, reading, l and p, every number computed by the wasm core. The
+// default is the chapter's worked example; the "forget to subtract l0"
+// toggle shows why the prior must be removed once per update.
+//
+// Attributes: p-occ, p-free, prior (probabilities strictly between 0 and 1),
+// readings (a string of o/f letters, e.g. "oof"), forget-l0 (boolean).
+import { loadCore } from './lib/core.js';
+import { lineChart, COLORS } from './lib/chart.js';
+import { el, slider, button, toggle, showError, clearError, ensureStyles, fixed } from './lib/ui.js';
+
+const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] };
+// The l0 lesson: a prior of 0.2 and an inverse model whose two answers sit
+// symmetrically around it in log odds (logit 0.37 and logit 0.10 are about
+// l0 + 0.85 and l0 - 0.85), so alternating readings keep the cell near l0 —
+// until the update forgets to remove l0.
+const L0_LESSON = { pOcc: 0.37, pFree: 0.1, prior: 0.2, readings: [1, 0, 1, 0, 1, 0, 1, 0], forget: true };
+const CLAMP = 12;
+
+function parseReadings(text) {
+  const out = [];
+  for (const ch of text.replace(/[\s,]/g, '')) {
+    if (ch === 'o' || ch === 'O' || ch === '1') out.push(1);
+    else if (ch === 'f' || ch === 'F' || ch === '0') out.push(0);
+    else throw new Error(`invalid readings: "${text}" (expected letters o for occupied and f for free)`);
+  }
+  return out;
+}
+
+function parseProbability(name, text) {
+  const v = Number(text);
+  if (text.trim() === '' || !Number.isFinite(v) || v <= 0 || v >= 1) {
+    throw new Error(`invalid ${name}: "${text}" (expected a probability strictly between 0 and 1)`);
+  }
+  return v;
+}
+
+class CellFilterElement extends HTMLElement {
+  static observedAttributes = ['p-occ', 'p-free', 'prior', 'readings', 'forget-l0'];
+
+  constructor() {
+    super();
+    this.state = { ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false };
+    this.ready = false;
+  }
+
+  async connectedCallback() {
+    if (this.built) return;
+    this.built = true;
+    ensureStyles();
+    this.readAttributes();
+    this.build();
+    try {
+      ({ core: this.core } = await loadCore());
+      this.ready = true;
+      this.render();
+    } catch (e) {
+      showError(this, e, 'could not load the core: ');
+    }
+  }
+
+  attributeChangedCallback() {
+    if (!this.built) return;
+    this.readAttributes();
+    this.syncControls();
+    this.render();
+  }
+
+  /** Reads the attributes into the state; a bad value is reported in the widget. */
+  readAttributes() {
+    try {
+      const a = (n) => this.getAttribute(n);
+      const next = { ...this.state };
+      if (a('p-occ') !== null) next.pOcc = parseProbability('p-occ', a('p-occ'));
+      if (a('p-free') !== null) next.pFree = parseProbability('p-free', a('p-free'));
+      if (a('prior') !== null) next.prior = parseProbability('prior', a('prior'));
+      if (a('readings') !== null) next.readings = parseReadings(a('readings'));
+      next.forget = this.hasAttribute('forget-l0');
+      this.state = next;
+      this.attributeError = null;
+    } catch (e) {
+      this.attributeError = e;
+    }
+  }
+
+  build() {
+    const s = this.state;
+    this.sliders = {
+      pOcc: slider({ label: 'p(m | occupied reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pOcc, format: (v) => v.toFixed(2), onInput: (v) => this.set({ pOcc: v }) }),
+      pFree: slider({ label: 'p(m | free reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pFree, format: (v) => v.toFixed(2), onInput: (v) => this.set({ pFree: v }) }),
+      prior: slider({ label: 'prior p(m)', min: 0.05, max: 0.95, step: 0.05, value: s.prior, format: (v) => v.toFixed(2), onInput: (v) => this.set({ prior: v }) }),
+    };
+    this.forgetToggle = toggle('forget to subtract l0', s.forget, (v) => this.set({ forget: v }), { name: 'forget-l0' });
+    this.tbody = el('tbody');
+    this.summary = el('p', { class: 'occgrid-readout', 'aria-live': 'polite' });
+    this.bar = el('div');
+    this.chartBox = el('div', { class: 'cell-filter-chart', role: 'img', 'aria-label': 'log odds after each reading' });
+
+    this.append(
+      el('div', { class: 'occgrid-buttons', role: 'group', 'aria-label': 'readings' },
+        button('Occupied reading', () => this.add(1), { name: 'occupied' }),
+        button('Free reading', () => this.add(0), { name: 'free' }),
+        button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
+        button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' }),
+        button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false }), { name: 'worked-example' }),
+        button('The l0 lesson', () => this.set({ ...L0_LESSON, readings: [...L0_LESSON.readings] }), { name: 'l0-lesson', title: 'prior 0.2, alternating readings, without subtracting l0' }),
+      ),
+      el('div', { class: 'occgrid-controls' }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root, this.forgetToggle.root),
+      el('div', { class: 'cell-filter-layout' },
+        el('div', {},
+          el('table', { class: 'occgrid-table cell-filter-table' },
+            el('caption', { class: 'occgrid-sr-only' }, 'The cell after each reading'),
+            el('thead', {}, el('tr', {}, el('th', { scope: 'col' }, 'step'), el('th', { scope: 'col' }, 'reading'), el('th', { scope: 'col' }, 'l'), el('th', { scope: 'col' }, 'p'))),
+            this.tbody),
+          el('div', { class: 'cell-filter-bar', role: 'presentation' }, this.bar),
+          this.summary),
+        this.chartBox),
+      el('p', { class: 'occgrid-caption' },
+        'Each reading adds the inverse model’s log odds and removes the prior l0 once. ',
+        'The inverse model answers with a posterior, which already contains the prior; forget to remove l0 and every reading counts the prior once more. ',
+        '“The l0 lesson” uses a prior of 0.2 and answers of 0.37 / 0.10, symmetric around it: alternating readings keep the cell near l0 = −1.386, but without the subtraction each reading adds another −1.386 and the cell drifts toward free.'),
+    );
+    this.chart = lineChart(this.chartBox, {
+      xLabel: 'step', yLabel: 'log odds l',
+      series: [{ label: 'l', color: COLORS.series[0] }, { label: 'l0', color: COLORS.l0, dash: [6, 4], width: 1.5 }],
+      height: 200,
+    });
+  }
+
+  syncControls() {
+    const s = this.state;
+    this.sliders.pOcc.set(s.pOcc);
+    this.sliders.pFree.set(s.pFree);
+    this.sliders.prior.set(s.prior);
+    this.forgetToggle.input.checked = s.forget;
+  }
+
+  set(patch) {
+    this.state = { ...this.state, ...patch };
+    this.syncControls();
+    this.render();
+  }
+
+  add(reading) {
+    this.set({ readings: [...this.state.readings, reading] });
+  }
+
+  render() {
+    if (!this.ready) return;
+    if (this.attributeError) {
+      showError(this, this.attributeError);
+      return;
+    }
+    const s = this.state;
+    let table;
+    try {
+      table = this.core.runCellFilter(s.pOcc, s.pFree, s.prior, CLAMP, new Uint8Array(s.readings), !s.forget);
+      clearError(this);
+    } catch (e) {
+      showError(this, e);
+      return;
+    }
+    const row = (step, reading, l, p, cls) =>
+      el('tr', { class: cls, dataset: { l: String(l), p: String(p) } },
+        el('td', {}, step), el('td', {}, reading), el('td', { class: 'cell-filter-l' }, fixed(l, 4)), el('td', { class: 'cell-filter-p' }, fixed(p, 4)));
+    const priorP = s.prior;
+    this.tbody.replaceChildren(
+      row('0', 'prior', table.l0, priorP, 'cell-filter-prior'),
+      ...table.steps.map((st) => row(String(st.step), st.occupied ? 'occupied' : 'free', st.l, st.p)),
+    );
+    const last = table.steps.at(-1);
+    const p = last ? last.p : priorP;
+    this.bar.style.width = `${(p * 100).toFixed(1)}%`;
+    this.summary.textContent =
+      `l_occ = ${fixed(table.lOcc, 4)}, l_free = ${fixed(table.lFree, 4)}, l0 = ${fixed(table.l0, 4)}. ` +
+      (last ? `After ${last.step} reading${last.step === 1 ? '' : 's'}: l = ${fixed(last.l, 4)}, p = ${fixed(last.p, 4)}.` : 'No readings yet.');
+    this.dataset.l = last ? String(last.l) : String(table.l0);
+    const xs = [0, ...table.steps.map((st) => st.step)];
+    this.chart.setData(xs, [table.l0, ...table.steps.map((st) => st.l)], xs.map(() => table.l0));
+    this.chartBox.setAttribute('aria-label', `Log odds after each reading: ${[table.l0, ...table.steps.map((st) => st.l)].map((v) => fixed(v, 2)).join(', ')}; l0 = ${fixed(table.l0, 2)}`);
+  }
+}
+
+if (!customElements.get('occgrid-cell-filter')) customElements.define('occgrid-cell-filter', CellFilterElement);

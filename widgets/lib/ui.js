@@ -1,0 +1,183 @@
+// Small building blocks shared by the widgets: labelled controls, hi-DPI
+// canvases, map drawing from wasm memory, error boxes, visibility and motion
+// preferences. Nothing here computes a model number.
+
+const stylesheet = new URL('./occgrid.css', import.meta.url).href;
+
+/** Adds the widgets' stylesheet to the document once. */
+export function ensureStyles(href = stylesheet) {
+  if (document.querySelector(`link[data-occgrid-style="${href}"]`)) return;
+  const link = document.createElement('link');
+  link.rel = 'stylesheet';
+  link.href = href;
+  link.dataset.occgridStyle = href;
+  document.head.append(link);
+}
+
+/** `el('div', { class: 'x', onclick: f }, child, 'text')` */
+export function el(tag, props = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [k, v] of Object.entries(props)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k.startsWith('on') && typeof v === 'function') node.addEventListener(k.slice(2), v);
+    else if (k === 'class') node.className = v;
+    else if (k === 'dataset') Object.assign(node.dataset, v);
+    else if (k === 'text') node.textContent = v;
+    else node.setAttribute(k, v === true ? '' : String(v));
+  }
+  for (const c of children.flat()) if (c !== null && c !== undefined && c !== false) node.append(c);
+  return node;
+}
+
+let uid = 0;
+/** A unique id for label/for and aria links. */
+export const nextId = (prefix = 'occgrid') => `${prefix}-${++uid}`;
+
+/**
+ * A labelled range slider with a live value readout.
+ * Returns `{ root, input, value, set(v) }`; `onInput(value)` on change.
+ */
+export function slider({ label, min, max, step, value, format = String, onInput, name }) {
+  const id = nextId('slider');
+  const input = el('input', { type: 'range', id, min, max, step, value, name });
+  const out = el('output', { for: id, 'aria-live': 'off' }, format(Number(value)));
+  const root = el('div', { class: 'occgrid-control occgrid-slider' }, el('label', { for: id }, label), input, out);
+  const update = () => {
+    out.textContent = format(Number(input.value));
+    input.setAttribute('aria-valuetext', out.textContent);
+  };
+  input.addEventListener('input', () => {
+    update();
+    onInput && onInput(Number(input.value));
+  });
+  update();
+  return {
+    root,
+    input,
+    get value() { return Number(input.value); },
+    set(v) { input.value = v; update(); },
+  };
+}
+
+/** A button; `label` is its visible text, `title` an optional longer description. */
+export function button(label, onClick, { title, name, pressed } = {}) {
+  const b = el('button', { type: 'button', title, name, 'aria-pressed': pressed === undefined ? undefined : String(pressed) }, label);
+  b.addEventListener('click', onClick);
+  return b;
+}
+
+/** A labelled checkbox. Returns `{ root, input, checked }`. */
+export function toggle(label, checked, onChange, { name } = {}) {
+  const id = nextId('toggle');
+  const input = el('input', { type: 'checkbox', id, name });
+  input.checked = checked;
+  input.addEventListener('change', () => onChange(input.checked));
+  const root = el('div', { class: 'occgrid-control occgrid-toggle' }, input, el('label', { for: id }, label));
+  return { root, input, get checked() { return input.checked; } };
+}
+
+/** A labelled select. `options` is a list of [value, text]. */
+export function select(label, options, value, onChange, { name } = {}) {
+  const id = nextId('select');
+  const input = el('select', { id, name }, options.map(([v, t]) => el('option', { value: v }, t)));
+  input.value = value;
+  input.addEventListener('change', () => onChange(input.value));
+  const root = el('div', { class: 'occgrid-control occgrid-select' }, el('label', { for: id }, label), input);
+  return { root, input };
+}
+
+/**
+ * Sizes a canvas for the screen's pixel ratio so lines and text stay sharp:
+ * `cssWidth x cssHeight` CSS pixels, drawn in CSS-pixel units.
+ */
+export function hiDpiCanvas(canvas, cssWidth, cssHeight) {
+  const dpr = Math.max(1, window.devicePixelRatio || 1);
+  canvas.width = Math.round(cssWidth * dpr);
+  canvas.height = Math.round(cssHeight * dpr);
+  canvas.style.width = `${cssWidth}px`;
+  canvas.style.aspectRatio = `${cssWidth} / ${cssHeight}`;
+  const ctx = canvas.getContext('2d');
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  return ctx;
+}
+
+const offscreen = new WeakMap();
+
+/**
+ * Draws a `w x h` RGBA image that lives in wasm memory at `ptr` onto the
+ * whole canvas, scaled with crisp pixels. The view is made on each call, so
+ * it never outlives a growth of the wasm memory.
+ */
+export function drawMap(canvas, memory, ptr, w, h) {
+  let off = offscreen.get(canvas);
+  if (!off || off.width !== w || off.height !== h) {
+    off = document.createElement('canvas');
+    off.width = w;
+    off.height = h;
+    offscreen.set(canvas, off);
+  }
+  const view = new Uint8ClampedArray(memory.buffer, ptr, w * h * 4);
+  off.getContext('2d').putImageData(new ImageData(view, w, h), 0, 0);
+  const ctx = canvas.getContext('2d');
+  ctx.save();
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.imageSmoothingEnabled = false;
+  ctx.drawImage(off, 0, 0, canvas.width, canvas.height);
+  ctx.restore();
+}
+
+/** Shows an error inside the widget (and in the console), instead of a blank box. */
+export function showError(host, error, context = '') {
+  const message = error && error.message ? error.message : String(error);
+  console.error(`${host.localName}: ${context}${message}`);
+  let box = host.querySelector(':scope > .occgrid-error');
+  if (!box) {
+    box = el('div', { class: 'occgrid-error', role: 'alert' });
+    host.prepend(box);
+  }
+  box.textContent = `${context}${message}`;
+  return box;
+}
+
+/** Clears an error shown by `showError`. */
+export function clearError(host) {
+  host.querySelector(':scope > .occgrid-error')?.remove();
+}
+
+/** Calls `start` once, the first time `element` scrolls into view. */
+export function whenVisible(element, start) {
+  if (!('IntersectionObserver' in window)) return void start();
+  const io = new IntersectionObserver((entries) => {
+    if (entries.some((e) => e.isIntersecting)) {
+      io.disconnect();
+      start();
+    }
+  });
+  io.observe(element);
+}
+
+/**
+ * Tracks whether `element` is on screen: `onChange(visible)` each time it
+ * changes. Returns a function that stops tracking.
+ */
+export function trackVisibility(element, onChange) {
+  if (!('IntersectionObserver' in window)) {
+    onChange(true);
+    return () => {};
+  }
+  const io = new IntersectionObserver((entries) => onChange(entries.some((e) => e.isIntersecting)));
+  io.observe(element);
+  return () => io.disconnect();
+}
+
+/** True when the reader asked for reduced motion: animations wait for "play". */
+export function prefersReducedMotion() {
+  return window.matchMedia?.('(prefers-reduced-motion: reduce)').matches ?? false;
+}
+
+/** Formats a number with `d` decimals, keeping the sign visible. */
+export function fixed(x, d = 4) {
+  if (!Number.isFinite(x)) return String(x);
+  const s = x.toFixed(d);
+  return s === `-${(0).toFixed(d)}` ? (0).toFixed(d) : s;
+}
