@@ -12,6 +12,12 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Timed repetitions per workload (OCCGRID_BENCH_RUNS, default 7): 1 for
+/// instruction counting under valgrind.
+fn runs() -> usize {
+    std::env::var("OCCGRID_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).filter(|&n| n > 0).unwrap_or(7)
+}
+
 fn datasets() -> std::path::PathBuf {
     std::env::var_os("OCCGRID_DATASETS")
         .map(Into::into)
@@ -31,7 +37,7 @@ fn intel_full() {
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
     let mut times = Vec::new();
     let mut counts = None;
-    for _ in 0..7 {
+    for _ in 0..runs() {
         let t = Instant::now();
         let (_, c) = workloads::build_intel_map(&log);
         times.push(t.elapsed().as_secs_f64() * 1e3);
@@ -39,8 +45,175 @@ fn intel_full() {
     }
     let c = counts.unwrap();
     println!(
-        "{{\"workload\":\"intel-full\",\"runtime\":\"native\",\"scans\":{},\"parse_ms\":{:.2},\"build_ms\":{:.2},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
-        log.scans.len(), parse_ms, median(times), c.cell_updates, c.occupied, c.free, c.unknown
+        "{{\"workload\":\"intel-full\",\"runtime\":\"native\",\"scans\":{},\"parse_ms\":{:.2},\"build_ms\":{:.2},\"beams\":{},\"cells_visited\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
+        log.scans.len(), parse_ms, median(times), c.beams, c.cells_visited, c.cell_updates, c.occupied, c.free, c.unknown
+    );
+}
+
+/// The sensor-fusion widget's work (SPEC §8): building the table scene's
+/// scans, and one lap integrated into the sonar, LiDAR, summed and
+/// max-fused maps (two 12,000-cell sweeps and two ray traversals per scan).
+fn table_fusion() {
+    use occgrid::fusion::TableFusion;
+    use occgrid::sim::table::TableScene;
+    let scene = TableScene::default();
+    let (mut build, mut lap, mut per_step) = (Vec::new(), Vec::new(), Vec::new());
+    let mut steps = 0;
+    for _ in 0..runs() {
+        let t = Instant::now();
+        let mut f = TableFusion::new(&scene).expect("the default scene builds");
+        build.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        steps = 0;
+        loop {
+            let s = Instant::now();
+            if !f.step() {
+                break;
+            }
+            per_step.push(s.elapsed().as_secs_f64() * 1e6);
+            steps += 1;
+        }
+        lap.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    println!(
+        "{{\"workload\":\"table-fusion\",\"runtime\":\"native\",\"scans\":{},\"sonar_cones_per_scan\":{},\"lidar_beams_per_scan\":{},\"cells_per_map\":{},\"build_ms\":{:.2},\"lap_ms\":{:.2},\"step_us\":{:.1}}}",
+        steps, scene.sonar.count, scene.lidar.beams, scene.geometry().map_or(0, |g| g.len()), median(build), median(lap), median(per_step)
+    );
+}
+
+/// W2 `apartment-frame`: one Map Weaver frame (a scan into the hand-crafted
+/// and the learned map, both views redrawn and rescored) and one
+/// `integrate_scan` call, medians over `runs()` laps (src/sim/weaver_workloads.rs).
+fn apartment_frame() {
+    use occgrid::inverse::training::{train, TrainingConfig};
+    use occgrid::sim::weaver_workloads::ApartmentFrame;
+    let (learned, _, _) = train(&TrainingConfig::default()).expect("the default training runs");
+    let mut w = ApartmentFrame::new(learned).expect("the apartment builds");
+    let n = w.scans();
+    let time = |w: &mut ApartmentFrame, call: &dyn Fn(&mut ApartmentFrame) -> usize| {
+        let (mut us, mut cells) = (Vec::new(), 0);
+        for _ in 0..runs() {
+            w.restart();
+            for _ in 0..n {
+                let t = Instant::now();
+                cells += call(w);
+                us.push(t.elapsed().as_secs_f64() * 1e6);
+            }
+        }
+        (median(us), cells as f64 / (runs() * n) as f64)
+    };
+    let (frame_us, _) = time(&mut w, &|w| w.frame().iter().map(|s| s.cells_visited).sum());
+    let (hand_us, hand_cells) = time(&mut w, &|w| w.integrate(0).map_or(0, |s| s.cells_visited));
+    let (learned_us, learned_cells) = time(&mut w, &|w| w.integrate(1).map_or(0, |s| s.cells_visited));
+    println!(
+        "{{\"workload\":\"apartment-frame\",\"runtime\":\"native\",\"scans\":{n},\"laps\":{},\"cells\":10800,\"frame_us\":{frame_us:.1},\"integrate_us\":{hand_us:.1},\"cells_per_scan\":{hand_cells:.0},\"integrate_learned_us\":{learned_us:.1},\"cells_per_scan_learned\":{learned_cells:.0}}}",
+        runs()
+    );
+}
+
+/// W3 `all-cells-vs-traversal`: the W2 lap by ray traversal and by the
+/// literal sweep over every cell, at 0.10 m and 0.05 m, medians per scan.
+fn all_cells_vs_traversal() {
+    use occgrid::sim::weaver_workloads::AllCellsVsTraversal;
+    for resolution in [0.1, 0.05] {
+        let mut w = AllCellsVsTraversal::new(resolution).expect("the apartment builds");
+        let n = w.scans();
+        let time = |w: &mut AllCellsVsTraversal, sweep: bool| {
+            let (mut us, mut cells) = (Vec::new(), 0);
+            for k in 0..n {
+                let t = Instant::now();
+                let stats = if sweep { w.sweep(k) } else { w.traverse(k) };
+                us.push(t.elapsed().as_secs_f64() * 1e6);
+                cells += stats.map_or(0, |s| s.cells_visited);
+            }
+            (median(us), cells as f64 / n as f64)
+        };
+        let (traversal_us, traversal_cells) = time(&mut w, false);
+        let (sweep_us, sweep_cells) = time(&mut w, true);
+        println!(
+            "{{\"workload\":\"all-cells-vs-traversal\",\"runtime\":\"native\",\"resolution\":{resolution},\"scans\":{n},\"traversal_us\":{traversal_us:.1},\"sweep_us\":{sweep_us:.1},\"traversal_cells\":{traversal_cells:.0},\"sweep_cells\":{sweep_cells:.0},\"speedup\":{:.1}}}",
+            sweep_us / traversal_us
+        );
+    }
+}
+
+/// Map Weaver's real-log path on the Intel log: the streaming reader into
+/// the compact scan store, then the whole build over the log's own extent
+/// (W1's model and clamp, 5 cm), each timed from scratch.
+fn intel_real_log() {
+    let Ok(bytes) = std::fs::read(datasets().join("intel-corrected.log.gz")) else {
+        return eprintln!("skipping intel-real-log: cannot read the Intel log");
+    };
+    let (mut read, mut build, mut last) = (Vec::new(), Vec::new(), None);
+    for _ in 0..runs() {
+        let t = Instant::now();
+        let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
+        read.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        let mut b = carmen::LogMapBuild::new(scans, carmen::LogMapSettings::default()).expect("default settings");
+        let p = b.advance(usize::MAX);
+        build.push(t.elapsed().as_secs_f64() * 1e3);
+        last = Some((p, b.counts(), *b.grid().geometry()));
+    }
+    let (p, c, g) = last.expect("at least one run");
+    println!(
+        "{{\"workload\":\"intel-real-log\",\"runtime\":\"native\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"width\":{},\"height\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
+        p.scans_total, p.beams, median(read), median(build), g.width(), g.height(), p.cell_updates, c.occupied, c.free, c.unknown
+    );
+}
+
+/// W4 `doorway-map`: the MAP hill climb (Table 9.3) on the doorway scene.
+/// One flip step and the climb to convergence from the all-free start are
+/// timed apart; building the incidence cache is `setup_ms`.
+fn doorway_map() {
+    use occgrid::sim::doorway::{self, DoorwayScene};
+    let scene = DoorwayScene::standard();
+    let (mut setup, mut converge, mut step) = (Vec::new(), Vec::new(), Vec::new());
+    let mut search = doorway::map_search(&scene).expect("the chapter's scene is valid");
+    for _ in 0..runs() {
+        let t = Instant::now();
+        search = doorway::map_search(&scene).expect("the chapter's scene is valid");
+        setup.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        search.run(usize::MAX);
+        converge.push(t.elapsed().as_secs_f64() * 1e3);
+        search.reset();
+        loop {
+            let t = Instant::now();
+            let flipped = search.step().is_some();
+            let dt = t.elapsed().as_secs_f64() * 1e3;
+            if !flipped {
+                break;
+            }
+            step.push(dt);
+        }
+    }
+    let g = search.geometry();
+    println!(
+        "{{\"workload\":\"doorway-map\",\"runtime\":\"native\",\"cells\":{},\"readings\":{},\"incidence\":{},\"step_ms\":{:.4},\"converge_ms\":{:.3},\"flips\":{},\"log_posterior\":{:.4},\"setup_ms\":{:.3}}}",
+        g.len(), search.beams().len(), search.incidence_len(), median(step), median(converge), search.flips().len(), search.objective(), median(setup)
+    );
+}
+
+/// W5 `learn-inverse`: sampling the 24,000 training triplets and fitting
+/// the learned inverse model (default configuration, seed 9), timed apart.
+fn learn_inverse() {
+    use occgrid::inverse::training::{fit, sample_triplets, TrainingConfig};
+    let config = TrainingConfig::default();
+    let (mut sample, mut train, mut out) = (Vec::new(), Vec::new(), None);
+    for _ in 0..runs() {
+        let t = Instant::now();
+        let set = sample_triplets(&config).expect("the default configuration is valid");
+        sample.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        let (model, report) = fit(&config, &set).expect("the default configuration is valid");
+        train.push(t.elapsed().as_secs_f64() * 1e3);
+        out = Some((set.triplets.len(), set.maps, report.updates, model.own_l0()));
+    }
+    let (triplets, maps, updates, l0) = out.expect("at least one run");
+    println!(
+        "{{\"workload\":\"learn-inverse\",\"runtime\":\"native\",\"triplets\":{triplets},\"maps\":{maps},\"epochs\":{},\"sgd_updates\":{updates},\"sample_ms\":{:.2},\"train_ms\":{:.2},\"l0\":{l0:.4}}}",
+        config.epochs, median(sample), median(train)
     );
 }
 
@@ -50,4 +223,10 @@ fn main() {
     if run("intel-full") {
         intel_full();
     }
+    if run("table-fusion") { table_fusion(); }
+    if run("apartment-frame") { apartment_frame(); }
+    if run("all-cells-vs-traversal") { all_cells_vs_traversal(); }
+    if run("intel-real-log") { intel_real_log(); }
+    if run("doorway-map") { doorway_map(); }
+    if run("learn-inverse") { learn_inverse(); }
 }

@@ -5,8 +5,18 @@
 //! a Gaussian hit around `z*` (normalised on `[0, z_max]`), an exponential
 //! short reading (normalised on `[0, z*]`), a point mass at `z_max` (no
 //! return), and a uniform random reading on `[0, z_max)`.
+//!
+//! In the data flow it sits between the ground truth and everything that
+//! needs readings or their likelihood: [`expected_range`] casts a thin beam
+//! or a cone into a [`World`] to find `z*`, [`BeamModel::density`] scores a
+//! reading (the independence trap, MAP mapping), and [`BeamModel::sample`]
+//! draws one (generative mode: the training data of the learned inverse
+//! model, simulated scans). Sampling is seeded by the caller's `StdRng`.
 
 use crate::error::{self, invalid, Result};
+use crate::scan::{Pose, Scan};
+use crate::sim::World;
+use rand::Rng;
 
 /// The mixture's parameters (eq. 6.12 and the text around Table 6.1).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -135,6 +145,328 @@ impl BeamModel {
             return 0.0;
         }
         l * (-l * z).exp() / (1.0 - (-l * z_star).exp())
+    }
+}
+
+/// Rejection samplers give up after this many proposals. Each proposal is
+/// accepted with probability at least 1/3 (see [`BeamModel::sample`]), so
+/// the cap is reached with probability below 1e-50: it exists only so that
+/// no loop in the core is unbounded.
+const MAX_PROPOSALS: usize = 256;
+
+impl BeamModel {
+    /// Draws one reading for expected range `z*` (metres): the generative
+    /// reading of Table 6.1. First the cause, with probabilities `z_hit`,
+    /// `z_short`, `z_maxw`, `z_rand`; then the reading from that cause's own
+    /// normalised distribution, so that the draws follow [`Self::density`]
+    /// exactly. `z*` is clamped to `[0, z_max]` as in `density` (a NaN
+    /// counts as no obstacle).
+    pub fn sample<R: Rng + ?Sized>(&self, z_star: f64, rng: &mut R) -> f64 {
+        let p = &self.params;
+        let z_star = if z_star.is_nan() {
+            p.z_max
+        } else {
+            z_star.clamp(0.0, p.z_max)
+        };
+        let u = rng.random::<f64>();
+        if u < p.z_hit {
+            self.sample_hit(z_star, rng)
+        } else if u < p.z_hit + p.z_short {
+            self.sample_short(z_star, rng)
+        } else if u < p.z_hit + p.z_short + p.z_maxw {
+            p.z_max
+        } else {
+            rng.random::<f64>() * p.z_max
+        }
+    }
+
+    /// The hit Gaussian truncated to `[0, z_max)` (eq. 6.4–6.6), by
+    /// rejection. With `sigma_hit <= z_max` a Gaussian proposal lands inside
+    /// the window at least `Phi(1) - 1/2 = 34%` of the time whatever `z*`;
+    /// a wider Gaussian is nearly flat over the window, so a uniform
+    /// proposal kept with probability `exp(-(z - z*)^2 / 2 sigma^2)` (at
+    /// least `exp(-1/2) = 61%`) is the faster exact sampler there.
+    fn sample_hit<R: Rng + ?Sized>(&self, z_star: f64, rng: &mut R) -> f64 {
+        let p = &self.params;
+        let s = p.sigma_hit;
+        for _ in 0..MAX_PROPOSALS {
+            if s <= p.z_max {
+                let z = z_star + s * standard_normal(rng);
+                if (0.0..p.z_max).contains(&z) {
+                    return z;
+                }
+            } else {
+                let z = rng.random::<f64>() * p.z_max;
+                let u = (z - z_star) / s;
+                if rng.random::<f64>() < (-0.5 * u * u).exp() {
+                    return z;
+                }
+            }
+        }
+        z_star.min(p.z_max * (1.0 - f64::EPSILON))
+    }
+
+    /// The short-reading exponential truncated to `[0, z*]` (eq. 6.7–6.9),
+    /// by inverting its distribution function
+    /// `F(z) = (1 - exp(-lambda z)) / (1 - exp(-lambda z*))`.
+    fn sample_short<R: Rng + ?Sized>(&self, z_star: f64, rng: &mut R) -> f64 {
+        if z_star <= 0.0 {
+            return 0.0;
+        }
+        let l = self.params.lambda_short;
+        let u = rng.random::<f64>();
+        let z = -(-u * (-(-l * z_star).exp_m1())).ln_1p() / l;
+        z.clamp(0.0, z_star)
+    }
+
+    /// `p(z | x, m)` for one beam of a sensor at `pose` in `world`: `z*` by
+    /// [`expected_range`], then [`Self::density`].
+    pub fn likelihood(
+        &self,
+        world: &World,
+        pose: &Pose,
+        bearing: f64,
+        shape: BeamShape,
+        z: f64,
+    ) -> Result<f64> {
+        error::non_negative("z", z)?;
+        let z_star = expected_range(world, pose, bearing, shape, self.params.z_max)?;
+        Ok(self.density(z, z_star))
+    }
+
+    /// One generated reading of the beam at `bearing` (radians, relative to
+    /// the heading) from `pose` in `world`.
+    pub fn sample_reading<R: Rng + ?Sized>(
+        &self,
+        world: &World,
+        pose: &Pose,
+        bearing: f64,
+        shape: BeamShape,
+        rng: &mut R,
+    ) -> Result<f64> {
+        let z_star = expected_range(world, pose, bearing, shape, self.params.z_max)?;
+        Ok(self.sample(z_star, rng))
+    }
+
+    /// A whole generated scan: one reading per bearing, in order.
+    pub fn sample_scan<R: Rng + ?Sized>(
+        &self,
+        world: &World,
+        pose: &Pose,
+        bearings: &[f64],
+        shape: BeamShape,
+        rng: &mut R,
+    ) -> Result<Scan> {
+        let mut ranges = Vec::with_capacity(bearings.len());
+        for (i, &b) in bearings.iter().enumerate() {
+            error::finite(&format!("bearings[{i}]"), b)?;
+            ranges.push(self.sample_reading(world, pose, b, shape, rng)?);
+        }
+        Scan::new(*pose, ranges, bearings.to_vec())
+    }
+}
+
+/// One standard normal draw by the Box–Muller transform. `1 - u` lies in
+/// `(0, 1]`, so the logarithm is finite.
+pub fn standard_normal<R: Rng + ?Sized>(rng: &mut R) -> f64 {
+    let u1 = 1.0 - rng.random::<f64>();
+    let u2 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// How wide a beam is when its expected range is sought: a thin ray, or a
+/// cone of half-angle `half_width` (radians) probed by `sub_rays` rays
+/// spread evenly across it, edges included (SPEC §4, the same spread as
+/// [`World::cast_cone`]). `z*` of a cone is the nearest hit of its rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamShape {
+    half_width: f64,
+    sub_rays: usize,
+    /// Rotation from the axis to the first sub-ray, `(cos, sin)` of
+    /// `-half_width`.
+    first: (f64, f64),
+    /// Rotation from one sub-ray to the next.
+    step: (f64, f64),
+}
+
+impl BeamShape {
+    /// A thin beam: one ray along the axis.
+    pub const THIN: Self = Self {
+        half_width: 0.0,
+        sub_rays: 1,
+        first: (1.0, 0.0),
+        step: (1.0, 0.0),
+    };
+
+    /// The most sub-rays a cone may have: more would only slow every cast.
+    pub const MAX_SUB_RAYS: usize = 64;
+
+    /// A cone. `half_width` in radians, at most pi / 2; `sub_rays` from 1
+    /// (the axis only) to [`Self::MAX_SUB_RAYS`].
+    pub fn cone(half_width: f64, sub_rays: usize) -> Result<Self> {
+        error::non_negative("half_width", half_width)?;
+        if half_width > std::f64::consts::FRAC_PI_2 {
+            return Err(invalid(
+                "half_width",
+                half_width,
+                "a half-angle of at most pi/2 radians",
+            ));
+        }
+        if !(1..=Self::MAX_SUB_RAYS).contains(&sub_rays) {
+            return Err(invalid("sub_rays", sub_rays, "between 1 and 64 rays"));
+        }
+        if sub_rays == 1 {
+            return Ok(Self {
+                half_width,
+                ..Self::THIN
+            });
+        }
+        let (s, c) = half_width.sin_cos();
+        let delta = 2.0 * half_width / (sub_rays - 1) as f64;
+        let (sd, cd) = delta.sin_cos();
+        Ok(Self {
+            half_width,
+            sub_rays,
+            first: (c, -s),
+            step: (cd, sd),
+        })
+    }
+
+    pub fn half_width(&self) -> f64 {
+        self.half_width
+    }
+    pub fn sub_rays(&self) -> usize {
+        self.sub_rays
+    }
+}
+
+/// The expected range `z*` (metres) of a beam at `bearing` (radians,
+/// relative to the heading) from `pose`: the range to the first occupied
+/// cell along the ray, or for a cone the nearest over its sub-rays; `z_max`
+/// when nothing is hit within `z_max` or the ray leaves the map.
+pub fn expected_range(
+    world: &World,
+    pose: &Pose,
+    bearing: f64,
+    shape: BeamShape,
+    z_max: f64,
+) -> Result<f64> {
+    let pose = Pose::new(pose.x, pose.y, pose.theta)?;
+    error::finite("bearing", bearing)?;
+    error::positive("z_max", z_max)?;
+    let (s, c) = (pose.theta + bearing).sin_cos();
+    Ok(expected_range_along(
+        world,
+        pose.x,
+        pose.y,
+        (c, s),
+        shape,
+        z_max,
+    ))
+}
+
+/// [`expected_range`] for a beam whose axis is the unit vector `(cos, sin)`
+/// in world coordinates: callers that draw directions without angles (the
+/// training sampler) save the trigonometry, which is slow in wasm. Inputs
+/// are trusted (finite, `z_max > 0`); anything else still terminates.
+pub fn expected_range_along(
+    world: &World,
+    x: f64,
+    y: f64,
+    axis: (f64, f64),
+    shape: BeamShape,
+    z_max: f64,
+) -> f64 {
+    if shape.sub_rays <= 1 {
+        return cast_ray(world, x, y, axis, z_max);
+    }
+    let rotate = |(c, s): (f64, f64), (rc, rs): (f64, f64)| (c * rc - s * rs, c * rs + s * rc);
+    let mut dir = rotate(axis, shape.first);
+    let mut nearest = z_max;
+    for _ in 0..shape.sub_rays {
+        nearest = nearest.min(cast_ray(world, x, y, dir, nearest));
+        dir = rotate(dir, shape.step);
+    }
+    nearest
+}
+
+/// Range from `(x, y)` along the unit vector `dir` to the boundary of the
+/// first occupied cell, or `z_max`. The same answer as [`World::cast`]
+/// (the same supercover walk, corners included, and the same entry-point
+/// slab test), but the walk stops at the first occupied cell instead of
+/// rastering out to `z_max`: in a cluttered room most rays stop within a
+/// few metres. A start outside the map is left to `World::cast`, which
+/// clips the ray to the border first.
+fn cast_ray(world: &World, x: f64, y: f64, dir: (f64, f64), z_max: f64) -> f64 {
+    let g = world.geometry();
+    let res = g.resolution();
+    let (w, h) = (g.width() as i64, g.height() as i64);
+    let (su, sv) = g.world_to_grid(x, y);
+    let (mut ix, mut iy) = (su.floor() as i64, sv.floor() as i64);
+    let inside = |ix: i64, iy: i64| ix >= 0 && iy >= 0 && ix < w && iy < h;
+    if !inside(ix, iy) {
+        return world.cast(x, y, dir.1.atan2(dir.0), z_max);
+    }
+    let occupied = world.occupied();
+    let is_occupied = |ix: i64, iy: i64| occupied.get((iy * w + ix) as usize) == Some(&true);
+    let (c, s) = dir;
+    // Ray parameter in cell units: the point at parameter t is
+    // (su, sv) + t (c, s), and t_end is z_max.
+    let t_end = z_max / res;
+    let (step_x, step_y) = (if c > 0.0 { 1 } else { -1 }, if s > 0.0 { 1 } else { -1 });
+    let first_crossing = |i: i64, step: i64, a: f64, d: f64| -> (f64, f64) {
+        if d == 0.0 {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        let boundary = if step > 0 { i + 1 } else { i } as f64;
+        ((boundary - a) / d, 1.0 / d.abs())
+    };
+    let (mut t_max_x, t_delta_x) = first_crossing(ix, step_x, su, c);
+    let (mut t_max_y, t_delta_y) = first_crossing(iy, step_y, sv, s);
+    // The raster's corner tolerance, 1e-9 of the segment, in cell units.
+    let corner_eps = 1e-9 * t_end;
+    let entry = |ix: i64, iy: i64| -> f64 {
+        let slab = |lo: f64, start: f64, d: f64| -> f64 {
+            if d == 0.0 {
+                f64::NEG_INFINITY
+            } else {
+                ((lo - start) / d).min((lo + 1.0 - start) / d)
+            }
+        };
+        let t_in = slab(ix as f64, su, c).max(slab(iy as f64, sv, s)).max(0.0);
+        (t_in * res).min(z_max)
+    };
+    // Every pass moves at least one step in a fixed direction, so the walk
+    // leaves the map after at most width + height passes.
+    loop {
+        if is_occupied(ix, iy) {
+            return entry(ix, iy);
+        }
+        let t_next = t_max_x.min(t_max_y);
+        if t_next > t_end {
+            return z_max;
+        }
+        if (t_max_x - t_max_y).abs() <= corner_eps {
+            // Through a corner: both side cells count, as in the raster.
+            for (cx, cy) in [(ix + step_x, iy), (ix, iy + step_y)] {
+                if inside(cx, cy) && is_occupied(cx, cy) {
+                    return entry(cx, cy);
+                }
+            }
+            ix += step_x;
+            iy += step_y;
+            t_max_x += t_delta_x;
+            t_max_y += t_delta_y;
+        } else if t_max_x < t_max_y {
+            ix += step_x;
+            t_max_x += t_delta_x;
+        } else {
+            iy += step_y;
+            t_max_y += t_delta_y;
+        }
+        if !inside(ix, iy) {
+            return z_max;
+        }
     }
 }
 

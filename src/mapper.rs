@@ -15,7 +15,7 @@
 
 use crate::grid::LogOddsGrid;
 use crate::inverse::InverseModel;
-use crate::raster::supercover;
+use crate::raster::{Cursor, Walk};
 use crate::scan::{wrap_angle, Scan};
 
 /// The work one scan cost.
@@ -28,18 +28,30 @@ pub struct ScanStats {
     pub cells_updated: usize,
 }
 
+/// Scratch mark of a cell no beam of the current scan has given evidence.
+/// Any real verdict is larger, so "keep the larger" needs no extra test,
+/// and a cell is new to the scan exactly when it still holds the mark.
+const UNTOUCHED: f32 = f32::NEG_INFINITY;
+
 /// The ray-traversal mapper, with its per-scan scratch space (kept between
 /// scans so that integrating a scan allocates nothing).
 #[derive(Debug, Default, Clone)]
 pub struct RayMapper {
-    /// Which scan last touched each cell (`epoch`), so that a cell is
-    /// recorded once per scan without clearing a map-sized buffer.
-    stamp: Vec<u32>,
-    /// The evidence gathered for each touched cell in the current scan.
+    /// Per cell, the evidence the current scan has gathered for it (log
+    /// odds net of `l0`), or [`UNTOUCHED`]. Every cell is back at
+    /// [`UNTOUCHED`] between scans: the update pass resets the cells it
+    /// applies, so no map-sized clearing is ever needed.
     pending: Vec<f32>,
-    /// The cells touched in the current scan, in first-touch order.
+    /// The cells touched in the current scan, in first-touch order (the
+    /// first `ScanStats::cells_updated` entries). A cell enters at most
+    /// once per scan, so a buffer as long as the map never overflows.
     touched: Vec<u32>,
-    epoch: u32,
+    /// `(sin, cos)` of each bearing of the last scan, and those bearings:
+    /// a scanner's bearings rarely change from scan to scan, so a beam's
+    /// direction costs four products instead of two library calls (which
+    /// in wasm are software routines).
+    bearings: Vec<f64>,
+    bearing_trig: Vec<(f64, f64)>,
 }
 
 impl RayMapper {
@@ -60,64 +72,237 @@ impl RayMapper {
         scan: &Scan,
     ) -> ScanStats {
         let geometry = *grid.geometry();
-        let n = geometry.len();
-        if self.stamp.len() != n {
-            self.stamp = vec![0; n];
-            self.pending = vec![0.0; n];
-            self.epoch = 0;
+        // Both buffers are a power of two long (cells past the map stay
+        // untouched), so that `index & mask` is visibly in range and the
+        // hot loop carries no bounds checks; see `Scratch`.
+        let len = geometry.len().next_power_of_two();
+        if self.pending.len() != len {
+            self.pending = vec![UNTOUCHED; len];
+            self.touched = vec![0; len];
         }
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.stamp.fill(0);
-            self.epoch = 1;
-        }
-        self.touched.clear();
+        self.cache_bearing_trig(scan.bearings());
 
         let pose = scan.pose();
         let (su, sv) = geometry.world_to_grid(pose.x, pose.y);
         let res = geometry.resolution();
         let (w, h) = (geometry.width(), geometry.height());
+        // Beam direction theta + bearing by the angle-addition formulas
+        // (within a few ulps of sin_cos of the sum).
+        let (sin_t, cos_t) = pose.theta.sin_cos();
+        let mut scratch = Scratch::new(&mut self.pending, &mut self.touched);
         let mut visits = 0;
-        for (&z, &bearing) in scan.ranges().iter().zip(scan.bearings()) {
+        for (&z, &(sin_b, cos_b)) in scan.ranges().iter().zip(&self.bearing_trig) {
             let reach = model.reach(z);
             if !(reach > 0.0) {
                 continue;
             }
-            let (s, c) = (pose.theta + bearing).sin_cos();
+            let s = sin_t * cos_b + cos_t * sin_b;
+            let c = cos_t * cos_b - sin_t * sin_b;
             let end = (su + reach * c / res, sv + reach * s / res);
-            let (stamp, pending, touched, epoch) = (
-                &mut self.stamp,
-                &mut self.pending,
-                &mut self.touched,
-                self.epoch,
-            );
-            visits += supercover(w, h, (su, sv), end, |ix, iy| {
-                // Range of the cell centre along the beam axis, metres.
-                let r = res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s);
-                let e = model.evidence(r, 0.0, z);
-                if e == 0.0 {
-                    return;
+            let Some(walk) = Walk::new(w, h, (su, sv), end) else {
+                continue;
+            };
+            // Per cell the walk needs the cell's index and the range of its
+            // centre along the beam axis (metres); both change by a fixed
+            // amount per step on each axis, so they are carried along. The
+            // steps point along the beam, so both range steps are >= 0.
+            let (ix, iy) = walk.start;
+            let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
+            let at = BeamState {
+                index: iy * w + ix,
+                range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
+                index_step: (walk.step.0 as isize, walk.step.1 as isize * w as isize),
+                range_step: (step_x * res * c, step_y * res * s),
+            };
+            visits += match model.axis_profile(z) {
+                // Table 9.2 and the like: two comparisons per cell. (A band
+                // whose evidence is zero carries no information and must not
+                // count as an update: such a profile takes the general path.)
+                Some(p) if p.free != 0.0 && p.occupied != 0.0 => {
+                    let (free_until, occupied_until) = (p.free_until, p.occupied_until);
+                    let (free, occupied) = (p.free, p.occupied);
+                    let verdict = move |r: f64| {
+                        if r <= free_until {
+                            Some(free)
+                        } else if r <= occupied_until {
+                            Some(occupied)
+                        } else {
+                            None
+                        }
+                    };
+                    trace(walk, at, verdict, &mut scratch)
                 }
-                let i = iy * w + ix;
-                if stamp[i] != epoch {
-                    stamp[i] = epoch;
-                    pending[i] = e;
-                    touched.push(i as u32);
-                } else if e > pending[i] {
-                    // Occupied (positive) wins over free; between two free
-                    // verdicts the weaker one stands. Either way the rule is
-                    // symmetric, so beam order does not matter.
-                    pending[i] = e;
+                _ => {
+                    let verdict = |r: f64| {
+                        let e = sanitize(model.evidence(r, 0.0, z));
+                        (e != 0.0).then_some(e)
+                    };
+                    trace(walk, at, verdict, &mut scratch)
                 }
-            });
+            };
         }
-        for &i in &self.touched {
-            grid.apply(i as usize, self.pending[i as usize]);
+
+        // Table 9.1, line 4, once per touched cell.
+        let count = scratch.count;
+        for &i in &self.touched[..count] {
+            let slot = &mut self.pending[i as usize];
+            grid.apply(i as usize, *slot);
+            *slot = UNTOUCHED;
         }
         ScanStats {
             cells_visited: visits,
-            cells_updated: self.touched.len(),
+            cells_updated: count,
         }
+    }
+
+    /// Makes `bearing_trig` hold `(sin, cos)` of `bearings`.
+    fn cache_bearing_trig(&mut self, bearings: &[f64]) {
+        let same = self.bearings.len() == bearings.len()
+            && self
+                .bearings
+                .iter()
+                .zip(bearings)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            self.bearings.clear();
+            self.bearings.extend_from_slice(bearings);
+            self.bearing_trig.clear();
+            self.bearing_trig
+                .extend(bearings.iter().map(|b| b.sin_cos()));
+        }
+    }
+}
+
+/// A model's evidence is finite by contract. Should one return NaN, it is
+/// read as "no information"; minus infinity as the most negative finite
+/// verdict (the grid's clamp makes the two equivalent). Either way the
+/// [`UNTOUCHED`] mark stays unambiguous.
+#[inline(always)]
+fn sanitize(e: f32) -> f32 {
+    if e.is_nan() {
+        0.0
+    } else if e < f32::MIN {
+        f32::MIN
+    } else {
+        e
+    }
+}
+
+/// Where a beam's walk stands: the cell's row-major index and the range of
+/// its centre along the beam axis (metres), with their change per step on
+/// each axis. Incremental, as Amanatides & Woo carry their `tMax`.
+struct BeamState {
+    index: usize,
+    range: f64,
+    index_step: (isize, isize),
+    range_step: (f64, f64),
+}
+
+/// The per-scan gathering of verdicts: at most one per cell, occupied
+/// winning over free.
+///
+/// Both buffers are `mask + 1` long, a power of two, and are indexed with
+/// `& mask`: the compiler then sees every index in range and drops the
+/// bounds checks from the per-cell loop. The mask never changes an index:
+/// the walk stays inside the map, and `count` stays below the number of
+/// cells (each cell enters `touched` at most once per scan).
+struct Scratch<'a> {
+    pending: &'a mut [f32],
+    touched: &'a mut [u32],
+    mask: usize,
+    count: usize,
+}
+
+impl<'a> Scratch<'a> {
+    /// `pending` and `touched` have the same power-of-two length.
+    fn new(pending: &'a mut [f32], touched: &'a mut [u32]) -> Self {
+        debug_assert!(pending.len().is_power_of_two() && touched.len() == pending.len());
+        let mask = pending.len() - 1;
+        Self {
+            pending,
+            touched,
+            mask,
+            count: 0,
+        }
+    }
+
+    /// Records verdict `e` for cell `i`.
+    #[inline(always)]
+    fn record(&mut self, i: usize, e: f32) {
+        debug_assert!(i <= self.mask && self.count <= self.mask);
+        let slot = &mut self.pending[i & self.mask];
+        let old = *slot;
+        // Occupied (positive) wins over free; between two free verdicts the
+        // weaker one stands. The rule is symmetric, so beam order does not
+        // matter. A new cell holds UNTOUCHED, below every verdict.
+        if e > old {
+            *slot = e;
+            // (Only the mark is below the most negative finite float.)
+            if old < f32::MIN {
+                self.touched[self.count & self.mask] = i as u32;
+                self.count += 1;
+            }
+        }
+    }
+}
+
+/// Walks one beam, gathering the verdict for each cell into `scratch`;
+/// returns the number of visits. Kept out of line so that the walk's whole
+/// state fits in registers.
+#[inline(never)]
+fn trace<V: Fn(f64) -> Option<f32>>(
+    walk: Walk,
+    at: BeamState,
+    verdict: V,
+    scratch: &mut Scratch,
+) -> usize {
+    // Reslicing to exactly `mask + 1` entries is what lets the compiler
+    // see `i & mask` in range.
+    let mask = scratch.mask;
+    let mut cursor = BeamCursor {
+        at,
+        scratch: Scratch {
+            pending: &mut scratch.pending[..=mask],
+            touched: &mut scratch.touched[..=mask],
+            mask,
+            count: scratch.count,
+        },
+        verdict,
+    };
+    let visits = walk.run(&mut cursor);
+    scratch.count = cursor.scratch.count;
+    visits
+}
+
+/// The mapper's [`Cursor`]: evidence for the cell under it from `verdict`
+/// (a function of the range along the axis), gathered into the scratch.
+struct BeamCursor<'a, V> {
+    at: BeamState,
+    scratch: Scratch<'a>,
+    verdict: V,
+}
+
+impl<V: Fn(f64) -> Option<f32>> Cursor for BeamCursor<'_, V> {
+    #[inline(always)]
+    fn visit(&mut self) {
+        if let Some(e) = (self.verdict)(self.at.range) {
+            self.scratch.record(self.at.index, e);
+        }
+    }
+    #[inline(always)]
+    fn step_x(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(self.at.index_step.0);
+        self.at.range += self.at.range_step.0;
+    }
+    #[inline(always)]
+    fn step_y(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(self.at.index_step.1);
+        self.at.range += self.at.range_step.1;
+    }
+    #[inline(always)]
+    fn unstep_x(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(-self.at.index_step.0);
+        self.at.range -= self.at.range_step.0;
     }
 }
 

@@ -2,9 +2,9 @@
 //! benchmark and the wasm build under Node do exactly the same work.
 
 use crate::carmen::CarmenLog;
-use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use crate::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapper::RayMapper;
+use crate::mapper::{RayMapper, ScanStats};
 
 /// W1 `intel-full`: the map's limits (5 cm, origin (-25 m, -30 m),
 /// 1000 x 900 cells).
@@ -38,6 +38,11 @@ pub fn intel_settings() -> FilterSettings {
 /// What a map build reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct MapCounts {
+    /// Beams traced.
+    pub beams: usize,
+    /// Raster visits summed over all scans (a cell on several beams of a
+    /// scan is visited once per beam).
+    pub cells_visited: usize,
     /// Cell updates summed over all scans.
     pub cell_updates: usize,
     /// Cells with p > 0.65.
@@ -49,20 +54,23 @@ pub struct MapCounts {
 }
 
 /// Counts the three states of a finished map (BENCHMARKS.md W1 thresholds).
-pub fn count_states(grid: &LogOddsGrid, cell_updates: usize) -> MapCounts {
+pub fn count_states(grid: &LogOddsGrid, work: ScanStats, beams: usize) -> MapCounts {
+    // p > 0.65 and p < 0.35 compared in log odds: no exp per cell.
+    let (occ_l, free_l) = (logit(0.65) as f32, logit(0.35) as f32);
     let (mut occupied, mut free, mut unknown) = (0, 0, 0);
-    for (i, &l) in grid.log_odds().iter().enumerate() {
-        let p = grid.probability_at(i);
+    for &l in grid.log_odds() {
         if l == grid.l0() {
             unknown += 1;
-        } else if p > 0.65 {
+        } else if l > occ_l {
             occupied += 1;
-        } else if p < 0.35 {
+        } else if l < free_l {
             free += 1;
         }
     }
     MapCounts {
-        cell_updates,
+        beams,
+        cells_visited: work.cells_visited,
+        cell_updates: work.cells_updated,
         occupied,
         free,
         unknown,
@@ -75,11 +83,13 @@ pub fn build_intel_map(log: &CarmenLog) -> (LogOddsGrid, MapCounts) {
         LogOddsGrid::new(intel_geometry(), intel_settings()).expect("constant settings are valid");
     let model = intel_model();
     let mut mapper = RayMapper::new();
-    let updates = log
-        .scans
-        .iter()
-        .map(|scan| mapper.integrate(&mut grid, &model, scan).cells_updated)
-        .sum();
-    let counts = count_states(&grid, updates);
+    let mut work = ScanStats::default();
+    for scan in &log.scans {
+        let s = mapper.integrate(&mut grid, &model, scan);
+        work.cells_visited += s.cells_visited;
+        work.cells_updated += s.cells_updated;
+    }
+    let beams = log.scans.iter().map(|s| s.len()).sum();
+    let counts = count_states(&grid, work, beams);
     (grid, counts)
 }

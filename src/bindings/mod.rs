@@ -6,7 +6,11 @@
 use wasm_bindgen::prelude::*;
 
 pub mod cell_filter;
+pub mod doorway_trap;
+pub mod inverse_workbench;
+pub mod map_weaver;
 pub mod real_log;
+pub mod sensor_fusion;
 
 #[wasm_bindgen(start)]
 fn start() {

@@ -1,8 +1,13 @@
-//! Bindings for real CARMEN logs: parsing, and the W1 `intel-full` build.
+//! Bindings for real CARMEN logs: the W1 `intel-full` benchmark
+//! ([`LaserLog`]), the chunked map build behind Map Weaver's real-log mode
+//! ([`LogMapSession`]), and the zip packing of an exported map pair that
+//! every widget's "Export map" button uses ([`zip_map_pair`]).
 
-use super::to_js;
-use crate::carmen::{self, CarmenLog};
+use super::{from_js, to_js, Pixels};
+use crate::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
+use crate::export;
 use crate::workloads;
+use std::io::Cursor;
 use wasm_bindgen::prelude::*;
 
 /// A parsed CARMEN log held in wasm memory.
@@ -30,4 +35,276 @@ impl LaserLog {
         let (_, counts) = workloads::build_intel_map(&self.0);
         to_js(&counts)
     }
+}
+
+/// A log being read and mapped, step by step:
+///
+/// 1. `new LogMapSession(bytes)` takes the file (gzip or plain);
+/// 2. `read(n)` reads up to `n` more laser lines per call, until
+///    `finished` (then the map is set up with the current settings);
+/// 3. `buildChunk(n)` integrates up to `n` more scans per call;
+/// 4. `seek(k)` scrubs to `k` scans (then `buildChunk` again), and
+///    `configure(settings)` restarts the build with new settings.
+#[wasm_bindgen]
+pub struct LogMapSession {
+    /// The reader over the file's bytes, dropped (with the bytes) once the
+    /// whole log is read.
+    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    /// Scans read whose map the current settings cannot make (a grid too
+    /// large): kept until `configure` brings settings that fit.
+    pending: Option<LaserScans>,
+    /// How the read ended, once it has.
+    read_summary: Option<carmen::LoadProgress>,
+    bytes_total: usize,
+    settings: LogMapSettings,
+    build: Option<LogMapBuild>,
+    pixels: Pixels,
+}
+
+#[derive(serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+struct ReadReport {
+    #[serde(flatten)]
+    progress: carmen::LoadProgress,
+    bytes_total: usize,
+}
+
+#[derive(serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+struct GeometryReport {
+    width: usize,
+    height: usize,
+    /// Metres per cell.
+    resolution: f64,
+    /// World position of the map's lower-left corner, metres.
+    origin_x: f64,
+    origin_y: f64,
+}
+
+#[wasm_bindgen]
+impl LogMapSession {
+    /// Takes the bytes of a log file (gzip or plain text); nothing is read
+    /// until [`Self::read`].
+    #[wasm_bindgen(constructor)]
+    pub fn new(bytes: Vec<u8>) -> LogMapSession {
+        LogMapSession {
+            bytes_total: bytes.len(),
+            loader: Some(LogLoader::new(Cursor::new(bytes))),
+            pending: None,
+            read_summary: None,
+            settings: LogMapSettings::default(),
+            build: None,
+            pixels: Pixels::default(),
+        }
+    }
+
+    /// The default settings (those of BENCHMARKS.md W1):
+    /// `{ resolution, rangeCap, alpha, lOcc, lFree, clamp, margin }`.
+    #[wasm_bindgen(js_name = defaultSettings)]
+    pub fn default_settings() -> Result<JsValue, JsError> {
+        to_js(&LogMapSettings::default())
+    }
+
+    /// Reads up to `max_scans` more laser lines and returns
+    /// `{ lines, scans, beams, bytesRead, bytesTotal, finished }`. When the
+    /// log is finished the map is set up; a malformed line is an error
+    /// naming its line number, and so is a log without laser lines. If the
+    /// settings make too large a grid for this log, that is an error too,
+    /// and the scans wait (`awaitingSettings`) for a `configure` that fits.
+    pub fn read(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
+        let Some(loader) = self.loader.as_mut() else {
+            return Err(JsError::new("the log has been read already"));
+        };
+        let progress = loader.read(max_scans)?;
+        if progress.finished {
+            self.read_summary = Some(progress);
+            if let Some(loader) = self.loader.take() {
+                let scans = loader.into_scans();
+                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
+                    self.pending = Some(scans);
+                    return Err(e.into());
+                }
+                self.build = Some(LogMapBuild::new(scans, self.settings)?);
+            }
+        }
+        to_js(&ReadReport {
+            progress,
+            bytes_total: self.bytes_total,
+        })
+    }
+
+    /// New settings (a partial object: missing fields keep the defaults;
+    /// unknown fields are errors). Restarts the build towards the same scan
+    /// count; returns the map's geometry, or `null` while the log is still
+    /// being read. On error nothing changes.
+    pub fn configure(&mut self, settings: JsValue) -> Result<JsValue, JsError> {
+        let settings: LogMapSettings = from_js("settings", settings)?;
+        settings.validate()?;
+        if let Some(build) = self.build.as_mut() {
+            build.configure(settings)?;
+        } else if let Some(scans) = self.pending.take() {
+            if let Err(e) = LogMapBuild::check(&scans, &settings) {
+                self.pending = Some(scans);
+                return Err(e.into());
+            }
+            self.build = Some(LogMapBuild::new(scans, settings)?);
+        }
+        self.settings = settings;
+        self.geometry()
+    }
+
+    /// `{ lines, scans, beams, bytesRead, bytesTotal, finished }` of the
+    /// finished read (also when setting up the map failed), or `null`.
+    #[wasm_bindgen(js_name = readSummary)]
+    pub fn read_summary(&self) -> Result<JsValue, JsError> {
+        match self.read_summary {
+            None => Ok(JsValue::NULL),
+            Some(progress) => to_js(&ReadReport {
+                progress,
+                bytes_total: self.bytes_total,
+            }),
+        }
+    }
+
+    /// True when the whole log has been read but the settings made too large
+    /// a grid for it: `configure` with settings that fit builds the map.
+    #[wasm_bindgen(getter, js_name = awaitingSettings)]
+    pub fn awaiting_settings(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// `{ width, height, resolution, originX, originY }` of the map, or
+    /// `null` before the log is read.
+    pub fn geometry(&self) -> Result<JsValue, JsError> {
+        match &self.build {
+            None => Ok(JsValue::NULL),
+            Some(b) => {
+                let g = b.grid().geometry();
+                let [origin_x, origin_y] = g.origin();
+                to_js(&GeometryReport {
+                    width: g.width(),
+                    height: g.height(),
+                    resolution: g.resolution(),
+                    origin_x,
+                    origin_y,
+                })
+            }
+        }
+    }
+
+    /// Integrates up to `max_scans` more scans and returns
+    /// `{ scansDone, scansTarget, scansTotal, cellUpdates, beams, finished }`.
+    #[wasm_bindgen(js_name = buildChunk)]
+    pub fn build_chunk(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
+        to_js(&self.built_mut()?.advance(max_scans))
+    }
+
+    /// The build's progress without doing any work.
+    pub fn progress(&self) -> Result<JsValue, JsError> {
+        to_js(&self.built()?.progress())
+    }
+
+    /// Scrubs to `scans` integrated scans; `buildChunk` then does the work
+    /// (going back restarts from the first scan).
+    pub fn seek(&mut self, scans: usize) -> Result<(), JsError> {
+        Ok(self.built_mut()?.seek(scans)?)
+    }
+
+    /// Renders the map (north up, white free, black occupied, mid-gray
+    /// unknown) and returns the address of its `width * height * 4` RGBA
+    /// bytes in wasm memory.
+    pub fn render(&mut self) -> Result<usize, JsError> {
+        let build = self
+            .build
+            .as_ref()
+            .ok_or_else(|| JsError::new("the log has not been read yet"))?;
+        Ok(self.pixels.render(build.grid()) as usize)
+    }
+
+    /// The cell under image pixel `(col, row)` (row 0 at the top):
+    /// `{ ix, iy, x, y, l, p, updates }`, or `null` outside the map.
+    #[wasm_bindgen(js_name = cellAt)]
+    pub fn cell_at(&self, col: usize, row: usize) -> Result<JsValue, JsError> {
+        match self.built()?.readout_at_pixel(col, row) {
+            Some(r) => to_js(&r),
+            None => Ok(JsValue::NULL),
+        }
+    }
+
+    /// `{ occupied, free, unknown, cells }` now (p > 0.65, p < 0.35,
+    /// exactly the prior).
+    pub fn counts(&self) -> Result<JsValue, JsError> {
+        to_js(&self.built()?.counts())
+    }
+
+    /// The laser positions of all scans in image pixels, `[x0, y0, ...]`.
+    #[wasm_bindgen(js_name = pathPixels)]
+    pub fn path_pixels(&self) -> Result<Vec<f32>, JsError> {
+        Ok(self.built()?.path_in_pixels())
+    }
+
+    /// The heading of scan `k`'s laser, radians counter-clockwise from east.
+    pub fn heading(&self, k: usize) -> Result<f64, JsError> {
+        self.built()?
+            .scans()
+            .pose(k)
+            .map(|p| p.theta)
+            .ok_or_else(|| JsError::new(&format!("invalid scan: {k} (expected a scan of the log)")))
+    }
+
+    /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the
+    /// YAML naming the image `NAME.pgm` (default `map.pgm`).
+    #[wasm_bindgen(js_name = exportMap)]
+    pub fn export_map(&self, name: Option<String>) -> Result<JsValue, JsError> {
+        let stem = export::file_stem(name.as_deref().unwrap_or(""));
+        let pair = export::map_server_pair(self.built()?.grid(), &format!("{stem}.pgm"));
+        pair_to_js(&pair.pgm, &pair.yaml)
+    }
+}
+
+impl LogMapSession {
+    fn built(&self) -> Result<&LogMapBuild, JsError> {
+        self.build
+            .as_ref()
+            .ok_or_else(|| JsError::new("the log has not been read yet"))
+    }
+
+    fn built_mut(&mut self) -> Result<&mut LogMapBuild, JsError> {
+        self.build
+            .as_mut()
+            .ok_or_else(|| JsError::new("the log has not been read yet"))
+    }
+}
+
+/// `{ pgm: Uint8Array, yaml: string }` for JavaScript.
+fn pair_to_js(pgm: &[u8], yaml: &str) -> Result<JsValue, JsError> {
+    let out = js_sys::Object::new();
+    let set = |key: &str, value: JsValue| {
+        js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
+            .map(|_| ())
+            .map_err(|_| JsError::new("cannot build the export object"))
+    };
+    set("pgm", js_sys::Uint8Array::from(pgm).into())?;
+    set("yaml", JsValue::from_str(yaml))?;
+    Ok(out.into())
+}
+
+/// Packs an exported pair into one zip download for `downloadMapPair`
+/// (widgets/lib/export.js): `{ fileName, bytes: Uint8Array }`, the archive
+/// holding `STEM.pgm` and `STEM.yaml` with the YAML's `image:` pointing at
+/// the PGM.
+#[wasm_bindgen(js_name = zipMapPair)]
+pub fn zip_map_pair(name: &str, pgm: Vec<u8>, yaml: String) -> Result<JsValue, JsError> {
+    let (file_name, bytes) = export::zip_pair(&export::MapServerPair { pgm, yaml }, name);
+    let out = js_sys::Object::new();
+    js_sys::Reflect::set(&out, &"fileName".into(), &JsValue::from_str(&file_name))
+        .and_then(|_| {
+            js_sys::Reflect::set(
+                &out,
+                &"bytes".into(),
+                &js_sys::Uint8Array::from(bytes.as_slice()).into(),
+            )
+        })
+        .map_err(|_| JsError::new("cannot build the zip object"))?;
+    Ok(out.into())
 }

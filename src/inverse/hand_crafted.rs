@@ -1,6 +1,6 @@
 //! The hand-crafted inverse range sensor model of Table 9.2.
 
-use super::InverseModel;
+use super::{AxisProfile, InverseModel};
 use crate::error::{self, invalid, Result};
 use crate::grid::logit;
 
@@ -108,7 +108,7 @@ impl InverseModel for HandCrafted {
         let p = &self.params;
         let half_alpha = 0.5 * p.alpha;
         // Line 1: outside the perceptual field.
-        if r > p.z_max.min(z + half_alpha) || phi.abs() > 0.5 * p.beta {
+        if r > shorter(p.z_max, z + half_alpha) || phi.abs() > 0.5 * p.beta {
             return 0.0;
         }
         // Line 2: at the reading (and only for a real return).
@@ -124,7 +124,7 @@ impl InverseModel for HandCrafted {
 
     #[inline]
     fn reach(&self, z: f64) -> f64 {
-        self.params.z_max.min(z + 0.5 * self.params.alpha)
+        shorter(self.params.z_max, z + 0.5 * self.params.alpha)
     }
 
     fn half_width(&self) -> f64 {
@@ -138,6 +138,80 @@ impl InverseModel for HandCrafted {
     fn l0(&self) -> f32 {
         self.params.l0 as f32
     }
+
+    /// Table 9.2 on the beam axis: free up to the obstacle band, occupied
+    /// within `alpha / 2` of the reading, nothing past the reach. The two
+    /// thresholds are the exact floating-point boundaries of the tests in
+    /// [`HandCrafted::evidence`], so `profile.at(r) == evidence(r, 0, z)`
+    /// for every `r`, not only away from the edges.
+    fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
+        let p = &self.params;
+        let reach = self.reach(z);
+        if !(z < p.z_max) {
+            // A no-return (line 2 never fires): free out to the reach,
+            // which is z_max <= z.
+            return Some(AxisProfile {
+                free_until: reach,
+                free: self.free,
+                occupied_until: reach,
+                occupied: self.occ,
+            });
+        }
+        // Line 2 holds on an interval of ranges around z (the rounded
+        // `|r - z|` grows monotonically away from z). Its ends are
+        // `z -+ alpha/2` to within an ulp or two; step to the exact ones.
+        let half_alpha = 0.5 * p.alpha;
+        let near = |r: f64| (r - z).abs() < half_alpha;
+        let lo = float_edge(z - half_alpha, near, f64::next_down, f64::next_up)?;
+        let hi = float_edge(z + half_alpha, near, f64::next_up, f64::next_down)?;
+        // Below the band r < z, so line 3 gives free; above it r > z, so
+        // nothing. Line 1 cuts the band at the reach (which is >= z).
+        Some(AxisProfile {
+            free_until: lo.next_down(),
+            free: self.free,
+            occupied_until: shorter(hi, reach),
+            occupied: self.occ,
+        })
+    }
+}
+
+/// `a.min(b)` for a finite `a`, written as a comparison: in wasm `f64::min`
+/// is a library call, and these run once per beam. (A NaN `b` gives `a`,
+/// as `f64::min` does.)
+#[inline(always)]
+fn shorter(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// The outermost float (moving with `outward`) at which `inside` still
+/// holds, starting from a guess within a few ulps of it; `inside` holds on
+/// an interval and `inward` points into it. `None` if the guess is too far
+/// off (the caller then falls back to per-cell evaluation).
+fn float_edge(
+    guess: f64,
+    inside: impl Fn(f64) -> bool,
+    outward: fn(f64) -> f64,
+    inward: fn(f64) -> f64,
+) -> Option<f64> {
+    const MAX_STEPS: usize = 16;
+    let mut r = guess;
+    for _ in 0..MAX_STEPS {
+        if inside(r) {
+            for _ in 0..MAX_STEPS {
+                if !inside(outward(r)) {
+                    return Some(r);
+                }
+                r = outward(r);
+            }
+            return None;
+        }
+        r = inward(r);
+    }
+    None
 }
 
 #[cfg(test)]

@@ -6,8 +6,12 @@
 //! learned model of §9.3 are interchangeable in every mapper.
 
 mod hand_crafted;
+pub mod learned;
+pub mod training;
 
 pub use hand_crafted::{HandCrafted, HandCraftedParams};
+pub use learned::LearnedInverse;
+pub use training::TrainingConfig;
 
 /// What a mapper asks of an inverse sensor model.
 ///
@@ -34,6 +38,49 @@ pub trait InverseModel {
 
     /// The model's own prior, in log odds.
     fn l0(&self) -> f32;
+
+    /// `evidence(r, 0, z)` for every range `r` at once, when it is a step
+    /// function of `r` (Table 9.2 is: free, then occupied, then nothing).
+    /// A thin beam's traversal then compares each cell's range with two
+    /// numbers instead of asking the model per cell. `None` (the default)
+    /// means the mapper calls [`InverseModel::evidence`] per cell.
+    fn axis_profile(&self, _z: f64) -> Option<AxisProfile> {
+        None
+    }
+}
+
+/// The evidence along a beam's axis (`phi = 0`) for one reading, as a step
+/// function of the range `r` (metres):
+///
+/// * `r <= free_until`: `free`;
+/// * `free_until < r <= occupied_until`: `occupied`;
+/// * beyond: zero (no information).
+///
+/// An empty band has `occupied_until == free_until`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisProfile {
+    /// Last range (metres) with free evidence.
+    pub free_until: f64,
+    /// Evidence net of `l0` for the free band, log odds.
+    pub free: f32,
+    /// Last range (metres) with occupied evidence.
+    pub occupied_until: f64,
+    /// Evidence net of `l0` for the occupied band, log odds.
+    pub occupied: f32,
+}
+
+impl AxisProfile {
+    /// The evidence at range `r` (metres) along the axis.
+    #[inline(always)]
+    pub fn at(&self, r: f64) -> f32 {
+        if r <= self.free_until {
+            self.free
+        } else if r <= self.occupied_until {
+            self.occupied
+        } else {
+            0.0
+        }
+    }
 }
 
 impl<M: InverseModel + ?Sized> InverseModel for &M {
@@ -51,5 +98,8 @@ impl<M: InverseModel + ?Sized> InverseModel for &M {
     }
     fn l0(&self) -> f32 {
         (**self).l0()
+    }
+    fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
+        (**self).axis_profile(z)
     }
 }

@@ -10,6 +10,14 @@ use crate::error::{self, Result};
 use crate::grid::GridGeometry;
 use crate::raster::supercover;
 
+pub mod apartment;
+pub mod doorway;
+pub mod robot;
+pub mod session;
+pub mod table;
+pub mod view;
+pub mod weaver_workloads;
+
 /// An axis-aligned box in world coordinates, metres.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Rect {

@@ -1,0 +1,85 @@
+// Builds the map of a CARMEN log with the wasm core under Node and writes it
+// as a ROS map_server pair:
+//
+//   npm run export-map -- LOG OUT_PREFIX [--resolution M]
+//
+// writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
+// PGM beside it) and prints a one-line JSON summary with the paths written.
+// In the file name, characters other than letters, digits, `.`, `_` and `-`
+// become `_`, so that the YAML can name the image without quoting. LOG may
+// be gzipped.
+// The map is the one Map Weaver's real-log mode builds: the grid covers the
+// log's poses and readings, the inverse model and clamp are those of
+// BENCHMARKS.md W1, and the resolution defaults to 0.05 m.
+import fs from 'node:fs';
+import path from 'node:path';
+import { loadCore } from './lib/load-core.mjs';
+
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M]';
+
+function parseArgs(argv) {
+  const positional = [];
+  const settings = {};
+  for (let i = 0; i < argv.length; i++) {
+    const a = argv[i];
+    if (a === '--resolution' || a.startsWith('--resolution=')) {
+      const text = a.includes('=') ? a.slice(a.indexOf('=') + 1) : argv[++i];
+      if (text === undefined) throw new Error(`--resolution needs a value in metres per cell\n${USAGE}`);
+      // The core validates the number and names it in its error.
+      settings.resolution = text.trim() === '' ? NaN : Number(text);
+    } else if (a === '--help' || a === '-h') {
+      console.log(USAGE);
+      process.exit(0);
+    } else if (a.startsWith('--')) {
+      throw new Error(`unknown option: ${a}\n${USAGE}`);
+    } else {
+      positional.push(a);
+    }
+  }
+  if (positional.length !== 2) throw new Error(`expected LOG and OUT_PREFIX, got ${positional.length} argument(s)\n${USAGE}`);
+  return { log: positional[0], prefix: positional[1], settings };
+}
+
+async function main() {
+  const { log, prefix, settings } = parseArgs(process.argv.slice(2));
+  let bytes;
+  try {
+    bytes = fs.readFileSync(log);
+  } catch (e) {
+    throw new Error(`cannot read ${log}: ${e.message}`);
+  }
+  const { core } = await loadCore();
+  const session = new core.LogMapSession(bytes);
+  try {
+    session.configure(settings);
+    let read;
+    do read = session.read(1 << 30); while (!read.finished);
+    let built;
+    do built = session.buildChunk(1 << 30); while (!built.finished);
+    const stem = path.basename(prefix);
+    const pair = session.exportMap(stem);
+    const dir = path.dirname(prefix);
+    fs.mkdirSync(dir, { recursive: true });
+    // The core names the image after the file stem; keep both files beside
+    // each other under exactly that name.
+    const image = /^image: (.*)$/m.exec(pair.yaml)?.[1];
+    const pgmPath = path.join(dir, image && !image.startsWith('"') ? image : `${stem}.pgm`);
+    const yamlPath = `${path.join(dir, path.basename(pgmPath, '.pgm'))}.yaml`;
+    fs.writeFileSync(pgmPath, pair.pgm);
+    fs.writeFileSync(yamlPath, pair.yaml);
+    const g = session.geometry();
+    const c = session.counts();
+    console.log(JSON.stringify({
+      log, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
+      occupied: c.occupied, free: c.free, unknown: c.unknown, pgm: pgmPath, yaml: yamlPath,
+    }));
+  } finally {
+    session.free();
+  }
+}
+
+main().catch((e) => {
+  console.error(`export-map: ${e.message ?? e}`);
+  process.exit(1);
+});

@@ -1,0 +1,264 @@
+//! Bindings of `<occgrid-map-weaver>`: the apartment lap feeding two maps
+//! ([`crate::sim::session::Weaver`]), and the W2/W3 benchmark workloads
+//! ([`crate::sim::weaver_workloads`]) for the wasm run under Node.
+
+use super::{from_js, to_js};
+use crate::export;
+use crate::inverse::training::{self, TrainingConfig};
+use crate::sim::session::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use crate::sim::weaver_workloads::{AllCellsVsTraversal, ApartmentFrame};
+use wasm_bindgen::prelude::*;
+
+/// A Map Weaver run held in wasm memory.
+#[wasm_bindgen]
+pub struct MapWeaver(Weaver);
+
+#[wasm_bindgen]
+impl MapWeaver {
+    /// Builds a run (and trains the learned model). `settings` may be
+    /// `undefined` (the chapter's run) or an object overriding any field:
+    /// `{ seed: 3, person: false, laps: 1, panes: [{...}, {...}] }`.
+    #[wasm_bindgen(constructor)]
+    pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
+        let settings: WeaverSettings = if settings.is_undefined() || settings.is_null() {
+            WeaverSettings::default()
+        } else {
+            from_js("settings", settings)?
+        };
+        Ok(MapWeaver(Weaver::new(settings)?))
+    }
+
+    /// Map width in cells (= image width in pixels).
+    #[wasm_bindgen(getter)]
+    pub fn width(&self) -> usize {
+        self.0.geometry().width()
+    }
+    /// Map height in cells.
+    #[wasm_bindgen(getter)]
+    pub fn height(&self) -> usize {
+        self.0.geometry().height()
+    }
+    /// Metres per cell.
+    #[wasm_bindgen(getter)]
+    pub fn resolution(&self) -> f64 {
+        self.0.geometry().resolution()
+    }
+
+    /// Simulates and integrates up to `n` scans; returns how many were
+    /// taken (0 once the run's laps are done).
+    pub fn advance(&mut self, n: usize) -> Result<usize, JsError> {
+        Ok(self.0.advance(n)?)
+    }
+
+    /// Address of pane `pane`'s RGBA pixels (width x height x 4, north up)
+    /// in wasm memory, as of the last scan.
+    pub fn pixels(&self, pane: usize) -> Result<usize, JsError> {
+        Ok(self.0.view(pane)?.rgba().as_ptr() as usize)
+    }
+
+    /// `{ scans, scansPerLap, lap, time, done, person, frameMs, panes: [...] }`.
+    pub fn readout(&self) -> Result<JsValue, JsError> {
+        to_js(&self.0.readout())
+    }
+
+    /// Entropy (bits) after each scan, from the empty map on.
+    #[wasm_bindgen(js_name = entropyCurve)]
+    pub fn entropy_curve(&self, pane: usize) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.entropy_curve(pane)?.to_vec())
+    }
+
+    /// Brier score over the surveyed rooms after each scan.
+    #[wasm_bindgen(js_name = brierCurve)]
+    pub fn brier_curve(&self, pane: usize) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.brier_curve(pane)?.to_vec())
+    }
+
+    /// The three tracked cells' log odds after each scan, interleaved:
+    /// `[wall0, floor0, closet0, wall1, ...]`.
+    #[wasm_bindgen(js_name = trackedHistory)]
+    pub fn tracked_history(&self, pane: usize) -> Result<Vec<f32>, JsError> {
+        Ok(self
+            .0
+            .tracked_history(pane)?
+            .iter()
+            .flatten()
+            .copied()
+            .collect())
+    }
+
+    /// The tracked cells: `[{ name, at: [x, y], ix, iy }]`.
+    #[wasm_bindgen(js_name = trackedCells)]
+    pub fn tracked_cells(&self) -> Result<JsValue, JsError> {
+        #[derive(serde::Serialize)]
+        struct Tracked<'a> {
+            name: &'a str,
+            at: [f64; 2],
+            ix: usize,
+            iy: usize,
+        }
+        let g = self.0.geometry();
+        let cells = self.0.tracked_cells();
+        let list: Vec<Tracked> = self
+            .0
+            .settings()
+            .scene
+            .tracked
+            .iter()
+            .zip(cells)
+            .map(|(t, i)| {
+                let (ix, iy) = g.cell_of_index(i);
+                Tracked {
+                    name: &t.name,
+                    at: t.at,
+                    ix,
+                    iy,
+                }
+            })
+            .collect();
+        to_js(&list)
+    }
+
+    /// The cell under image column `col`, row `row` of pane `pane`:
+    /// `{ ix, iy, x, y, l, p, updates, occupied, unknown }`, or `null`
+    /// outside the map.
+    #[wasm_bindgen(js_name = cellInfo)]
+    pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<JsValue, JsError> {
+        match self.0.cell_info(pane, col, row)? {
+            Some(info) => to_js(&info),
+            None => Ok(JsValue::NULL),
+        }
+    }
+
+    /// What to draw over pane `pane`, in image units:
+    /// `{ robot, nose, truth, beams, hits, person }`.
+    pub fn overlay(&self, pane: usize) -> Result<JsValue, JsError> {
+        to_js(&self.0.overlay(pane)?)
+    }
+
+    #[wasm_bindgen(js_name = setPerson)]
+    pub fn set_person(&mut self, on: bool) {
+        self.0.set_person(on);
+    }
+
+    #[wasm_bindgen(js_name = setClamp)]
+    pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<(), JsError> {
+        Ok(self.0.set_clamp(pane, clamp)?)
+    }
+
+    #[wasm_bindgen(js_name = setStrength)]
+    pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<(), JsError> {
+        Ok(self.0.set_strength(pane, strength)?)
+    }
+
+    /// `"hand-crafted"` or `"learned"`; rebuilds the pane over the scans so
+    /// far.
+    #[wasm_bindgen(js_name = setModel)]
+    pub fn set_model(&mut self, pane: usize, model: &str) -> Result<(), JsError> {
+        let model: ModelKind = from_js("model", JsValue::from_str(model))?;
+        Ok(self.0.set_model(pane, model)?)
+    }
+
+    /// `"oracle"` or `"dead-reckoning"`; rebuilds the pane over the scans
+    /// so far.
+    #[wasm_bindgen(js_name = setPoseSource)]
+    pub fn set_pose_source(&mut self, pane: usize, pose: &str) -> Result<(), JsError> {
+        let pose: PoseSource = from_js("pose source", JsValue::from_str(pose))?;
+        Ok(self.0.set_pose_source(pane, pose)?)
+    }
+
+    /// Starts the lap again with the current knobs.
+    pub fn reset(&mut self) -> Result<(), JsError> {
+        Ok(self.0.reset()?)
+    }
+
+    /// Records one frame's duration (milliseconds, measured by the page
+    /// around its calls into the core) for the "ms per frame" readout.
+    #[wasm_bindgen(js_name = recordFrameMs)]
+    pub fn record_frame_ms(&mut self, ms: f64) {
+        self.0.record_frame_ms(ms);
+    }
+
+    /// Pane `pane`'s map as a ROS `map_server` pair `{ pgm: Uint8Array,
+    /// yaml }`, the YAML naming the image `apartment-left.pgm` or
+    /// `apartment-right.pgm`.
+    #[wasm_bindgen(js_name = exportMap)]
+    pub fn export_map(&self, pane: usize) -> Result<JsValue, JsError> {
+        let side = if pane == 0 { "left" } else { "right" };
+        let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
+        let out = js_sys::Object::new();
+        let set = |key: &str, value: JsValue| {
+            js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
+                .map(|_| ())
+                .map_err(|_| JsError::new("cannot build the export object"))
+        };
+        set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
+        set("yaml", JsValue::from_str(&pair.yaml))?;
+        Ok(out.into())
+    }
+}
+
+/// W2 `apartment-frame` for the benchmark under Node: each call does the
+/// work of one call, the script holds the clock.
+#[wasm_bindgen]
+pub struct ApartmentFrameBench(ApartmentFrame);
+
+#[wasm_bindgen]
+impl ApartmentFrameBench {
+    /// Trains the learned model (default configuration) and simulates the
+    /// lap.
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Result<ApartmentFrameBench, JsError> {
+        let (learned, _, _) = training::train(&TrainingConfig::default())?;
+        Ok(ApartmentFrameBench(ApartmentFrame::new(learned)?))
+    }
+
+    #[wasm_bindgen(getter)]
+    pub fn scans(&self) -> usize {
+        self.0.scans()
+    }
+
+    /// Empties both maps and starts the lap again.
+    pub fn restart(&mut self) {
+        self.0.restart();
+    }
+
+    /// One frame; returns the cells visited by both traversals together.
+    pub fn frame(&mut self) -> usize {
+        self.0.frame().iter().map(|s| s.cells_visited).sum()
+    }
+
+    /// One `integrate_scan` call into map `map` (0 hand-crafted, 1
+    /// learned); returns the cells visited.
+    pub fn integrate(&mut self, map: usize) -> Result<usize, JsError> {
+        Ok(self.0.integrate(map)?.cells_visited)
+    }
+}
+
+/// W3 `all-cells-vs-traversal` for the benchmark under Node.
+#[wasm_bindgen]
+pub struct AllCellsVsTraversalBench(AllCellsVsTraversal);
+
+#[wasm_bindgen]
+impl AllCellsVsTraversalBench {
+    #[wasm_bindgen(constructor)]
+    pub fn new(resolution: f64) -> Result<AllCellsVsTraversalBench, JsError> {
+        Ok(AllCellsVsTraversalBench(AllCellsVsTraversal::new(
+            resolution,
+        )?))
+    }
+
+    #[wasm_bindgen(getter)]
+    pub fn scans(&self) -> usize {
+        self.0.scans()
+    }
+
+    /// Scan `k` by ray traversal; returns the cells visited.
+    pub fn traverse(&mut self, k: usize) -> Result<usize, JsError> {
+        Ok(self.0.traverse(k)?.cells_visited)
+    }
+
+    /// Scan `k` by the sweep over every cell; returns the cells visited.
+    pub fn sweep(&mut self, k: usize) -> Result<usize, JsError> {
+        Ok(self.0.sweep(k)?.cells_visited)
+    }
+}

@@ -1,0 +1,143 @@
+//! Bindings of `<occgrid-sensor-fusion>`: the table scene, one grid per
+//! sensor, max fusion (eq. 9.9) against summation. The widget steps the
+//! core, draws the four maps from wasm memory and reads small readouts.
+
+use super::{from_js, to_js, Pixels};
+use crate::export;
+use crate::fusion::{FusionModels, TableFusion};
+use crate::grid::LogOddsGrid;
+use crate::sim::table::TableScene;
+use wasm_bindgen::prelude::*;
+
+/// The table-scene fusion experiment held in wasm memory.
+#[wasm_bindgen]
+pub struct SensorFusion {
+    fusion: TableFusion,
+    pixels: [Pixels; 4],
+}
+
+/// The four maps, in the order of `pixels`.
+const MAPS: [&str; 4] = ["sonar", "lidar", "max", "sum"];
+
+#[wasm_bindgen]
+impl SensorFusion {
+    /// Builds the scene. `scene` may be `undefined` (the chapter's scene) or
+    /// an object overriding any field of the scene (`{ seed: 3, lidar: {
+    /// beams: 90 } }`); `models` likewise overrides the inverse models
+    /// (`{ sonar_p_occ: 0.75 }`).
+    #[wasm_bindgen(constructor)]
+    pub fn new(scene: JsValue, models: JsValue) -> Result<SensorFusion, JsError> {
+        let scene: TableScene = if scene.is_undefined() || scene.is_null() {
+            TableScene::default()
+        } else {
+            from_js("scene", scene)?
+        };
+        let models: FusionModels = if models.is_undefined() || models.is_null() {
+            FusionModels::default()
+        } else {
+            from_js("models", models)?
+        };
+        Ok(SensorFusion {
+            fusion: TableFusion::with_models(&scene, models)?,
+            pixels: Default::default(),
+        })
+    }
+
+    /// Integrates the next step into all four maps; false at the end.
+    pub fn step(&mut self) -> bool {
+        self.fusion.step()
+    }
+
+    /// Runs to the end of the lap; returns the number of steps taken.
+    #[wasm_bindgen(js_name = runToEnd)]
+    pub fn run_to_end(&mut self) -> usize {
+        self.fusion.run_to_end()
+    }
+
+    pub fn reset(&mut self) {
+        self.fusion.reset();
+    }
+
+    /// Changes only the LiDAR's beam count and rebuilds the maps up to the
+    /// current step. `beams` must be a whole number from 1 to 2048.
+    #[wasm_bindgen(js_name = setLidarBeams)]
+    pub fn set_lidar_beams(&mut self, beams: f64) -> Result<(), JsError> {
+        if !(beams.is_finite() && beams >= 0.0 && beams.fract() == 0.0 && beams <= 1e9) {
+            return Err(JsError::new(&format!(
+                "invalid lidar.beams: {beams} (expected a whole number of beams)"
+            )));
+        }
+        Ok(self.fusion.set_lidar_beams(beams as usize)?)
+    }
+
+    /// `{ step, steps, lidarBeams, sonarCount, footprintCells, footprint:
+    /// { sonar, lidar, max, sum }, pose: { x, y, theta } }`.
+    pub fn readout(&self) -> Result<JsValue, JsError> {
+        to_js(&self.fusion.readout())
+    }
+
+    /// `{ robot: [u, v, theta], footprint: [u0, v0, u1, v1],
+    /// sonarHalfWidth, sonar: [{ angle, range }], lidar: [u0, v0, ...] }`
+    /// in grid cells (v north).
+    #[wasm_bindgen(js_name = sceneView)]
+    pub fn scene_view(&self) -> Result<JsValue, JsError> {
+        to_js(&self.fusion.scene_view())
+    }
+
+    #[wasm_bindgen(getter)]
+    pub fn width(&self) -> usize {
+        self.fusion.sonar().geometry().width()
+    }
+
+    #[wasm_bindgen(getter)]
+    pub fn height(&self) -> usize {
+        self.fusion.sonar().geometry().height()
+    }
+
+    /// Renders one map (`"sonar"`, `"lidar"`, `"max"` or `"sum"`) to RGBA,
+    /// north up, and returns the address of its `width * height * 4` bytes
+    /// in wasm memory.
+    pub fn render(&mut self, which: &str) -> Result<usize, JsError> {
+        let k = map_index(which)?;
+        let grid = map_of(&self.fusion, k);
+        let slot = self
+            .pixels
+            .get_mut(k)
+            .ok_or_else(|| JsError::new("no such map"))?;
+        Ok(slot.render(grid) as usize)
+    }
+
+    /// One map as a ROS `map_server` pair: `{ pgm: Uint8Array, yaml }`.
+    #[wasm_bindgen(js_name = exportMap)]
+    pub fn export_map(&self, which: &str) -> Result<JsValue, JsError> {
+        let k = map_index(which)?;
+        let name = format!("table-{which}.pgm");
+        let pair = export::map_server_pair(map_of(&self.fusion, k), &name);
+        let out = js_sys::Object::new();
+        let set = |key: &str, value: JsValue| {
+            js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
+                .map(|_| ())
+                .map_err(|_| JsError::new("cannot build the export object"))
+        };
+        set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
+        set("yaml", JsValue::from_str(&pair.yaml))?;
+        Ok(out.into())
+    }
+}
+
+fn map_index(which: &str) -> Result<usize, JsError> {
+    MAPS.iter().position(|&m| m == which).ok_or_else(|| {
+        JsError::new(&format!(
+            "invalid map: \"{which}\" (expected \"sonar\", \"lidar\", \"max\" or \"sum\")"
+        ))
+    })
+}
+
+fn map_of(f: &TableFusion, k: usize) -> &LogOddsGrid {
+    match k {
+        0 => f.sonar(),
+        1 => f.lidar(),
+        2 => f.fused(),
+        _ => f.summed(),
+    }
+}

@@ -1,0 +1,709 @@
+//! The learned inverse sensor model of Probabilistic Robotics §9.3.
+//!
+//! Instead of Table 9.2's hand-set `alpha`, `beta`, `l_occ` and `l_free`,
+//! the model is a logistic regression on a fixed vector of bounded features
+//! of a cell's beam-frame geometry: its range `r` (metres), its bearing
+//! offset `psi` from the beam axis (radians) and the beam's reading `z`
+//! (metres). [`super::training`] fits the weights on triplets sampled from a
+//! map prior and the forward model; this module defines the features, turns
+//! the weights into an [`InverseModel`] the mappers use, and offers what the
+//! workbench widget draws (fields, axis curves, the prior drift).
+//!
+//! The regression's score `w . phi` is already a posterior log odds (the
+//! minimiser of the cross-entropy is the true `p(m | r, psi, z)` when the
+//! features can express it), so the evidence handed to the map is
+//! `w . phi - l0` with no sigmoid. `l0` is read off the model itself: its
+//! score for a cell far beyond a short reading on the axis.
+//!
+//! # The features
+//!
+//! With `d = r - z` (metres past the reading), `u = |psi| / h` (`h` the
+//! training sensor's cone half-angle) and `m` = "the reading is a no-return
+//! (`z >= z_max`)":
+//!
+//! * `1` — the bias: the score of a cell at the rim of the perceptual
+//!   field, where every angular window has fallen to zero.
+//! * `(1 - m) G(d)` — "far beyond the reading", at any bearing. The model's
+//!   own `l0` is the bias plus this weight: the score of a cell far beyond
+//!   a short reading, read off the model. Cells there get exactly zero
+//!   evidence, so a mapper may visit them without moving them.
+//! * `(1 - m) a_w(u) N_k(d)`, `k = 0..7` — a uniform cubic B-spline basis in
+//!   `d` with knots every 0.15 m from -0.6 m to +0.9 m (each function lies
+//!   wholly inside that span): the shape of the free-to-occupied transition.
+//! * `(1 - m) F(d) {a_w(u), a_n(u), a_w(u) z / z_max}` — the free plateau
+//!   in front of the reading, under the wide and a narrower angular window
+//!   (free space may be narrower than the occupied band) and scaled with the
+//!   reading's length (confidence may change with range).
+//! * `m a_w(u) {1, r / z_max, H(r)}` — a no-return has its own profile
+//!   along the beam (one training reading in twenty is a dropout from a
+//!   real obstacle at an unknown range); `H(r)` is a smoothstep from 1 at
+//!   the sensor to 0 at 1 m, for the free space the robot stands in.
+//!
+//! `a_w(u) = (1 - (u/1.5)^2)^2` and `a_n(u) = (1 - u^2)^2` (zero outside)
+//! are smooth angular windows; `F(d)` is a cubic smoothstep that is 1 for
+//! `d <= -0.3` m and 0 for `d >= 0`, `G(d)` one that is 0 up to 0.6 m and 1
+//! from 0.9 m past the reading. Every feature lies in `[0, 1]` and is a
+//! polynomial: no transcendental function is evaluated per feature.
+//!
+//! The bias and `l0` differ on purpose. Cells at the rim of the field in
+//! front of a reading lie beside free space and are freer than cells behind
+//! an obstacle; one shared weight for both would pull `l0` toward free and
+//! make the model claim knowledge about the cells it knows least about.
+//!
+//! # Evaluating it cheaply
+//!
+//! Mappers call [`InverseModel::evidence`] once per cell per beam (Map
+//! Weaver: 60 beams of about 40 cells per scan). The score of a real return
+//! separates into `w0 + w_G G(d) + a_w(u) (T(d) + (z / z_max) w_z F(d)) +
+//! a_n(u) w_n F(d)` with `T(d) = sum_k w_k N_k(d) + w_F F(d)`, and that of a
+//! no-return into `w0 + a_w(u) (w_m0 + w_m1 r / z_max + w_m2 H(r))`. At
+//! construction `w_G G`, `T` and `F` are tabulated on a 5 mm lattice over
+//! the spline's span and interpolated linearly (the interpolation error is
+//! below 1e-3 in log odds, far below the fit's own uncertainty); the angular
+//! windows are two short polynomials, skipped on the axis (`psi = 0`, all
+//! the ray-traversal mapper asks). One call is a handful of multiply-adds
+//! and two table reads.
+
+use super::InverseModel;
+use crate::error::{self, invalid, Result};
+use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use crate::mapper::sweep_scan;
+use crate::scan::{Pose, Scan};
+
+/// Number of features.
+pub const FEATURES: usize = 15;
+
+/// Index of the bias.
+pub const BIAS: usize = 0;
+/// Index of the far-beyond feature `G`.
+pub const BEYOND: usize = 1;
+/// Index of the first B-spline feature.
+const SPLINE0: usize = 2;
+/// Number of B-spline basis functions in `d`.
+const SPLINES: usize = 7;
+/// Start of the spline's span in `d`, metres (in front of the reading).
+pub const SPLINE_START: f64 = -0.6;
+/// Knot spacing, metres. Narrow enough to draw a ramp as wide as the hit
+/// noise (`sigma_hit` 0.15 m), wide enough that 24,000 samples fill it.
+pub const KNOT_STEP: f64 = 0.15;
+/// Where the spline's span ends, metres past the reading: from here on a
+/// real return tells the model nothing (`G = 1`).
+pub const SPLINE_END: f64 = SPLINE_START + (SPLINES + 3) as f64 * KNOT_STEP;
+/// Where `G` starts to rise, metres past the reading.
+const BEYOND_START: f64 = SPLINE_END - 0.3;
+/// Feature indices of the free plateau under the wide window, the narrow
+/// window, and the wide window scaled by the reading's length.
+const FREE_WIDE: usize = SPLINE0 + SPLINES;
+const FREE_NARROW: usize = FREE_WIDE + 1;
+const FREE_RANGE: usize = FREE_WIDE + 2;
+/// Index of the first no-return feature.
+const NO_RETURN: usize = FREE_WIDE + 3;
+
+/// Support of the wide angular window, in cone half-angles: the perceptual
+/// field's half-width.
+pub const FIELD: f64 = 1.5;
+/// Depth past the spline's end that still belongs to a real return's
+/// perceptual field, metres: a band where the model is back at its prior,
+/// so that a mapper's traversal ends on cells that get exactly nothing.
+pub const BEHIND_BAND: f64 = 0.2;
+/// Reach of the near-sensor feature `H` of a no-return, metres.
+const NEAR_SENSOR: f64 = 1.0;
+/// Width of the free plateau's smooth edge, metres before the reading.
+const FRONT_RAMP: f64 = 0.3;
+/// Lattice step of the tabulated score, metres.
+const TABLE_STEP: f64 = 0.005;
+
+/// The sensor geometry the features are expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FeatureFrame {
+    /// Maximum range of the sensor, metres.
+    pub z_max: f64,
+    /// Half-angle of the training sensor's cone, radians.
+    pub half_width: f64,
+}
+
+impl FeatureFrame {
+    pub fn validate(&self) -> Result<()> {
+        error::positive("z_max", self.z_max)?;
+        error::positive("half_width", self.half_width)?;
+        if self.half_width * FIELD > std::f64::consts::FRAC_PI_2 {
+            return Err(invalid(
+                "half_width",
+                self.half_width,
+                "a cone half-angle of at most pi/3 radians",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The feature vector of a cell at range `r` and bearing offset `psi`
+    /// for a reading `z` (the exact definition; the mappers use the
+    /// tabulated form of [`LearnedInverse`]).
+    pub fn features(&self, r: f64, psi: f64, z: f64) -> [f64; FEATURES] {
+        let mut phi = [0.0; FEATURES];
+        phi[BIAS] = 1.0;
+        let u = psi.abs() / self.half_width;
+        let wide = window(u / FIELD);
+        if z >= self.z_max {
+            phi[NO_RETURN] = wide;
+            phi[NO_RETURN + 1] = wide * (r / self.z_max).clamp(0.0, 1.0);
+            phi[NO_RETURN + 2] = wide * near_sensor(r);
+            return phi;
+        }
+        let d = r - z;
+        phi[BEYOND] = beyond(d);
+        if let Some((i, b)) = spline_basis(d) {
+            for (j, &bj) in b.iter().enumerate() {
+                // Function k covers knot intervals k-3 ..= k; i is the
+                // interval holding d.
+                if let Some(k) = (i + j).checked_sub(3).filter(|&k| k < SPLINES) {
+                    phi[SPLINE0 + k] = wide * bj;
+                }
+            }
+        }
+        let front = front_plateau(d);
+        phi[FREE_WIDE] = wide * front;
+        phi[FREE_NARROW] = window(u) * front;
+        phi[FREE_RANGE] = wide * (z / self.z_max).clamp(0.0, 1.0) * front;
+        phi
+    }
+}
+
+/// `(1 - x^2)^2` on `|x| < 1`, else 0: a smooth bump with flat top and feet.
+#[inline]
+fn window(x: f64) -> f64 {
+    let q = 1.0 - x * x;
+    if q > 0.0 {
+        q * q
+    } else {
+        0.0
+    }
+}
+
+/// Cubic smoothstep: 0 at `x <= 0`, 1 at `x >= 1`.
+#[inline]
+fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// `F`: 1 for `d <= -0.3` m, 0 for `d >= 0`.
+#[inline]
+fn front_plateau(d: f64) -> f64 {
+    smoothstep(-d / FRONT_RAMP)
+}
+
+/// `H`: 1 at the sensor, 0 from [`NEAR_SENSOR`] metres on.
+#[inline]
+fn near_sensor(r: f64) -> f64 {
+    smoothstep(1.0 - r / NEAR_SENSOR)
+}
+
+/// `G`: 0 up to 0.6 m past the reading, 1 from 0.9 m.
+#[inline]
+fn beyond(d: f64) -> f64 {
+    smoothstep((d - BEYOND_START) / (SPLINE_END - BEYOND_START))
+}
+
+/// The uniform cubic B-spline basis at `d`: the knot interval `i` holding
+/// `d` (interval `i` spans `SPLINE_START + [i, i+1) * KNOT_STEP`) and the
+/// values of the four functions alive on it, those starting at intervals
+/// `i-3 ..= i` in that order. `None` outside the span.
+#[inline]
+fn spline_basis(d: f64) -> Option<(usize, [f64; 4])> {
+    let t = (d - SPLINE_START) / KNOT_STEP;
+    if !(t >= 0.0 && t < (SPLINES + 3) as f64) {
+        return None;
+    }
+    let i = t as usize;
+    let f = t - i as f64;
+    let (f2, f3) = (f * f, f * f * f);
+    let g = 1.0 - f;
+    Some((
+        i,
+        [
+            g * g * g / 6.0,
+            (3.0 * f3 - 6.0 * f2 + 4.0) / 6.0,
+            (-3.0 * f3 + 3.0 * f2 + 3.0 * f + 1.0) / 6.0,
+            f3 / 6.0,
+        ],
+    ))
+}
+
+/// The trained model: weights, the prior read off them, and the tables
+/// that make [`InverseModel::evidence`] cheap.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LearnedInverse {
+    frame: FeatureFrame,
+    weights: [f64; FEATURES],
+    /// The model's own prior, log odds: its score far beyond a short
+    /// reading on the axis.
+    own_l0: f64,
+    /// The prior removed from every score: `own_l0` unless a caller
+    /// overrides it (the drift diagnostic forces 0).
+    l0: f64,
+    /// `own_l0 - l0`: the evidence of a cell far beyond a reading (0 with
+    /// the model's own prior).
+    base: f64,
+    /// `(w_G (G(d) - 1), T(d), F(d))` on the lattice
+    /// `d = SPLINE_START + k * TABLE_STEP`.
+    table: Vec<[f32; 3]>,
+    inv_half_width: f64,
+}
+
+impl LearnedInverse {
+    /// A model from fitted weights. Rejects non-finite weights.
+    pub fn new(frame: FeatureFrame, weights: [f64; FEATURES]) -> Result<Self> {
+        frame.validate()?;
+        for (i, &w) in weights.iter().enumerate() {
+            error::finite(&format!("weights[{i}]"), w)?;
+        }
+        let mut model = Self {
+            frame,
+            weights,
+            own_l0: 0.0,
+            l0: 0.0,
+            base: 0.0,
+            table: Vec::new(),
+            inv_half_width: 1.0 / frame.half_width,
+        };
+        // Read the prior off the model: a cell two spline spans beyond a
+        // short reading (a quarter of the range), on the axis. (Only the
+        // bias and G are non-zero there, at any bearing.)
+        let z = 0.25 * frame.z_max;
+        let own_l0 = model.score(z + 2.0 * (SPLINE_END - SPLINE_START), 0.0, z);
+        let steps = ((SPLINE_END - SPLINE_START) / TABLE_STEP).round() as usize;
+        model.table = (0..=steps)
+            .map(|k| {
+                let d = SPLINE_START + k as f64 * TABLE_STEP;
+                let front = front_plateau(d);
+                let spline: f64 = spline_basis(d).map_or(0.0, |(i, b)| {
+                    b.iter()
+                        .enumerate()
+                        .filter_map(|(j, &bj)| {
+                            let k = (i + j).checked_sub(3).filter(|&k| k < SPLINES)?;
+                            Some(weights[SPLINE0 + k] * bj)
+                        })
+                        .sum()
+                });
+                let t = spline + weights[FREE_WIDE] * front;
+                // G enters as w_G (G - 1), which is exactly 0 from the end
+                // of the span on: the cells the model knows nothing about
+                // get exactly `own_l0 - l0`, not a rounding error.
+                [
+                    (weights[BEYOND] * (beyond(d) - 1.0)) as f32,
+                    t as f32,
+                    front as f32,
+                ]
+            })
+            .collect();
+        model.own_l0 = own_l0;
+        Ok(model.with_l0(own_l0))
+    }
+
+    /// The same model removing `l0` instead of its own prior from every
+    /// score (`with_l0(0.0)` is the mistake [`prior_drift`] shows). A
+    /// non-finite `l0` keeps the model's own.
+    pub fn with_l0(&self, l0: f64) -> Self {
+        let l0 = if l0.is_finite() { l0 } else { self.own_l0 };
+        Self {
+            l0,
+            base: self.own_l0 - l0,
+            ..self.clone()
+        }
+    }
+
+    pub fn frame(&self) -> &FeatureFrame {
+        &self.frame
+    }
+    pub fn weights(&self) -> &[f64; FEATURES] {
+        &self.weights
+    }
+    /// The model's own prior in log odds, read off the model.
+    pub fn own_l0(&self) -> f64 {
+        self.own_l0
+    }
+
+    /// The regression's score `w . phi` (a posterior log odds), exactly.
+    pub fn score(&self, r: f64, psi: f64, z: f64) -> f64 {
+        let phi = self.frame.features(r, psi, z);
+        phi.iter().zip(&self.weights).map(|(p, w)| p * w).sum()
+    }
+
+    /// `w_G (G(d) - 1)`, `T(d)` and `F(d)` from the table, linearly
+    /// interpolated and held at the ends (in front of the span they are
+    /// `-w_G, w_F, 1`; past it all 0).
+    #[inline]
+    fn lookup(&self, d: f64) -> [f64; 3] {
+        let t = (d.max(SPLINE_START) - SPLINE_START) * (1.0 / TABLE_STEP);
+        let k = t as usize;
+        let at = |v: &[f32; 3]| v.map(|x| x as f64);
+        match (self.table.get(k), self.table.get(k + 1)) {
+            (Some(a), Some(b)) => {
+                let f = (t - k as f64) as f32;
+                [0, 1, 2].map(|i| (a[i] + f * (b[i] - a[i])) as f64)
+            }
+            (Some(a), None) => at(a),
+            _ => self.table.last().map_or([0.0; 3], at),
+        }
+    }
+}
+
+impl InverseModel for LearnedInverse {
+    #[inline]
+    fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+        let u = phi.abs() * self.inv_half_width;
+        if !(u <= FIELD && r <= self.reach(z) && r.is_finite()) {
+            return 0.0; // outside the perceptual field (or not a number)
+        }
+        let z_max = self.frame.z_max;
+        let (wide, narrow) = if u == 0.0 {
+            (1.0, 1.0)
+        } else {
+            (window(u * (1.0 / FIELD)), window(u))
+        };
+        let w = &self.weights;
+        // Scores are taken relative to `own_l0 = w0 + w_G`, so that the
+        // cells the model knows nothing about get exactly `base`.
+        let e = if z >= z_max {
+            let rt = (r * (1.0 / z_max)).clamp(0.0, 1.0);
+            self.base - w[BEYOND]
+                + wide * (w[NO_RETURN] + rt * w[NO_RETURN + 1] + near_sensor(r) * w[NO_RETURN + 2])
+        } else {
+            let [g, t, front] = self.lookup(r - z);
+            self.base
+                + g
+                + wide * (t + (z * (1.0 / z_max)).clamp(0.0, 1.0) * w[FREE_RANGE] * front)
+                + narrow * w[FREE_NARROW] * front
+        };
+        e as f32
+    }
+
+    /// A real return: the spline's span past the reading plus a band where
+    /// the model is back at its prior. A no-return: `z_max`.
+    #[inline]
+    fn reach(&self, z: f64) -> f64 {
+        if z >= self.frame.z_max {
+            self.frame.z_max
+        } else {
+            z + SPLINE_END + BEHIND_BAND
+        }
+    }
+
+    fn half_width(&self) -> f64 {
+        FIELD * self.frame.half_width
+    }
+
+    fn z_max(&self) -> f64 {
+        self.frame.z_max
+    }
+
+    fn l0(&self) -> f32 {
+        self.l0 as f32
+    }
+}
+
+/// The range-by-bearing lattice over which a model is drawn: `ranges`
+/// samples of the range from `min_range` to `max_range` (metres, both
+/// included) and `bearings` samples of the bearing offset from
+/// `-max_bearing` to `+max_bearing` (radians, both included).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BeamLattice {
+    pub min_range: f64,
+    pub max_range: f64,
+    pub ranges: usize,
+    pub max_bearing: f64,
+    pub bearings: usize,
+}
+
+impl BeamLattice {
+    pub fn validate(&self) -> Result<()> {
+        error::non_negative("min_range", self.min_range)?;
+        error::finite("max_range", self.max_range)?;
+        if !(self.max_range > self.min_range) {
+            return Err(invalid(
+                "max_range",
+                self.max_range,
+                "a range greater than min_range",
+            ));
+        }
+        error::non_negative("max_bearing", self.max_bearing)?;
+        if self.max_bearing > std::f64::consts::PI {
+            return Err(invalid(
+                "max_bearing",
+                self.max_bearing,
+                "a bearing of at most pi radians",
+            ));
+        }
+        lattice_size("ranges", self.ranges)?;
+        lattice_size("bearings", self.bearings)?;
+        Ok(())
+    }
+
+    /// Range of column `i`, metres.
+    pub fn range(&self, i: usize) -> f64 {
+        lattice(self.min_range, self.max_range, i, self.ranges)
+    }
+
+    /// Bearing offset of row `j`, radians.
+    pub fn bearing(&self, j: usize) -> f64 {
+        lattice(-self.max_bearing, self.max_bearing, j, self.bearings)
+    }
+}
+
+/// A model's evidence (log odds, net of its `l0`) for reading `z` over a
+/// beam's neighbourhood, row-major with one row per bearing (the first row
+/// at `-max_bearing`): what the workbench draws as an image.
+pub fn evidence_field<M: InverseModel + ?Sized>(
+    model: &M,
+    z: f64,
+    lattice: &BeamLattice,
+) -> Result<Vec<f32>> {
+    error::non_negative("z", z)?;
+    lattice.validate()?;
+    let mut out = Vec::with_capacity(lattice.ranges * lattice.bearings);
+    for j in 0..lattice.bearings {
+        let psi = lattice.bearing(j);
+        out.extend((0..lattice.ranges).map(|i| model.evidence(lattice.range(i), psi, z)));
+    }
+    Ok(out)
+}
+
+/// A model's posterior log odds along the beam axis for reading `z`
+/// (evidence plus the model's `l0`: the inverse model's own answer before
+/// the prior is removed), at the lattice's ranges: what the workbench draws
+/// as a curve beside the `l0` line. Cells the model says nothing about sit
+/// on `l0`.
+pub fn axis_log_odds<M: InverseModel + ?Sized>(
+    model: &M,
+    z: f64,
+    lattice: &BeamLattice,
+) -> Result<Vec<f32>> {
+    error::non_negative("z", z)?;
+    lattice.validate()?;
+    let l0 = model.l0();
+    Ok((0..lattice.ranges)
+        .map(|i| model.evidence(lattice.range(i), 0.0, z) + l0)
+        .collect())
+}
+
+/// Two models for the same reading over the same lattice, on one colour
+/// scale: what the workbench draws side by side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SideBySide {
+    /// Evidence images ([`evidence_field`]) of the first and second model.
+    pub fields: [Vec<f32>; 2],
+    /// Log odds along the axis ([`axis_log_odds`]) of both.
+    pub axes: [Vec<f32>; 2],
+    /// The largest `|evidence|` over both images: one shared log-odds scale,
+    /// so that equal colours mean equal evidence in both.
+    pub scale: f32,
+}
+
+/// Evaluates `a` and `b` for reading `z` over `lattice`.
+pub fn side_by_side<A: InverseModel + ?Sized, B: InverseModel + ?Sized>(
+    a: &A,
+    b: &B,
+    z: f64,
+    lattice: &BeamLattice,
+) -> Result<SideBySide> {
+    let fields = [
+        evidence_field(a, z, lattice)?,
+        evidence_field(b, z, lattice)?,
+    ];
+    let axes = [axis_log_odds(a, z, lattice)?, axis_log_odds(b, z, lattice)?];
+    let scale = fields.iter().flatten().fold(0.0f32, |m, &e| m.max(e.abs()));
+    Ok(SideBySide {
+        fields,
+        axes,
+        scale,
+    })
+}
+
+/// Mean evidence (log odds, net of `l0`) on the beam axis over the free
+/// space in front of reading `z`: ranges from 0 to `z - margin` metres,
+/// sampled every centimetre (a no-return: up to `z_max - margin`). The
+/// chapter compares it for a short and for a max-range reading.
+pub fn mean_free_evidence<M: InverseModel + ?Sized>(model: &M, z: f64, margin: f64) -> Result<f64> {
+    error::non_negative("z", z)?;
+    error::non_negative("margin", margin)?;
+    let end = z.min(model.z_max()) - margin;
+    if !(end > 0.0) {
+        return Err(invalid(
+            "z",
+            z,
+            "a reading longer than the margin in front of it",
+        ));
+    }
+    let n = (end / 0.01).ceil().max(1.0) as usize;
+    let sum: f64 = (0..n)
+        .map(|i| model.evidence((i as f64 + 0.5) * end / n as f64, 0.0, z) as f64)
+        .sum();
+    Ok(sum / n as f64)
+}
+
+/// What [`prior_drift`] measured.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DriftReport {
+    /// Identical scans integrated.
+    pub scans: usize,
+    /// Cells of the perceptual field that no feature of the model reaches.
+    pub cells: usize,
+    /// Their mean log odds afterwards with the model's own `l0` removed
+    /// (they started at 0).
+    pub own_l0: f64,
+    /// The same with `l0` forced to 0.
+    pub zero_l0: f64,
+}
+
+/// The prior-drift diagnostic. One beam reading `z` is integrated `scans`
+/// times by the literal sweep (Table 9.1), once with the model's own `l0`
+/// and once with `l0 = 0`. The cells watched are those of the perceptual
+/// field that lie behind the reading by more than [`SPLINE_END`]: the
+/// model knows nothing about them (its score there is its prior), yet the
+/// mapper visits them. With its own `l0` their evidence is exactly 0 and
+/// they stay put; with `l0 = 0` each scan adds the model's prior to each of
+/// them, and to every other cell of the field, so every cell of every
+/// perceptual field drifts, by `scans * l0` after `scans` scans.
+pub fn prior_drift(model: &LearnedInverse, z: f64, scans: usize) -> Result<DriftReport> {
+    error::positive("z", z)?;
+    if z >= model.z_max() {
+        return Err(invalid("z", z, "a real return, shorter than z_max"));
+    }
+    if !(1..=10_000).contains(&scans) {
+        return Err(invalid("scans", scans, "between 1 and 10000 scans"));
+    }
+    let res = 0.05;
+    let reach = model.reach(z);
+    let half = model.half_width();
+    let side = reach * half.sin() + res;
+    let geometry = GridGeometry::covering(-res, -side, reach + res, side, res)?;
+    let pose = Pose::new(0.0, 0.0, 0.0)?;
+    let scan = Scan::new(pose, vec![z], vec![0.0])?;
+    let run = |m: &LearnedInverse| -> Result<LogOddsGrid> {
+        let mut grid = LogOddsGrid::new(geometry, FilterSettings::default())?;
+        for _ in 0..scans {
+            sweep_scan(&mut grid, m, &scan);
+        }
+        Ok(grid)
+    };
+    let own = run(model)?;
+    let zero = run(&model.with_l0(0.0))?;
+    let watched: Vec<usize> = (0..geometry.len())
+        .filter(|&i| {
+            let (ix, iy) = geometry.cell_of_index(i);
+            let (x, y) = geometry.cell_center(ix, iy);
+            let (r, psi) = (x.hypot(y), y.atan2(x));
+            r <= reach && psi.abs() <= half && r - z >= SPLINE_END
+        })
+        .collect();
+    if watched.is_empty() {
+        return Err(invalid("z", z, "a reading whose field has unreached cells"));
+    }
+    let mean = |g: &LogOddsGrid| {
+        watched.iter().map(|&i| g.log_odds()[i] as f64).sum::<f64>() / watched.len() as f64
+    };
+    Ok(DriftReport {
+        scans,
+        cells: watched.len(),
+        own_l0: mean(&own),
+        zero_l0: mean(&zero),
+    })
+}
+
+fn lattice_size(field: &str, n: usize) -> Result<()> {
+    if (2..=4096).contains(&n) {
+        Ok(())
+    } else {
+        Err(invalid(field, n, "between 2 and 4096 samples"))
+    }
+}
+
+/// Sample `i` of `n` evenly spaced from `a` to `b` inclusive.
+#[inline]
+fn lattice(a: f64, b: f64, i: usize, n: usize) -> f64 {
+    a + (b - a) * i as f64 / (n - 1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame() -> FeatureFrame {
+        FeatureFrame {
+            z_max: 8.0,
+            half_width: 0.05,
+        }
+    }
+
+    #[test]
+    fn spline_basis_sums_to_one_inside_and_vanishes_outside() {
+        // Away from the span's ends all four live functions are features.
+        for k in 0..100 {
+            let d = SPLINE_START + 3.0 * KNOT_STEP + k as f64 * 0.004;
+            if d >= SPLINE_END - 3.0 * KNOT_STEP {
+                break;
+            }
+            let phi = frame().features(2.0 + d, 0.0, 2.0);
+            let sum: f64 = phi[SPLINE0..SPLINE0 + SPLINES].iter().sum();
+            assert!((sum - 1.0).abs() < 1e-12, "{d}: {sum}");
+        }
+        assert!(spline_basis(SPLINE_END).is_none());
+        assert!(spline_basis(SPLINE_START - 1e-9).is_none());
+    }
+
+    #[test]
+    fn features_are_bounded_and_only_the_prior_is_left_where_nothing_is_known() {
+        let f = frame();
+        for (r, psi, z) in [(0.3, 0.0, 2.0), (2.05, 0.04, 2.0), (9.0, -0.02, 8.0)] {
+            let phi = f.features(r, psi, z);
+            assert!(phi.iter().all(|p| (0.0..=1.0).contains(p)), "{phi:?}");
+        }
+        let only = |phi: [f64; FEATURES], live: &[usize]| {
+            phi.iter()
+                .enumerate()
+                .all(|(i, &p)| p == if live.contains(&i) { 1.0 } else { 0.0 })
+        };
+        // Far beyond the reading: the bias and G, whatever the bearing.
+        assert!(only(
+            f.features(2.0 + SPLINE_END + 0.01, 0.0, 2.0),
+            &[BIAS, BEYOND]
+        ));
+        assert!(only(
+            f.features(2.0 + SPLINE_END, 0.06, 2.0),
+            &[BIAS, BEYOND]
+        ));
+        // At the rim of the field: the bias alone.
+        assert!(only(f.features(1.0, 0.05 * FIELD, 2.0), &[BIAS]));
+        assert!(only(f.features(1.0, 0.05 * FIELD, 8.0), &[BIAS]));
+    }
+
+    #[test]
+    fn tabulated_evidence_matches_the_exact_score() {
+        let mut w = [0.0; FEATURES];
+        for (i, x) in w.iter_mut().enumerate() {
+            *x = ((i * 7 % 5) as f64 - 2.0) * 0.8;
+        }
+        let m = LearnedInverse::new(frame(), w).unwrap();
+        for k in 0..4000 {
+            let z = if k % 10 == 0 {
+                8.0
+            } else {
+                0.5 + (k % 37) as f64 * 0.2
+            };
+            let r = (k % 101) as f64 * 0.09;
+            let psi = ((k % 13) as f64 - 6.0) * 0.012;
+            if r > m.reach(z) {
+                continue;
+            }
+            let exact = m.score(r, psi, z) - m.own_l0();
+            let fast = m.evidence(r, psi, z) as f64;
+            assert!(
+                (exact - fast).abs() < 2e-3,
+                "({r}, {psi}, {z}): {exact} vs {fast}"
+            );
+        }
+    }
+}

@@ -1,0 +1,539 @@
+//! Training the learned inverse model (Probabilistic Robotics §9.3).
+//!
+//! Where the data come from, and how the weights are fitted:
+//!
+//! 1. **A map prior** ([`sample_map`]): floor plans of random rooms, walls
+//!    and boxes (described below), as ground-truth [`World`]s.
+//! 2. **Triplets** ([`sample_triplets`]): in a sampled map, a pose in free
+//!    space and a beam direction; the beam's expected range `z*` by ray
+//!    casting (a cone of a few sub-rays), a reading `z` drawn from the
+//!    forward model of Table 6.1 in generative mode; and a target cell near
+//!    the beam, recorded as its beam-frame range `r`, bearing offset `psi`,
+//!    the reading, and its true occupancy.
+//! 3. **Logistic regression by SGD** ([`fit`]) on the features of
+//!    [`super::learned`], with a step that decays as `eta0 / (1 + t / N)`
+//!    (`N` triplets, `t` updates so far), 24,000 triplets by default.
+//!
+//! Nothing about obstacles' thickness or the beam's width is told to the
+//! model: it learns them from the maps and the sensor, together with its own
+//! prior. Everything is seeded: the same configuration gives the same
+//! weights, bit for bit.
+//!
+//! Speed (BENCHMARKS.md W5, under 150 ms as wasm): ray casts stop at the
+//! first occupied cell, beam directions are drawn as unit vectors (no angle,
+//! so no sine or cosine), features are polynomials computed once per
+//! triplet, and each SGD update costs one exponential.
+
+use super::learned::{
+    mean_free_evidence, FeatureFrame, LearnedInverse, BEHIND_BAND, BIAS, FEATURES, FIELD,
+    SPLINE_END, SPLINE_START,
+};
+use super::HandCraftedParams;
+use crate::error::{self, invalid, Result};
+use crate::forward::{expected_range_along, BeamModel, BeamModelParams, BeamShape};
+use crate::grid::GridGeometry;
+use crate::sim::World;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+/// Everything that defines a training run.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct TrainingConfig {
+    pub seed: u64,
+    /// Number of (cell, reading, occupancy) samples.
+    pub triplets: usize,
+    /// Passes of SGD over the triplets.
+    pub epochs: usize,
+    /// Initial SGD step `eta0`.
+    pub learning_rate: f64,
+    /// The sensor's forward model (its `z_max` is the sensor's range).
+    pub sensor: BeamModelParams,
+    /// Half-angle of the sensor's cone, radians.
+    pub half_width: f64,
+    /// Rays that probe the cone for its expected range.
+    pub sub_rays: usize,
+    /// Cell size of the sampled maps, metres.
+    pub resolution: f64,
+}
+
+/// The default seed: chapter 9.
+pub const DEFAULT_SEED: u64 = 9;
+
+impl Default for TrainingConfig {
+    /// The simulated apartment's LiDAR (range 8 m, 0.10 m cells) with the
+    /// chapter's mixture weights, a 5 degree cone, 24,000 triplets.
+    fn default() -> Self {
+        Self {
+            seed: DEFAULT_SEED,
+            triplets: 24_000,
+            epochs: 8,
+            learning_rate: 0.5,
+            sensor: BeamModelParams {
+                z_max: 8.0,
+                ..BeamModelParams::CHAPTER
+            },
+            half_width: 2.5f64.to_radians(),
+            sub_rays: 3,
+            resolution: 0.1,
+        }
+    }
+}
+
+/// Triplets sampled per map: enough to amortise drawing the map, few enough
+/// that 24,000 triplets see a couple of hundred different floor plans.
+const TRIPLETS_PER_MAP: usize = 100;
+/// Largest sampled map, in cells.
+const MAX_MAP_CELLS: usize = 1 << 20;
+/// The SGD's shuffling stream is seeded apart from the sampling stream, so
+/// that refitting the same triplets does not depend on how many random
+/// numbers the sampler drew.
+const FIT_STREAM: u64 = 0x5EED_0F_5_6D;
+
+impl TrainingConfig {
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=1_000_000).contains(&self.triplets) {
+            return Err(invalid(
+                "triplets",
+                self.triplets,
+                "between 1 and 1000000 triplets",
+            ));
+        }
+        if !(1..=200).contains(&self.epochs) {
+            return Err(invalid("epochs", self.epochs, "between 1 and 200 epochs"));
+        }
+        error::positive("learning_rate", self.learning_rate)?;
+        if self.learning_rate > 10.0 {
+            return Err(invalid(
+                "learning_rate",
+                self.learning_rate,
+                "a step of at most 10",
+            ));
+        }
+        BeamModel::new(self.sensor)?;
+        self.frame().validate()?;
+        BeamShape::cone(self.half_width, self.sub_rays)?;
+        error::positive("resolution", self.resolution)?;
+        let cells = (self.map_side() / self.resolution).ceil();
+        if !(cells * cells <= MAX_MAP_CELLS as f64) {
+            return Err(invalid(
+                "resolution",
+                self.resolution,
+                "cells no smaller than z_max / 800 (a sampled map holds at most 2^20 cells)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The features' frame for this sensor.
+    pub fn frame(&self) -> FeatureFrame {
+        FeatureFrame {
+            z_max: self.sensor.z_max,
+            half_width: self.half_width,
+        }
+    }
+
+    /// Side of a sampled map, metres: a little more than the sensor's range,
+    /// so that long readings happen but rooms stay rooms.
+    pub fn map_side(&self) -> f64 {
+        (1.5 * self.sensor.z_max).max(6.0)
+    }
+
+    /// Table 9.2 for the same sensor, for the widgets' side-by-side
+    /// comparison: obstacles two cells thick (`alpha = 2 * resolution`),
+    /// `beta` the cone's full angle, `l_occ = +0.85`, `l_free = -0.40`,
+    /// `l0 = 0` (the values of BENCHMARKS.md W1).
+    pub fn hand_crafted_counterpart(&self) -> Result<HandCraftedParams> {
+        self.validate()?;
+        let p = HandCraftedParams {
+            alpha: 2.0 * self.resolution,
+            beta: 2.0 * self.half_width,
+            z_max: self.sensor.z_max,
+            l_occ: 0.85,
+            l_free: -0.40,
+            l0: 0.0,
+        };
+        p.validate()?;
+        Ok(p)
+    }
+}
+
+/// One training sample: a cell seen from a beam, and whether it is occupied.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Triplet {
+    /// Range of the cell's centre from the sensor, metres.
+    pub r: f32,
+    /// Bearing offset of the cell's centre from the beam axis, radians.
+    pub psi: f32,
+    /// The beam's reading, metres (`z_max` for a no-return).
+    pub z: f32,
+    pub occupied: bool,
+}
+
+/// The sampled training data and what it says about the map prior.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainingSet {
+    pub triplets: Vec<Triplet>,
+    /// Number of maps drawn.
+    pub maps: usize,
+    /// Fraction of occupied cells over all sampled maps: the map prior's
+    /// occupancy, which the model's `l0` should come near.
+    pub map_occupancy: f64,
+    /// Fraction of readings that were no-returns.
+    pub no_returns: f64,
+}
+
+/// Draws one floor plan from the map prior, a square of
+/// [`TrainingConfig::map_side`] metres at the configured resolution, open
+/// to the outside: a ray that leaves it returns nothing, as in
+/// [`World::cast`]. No target cell is taken outside it.
+///
+/// The prior, in the order it is drawn:
+///
+/// * 3 to 6 rooms: rectangles 2 m to 45% of the side on each edge, placed
+///   anywhere, each enclosed by walls 0.1 to 0.3 m thick with one or two
+///   doorways 0.8 to 1.2 m wide. Rooms may overlap; their walls then cut
+///   each other's space into smaller rooms.
+/// * Free-standing walls: 1 to 3 straight segments 1 to 4 m long, 0.1 to
+///   0.2 m thick, axis-aligned.
+/// * Boxes (furniture, shelves, pillars): 90 to 150, 0.2 to 1.2 m on a
+///   side, anywhere, overlapping freely. They make the sampled maps about
+///   37% occupied: cluttered rooms, where a dropout is common enough to
+///   make a no-return doubtful.
+pub fn sample_map<R: Rng + ?Sized>(config: &TrainingConfig, rng: &mut R) -> Result<World> {
+    config.validate()?;
+    let res = config.resolution;
+    let side = config.map_side();
+    let n = (side / res).ceil() as usize;
+    let geometry = GridGeometry::new(n, n, res, 0.0, 0.0)?;
+    let mut world = World::empty(geometry);
+
+    for _ in 0..rng.random_range(3..=6) {
+        let w = rng.random_range(2.0..(0.45 * side).max(2.1));
+        let h = rng.random_range(2.0..(0.45 * side).max(2.1));
+        let x = rng.random::<f64>() * (side - w);
+        let y = rng.random::<f64>() * (side - h);
+        let t = rng.random_range(0.1..0.3);
+        // Walls: south, north, west, east, as (x0, y0, x1, y1).
+        let walls = [
+            (x, y, x + w, y + t),
+            (x, y + h - t, x + w, y + h),
+            (x, y, x + t, y + h),
+            (x + w - t, y, x + w, y + h),
+        ];
+        for &(x0, y0, x1, y1) in &walls {
+            fill(&mut world, x0, y0, x1, y1, true);
+        }
+        for _ in 0..rng.random_range(1..=2) {
+            let (x0, y0, x1, y1) = walls[rng.random_range(0..4)];
+            let door = rng.random_range(0.8..1.2);
+            if x1 - x0 > y1 - y0 {
+                let dx = x0 + rng.random::<f64>() * (x1 - x0 - door).max(0.0);
+                fill(&mut world, dx, y0, dx + door, y1, false);
+            } else {
+                let dy = y0 + rng.random::<f64>() * (y1 - y0 - door).max(0.0);
+                fill(&mut world, x0, dy, x1, dy + door, false);
+            }
+        }
+    }
+    for _ in 0..rng.random_range(1..=3) {
+        let len = rng.random_range(1.0..4.0);
+        let t = rng.random_range(0.1..0.2);
+        let (x, y) = (rng.random::<f64>() * side, rng.random::<f64>() * side);
+        if rng.random::<f64>() < 0.5 {
+            fill(&mut world, x, y, x + len, y + t, true);
+        } else {
+            fill(&mut world, x, y, x + t, y + len, true);
+        }
+    }
+    for _ in 0..rng.random_range(90..=150) {
+        let (bw, bh) = (rng.random_range(0.2..1.2), rng.random_range(0.2..1.2));
+        let (bx, by) = (rng.random::<f64>() * side, rng.random::<f64>() * side);
+        fill(
+            &mut world,
+            bx - 0.5 * bw,
+            by - 0.5 * bh,
+            bx + 0.5 * bw,
+            by + 0.5 * bh,
+            true,
+        );
+    }
+    Ok(world)
+}
+
+/// Sets the cells whose centres lie in `[x0, x1) x [y0, y1)` (metres),
+/// visiting only those cells.
+fn fill(world: &mut World, x0: f64, y0: f64, x1: f64, y1: f64, occupied: bool) {
+    let g = *world.geometry();
+    let res = g.resolution();
+    let range = |lo: f64, hi: f64, n: usize| {
+        let first = (lo / res - 0.5).ceil().clamp(0.0, n as f64) as usize;
+        let end = (hi / res - 0.5).ceil().clamp(0.0, n as f64) as usize;
+        first..end
+    };
+    let (xs, ys) = (range(x0, x1, g.width()), range(y0, y1, g.height()));
+    let cells = world.occupied_mut();
+    for iy in ys {
+        if let Some(row) = cells.get_mut(iy * g.width() + xs.start..iy * g.width() + xs.end) {
+            row.fill(occupied);
+        }
+    }
+}
+
+/// Samples the training set of `config` (step 2 of the module's recipe).
+pub fn sample_triplets(config: &TrainingConfig) -> Result<TrainingSet> {
+    config.validate()?;
+    let mut rng = StdRng::seed_from_u64(config.seed);
+    let sensor = BeamModel::new(config.sensor)?;
+    let shape = BeamShape::cone(config.half_width, config.sub_rays)?;
+    let z_max = config.sensor.z_max;
+    let field = FIELD * config.half_width;
+    let (near_lo, near_hi) = (SPLINE_START - 0.15, SPLINE_END + BEHIND_BAND + 0.3);
+    let mut triplets = Vec::with_capacity(config.triplets);
+    let (mut maps, mut occupied_cells, mut all_cells, mut no_returns) = (0, 0usize, 0usize, 0usize);
+    while triplets.len() < config.triplets {
+        let world = sample_map(config, &mut rng)?;
+        maps += 1;
+        occupied_cells += world.occupied().iter().filter(|&&o| o).count();
+        all_cells += world.occupied().len();
+        let g = *world.geometry();
+        let res = g.resolution();
+        let side = g.width() as f64 * res;
+        // Occupancy of cell (ix, iy), or None outside the map: the prior
+        // says nothing about what lies outside, so no target is taken there.
+        let cell = |ix: f64, iy: f64| -> Option<bool> {
+            if ix < 0.0 || iy < 0.0 {
+                return None;
+            }
+            let (ix, iy) = (ix as usize, iy as usize);
+            (ix < g.width() && iy < g.height()).then(|| world.is_occupied(ix, iy))
+        };
+        let want = TRIPLETS_PER_MAP.min(config.triplets - triplets.len());
+        let (mut got, mut tries) = (0, 0);
+        while got < want && tries < 50 * want {
+            tries += 1;
+            // A pose in free space, uniformly.
+            let (x, y) = (rng.random::<f64>() * side, rng.random::<f64>() * side);
+            if cell((x / res).floor(), (y / res).floor()) != Some(false) {
+                continue;
+            }
+            // A beam direction, uniformly, as a unit vector: a point of the
+            // unit disc, normalised (no trigonometry).
+            let (a, b) = (rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+            let q: f64 = a * a + b * b;
+            if !(q > 1e-4 && q <= 1.0) {
+                continue;
+            }
+            let inv = 1.0 / q.sqrt();
+            let dir = (a * inv, b * inv);
+            let z_star = expected_range_along(&world, x, y, dir, shape, z_max);
+            let z = sensor.sample(z_star, &mut rng);
+            let no_return = z >= z_max;
+            // The target cell: half of the time near the reading (where the
+            // model has most to learn), else anywhere along the beam out to
+            // past the spline; a no-return, anywhere before z_max.
+            let r = if no_return {
+                rng.random::<f64>() * z_max
+            } else if rng.random::<f64>() < 0.5 {
+                (z + rng.random_range(near_lo..near_hi)).max(0.0)
+            } else {
+                rng.random::<f64>() * (z + near_hi)
+            };
+            let (ps, pc) = rng.random_range(-field..field).sin_cos();
+            let (ux, uy) = (dir.0 * pc - dir.1 * ps, dir.0 * ps + dir.1 * pc);
+            let (ix, iy) = (((x + r * ux) / res).floor(), ((y + r * uy) / res).floor());
+            let Some(occupied) = cell(ix, iy) else {
+                continue;
+            };
+            // The features see the cell's centre, as a mapper does.
+            let (dx, dy) = ((ix + 0.5) * res - x, (iy + 0.5) * res - y);
+            let along = dir.0 * dx + dir.1 * dy;
+            let across = dir.0 * dy - dir.1 * dx;
+            triplets.push(Triplet {
+                r: dx.hypot(dy) as f32,
+                psi: across.atan2(along) as f32,
+                z: z as f32,
+                occupied,
+            });
+            no_returns += no_return as usize;
+            got += 1;
+        }
+        if maps > config.triplets + 100 {
+            // Unreachable with the prior above (every map has rooms), but a
+            // loop in the core must be bounded.
+            return Err(invalid(
+                "resolution",
+                res,
+                "maps with free space to stand in",
+            ));
+        }
+    }
+    Ok(TrainingSet {
+        maps,
+        map_occupancy: occupied_cells as f64 / all_cells.max(1) as f64,
+        no_returns: no_returns as f64 / triplets.len().max(1) as f64,
+        triplets,
+    })
+}
+
+/// What a fit reports besides the model.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FitReport {
+    /// Fraction of occupied target cells.
+    pub occupied_fraction: f64,
+    /// SGD updates made.
+    pub updates: usize,
+}
+
+/// Logistic regression by SGD (step 3 of the module's recipe). The bias
+/// starts at the log odds of the occupied fraction, every other weight at 0.
+pub fn fit(config: &TrainingConfig, set: &TrainingSet) -> Result<(LearnedInverse, FitReport)> {
+    config.validate()?;
+    let n = set.triplets.len();
+    if n == 0 {
+        return Err(invalid("triplets", 0, "at least one triplet"));
+    }
+    let frame = config.frame();
+    let rows: Vec<([f32; FEATURES], f64)> = set
+        .triplets
+        .iter()
+        .map(|t| {
+            let phi = frame.features(t.r as f64, t.psi as f64, t.z as f64);
+            (phi.map(|p| p as f32), if t.occupied { 1.0 } else { 0.0 })
+        })
+        .collect();
+    let occupied = rows.iter().map(|r| r.1).sum::<f64>() / n as f64;
+    let mut w = [0.0f64; FEATURES];
+    w[BIAS] = crate::grid::logit(occupied.clamp(1e-3, 1.0 - 1e-3));
+
+    let mut rng = StdRng::seed_from_u64(config.seed ^ FIT_STREAM);
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    // Averaged SGD (Polyak and Juditsky, 1992): the weights handed out are
+    // the mean of the iterates of the last epoch, which irons out the
+    // jitter a single late step still leaves (the prior weight is touched
+    // by every update, so without averaging it would wander by a tenth of
+    // a log odds from one seed to the next).
+    let mut mean = [0.0f64; FEATURES];
+    let mut t = 0usize;
+    for epoch in 0..config.epochs {
+        for i in (1..n).rev() {
+            order.swap(i, rng.random_range(0..=i));
+        }
+        let last = epoch + 1 == config.epochs;
+        for &k in &order {
+            let Some((phi, y)) = rows.get(k as usize) else {
+                continue;
+            };
+            let s: f64 = phi.iter().zip(&w).map(|(&p, &wi)| p as f64 * wi).sum();
+            let g = sigmoid(s) - y;
+            let eta = config.learning_rate / (1.0 + t as f64 / n as f64);
+            for (wi, &p) in w.iter_mut().zip(phi) {
+                *wi -= eta * g * p as f64;
+            }
+            if last {
+                for (m, &wi) in mean.iter_mut().zip(&w) {
+                    *m += wi;
+                }
+            }
+            t += 1;
+        }
+    }
+    for m in &mut mean {
+        *m /= n as f64;
+    }
+    let model = LearnedInverse::new(frame, mean)?;
+    Ok((
+        model,
+        FitReport {
+            occupied_fraction: occupied,
+            updates: t,
+        },
+    ))
+}
+
+/// Samples and fits in one go.
+pub fn train(config: &TrainingConfig) -> Result<(LearnedInverse, TrainingSet, FitReport)> {
+    let set = sample_triplets(config)?;
+    let (model, report) = fit(config, &set)?;
+    Ok((model, set, report))
+}
+
+/// What the chapter quotes about a trained model (`npm run numbers`,
+/// the workbench's readout).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ModelSummary {
+    /// The model's own prior, log odds.
+    pub l0: f64,
+    /// The short reading the free evidence is quoted for, metres.
+    pub short_reading: f64,
+    /// Mean evidence (log odds, net of `l0`) on the axis in front of the
+    /// short reading.
+    pub free_evidence_short: f64,
+    /// The same along a max-range reading (a no-return).
+    pub free_evidence_max_range: f64,
+}
+
+/// Free space is averaged up to this far in front of a reading, metres:
+/// what lies closer belongs to the ramp into the occupied band.
+pub const FREE_MARGIN: f64 = 0.3;
+
+/// The chapter's figures for a model: its `l0`, and its mean free evidence
+/// along the axis for a short reading (a quarter of `z_max`) and for a
+/// max-range reading.
+pub fn summarize(model: &LearnedInverse) -> Result<ModelSummary> {
+    let z_max = model.frame().z_max;
+    let short = 0.25 * z_max;
+    Ok(ModelSummary {
+        l0: model.own_l0(),
+        short_reading: short,
+        free_evidence_short: mean_free_evidence(model, short, FREE_MARGIN)?,
+        free_evidence_max_range: mean_free_evidence(model, z_max, FREE_MARGIN)?,
+    })
+}
+
+/// A seed as JavaScript numbers carry it: a whole number from 0 to
+/// 2^53 - 1 (every such number is exact in a double).
+pub fn seed_from_number(value: f64) -> Result<u64> {
+    const MAX: f64 = 9_007_199_254_740_991.0;
+    if value.is_finite() && value >= 0.0 && value <= MAX && value.fract() == 0.0 {
+        Ok(value as u64)
+    } else {
+        Err(invalid(
+            "seed",
+            value,
+            "a whole number from 0 to 9007199254740991",
+        ))
+    }
+}
+
+/// Mean cross-entropy (nats) of a model's scores on a set of triplets: what
+/// SGD minimises.
+pub fn cross_entropy(model: &LearnedInverse, set: &TrainingSet) -> f64 {
+    let n = set.triplets.len().max(1) as f64;
+    set.triplets
+        .iter()
+        .map(|t| {
+            let s = model.score(t.r as f64, t.psi as f64, t.z as f64);
+            log_loss(s, t.occupied)
+        })
+        .sum::<f64>()
+        / n
+}
+
+/// `-ln p(y | s)` for score `s`, without overflow: `ln(1 + e^-s)` for an
+/// occupied cell, `ln(1 + e^s)` for a free one.
+fn log_loss(s: f64, occupied: bool) -> f64 {
+    let m = if occupied { -s } else { s };
+    if m > 0.0 {
+        m + (-m).exp().ln_1p()
+    } else {
+        m.exp().ln_1p()
+    }
+}
+
+#[inline]
+fn sigmoid(s: f64) -> f64 {
+    1.0 / (1.0 + (-s).exp())
+}

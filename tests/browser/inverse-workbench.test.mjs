@@ -1,0 +1,132 @@
+// The chapter page in Chromium: <occgrid-inverse-workbench> trains the
+// learned inverse model in the page, draws both models over one beam's
+// neighbourhood and along its axis, and the "max-range reading" button
+// visibly weakens the learned model's free space; retraining with another
+// seed gives another model, and a bad seed is reported without losing the
+// current one.
+import { test, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { openPage, screenshot, shutdown } from './harness.mjs';
+
+after(shutdown);
+
+const SELECTOR = 'occgrid-inverse-workbench';
+
+/** What the page shows: the element's data attributes and printed readouts. */
+const state = (widget) => widget.evaluate((w) => ({
+  ...w.dataset,
+  l0Text: w.querySelector('.inverse-workbench-l0').textContent,
+  freeText: [...w.querySelectorAll('.inverse-workbench-free')].map((o) => o.textContent),
+  pressed: w.querySelector('button[name=max-range]').getAttribute('aria-pressed'),
+  status: w.querySelector('.inverse-workbench-status').textContent,
+}));
+
+/** Distinct colours on each of the two model images (a blank canvas has one). */
+const colours = (widget) => widget.evaluate((w) => [...w.querySelectorAll('canvas.inverse-workbench-image')].map((c) => {
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  const seen = new Set();
+  for (let i = 0; i < d.length; i += 4 * 3) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+  return seen.size;
+}));
+
+/** Waits until the widget has drawn with `key` equal to `value`. */
+const until = (page, key, value) => page.waitForFunction(
+  ([s, k, v]) => document.querySelector(s)?.dataset[k] === v, [SELECTOR, key, value], { timeout: 30_000 });
+
+test('both models are drawn and the max-range button weakens the learned free space', async () => {
+  const { page, errors, close } = await openPage('/');
+  const w = page.locator(SELECTOR);
+  await w.scrollIntoViewIfNeeded();
+  await until(page, 'state', 'ready');
+
+  const short = await state(w);
+  assert.equal(short.reading, '2');
+  assert.equal(short.seed, '9');
+  const l0 = Number(short.learnedL0);
+  assert.ok(l0 < 0, `learned l0 ${l0}`);
+  assert.equal(short.l0Text, l0.toFixed(3), 'the printed l0 is the core’s');
+  assert.match(short.status, /24,000 triplets/);
+  const learnedShort = Number(short.learnedFree);
+  const handShort = Number(short.handFree);
+  assert.ok(learnedShort < -1.5, `learned free evidence for a 2 m reading: ${learnedShort}`);
+  assert.ok(Math.abs(handShort + 0.4) < 1e-6, `Table 9.2's l_free: ${handShort}`);
+  assert.deepEqual(short.freeText, [handShort.toFixed(3), learnedShort.toFixed(3)]);
+  const [hand, learned] = await colours(w);
+  assert.ok(hand > 3 && learned > 20, `colours on the images: ${hand}, ${learned}`);
+  assert.ok((await w.locator('.u-over').count()) === 1, 'the axis chart is drawn');
+  await screenshot(w, 'inverse-workbench-2m');
+
+  await w.getByRole('button', { name: 'Max-range reading' }).click();
+  await until(page, 'reading', '8');
+  const max = await state(w);
+  assert.equal(max.pressed, 'true');
+  const learnedMax = Number(max.learnedFree);
+  assert.ok(Math.abs(learnedMax) < 0.5 * Math.abs(learnedShort),
+    `learned free evidence: ${learnedShort} for 2 m, ${learnedMax} at max range`);
+  assert.ok(Number(max.learnedAxisMean) !== Number(short.learnedAxisMean), 'the learned curve changed');
+  assert.equal(Number(max.handFree), handShort, 'Table 9.2 carves the same free space for a no-return');
+  assert.equal(max.freeText[1], learnedMax.toFixed(3));
+  await screenshot(w, 'inverse-workbench-max-range');
+
+  // Back to a short reading with the keyboard: Home is the slider's minimum.
+  const slider = w.getByLabel('Reading z');
+  await slider.focus();
+  await page.keyboard.press('Home');
+  await until(page, 'reading', '0.2');
+  assert.equal((await state(w)).pressed, 'false');
+  assert.equal(await slider.getAttribute('aria-valuetext'), '0.20 m');
+
+  assert.deepEqual(errors, []);
+  await close();
+});
+
+test('retraining with another seed gives another model; a bad seed keeps the current one', async () => {
+  const { page, errors, close } = await openPage('/');
+  const w = page.locator(SELECTOR);
+  await w.scrollIntoViewIfNeeded();
+  await until(page, 'state', 'ready');
+  const before = await state(w);
+
+  const seed = w.getByLabel('Seed');
+  await seed.fill('12');
+  await seed.press('Enter');
+  await until(page, 'seed', '12');
+  const after12 = await state(w);
+  assert.notEqual(after12.learnedL0, before.learnedL0);
+  assert.ok(Number(after12.learnedL0) < 0);
+  assert.match(after12.status, /seed 12/);
+  const ms = Number(after12.status.match(/: (\d+) ms/)[1]);
+  assert.ok(ms < 1000, `training took ${ms} ms`);
+
+  await seed.fill('-3');
+  await w.getByRole('button', { name: 'Retrain' }).click();
+  const box = w.locator('.occgrid-error');
+  await box.waitFor();
+  assert.match(await box.textContent(), /invalid seed: -3/);
+  const kept = await state(w);
+  assert.equal(kept.seed, '12');
+  assert.equal(kept.learnedL0, after12.learnedL0);
+  assert.match(kept.status, /Kept the model trained with seed 12/);
+  await screenshot(w, 'inverse-workbench-bad-seed');
+
+  // The only console error is the widget's own report of the bad seed.
+  assert.deepEqual(errors, ['occgrid-inverse-workbench: invalid seed: -3 (expected a whole number from 0 to 9007199254740991)']);
+  await close();
+});
+
+test('a bad reading attribute is reported in the widget', async () => {
+  const { page, errors, close } = await openPage('/');
+  const w = page.locator(SELECTOR);
+  await w.scrollIntoViewIfNeeded();
+  await until(page, 'state', 'ready');
+  await w.evaluate((el) => el.setAttribute('reading', '-1'));
+  const box = w.locator('.occgrid-error');
+  await box.waitFor();
+  assert.match(await box.textContent(), /invalid z: -1/);
+  await w.evaluate((el) => el.setAttribute('reading', '3.5'));
+  await until(page, 'reading', '3.5');
+  assert.equal(await box.count(), 0, 'a good value clears the error');
+  assert.equal(errors.length, 1);
+  assert.match(errors[0], /invalid z: -1/);
+  await close();
+});

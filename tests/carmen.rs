@@ -1,0 +1,737 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! The CARMEN reader on the two real logs, on damaged and mixed files, on
+//! `ROBOTLASER1` lines, and the chunked map build it feeds.
+
+use occgrid::carmen::{
+    parse_bytes, LaserMessage, LaserScans, LogLoader, LogMapBuild, LogMapSettings, LogReader,
+    MAX_LINE_BYTES,
+};
+use occgrid::OccError;
+use rand::{Rng, SeedableRng};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::io::{BufReader, Read};
+use std::path::PathBuf;
+
+fn datasets() -> PathBuf {
+    std::env::var_os("OCCGRID_DATASETS")
+        .map(Into::into)
+        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into())
+}
+
+fn dataset(name: &str) -> Vec<u8> {
+    let path = datasets().join(name);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
+}
+
+fn gunzip(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(bytes)
+        .read_to_end(&mut out)
+        .unwrap();
+    out
+}
+
+fn parse_error(bytes: &[u8]) -> (usize, String) {
+    match parse_bytes(bytes) {
+        Err(OccError::Parse { line, reason }) => (line, reason),
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+/// What the README and BENCHMARKS.md say about each log.
+struct Expected {
+    name: &'static str,
+    scans: usize,
+    lines: usize,
+    first_line: usize,
+    last_line: usize,
+    /// Readings at or beyond 30 m (W1's z_max): no-returns for the mapper.
+    beyond_30m: usize,
+    max_range: f64,
+}
+
+const INTEL: Expected = Expected {
+    name: "intel-corrected.log.gz",
+    scans: 910,
+    lines: 16365,
+    first_line: 175,
+    last_line: 16316,
+    beyond_30m: 4172,
+    max_range: 81.83,
+};
+
+const ACES: Expected = Expected {
+    name: "aces-corrected.log.gz",
+    scans: 440,
+    lines: 8700,
+    first_line: 144,
+    last_line: 8510,
+    beyond_30m: 1156,
+    max_range: 50.0,
+};
+
+/// Streams the log from its file and checks every record.
+fn check_real_log(e: &Expected) {
+    let path = datasets().join(e.name);
+    let file = std::fs::File::open(&path).unwrap();
+    let size = file.metadata().unwrap().len();
+    let mut reader = LogReader::new(BufReader::new(file));
+    let records: Vec<_> = (&mut reader).map(|r| r.unwrap()).collect();
+    assert_eq!(records.len(), e.scans, "{}: FLASER lines", e.name);
+    assert_eq!(reader.lines_read(), e.lines, "{}: lines", e.name);
+    assert_eq!(reader.bytes_read(), size, "every compressed byte consumed");
+    assert!(reader.is_finished());
+    assert_eq!(records[0].line, e.first_line);
+    assert_eq!(records[e.scans - 1].line, e.last_line);
+    let (mut beyond, mut max) = (0, 0.0f64);
+    let mut last_line = 0;
+    let (mut first_time, mut last_time) = (None, 0.0);
+    for r in &records {
+        assert_eq!(r.message, LaserMessage::Flaser);
+        assert!(r.line > last_line, "records come in file order");
+        last_line = r.line;
+        let s = r.to_scan().unwrap();
+        assert_eq!(s.len(), 180, "{}: line {}", e.name, r.line);
+        for (i, (&z, &b)) in s.ranges().iter().zip(s.bearings()).enumerate() {
+            assert!(z.is_finite() && z >= 0.0, "line {}: range {z}", r.line);
+            assert!((b - (-FRAC_PI_2 + i as f64 * PI / 180.0)).abs() < 1e-12);
+            beyond += (z >= 30.0) as usize;
+            max = max.max(z);
+        }
+        let p = s.pose();
+        assert!(p.x.abs() < 60.0 && p.y.abs() < 60.0 && p.theta.abs() <= 2.0 * PI);
+        assert!(r.odometry.is_some() && r.robot_pose.is_none() && r.max_range.is_none());
+        let t = r.timestamp.expect("each FLASER line has its ipc_timestamp");
+        first_time.get_or_insert(t);
+        last_time = t;
+    }
+    assert_eq!(beyond, e.beyond_30m, "{}: no-returns", e.name);
+    // Minutes of driving (the logger's clock may step back by a fraction of
+    // a second between lines, so only the span is checked).
+    assert!(
+        last_time - first_time.unwrap() > 600.0,
+        "{}: seconds",
+        e.name
+    );
+    assert_eq!(max, e.max_range);
+    // The robot moves: the poses span metres, not a point.
+    let xs: Vec<f64> = records.iter().map(|r| r.pose.x).collect();
+    let span =
+        xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(span > 10.0, "{}: poses span {span} m in x", e.name);
+}
+
+#[test]
+fn intel_log_streams_910_flaser_scans_with_valid_ranges_and_poses() {
+    check_real_log(&INTEL);
+}
+
+#[test]
+fn aces_log_streams_440_flaser_scans_with_valid_ranges_and_poses() {
+    check_real_log(&ACES);
+}
+
+#[test]
+fn whole_file_parse_gives_the_same_scans_as_the_stream() {
+    let bytes = dataset(INTEL.name);
+    let log = parse_bytes(&bytes).unwrap();
+    assert_eq!((log.scans.len(), log.lines), (INTEL.scans, INTEL.lines));
+    let plain = parse_bytes(&gunzip(&bytes)).unwrap();
+    assert_eq!(plain, log, "gzip and plain text read alike");
+    let streamed: Vec<_> = LogReader::new(&bytes[..])
+        .map(|r| r.unwrap().to_scan().unwrap())
+        .collect();
+    assert_eq!(streamed, log.scans);
+}
+
+#[test]
+fn garbage_files_fail_on_line_one_without_panicking() {
+    let png = dataset("intel-corrected.png");
+    let (line, reason) = parse_error(&png);
+    assert_eq!(line, 1, "{reason}");
+    assert!(reason.contains("not a CARMEN log"), "{reason}");
+
+    let (line, reason) = parse_error(b"This is a shopping list.\nMilk\n");
+    assert_eq!(line, 1);
+    assert!(reason.contains("\"This\""), "{reason}");
+
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    for _ in 0..50 {
+        let n = rng.random_range(1..4000);
+        let noise: Vec<u8> = (0..n).map(|_| rng.random::<u8>()).collect();
+        // Any outcome but a panic is acceptable for noise; most fail at once.
+        if let Err(e) = parse_bytes(&noise) {
+            assert!(matches!(e, OccError::Parse { line, .. } if line >= 1));
+        }
+    }
+    // A gzip header over garbage.
+    let (line, reason) = parse_error(&[0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff, 0xff]);
+    assert_eq!(line, 1);
+    assert!(reason.contains("compressed"), "{reason}");
+}
+
+#[test]
+fn a_gzip_log_cut_short_fails_on_the_line_being_read() {
+    let bytes = dataset(INTEL.name);
+    for fraction in [0.02, 0.25, 0.5, 0.9, 0.999] {
+        let cut = (bytes.len() as f64 * fraction) as usize;
+        let (line, reason) = parse_error(&bytes[..cut]);
+        assert!(
+            line >= 1 && line <= INTEL.lines,
+            "cut at {cut}: line {line}: {reason}"
+        );
+        // Roughly where the cut is: the text is compressed about evenly.
+        let expected = fraction * INTEL.lines as f64;
+        assert!(
+            (line as f64 - expected).abs() < 0.15 * INTEL.lines as f64,
+            "cut at {fraction}: line {line}, expected near {expected}"
+        );
+    }
+    let (_, reason) = parse_error(&bytes[..bytes.len() - 4]);
+    assert!(reason.contains("ends early"), "{reason}");
+}
+
+#[test]
+fn a_plain_log_cut_inside_a_scan_names_that_line_and_a_cut_in_its_timestamps_does_not() {
+    let text = gunzip(&dataset(INTEL.name));
+    // The fifth FLASER line.
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(
+            text.iter()
+                .enumerate()
+                .filter(|(_, &b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        )
+        .collect();
+    let (number, start) = starts
+        .iter()
+        .enumerate()
+        .filter(|(_, &s)| text[s..].starts_with(b"FLASER"))
+        .map(|(k, &s)| (k + 1, s))
+        .nth(4)
+        .unwrap();
+    let end = start + text[start..].iter().position(|&b| b == b'\n').unwrap();
+    let line = std::str::from_utf8(&text[start..end]).unwrap();
+    // Cut in the middle of the ranges, right after the pose, and inside
+    // the odometry: each is an error on that line.
+    let after_pose = line
+        .split(' ')
+        .take(185)
+        .collect::<Vec<_>>()
+        .join(" ")
+        .len();
+    for cut in [start + 400, start + after_pose, start + after_pose + 3] {
+        let (l, reason) = parse_error(&text[..cut]);
+        assert_eq!(l, number, "cut at byte {}: {reason}", cut - start);
+        assert!(reason.starts_with("FLASER line ends before"), "{reason}");
+    }
+    // Cut after the odometry, inside the trailing timestamps: nothing the
+    // map uses is lost, so the line counts.
+    let after_odom = line
+        .split(' ')
+        .take(188)
+        .collect::<Vec<_>>()
+        .join(" ")
+        .len();
+    for cut in [start + after_odom, end - 2] {
+        let log = parse_bytes(&text[..cut]).unwrap();
+        assert_eq!((log.scans.len(), log.lines), (5, number));
+    }
+}
+
+#[test]
+fn cutting_a_mixed_log_at_every_byte_never_panics() {
+    let text = mixed_log();
+    let full = parse_bytes(text.as_bytes()).unwrap();
+    for cut in 0..text.len() {
+        match parse_bytes(&text.as_bytes()[..cut]) {
+            Ok(log) => assert!(log.scans.len() <= full.scans.len()),
+            Err(OccError::Parse { line, .. }) => assert!(line >= 1 && line <= full.lines),
+            Err(e) => panic!("unexpected error kind {e}"),
+        }
+    }
+}
+
+const ROBOTLASER: &str = "ROBOTLASER1 0 -2.0943951 4.1887902 1.0471976 5.6 0.01 0 \
+     5 1.0 2.0 5.6 3.5 0.5 2 100 200 \
+     1.5 -2.0 0.3 1.4 -2.1 0.3 0.1 0.0 0.5 0.3 0.0 1234.5 host 1234.6";
+
+fn mixed_log() -> String {
+    let flaser_181 = format!(
+        "FLASER 181 {} 0 0 0.5 0 0 0 3.0 host 3.0",
+        vec!["1.25"; 181].join(" ")
+    );
+    [
+        "# a mixed log",
+        "PARAM robot_frontlaser_offset 0.0 nohost 0",
+        "",
+        "ODOM 0 0 0 0 0 0 1.0 host 1.0",
+        "FLASER 4 1.0 1.5 2.0 2.5 0.1 0.2 0.3 0 0 0 1.5 host 1.5",
+        "RAWLASER1 0 -1.57 3.14 0.0175 8.1 0.01 0 2 1.0 1.0 0 2.0 host 2.0",
+        ROBOTLASER,
+        "NEFF 12.5",
+        &flaser_181,
+    ]
+    .join("\n")
+        + "\n"
+}
+
+#[test]
+fn a_mixed_log_keeps_file_order_line_numbers_and_each_message_kind() {
+    let records: Vec<_> = LogReader::new(mixed_log().as_bytes())
+        .map(|r| r.unwrap())
+        .collect();
+    let kinds: Vec<_> = records.iter().map(|r| (r.line, r.message)).collect();
+    assert_eq!(
+        kinds,
+        [
+            (5, LaserMessage::Flaser),
+            (7, LaserMessage::RobotLaser1),
+            (9, LaserMessage::Flaser)
+        ]
+    );
+    // 181 FLASER beams include both ends of the half circle.
+    let last = records[2].to_scan().unwrap();
+    assert!((last.bearings()[180] - FRAC_PI_2).abs() < 1e-12);
+    assert_eq!(records[2].timestamp, Some(3.0));
+}
+
+#[test]
+fn a_malformed_line_in_a_mixed_log_is_reported_by_number_and_reason() {
+    let cases = [
+        (
+            ROBOTLASER.replace(" 5 1.0 2.0", " 2.5 1.0 2.0"),
+            "beam count must be a whole number",
+        ),
+        (
+            ROBOTLASER.replace("1.0471976 5.6", "1.0471976 -5.6"),
+            "maximum_range",
+        ),
+        (ROBOTLASER.replace("1.0471976", "0"), "angular_resolution"),
+        (
+            ROBOTLASER.replace("-2.0943951 4.1887902", "-2.0943951 9.0"),
+            "field_of_view",
+        ),
+        (
+            ROBOTLASER.replace(" 2 100 200", " 2 100 x"),
+            "remission 2 is not a number: \"x\"",
+        ),
+        (
+            ROBOTLASER.replace("1.5 -2.0 0.3", "1.5 -2.0 inf"),
+            "laser_theta is not finite",
+        ),
+        (
+            ROBOTLASER.replace(
+                " 1.4 -2.1 0.3 0.1 0.0 0.5 0.3 0.0 1234.5 host 1234.6",
+                " 1.4",
+            ),
+            "ends before robot_y",
+        ),
+        (
+            ROBOTLASER.replace("1.0471976 5.6", "1e308 5.6"),
+            "puts the last beam at inf",
+        ),
+        (
+            "FLASER 0".to_string(),
+            "beam count must be a whole number from 1",
+        ),
+        ("FLASER 20000".to_string(), "from 1 to 10000"),
+        ("flaser 1 1.0 0 0 0 0 0 0".to_string(), "not a CARMEN log"),
+    ];
+    for (bad, why) in cases {
+        let text = mixed_log().replace(ROBOTLASER, &bad);
+        let (line, reason) = parse_error(text.as_bytes());
+        assert_eq!(line, 7, "{reason}");
+        assert!(reason.contains(why), "expected {why:?} in {reason:?}");
+    }
+}
+
+#[test]
+fn a_robotlaser1_line_parses_with_its_own_angles_range_and_poses() {
+    let r = LogReader::new(ROBOTLASER.as_bytes())
+        .next()
+        .unwrap()
+        .unwrap();
+    assert_eq!(r.message, LaserMessage::RobotLaser1);
+    let scan = r.to_scan().unwrap();
+    assert_eq!(scan.ranges(), &[1.0, 2.0, 5.6, 3.5, 0.5]);
+    let expected: Vec<f64> = (0..5).map(|i| -2.0943951 + i as f64 * 1.0471976).collect();
+    for (b, e) in scan.bearings().iter().zip(&expected) {
+        assert!((b - e).abs() < 1e-12, "{b} vs {e}");
+    }
+    assert!(
+        (scan.bearings()[4] - 2.0943951).abs() < 1e-6,
+        "the last beam ends the 240 degree field"
+    );
+    assert_eq!(r.max_range, Some(5.6));
+    let p = scan.pose();
+    assert_eq!(
+        (p.x, p.y, p.theta),
+        (1.5, -2.0, 0.3),
+        "the laser pose, not the robot's"
+    );
+    let rp = r.robot_pose.unwrap();
+    assert_eq!((rp.x, rp.y), (1.4, -2.1));
+    assert_eq!(r.timestamp, Some(1234.5));
+    // No remissions at all is fine too.
+    let none = ROBOTLASER.replace(" 2 100 200", " 0");
+    let r = LogReader::new(none.as_bytes()).next().unwrap().unwrap();
+    assert_eq!(r.ranges.len(), 5);
+}
+
+#[test]
+fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothing() {
+    // Beam 0 straight ahead reads 4 m, the laser's own maximum; beam 1, at
+    // 0.1 rad, reads 2 m. The cap (30 m) is longer than the laser's range.
+    let text = "ROBOTLASER1 0 0 0.1 0.1 4.0 0.01 0 2 4.0 2.0 0 \
+                0.0 0.0 0.0 0.0 0.0 0.0 0 0 0 0 0 1 h 1\n";
+    let scans = LaserScans::read(text.as_bytes()).unwrap();
+    let settings = LogMapSettings {
+        resolution: 0.1,
+        margin: 3.0,
+        ..Default::default()
+    };
+    let mut b = LogMapBuild::new(scans, settings).unwrap();
+    b.advance(1);
+    let g = b.grid();
+    let geo = g.geometry();
+    let at = |x: f64, y: f64| {
+        let (ix, iy) = geo.world_to_cell(x, y).unwrap();
+        g.log_odds()[geo.index(ix, iy)]
+    };
+    assert!(
+        at(1.0, 0.01) < 0.0 && at(3.9, 0.01) < 0.0,
+        "free out to 4 m"
+    );
+    assert_eq!(at(4.2, 0.01), 0.0, "nothing beyond the maximum");
+    // Every occupied cell lies at the 2 m return, none at 4 m.
+    let end = (2.0 * 0.1f64.cos(), 2.0 * 0.1f64.sin());
+    let occupied: Vec<(f64, f64)> = (0..geo.len())
+        .filter(|&i| g.log_odds()[i] > 0.0)
+        .map(|i| {
+            let (ix, iy) = geo.cell_of_index(i);
+            geo.cell_center(ix, iy)
+        })
+        .collect();
+    assert!(!occupied.is_empty(), "the 2 m reading marks its cell");
+    for (x, y) in occupied {
+        assert!((x - end.0).hypot(y - end.1) < 0.1, "occupied at ({x}, {y})");
+    }
+}
+
+#[test]
+fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
+    let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
+    let settings = LogMapSettings::default();
+    let b = LogMapBuild::new(scans.clone(), settings).unwrap();
+    let geo = *b.grid().geometry();
+    let [ox, oy] = geo.origin();
+    let r = geo.resolution();
+    assert!(
+        ((ox / r) - (ox / r).round()).abs() < 1e-9,
+        "origin on the resolution's grid"
+    );
+    let inner = |x: f64, y: f64| {
+        let m = settings.margin - 1e-9;
+        geo.world_to_cell(x - m, y - m).is_some() && geo.world_to_cell(x + m, y + m).is_some()
+    };
+    let mut endpoints = 0;
+    for k in 0..scans.len() {
+        let s = scans.scan(k).unwrap();
+        let p = s.pose();
+        assert!(inner(p.x, p.y));
+        for (&z, &bearing) in s.ranges().iter().zip(s.bearings()) {
+            if z < settings.range_cap {
+                let (x, y) = p.point_at(z, bearing);
+                assert!(inner(x, y), "scan {k}: endpoint ({x}, {y}) outside");
+                endpoints += 1;
+            }
+        }
+    }
+    assert_eq!(endpoints, 163_800 - INTEL.beyond_30m);
+    // Tight: the box is no more than a cell plus the margin beyond the data.
+    let [x0, y0, x1, y1] = scans.extent(settings.range_cap).unwrap();
+    assert!(x0 - ox <= settings.margin + r && y0 - oy <= settings.margin + r);
+    let far_x = ox + geo.width() as f64 * r;
+    let far_y = oy + geo.height() as f64 * r;
+    assert!(far_x - x1 <= settings.margin + r && far_y - y1 <= settings.margin + r);
+}
+
+#[test]
+fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_count() {
+    let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
+    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::default()).unwrap();
+    let p = whole.advance(usize::MAX);
+    assert!(p.finished && p.scans_done == 910 && p.beams == 163_800);
+    let mut chunked = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut calls = 0;
+    while !chunked.advance(37).finished {
+        calls += 1;
+    }
+    assert_eq!(calls, 910 / 37);
+    assert_eq!(chunked.grid(), whole.grid(), "bit-identical");
+    assert_eq!(chunked.progress().cell_updates, p.cell_updates);
+    // Every occupied cell of W1 lies inside the log's extent, so the count
+    // agrees with BENCHMARKS.md's reference (20,483 for a JavaScript port).
+    let c = whole.counts();
+    assert!(
+        (c.occupied as f64 - 20_483.0).abs() < 0.01 * 20_483.0,
+        "{c:?}"
+    );
+    assert!(c.occupied + c.free + c.unknown <= c.cells);
+    assert_eq!(c.cells, whole.grid().geometry().len());
+    let by_hand = whole
+        .grid()
+        .log_odds()
+        .iter()
+        .filter(|&&l| occgrid::grid::probability(l as f64) > 0.65)
+        .count();
+    assert_eq!(c.occupied, by_hand);
+    // The path in image pixels puts the first pose back where it was.
+    let path = whole.path_in_pixels();
+    assert_eq!(path.len(), 2 * 910);
+    let geo = whole.grid().geometry();
+    let first = whole.scans().pose(0).unwrap();
+    let (u, v) = geo.world_to_grid(first.x, first.y);
+    assert!((path[0] as f64 - u).abs() < 1e-3);
+    assert!((path[1] as f64 - (geo.height() as f64 - v)).abs() < 1e-3);
+}
+
+#[test]
+fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
+    let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
+    let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    b.advance(2);
+    let before = (b.grid().clone(), b.progress(), *b.settings());
+    let bad = [
+        (
+            "resolution",
+            LogMapSettings {
+                resolution: 0.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "resolution",
+            LogMapSettings {
+                resolution: f64::NAN,
+                ..Default::default()
+            },
+        ),
+        (
+            "width x height",
+            LogMapSettings {
+                resolution: 1e-4,
+                ..Default::default()
+            },
+        ),
+        (
+            "alpha",
+            LogMapSettings {
+                alpha: -0.1,
+                ..Default::default()
+            },
+        ),
+        (
+            "rangeCap",
+            LogMapSettings {
+                range_cap: 0.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "clamp",
+            LogMapSettings {
+                clamp: 0.0,
+                ..Default::default()
+            },
+        ),
+        (
+            "lOcc",
+            LogMapSettings {
+                l_occ: f64::INFINITY,
+                ..Default::default()
+            },
+        ),
+        (
+            "margin",
+            LogMapSettings {
+                margin: -1.0,
+                ..Default::default()
+            },
+        ),
+    ];
+    for (field, s) in bad {
+        let e = b.configure(s).unwrap_err().to_string();
+        assert!(e.contains(field), "{field}: {e}");
+        assert_eq!((b.grid().clone(), b.progress(), *b.settings()), before);
+    }
+    // The same verdicts without building: `check` plans the grid only.
+    let huge = LogMapSettings {
+        resolution: 1e-4,
+        ..Default::default()
+    };
+    let e = LogMapBuild::check(b.scans(), &huge)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("width x height") && e.contains("coarser resolution"),
+        "{e}"
+    );
+    assert_eq!(
+        LogMapBuild::check(b.scans(), b.settings()).unwrap(),
+        *b.grid().geometry()
+    );
+    assert!(b.seek(4).is_err(), "only 3 scans");
+    assert_eq!(b.progress(), before.1);
+    let empty = LaserScans::read(&b"ODOM 0 0 0\n"[..]).unwrap();
+    let e = LogMapBuild::new(empty, LogMapSettings::default())
+        .err()
+        .unwrap();
+    assert!(
+        e.to_string().contains("no FLASER or ROBOTLASER1 lines"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
+    let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
+    let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    b.advance(3);
+    let geo = *b.grid().geometry();
+    let top_left = b.readout_at_pixel(0, 0).unwrap();
+    assert_eq!(
+        (top_left.ix, top_left.iy),
+        (0, geo.height() - 1),
+        "north up"
+    );
+    assert!(b.readout_at_pixel(geo.width(), 0).is_none());
+    assert!(b.readout_at_pixel(0, geo.height()).is_none());
+    // The most-updated cell reads back its own log odds and count.
+    let (i, &n) = b
+        .grid()
+        .update_counts()
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, &n)| n)
+        .unwrap();
+    let (ix, iy) = geo.cell_of_index(i);
+    let r = b.readout_at_pixel(ix, geo.height() - 1 - iy).unwrap();
+    assert_eq!((r.ix, r.iy, r.updates), (ix, iy, n));
+    assert_eq!(r.l, b.grid().log_odds()[i] as f64);
+    assert!((r.p - occgrid::grid::probability(r.l)).abs() < 1e-15);
+    assert_eq!((r.x, r.y), geo.cell_center(ix, iy));
+}
+
+#[test]
+fn the_loader_reports_progress_in_chunks_and_ends_with_every_scan() {
+    let bytes = dataset(ACES.name);
+    let mut loader = LogLoader::new(&bytes[..]);
+    let mut last = 0;
+    let mut calls = 0;
+    loop {
+        let p = loader.read(100).unwrap();
+        calls += 1;
+        assert!(p.bytes_read >= last && p.bytes_read <= bytes.len() as u64);
+        last = p.bytes_read;
+        if p.finished {
+            assert_eq!((p.scans, p.lines, p.beams), (440, ACES.lines, 440 * 180));
+            break;
+        }
+        assert_eq!(p.scans, calls * 100);
+    }
+    assert_eq!(calls, 5);
+    assert_eq!(loader.into_scans().len(), 440);
+}
+
+// Peak heap use of the current thread, for the streaming test below (other
+// tests run on other threads and do not count).
+struct Counting;
+thread_local! {
+    static LIVE: Cell<isize> = const { Cell::new(0) };
+    static PEAK: Cell<isize> = const { Cell::new(0) };
+}
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = LIVE.try_with(|l| {
+            l.set(l.get() + layout.size() as isize);
+            let _ = PEAK.try_with(|p| p.set(p.get().max(l.get())));
+        });
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        let _ = LIVE.try_with(|l| l.set(l.get() - layout.size() as isize));
+        System.dealloc(ptr, layout)
+    }
+}
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// A log generated on the fly: `total` bytes of ODOM lines with a FLASER
+/// line every hundredth line, never held in memory.
+struct Generated {
+    total: usize,
+    produced: usize,
+    pending: Vec<u8>,
+    lines: usize,
+}
+
+impl Read for Generated {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.pending.is_empty() {
+            if self.produced >= self.total {
+                return Ok(0);
+            }
+            self.lines += 1;
+            let line = if self.lines % 100 == 0 {
+                format!(
+                    "FLASER 180 {} 1 2 0.5 1 2 0.5 {} h {}\n",
+                    "3.25 ".repeat(180).trim_end(),
+                    self.lines,
+                    self.lines
+                )
+            } else {
+                format!(
+                    "ODOM 1.0 2.0 0.5 0 0 0 {} host {}\n",
+                    self.lines, self.lines
+                )
+            };
+            self.pending = line.into_bytes();
+        }
+        let n = buf.len().min(self.pending.len());
+        buf[..n].copy_from_slice(&self.pending[..n]);
+        self.pending.drain(..n);
+        self.produced += n;
+        Ok(n)
+    }
+}
+
+#[test]
+fn streaming_a_100_mb_log_holds_about_one_line_in_memory() {
+    let total = 100 << 20;
+    let source = Generated {
+        total,
+        produced: 0,
+        pending: Vec::new(),
+        lines: 0,
+    };
+    LIVE.with(|l| l.set(0));
+    PEAK.with(|p| p.set(0));
+    let mut reader = LogReader::new(source);
+    let mut scans = 0;
+    for record in &mut reader {
+        let r = record.unwrap();
+        assert_eq!(r.ranges.len(), 180);
+        scans += 1;
+    }
+    let peak = PEAK.with(|p| p.get());
+    assert!(reader.bytes_read() >= total as u64);
+    assert!(scans > 15_000, "{scans} scans");
+    // The reader's buffer (64 kB), one line and one record: a quarter of a
+    // megabyte at most, against the log's 100 MB.
+    assert!(peak < 256 << 10, "peak heap {peak} bytes");
+    assert!(MAX_LINE_BYTES <= 1 << 20);
+}

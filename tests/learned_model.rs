@@ -1,0 +1,409 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! The learned inverse model of §9.3 (SPEC §5): training is deterministic
+//! and reaches the regression's optimum; the model learns its own negative
+//! prior and its skepticism of max-range readings; removing its own `l0`
+//! keeps unknown cells put while `l0 = 0` makes them drift; it works in
+//! both mappers; and its map of the apartment is scored against the ground
+//! truth beside the hand-crafted model's.
+
+use occgrid::forward::{BeamModel, BeamShape};
+use occgrid::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::inverse::learned::{
+    axis_log_odds, prior_drift, BeamLattice, LearnedInverse, BEYOND, BIAS, FEATURES, SPLINE_END,
+};
+use occgrid::inverse::training::{
+    cross_entropy, fit, sample_triplets, seed_from_number, summarize, train, FitReport,
+    TrainingConfig, TrainingSet,
+};
+use occgrid::inverse::{HandCrafted, HandCraftedParams, InverseModel};
+use occgrid::mapper::{sweep_scan, RayMapper};
+use occgrid::scan::{Pose, Scan};
+use occgrid::sim::apartment::{ApartmentScene, ApartmentSim};
+use rand::rngs::StdRng;
+use rand::SeedableRng;
+use std::sync::OnceLock;
+
+/// The default training run (seed 9, 24,000 triplets), shared by the tests.
+fn trained() -> &'static (LearnedInverse, TrainingSet, FitReport) {
+    static RUN: OnceLock<(LearnedInverse, TrainingSet, FitReport)> = OnceLock::new();
+    RUN.get_or_init(|| train(&TrainingConfig::default()).unwrap())
+}
+
+fn model() -> &'static LearnedInverse {
+    &trained().0
+}
+
+#[test]
+fn training_is_deterministic_for_a_seed() {
+    let (again, set, _) = train(&TrainingConfig::default()).unwrap();
+    let bits = |m: &LearnedInverse| m.weights().map(f64::to_bits);
+    assert_eq!(bits(&again), bits(model()), "same seed, same weights");
+    assert_eq!(set.triplets, trained().1.triplets, "same seed, same data");
+    let other = TrainingConfig {
+        seed: 10,
+        ..TrainingConfig::default()
+    };
+    let (different, _, _) = train(&other).unwrap();
+    assert_ne!(bits(&different), bits(model()));
+}
+
+#[test]
+fn learned_l0_is_negative_and_near_the_prior_of_the_sampled_maps() {
+    let (m, set, _) = trained();
+    let l0 = m.own_l0();
+    // Read off the model: the score far beyond a short reading, the same at
+    // any bearing inside the field.
+    let w = m.weights();
+    assert!((l0 - (w[BIAS] + w[BEYOND])).abs() < 1e-12);
+    assert!((m.score(2.0 + SPLINE_END + 1.0, 0.05, 2.0) - l0).abs() < 1e-12);
+    // What the maps say: the occupied share of the target cells far beyond
+    // a real return, and of all cells of the sampled maps.
+    let beyond: Vec<_> = set
+        .triplets
+        .iter()
+        .filter(|t| t.z < 8.0 && (t.r - t.z) as f64 >= SPLINE_END)
+        .collect();
+    let share = beyond.iter().filter(|t| t.occupied).count() as f64 / beyond.len() as f64;
+    println!(
+        "l0 = {l0:.3}; occupied share far beyond a reading {share:.3} (logit {:.3}, {} cells); \
+         sampled maps {:.3} occupied (logit {:.3}) over {} maps",
+        logit(share),
+        beyond.len(),
+        set.map_occupancy,
+        logit(set.map_occupancy),
+        set.maps
+    );
+    assert!(l0 < 0.0, "{l0}");
+    assert!((-0.6..=-0.1).contains(&l0), "{l0}");
+    assert!((l0 - logit(share)).abs() < 0.2, "{l0} vs {}", logit(share));
+    assert!((l0 - logit(set.map_occupancy)).abs() < 0.35);
+}
+
+#[test]
+fn free_evidence_along_a_max_range_reading_is_less_than_half_of_a_short_ones() {
+    let s = summarize(model()).unwrap();
+    println!(
+        "mean free evidence: {:.3} in front of a {} m reading, {:.3} along a max-range reading",
+        s.free_evidence_short, s.short_reading, s.free_evidence_max_range
+    );
+    assert!(s.free_evidence_short < -1.5, "{s:?}");
+    assert!(
+        s.free_evidence_max_range.abs() < 0.5 * s.free_evidence_short.abs(),
+        "{s:?}"
+    );
+    // Still free, only weakly: the first metre in front of the sensor is
+    // clear whatever the reading.
+    assert!(model().evidence(0.3, 0.0, 8.0) < -1.0);
+}
+
+#[test]
+fn mapping_with_l0_forced_to_zero_drifts_and_with_its_own_l0_does_not() {
+    let m = model();
+    let scans = 20;
+    let r = prior_drift(m, 2.0, scans).unwrap();
+    println!("{r:?}, l0 = {:.4}", m.own_l0());
+    assert!(r.cells > 10);
+    assert!(r.own_l0.abs() < 1e-6, "{r:?}");
+    let expected = scans as f64 * m.own_l0();
+    assert!((r.zero_l0 - expected).abs() < 1e-3, "{r:?} vs {expected}");
+    assert!(r.zero_l0 < -2.0, "{r:?}");
+
+    // The same with the ray-traversal mapper along one thin beam: the cells
+    // the traversal reaches behind the reading.
+    let g = GridGeometry::new(60, 5, 0.1, 0.0, 0.0).unwrap();
+    let scan = Scan::new(Pose::new(0.05, 0.25, 0.0).unwrap(), vec![2.0], vec![0.0]).unwrap();
+    let behind = g.index(((0.05 + 2.0 + SPLINE_END + 0.1) / 0.1) as usize, 2);
+    let run = |model: &LearnedInverse| {
+        let mut grid = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+        let mut mapper = RayMapper::new();
+        for _ in 0..scans {
+            mapper.integrate(&mut grid, model, &scan);
+        }
+        grid.log_odds()[behind] as f64
+    };
+    assert_eq!(run(m), 0.0, "own l0: the cell stays at the prior");
+    let drifted = run(&m.with_l0(0.0));
+    assert!((drifted - expected).abs() < 1e-3, "{drifted} vs {expected}");
+}
+
+/// Newton's method on the same cross-entropy: the exact optimum SGD should
+/// reach.
+fn newton(config: &TrainingConfig, set: &TrainingSet) -> [f64; FEATURES] {
+    use nalgebra::{SMatrix, SVector};
+    let frame = config.frame();
+    let rows: Vec<([f64; FEATURES], f64)> = set
+        .triplets
+        .iter()
+        .map(|t| {
+            let phi = frame.features(t.r as f64, t.psi as f64, t.z as f64);
+            (phi, if t.occupied { 1.0 } else { 0.0 })
+        })
+        .collect();
+    let mut w = SVector::<f64, FEATURES>::zeros();
+    for _ in 0..12 {
+        let mut h = SMatrix::<f64, FEATURES, FEATURES>::identity() * 1e-9;
+        let mut g = SVector::<f64, FEATURES>::zeros();
+        for (phi, y) in &rows {
+            let x = SVector::<f64, FEATURES>::from_row_slice(phi);
+            let p = 1.0 / (1.0 + (-x.dot(&w)).exp());
+            g += x * (p - y);
+            h += x * x.transpose() * (p * (1.0 - p));
+        }
+        w -= h
+            .cholesky()
+            .expect("the Hessian is positive definite")
+            .solve(&g);
+    }
+    let mut out = [0.0; FEATURES];
+    out.copy_from_slice(w.as_slice());
+    out
+}
+
+#[test]
+fn sgd_reaches_the_minimum_of_the_cross_entropy() {
+    let config = TrainingConfig::default();
+    let (m, set, _) = trained();
+    let exact = LearnedInverse::new(config.frame(), newton(&config, set)).unwrap();
+    let (sgd, best) = (cross_entropy(m, set), cross_entropy(&exact, set));
+    println!(
+        "cross-entropy: SGD {sgd:.5} nats, Newton {best:.5}; l0 {:.3} vs {:.3}",
+        m.own_l0(),
+        exact.own_l0()
+    );
+    assert!(sgd >= best - 1e-9, "Newton's optimum is the minimum");
+    assert!(sgd - best < 2e-3, "{sgd} vs {best}");
+    assert!((m.own_l0() - exact.own_l0()).abs() < 0.05);
+    // And SGD did learn: far better than the best constant.
+    let p = trained().2.occupied_fraction;
+    let constant = -(p * p.ln() + (1.0 - p) * (1.0 - p).ln());
+    assert!(sgd < constant - 0.05, "{sgd} vs {constant}");
+}
+
+#[test]
+fn the_learned_model_has_the_shape_the_chapter_describes() {
+    let m = model();
+    let z = 2.0;
+    let lattice = BeamLattice {
+        min_range: 0.0,
+        max_range: 4.0,
+        ranges: 401,
+        max_bearing: 0.0,
+        bearings: 2,
+    };
+    let axis = axis_log_odds(m, z, &lattice).unwrap();
+    let l0 = m.own_l0() as f32;
+    let at = |r: f64| axis[(r / 0.01).round() as usize] - l0;
+    // Free in front, strongly.
+    assert!(at(1.0) < -1.5, "{}", at(1.0));
+    // The occupied band peaks slightly past the reading.
+    let (peak_i, peak) =
+        axis.iter()
+            .enumerate()
+            .fold((0, f32::MIN), |b, (i, &v)| if v > b.1 { (i, v) } else { b });
+    let peak_r = peak_i as f64 * 0.01;
+    println!(
+        "peak {:.2} log odds at {peak_r:.2} m for a 2 m reading",
+        peak - l0
+    );
+    assert!(peak_r > z && peak_r < z + 0.4, "{peak_r}");
+    assert!(peak - l0 > 0.5);
+    // A soft ramp, not a step: from the free plateau to the prior over a
+    // couple of decimetres, about as wide as the reading's noise.
+    let plateau = at(1.0);
+    let first = |test: &dyn Fn(f32) -> bool| {
+        (100..axis.len()).find(|&i| test(axis[i] - l0)).unwrap() as f64 * 0.01
+    };
+    let start = first(&|e| e > 0.9 * plateau);
+    let end = first(&|e| e > 0.0);
+    println!("ramp: from 90% of the free evidence at {start:.2} m to the prior at {end:.2} m");
+    assert!(end - start > 0.1 && end - start < 0.5, "{start} {end}");
+    assert!(end < z + 0.05);
+    // Evidence concentrated near the axis: at the cone's edge (half of
+    // beta) the occupied evidence is less than half of the axis's.
+    let h = TrainingConfig::default().half_width;
+    assert!(m.evidence(peak_r, h, z) < 0.5 * m.evidence(peak_r, 0.0, z));
+    // Far beyond the reading, and outside the field: nothing at all.
+    assert_eq!(m.evidence(z + SPLINE_END + 0.05, 0.0, z), 0.0);
+    assert_eq!(m.evidence(z + SPLINE_END + 0.05, 0.8 * h, z), 0.0);
+    assert_eq!(m.evidence(1.0, m.half_width() * 1.01, z), 0.0);
+    assert_eq!(m.evidence(m.reach(z) + 0.01, 0.0, z), 0.0);
+}
+
+#[test]
+fn the_learned_model_maps_a_wall_in_both_mappers() {
+    let m = model();
+    // A wall 3 m east of the sensor seen by a fan of beams 1 degree apart.
+    let g = GridGeometry::new(50, 40, 0.1, 0.0, -2.0).unwrap();
+    let pose = Pose::new(0.05, 0.05, 0.0).unwrap();
+    let bearings: Vec<f64> = (-10..=10).map(|k| (k as f64).to_radians()).collect();
+    let ranges: Vec<f64> = bearings.iter().map(|b| 2.95 / b.cos()).collect();
+    let scan = Scan::new(pose, ranges, bearings).unwrap();
+    let cell = |x: f64, y: f64| {
+        let (ix, iy) = g.world_to_cell(x, y).unwrap();
+        g.index(ix, iy)
+    };
+    let mut by_ray = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    RayMapper::new().integrate(&mut by_ray, m, &scan);
+    let mut by_sweep = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    sweep_scan(&mut by_sweep, m, &scan);
+    for (name, grid) in [("ray traversal", &by_ray), ("sweep", &by_sweep)] {
+        let l = |x, y| grid.log_odds()[cell(x, y)];
+        assert!(l(1.5, 0.05) < -1.5, "{name}: free in front");
+        assert!(l(3.05, 0.05) > 0.3, "{name}: occupied at the wall's face");
+        assert!(
+            l(3.25, 0.05) > 1.0,
+            "{name}: most occupied just past the face"
+        );
+        assert_eq!(l(4.5, 0.05), 0.0, "{name}: nothing far behind");
+        assert_eq!(l(1.5, 1.5), 0.0, "{name}: nothing outside the fan");
+    }
+}
+
+/// Brier scores of one lap of the apartment, mapped by both models with
+/// the ray-traversal mapper, over the surveyed region and over the map.
+fn lap_brier(forward_readings: bool) -> [(f64, f64); 2] {
+    let scene = ApartmentScene::default();
+    let mut sim = ApartmentSim::new(scene.clone(), 1, false).unwrap();
+    let truth = sim.ground_truth().clone();
+    let g = *truth.geometry();
+    let region = scene.cells_in(&g, &[scene.surveyed]);
+    let bearings = sim.bearings().to_vec();
+    // Map Weaver's hand-crafted model for this LiDAR.
+    let hand = HandCrafted::new(HandCraftedParams {
+        alpha: 0.10,
+        beta: 1f64.to_radians(),
+        z_max: 8.0,
+        l_occ: 0.85,
+        l_free: -0.40,
+        l0: 0.0,
+    })
+    .unwrap();
+    let config = TrainingConfig::default();
+    let sensor = BeamModel::new(config.sensor).unwrap();
+    let shape = BeamShape::cone(config.half_width, config.sub_rays).unwrap();
+    let mut rng = StdRng::seed_from_u64(5);
+    let mut grids = [0, 1].map(|_| LogOddsGrid::new(g, FilterSettings::default()).unwrap());
+    let mut mappers = [RayMapper::new(), RayMapper::new()];
+    for _ in 0..scene.scans_per_lap() {
+        let s = sim.next_scan();
+        let scan = if forward_readings {
+            sensor
+                .sample_scan(&truth, &s.truth, &bearings, shape, &mut rng)
+                .unwrap()
+        } else {
+            Scan::new(s.truth, s.ranges, bearings.clone()).unwrap()
+        };
+        mappers[0].integrate(&mut grids[0], &hand, &scan);
+        mappers[1].integrate(&mut grids[1], model(), &scan);
+    }
+    grids.map(|grid| {
+        (
+            grid.brier_score(truth.occupied(), Some(&region)).unwrap(),
+            grid.brier_score(truth.occupied(), None).unwrap(),
+        )
+    })
+}
+
+#[test]
+fn brier_scores_of_both_models_against_the_apartments_ground_truth() {
+    // An untouched map (p = 0.5 everywhere) scores 0.25; a perfect one 0.
+    for (forward, what) in [
+        (false, "the apartment's LiDAR readings"),
+        (
+            true,
+            "forward-model readings (5 degree cone, chapter mixture)",
+        ),
+    ] {
+        let [hand, learned] = lap_brier(forward);
+        println!(
+            "one lap, {what}: Brier surveyed / whole map: hand-crafted {:.4} / {:.4}, learned {:.4} / {:.4}",
+            hand.0, hand.1, learned.0, learned.1
+        );
+        assert!(hand.0 < 0.13 && learned.0 < 0.2, "{hand:?} {learned:?}");
+        assert!(learned.1 < 0.25);
+    }
+}
+
+#[test]
+fn bad_configurations_are_errors_that_name_the_field() {
+    let d = TrainingConfig::default();
+    let cases: [(TrainingConfig, &str); 7] = [
+        (TrainingConfig { triplets: 0, ..d }, "triplets"),
+        (TrainingConfig { epochs: 0, ..d }, "epochs"),
+        (
+            TrainingConfig {
+                learning_rate: f64::NAN,
+                ..d
+            },
+            "learning_rate",
+        ),
+        (
+            TrainingConfig {
+                half_width: 0.0,
+                ..d
+            },
+            "half_width",
+        ),
+        (TrainingConfig { sub_rays: 0, ..d }, "sub_rays"),
+        (
+            TrainingConfig {
+                resolution: 1e-4,
+                ..d
+            },
+            "resolution",
+        ),
+        (
+            TrainingConfig {
+                sensor: occgrid::forward::BeamModelParams {
+                    z_hit: 0.5,
+                    ..d.sensor
+                },
+                ..d
+            },
+            "add up to 1",
+        ),
+    ];
+    for (config, field) in cases {
+        let e = sample_triplets(&config).unwrap_err().to_string();
+        assert!(e.contains(field), "{e}");
+    }
+    let empty = TrainingSet {
+        triplets: vec![],
+        maps: 0,
+        map_occupancy: 0.0,
+        no_returns: 0.0,
+    };
+    assert!(fit(&d, &empty)
+        .unwrap_err()
+        .to_string()
+        .contains("triplets"));
+    assert_eq!(seed_from_number(42.0).unwrap(), 42);
+    for bad in [-1.0, 1.5, f64::NAN, f64::INFINITY, 1e300] {
+        assert!(seed_from_number(bad)
+            .unwrap_err()
+            .to_string()
+            .contains("seed"));
+    }
+    let mut w = *model().weights();
+    w[3] = f64::NAN;
+    let e = LearnedInverse::new(d.frame(), w).unwrap_err().to_string();
+    assert!(e.contains("weights[3]"), "{e}");
+}
+
+#[test]
+fn evidence_of_non_numbers_is_no_information() {
+    let m = model();
+    for (r, phi, z) in [
+        (f64::NAN, 0.0, 2.0),
+        (1.0, f64::NAN, 2.0),
+        (1.0, 0.0, f64::NAN),
+        (f64::INFINITY, 0.0, 2.0),
+        (1.0, f64::INFINITY, 2.0),
+    ] {
+        assert_eq!(m.evidence(r, phi, z), 0.0, "({r}, {phi}, {z})");
+    }
+    assert!(
+        m.evidence(-0.05, 0.0, 2.0) < 0.0,
+        "the sensor's own cell is free"
+    );
+}

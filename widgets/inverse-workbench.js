@@ -1,0 +1,393 @@
+// <occgrid-inverse-workbench>: the hand-crafted inverse sensor model of
+// Table 9.2 and the one learned from simulated data (§9.3), for one beam,
+// side by side (SPEC §5, §10.2).
+//
+// Two images over the beam's neighbourhood (range along x, bearing offset
+// along y) show what one reading adds to each cell, in log odds, on one
+// shared scale: white is free, black occupied, mid-gray nothing. Below, both
+// models' log odds along the beam axis with their priors l0 (blue). The
+// reader moves the reading, tries a max-range reading (a no-return), and
+// retrains the learned model with another seed. The core trains the model
+// and computes every value drawn; this module lays them out.
+//
+// Attributes: reading (metres, default 2), seed (a whole number, default 9).
+import { loadCore } from './lib/core.js';
+import { lineChart, COLORS } from './lib/chart.js';
+import { el, slider, button, toggle, showError, clearError, ensureStyles, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
+
+const DEFAULT_READING = 2;
+const DEFAULT_SEED = 9;
+/** Samples of the lattice: one column per 2.5 cm of the full range, bearings every ~1/6 degree. */
+const RANGES = 369;
+const BEARINGS = 61;
+/** How far past z_max the full view reaches, metres (a reading's band lies past it). */
+const PAST_MAX = 1.2;
+/** Half-width of the zoomed view around the reading, metres. */
+const ZOOM = 1.5;
+/** Size of each image, CSS pixels. */
+const IMAGE_HEIGHT = 150;
+const MAX_IMAGE_WIDTH = 520;
+const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
+
+const deg = (rad) => (rad * 180) / Math.PI;
+
+class InverseWorkbenchElement extends HTMLElement {
+  static observedAttributes = ['reading', 'seed'];
+
+  constructor() {
+    super();
+    this.z = DEFAULT_READING;
+    this.seed = DEFAULT_SEED;
+    this.zoom = false;
+    this.bench = null;
+    this.frame = 0;
+  }
+
+  async connectedCallback() {
+    if (this.built) return;
+    this.built = true;
+    ensureStyles();
+    this.readAttributes();
+    this.build();
+    try {
+      ({ core: this.core } = await loadCore());
+    } catch (e) {
+      showError(this, e, 'could not load the core: ');
+      return;
+    }
+    // Training takes a few tens of milliseconds: do it when the reader
+    // scrolls here, after the status has been painted.
+    whenVisible(this, () => this.later(() => this.train(this.seed)));
+  }
+
+  disconnectedCallback() {
+    if (this.frame) cancelAnimationFrame(this.frame);
+    this.frame = 0;
+  }
+
+  attributeChangedCallback(name) {
+    if (!this.built) return;
+    const seedBefore = this.seed;
+    this.readAttributes();
+    if (!this.bench) return;
+    if (name === 'seed' && this.seed !== seedBefore) this.later(() => this.train(this.seed));
+    else this.requestDraw();
+  }
+
+  /** Attribute values go to the core as numbers; the core rejects bad ones. */
+  readAttributes() {
+    const reading = this.getAttribute('reading');
+    const seed = this.getAttribute('seed');
+    if (reading !== null) this.z = reading.trim() === '' ? NaN : Number(reading);
+    if (seed !== null) this.seed = seed.trim() === '' ? NaN : Number(seed);
+    if (this.readingSlider && Number.isFinite(this.z)) this.readingSlider.set(this.z);
+    if (this.seedInput && seed !== null) this.seedInput.value = seed;
+  }
+
+  build() {
+    this.readingSlider = slider({
+      label: 'Reading z', min: 0.2, max: 8, step: 0.05, value: this.z,
+      format: (v) => `${v.toFixed(2)} m`,
+      onInput: (v) => { this.z = v; this.requestDraw(); },
+      name: 'reading',
+    });
+    this.maxButton = button('Max-range reading', () => this.setReading(this.zMax), {
+      name: 'max-range', title: 'A no-return: the reading sits at the sensor’s maximum range', pressed: false,
+    });
+    this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, false, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
+    const seedId = nextId('seed');
+    this.seedInput = el('input', { id: seedId, type: 'number', min: 0, step: 1, value: this.seed, name: 'seed', inputmode: 'numeric', class: 'inverse-workbench-seed' });
+    this.seedInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') this.retrain(); });
+    this.retrainButton = button('Retrain', () => this.retrain(), { name: 'retrain', title: 'Sample 24,000 new training triplets with this seed and fit the model again' });
+    this.status = el('p', { class: 'occgrid-readout inverse-workbench-status', 'aria-live': 'polite' }, 'Training the learned model…');
+    this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
+
+    const pane = (key, title) => {
+      const canvas = el('canvas', { class: 'inverse-workbench-image', role: 'img', 'aria-label': `${title}: evidence over range and bearing` });
+      const note = el('span', { class: 'inverse-workbench-note' });
+      const free = el('output', { class: 'inverse-workbench-free', 'aria-live': 'off' }, '–');
+      const root = el('figure', { class: `inverse-workbench-pane inverse-workbench-${key}` },
+        el('figcaption', {}, el('strong', {}, title), ' ', note),
+        canvas,
+        el('p', { class: 'inverse-workbench-foot' }, 'mean free evidence in front of the reading: ', free));
+      return { key, title, canvas, note, free, root };
+    };
+    this.panes = [pane('hand', 'Hand-crafted (Table 9.2)'), pane('learned', 'Learned (§9.3)')];
+    this.legend = el('canvas', { class: 'inverse-workbench-legend', role: 'img', 'aria-label': 'colour scale' });
+    this.chartTitle = el('p', { class: 'inverse-workbench-chart-title' });
+    this.chartBox = el('div', { class: 'inverse-workbench-chart', role: 'img', 'aria-label': 'log odds along the beam axis' });
+
+    this.append(
+      el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root),
+      el('div', { class: 'occgrid-controls' },
+        el('div', { class: 'occgrid-control' }, el('label', { for: seedId }, 'Seed'), this.seedInput),
+        this.retrainButton,
+        el('span', { class: 'occgrid-readout' }, 'learned l0 = ', this.l0Out)),
+      this.status,
+      el('div', { class: 'inverse-workbench-panes' }, this.panes.map((p) => p.root)),
+      el('div', { class: 'inverse-workbench-scale' }, this.legend),
+      this.chartTitle,
+      this.chartBox,
+      el('p', { class: 'occgrid-caption' },
+        'Each image is one beam seen from above: range to the right, bearing offset up and down (left of the beam is up), ',
+        'coloured by the evidence one reading adds to a cell, in log odds net of the model’s prior l0 — white free, black occupied, ',
+        'mid-gray nothing, the same scale for both. Green: the beam axis, the reading, and the edges of each model’s field. ',
+        'Table 9.2 is a hard-edged cone with a step at the reading. The learned model was never told an obstacle’s thickness or the beam’s width: ',
+        'its free-to-occupied ramp is soft, its occupied band sits a little past the reading, its evidence gathers near the axis, ',
+        'and its own l0 is negative — the prior of the maps it was trained on. Try a max-range reading: one training reading in twenty was a ',
+        'dropout from a real obstacle, so the learned model hardly trusts a no-return to mean free space.'),
+    );
+    this.chart = lineChart(this.chartBox, {
+      xLabel: 'range along the beam axis (m)', yLabel: 'log odds',
+      series: [
+        { label: 'hand-crafted', color: COLORS.series[0] },
+        { label: 'learned', color: COLORS.series[1] },
+        { label: 'l0 hand-crafted', color: COLORS.l0, dash: [6, 4], width: 1.5 },
+        { label: 'l0 learned', color: COLORS.l0, width: 1.5 },
+      ],
+      height: 220,
+    });
+    if ('ResizeObserver' in window) {
+      this.resizer = new ResizeObserver(() => this.requestDraw());
+      this.resizer.observe(this.querySelector('.inverse-workbench-panes'));
+    }
+  }
+
+  /** Runs `task` after the browser has painted what changed so far. */
+  later(task) {
+    requestAnimationFrame(() => setTimeout(task, 0));
+  }
+
+  /** Trains (or retrains) the learned model with `seed`. */
+  train(seed) {
+    this.retrainButton.disabled = true;
+    let trained = false;
+    try {
+      if (!this.bench) {
+        this.bench = new this.core.InverseWorkbench(seed);
+      } else {
+        this.bench.retrain(seed);
+      }
+      this.info = this.bench.readout();
+      this.zMax = this.info.zMax;
+      this.readingSlider.input.max = String(this.zMax);
+      clearError(this);
+      trained = true;
+    } catch (e) {
+      showError(this, e);
+    } finally {
+      this.retrainButton.disabled = false;
+    }
+    // On an error the current model stays, and so does the error message.
+    if (!trained) {
+      this.status.textContent = this.info ? `Kept the model trained with seed ${this.info.run.seed}.` : 'No model trained.';
+      return;
+    }
+    const { run, learned } = this.info;
+    this.l0Out.textContent = fixed(learned.l0, 3);
+    this.dataset.seed = String(run.seed);
+    this.dataset.learnedL0 = String(learned.l0);
+    this.status.textContent =
+      `Learned from ${run.triplets.toLocaleString('en')} triplets in ${run.maps} sampled maps (${fixed(100 * run.mapOccupancy, 1)}% occupied), ` +
+      `seed ${run.seed}, ${run.epochs} epochs of SGD: ${fixed(run.trainMs, 0)} ms ` +
+      `(sampling ${fixed(run.sampleMs, 0)} ms, fitting ${fixed(run.fitMs, 0)} ms). ` +
+      `Mean free evidence along the axis: ${fixed(learned.freeEvidenceShort, 2)} in front of a ${fixed(learned.shortReading, 0)} m reading, ` +
+      `${fixed(learned.freeEvidenceMaxRange, 2)} along a max-range reading.`;
+    this.requestDraw();
+  }
+
+  retrain() {
+    const text = this.seedInput.value;
+    this.seed = text.trim() === '' ? NaN : Number(text);
+    this.status.textContent = `Training with seed ${text}…`;
+    this.later(() => this.train(this.seed));
+  }
+
+  setReading(z) {
+    this.z = z;
+    this.readingSlider.set(z);
+    this.requestDraw();
+  }
+
+  /** One redraw per animation frame, however many inputs arrive. */
+  requestDraw() {
+    if (this.frame || !this.bench) return;
+    this.frame = requestAnimationFrame(() => {
+      this.frame = 0;
+      this.draw();
+    });
+  }
+
+  draw() {
+    const info = this.info;
+    const span = info.learnedHalfWidth * (4 / 3);
+    const lattice = this.zoom
+      ? { minRange: Math.max(0, this.z - ZOOM), maxRange: Math.max(0, this.z - ZOOM) + 2 * ZOOM, ranges: 241, maxBearing: span, bearings: BEARINGS }
+      : { minRange: 0, maxRange: this.zMax + PAST_MAX, ranges: RANGES, maxBearing: span, bearings: BEARINGS };
+    let v;
+    try {
+      v = this.bench.view(this.z, lattice);
+      clearError(this);
+    } catch (e) {
+      showError(this, e);
+      return;
+    }
+    const atMax = this.z >= this.zMax;
+    this.maxButton.setAttribute('aria-pressed', String(atMax));
+    const width = Math.max(200, Math.min(MAX_IMAGE_WIDTH, Math.floor(this.panes[0].root.clientWidth || 320)));
+    const fields = { hand: v.hand, learned: v.learned };
+    const edges = { hand: info.handHalfWidth, learned: info.learnedHalfWidth };
+    const notes = {
+      hand: `alpha ${fixed(info.alpha * 100, 0)} cm, beta ${fixed(2 * deg(info.handHalfWidth), 1)}°, l0 ${fixed(v.handL0, 2)}`,
+      learned: `field ±${fixed(deg(info.learnedHalfWidth), 2)}°, l0 ${fixed(v.learnedL0, 3)}`,
+    };
+    for (const p of this.panes) {
+      this.image(p, width, fields[p.key], v, lattice, edges[p.key]);
+      p.note.textContent = `· ${notes[p.key]}`;
+      const free = p.key === 'hand' ? v.handFree : v.learnedFree;
+      p.free.textContent = free === null ? '–' : fixed(free, 3);
+      p.free.dataset.value = free === null ? '' : String(free);
+    }
+    this.colourBar(width, v.scale);
+    const xs = Array.from(v.rangeAxis);
+    this.chart.setData(xs, Array.from(v.handAxis), Array.from(v.learnedAxis), xs.map(() => v.handL0), xs.map(() => v.learnedL0));
+    this.chartTitle.textContent = `Log odds along the beam axis for a reading of ${fixed(this.z, 2)} m${atMax ? ' (max range: a no-return)' : ''}`;
+    this.chartBox.setAttribute('aria-label',
+      `Log odds along the beam axis for a reading of ${fixed(this.z, 2)} m. Learned: from ${fixed(v.learnedAxis[0], 2)} near the sensor; ` +
+      `hand-crafted: ${fixed(v.handAxis[0], 2)}; priors ${fixed(v.handL0, 2)} and ${fixed(v.learnedL0, 2)}.`);
+    this.dataset.reading = String(this.z);
+    this.dataset.learnedFree = v.learnedFree === null ? '' : String(v.learnedFree);
+    this.dataset.handFree = v.handFree === null ? '' : String(v.handFree);
+    this.dataset.learnedAxisMean = String(v.learnedAxis.reduce((a, b) => a + b, 0) / v.learnedAxis.length);
+    this.dataset.scale = String(v.scale);
+    this.dataset.state = 'ready';
+  }
+
+  /** One model's evidence image with its green overlays and axis ticks. */
+  image(p, width, field, v, lattice, edge) {
+    const { ranges, bearings } = lattice;
+    const left = 34;
+    const bottom = 18;
+    const cssW = width;
+    const cssH = IMAGE_HEIGHT + bottom;
+    if (p.cssW !== cssW) {
+      p.cssW = cssW;
+      p.ctx = hiDpiCanvas(p.canvas, cssW, cssH);
+    }
+    const ctx = p.ctx;
+    const w = cssW - left - 14;
+    const h = IMAGE_HEIGHT;
+    if (!p.off || p.off.width !== ranges || p.off.height !== bearings) {
+      p.off = document.createElement('canvas');
+      p.off.width = ranges;
+      p.off.height = bearings;
+    }
+    const img = new ImageData(ranges, bearings);
+    const s = v.scale > 0 ? 127 / v.scale : 0;
+    for (let j = 0; j < bearings; j++) {
+      // Row j of the field is the bearing -max + j * step; draw +max on top.
+      const row = bearings - 1 - j;
+      for (let i = 0; i < ranges; i++) {
+        const e = field[j * ranges + i];
+        const g = Math.max(0, Math.min(255, Math.round(128 - e * s)));
+        const k = 4 * (row * ranges + i);
+        img.data[k] = g;
+        img.data[k + 1] = g;
+        img.data[k + 2] = g;
+        img.data[k + 3] = 255;
+      }
+    }
+    p.off.getContext('2d').putImageData(img, 0, 0);
+    ctx.clearRect(0, 0, cssW, cssH);
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(p.off, left, 0, w, h);
+    const X = (r) => left + ((r - lattice.minRange) / (lattice.maxRange - lattice.minRange)) * w;
+    const Y = (b) => h / 2 - (b / lattice.maxBearing) * (h / 2);
+    ctx.save();
+    ctx.beginPath();
+    ctx.rect(left, 0, w, h);
+    ctx.clip();
+    ctx.strokeStyle = COLORS.evidence;
+    ctx.lineWidth = 1;
+    ctx.setLineDash([4, 3]);
+    ctx.beginPath();
+    ctx.moveTo(left, Y(0));
+    ctx.lineTo(left + w, Y(0));
+    for (const b of [edge, -edge]) {
+      ctx.moveTo(left, Y(b));
+      ctx.lineTo(left + w, Y(b));
+    }
+    ctx.stroke();
+    ctx.setLineDash([]);
+    // The reading: a thin line, with marks at the top and bottom edges so
+    // that it does not hide the cells right at the reading.
+    const xz = X(this.z);
+    ctx.lineWidth = 1;
+    ctx.globalAlpha = 0.6;
+    ctx.beginPath();
+    ctx.moveTo(xz, 0);
+    ctx.lineTo(xz, h);
+    ctx.stroke();
+    ctx.globalAlpha = 1;
+    ctx.fillStyle = COLORS.evidence;
+    ctx.beginPath();
+    ctx.moveTo(xz - 5, 0);
+    ctx.lineTo(xz + 5, 0);
+    ctx.lineTo(xz, 7);
+    ctx.moveTo(xz - 5, h);
+    ctx.lineTo(xz + 5, h);
+    ctx.lineTo(xz, h - 7);
+    ctx.fill();
+    ctx.restore();
+    // Ticks: every metre (every 0.5 m when zoomed), and the bearing limits.
+    ctx.fillStyle = GRID_COLOR;
+    ctx.strokeStyle = GRID_COLOR;
+    ctx.font = '11px system-ui, sans-serif';
+    ctx.textAlign = 'center';
+    ctx.textBaseline = 'top';
+    const step = this.zoom ? 0.5 : 1;
+    let first = true;
+    for (let r = Math.ceil(lattice.minRange / step) * step; r <= lattice.maxRange + 1e-9; r += step) {
+      ctx.fillRect(X(r), h, 1, 4);
+      ctx.fillText(`${Number(r.toFixed(1))}${first ? ' m' : ''}`, X(r) + (first ? 8 : 0), h + 4);
+      first = false;
+    }
+    ctx.textAlign = 'right';
+    ctx.textBaseline = 'middle';
+    ctx.fillText(`+${fixed(deg(lattice.maxBearing), 1)}°`, left - 3, 7);
+    ctx.fillText('0°', left - 3, Y(0));
+    ctx.fillText(`−${fixed(deg(lattice.maxBearing), 1)}°`, left - 3, h - 7);
+  }
+
+  /** The shared log-odds scale under the two images. */
+  colourBar(width, scale) {
+    const cssW = Math.min(2 * width, 420);
+    const cssH = 34;
+    if (this.legendW !== cssW) {
+      this.legendW = cssW;
+      this.legendCtx = hiDpiCanvas(this.legend, cssW, cssH);
+    }
+    const ctx = this.legendCtx;
+    ctx.clearRect(0, 0, cssW, cssH);
+    const x0 = 40;
+    const w = cssW - 2 * x0;
+    const grad = ctx.createLinearGradient(x0, 0, x0 + w, 0);
+    grad.addColorStop(0, 'rgb(255,255,255)');
+    grad.addColorStop(0.5, 'rgb(128,128,128)');
+    grad.addColorStop(1, 'rgb(1,1,1)');
+    ctx.fillStyle = grad;
+    ctx.fillRect(x0, 2, w, 12);
+    ctx.strokeStyle = '#8a8a80';
+    ctx.strokeRect(x0 + 0.5, 2.5, w - 1, 11);
+    ctx.fillStyle = '#1b1b1b';
+    ctx.font = '11px system-ui, sans-serif';
+    ctx.textBaseline = 'top';
+    ctx.textAlign = 'center';
+    ctx.fillText(`−${fixed(scale, 2)} free`, x0 + 30, 17);
+    ctx.fillText('0 evidence (log odds)', x0 + w / 2, 17);
+    ctx.fillText(`+${fixed(scale, 2)} occupied`, x0 + w - 36, 17);
+    this.legend.setAttribute('aria-label', `Colour scale: white is ${fixed(-scale, 2)} log odds (free), mid-gray 0, black +${fixed(scale, 2)} (occupied)`);
+  }
+}
+
+if (!customElements.get('occgrid-inverse-workbench')) customElements.define('occgrid-inverse-workbench', InverseWorkbenchElement);

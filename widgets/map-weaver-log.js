@@ -1,0 +1,509 @@
+// Map Weaver's real-log mode (SPEC §11): a CARMEN laser log — from the file
+// picker, dropped on the panel, or picked from the server's /datasets/ —
+// is read and mapped a few hundred scans per call, yielding to the event
+// loop between calls so the page stays responsive and a progress bar
+// moves. The reader then scrubs through the build, hovers cells, changes
+// the resolution and the inverse model (Table 9.2), and exports the map for
+// ROS. The core (LogMapSession) parses the log, finds the grid's extent,
+// integrates the scans and computes every number shown; this module lays
+// out, forwards input and draws. The one figure measured here is the wall
+// time from choosing a file to the finished map, file reading included.
+//
+// Usage: `new RealLogPanel(container, await loadCore())`; `dispose()` frees it.
+import { el, slider, select, button, drawMap, showError, clearError, ensureStyles, fixed, nextId } from './lib/ui.js';
+import { downloadMapPair } from './lib/export.js';
+
+/** Descriptions of the logs the project's /datasets/ holds. */
+const DATASETS = [
+  ['intel-corrected.log.gz', 'Intel Research Lab, Seattle (910 scans)'],
+  ['aces-corrected.log.gz', 'ACES building, UT Austin (440 scans)'],
+];
+const DATASET_BASE = new URL('../datasets/', import.meta.url);
+
+/**
+ * Milliseconds of core work per call before yielding to the event loop:
+ * below the 50 ms at which input starts to feel late, and long enough that
+ * the cost of each yield stays small.
+ */
+const SLICE_MS = 40;
+/**
+ * Least time between two redraws of the map while it is being built (the
+ * first after as long): redrawing a million-cell map costs 10 to 40 ms, so
+ * a short build (the Intel log) is drawn once, when done, and a long one a
+ * few times a second.
+ */
+const DRAW_EVERY_MS = 250;
+/** Share of the progress bar for reading the file; the rest is mapping. */
+const READ_SHARE = 0.3;
+const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
+const ROBOT_COLOR = '#1a9850';
+
+const count = (n) => Number(n).toLocaleString('en-US');
+
+/**
+ * Yields to the event loop and comes back in a new task: input is handled
+ * and, when a frame is due, the progress bar and map are painted. (A
+ * `scheduler.yield()` continuation would run ahead of painting: Chromium
+ * then painted only every ~110 ms during a build.)
+ */
+const channel = new MessageChannel();
+const waiting = [];
+channel.port1.onmessage = () => waiting.shift()?.();
+function yieldToEventLoop() {
+  return new Promise((resolve) => {
+    waiting.push(resolve);
+    channel.port2.postMessage(null);
+  });
+}
+
+/** The next chunk size: aim for SLICE_MS per call, growing at most 2x. */
+function nextChunk(n, ms) {
+  return Math.max(1, Math.min(n * 2, Math.round((n * SLICE_MS) / Math.max(ms, 0.25))));
+}
+
+/** "intel-corrected.log.gz" → "intel-corrected-map" */
+function mapStem(fileName) {
+  return `${fileName.replace(/\.gz$/i, '').replace(/\.(log|clf|txt)$/i, '') || 'log'}-map`;
+}
+
+export class RealLogPanel {
+  constructor(container, { core, memory }) {
+    ensureStyles();
+    this.core = core;
+    this.memory = memory;
+    this.session = null;
+    this.geometry = null;
+    this.path = null;
+    this.run = 0;
+    /** Duration of each call into the core during the last load, for tests. */
+    this.trace = [];
+    this.settings = core.LogMapSession.defaultSettings();
+    this.applied = { ...this.settings };
+    this.buildDom();
+    container.append(this.root);
+    this.probeDatasets();
+    this.resizer = new ResizeObserver(() => this.fitCanvas());
+    this.resizer.observe(this.stage);
+  }
+
+  /** Frees the wasm session and removes the panel. */
+  dispose() {
+    this.run++;
+    this.resizer.disconnect();
+    this.session?.free();
+    this.session = null;
+    this.root.remove();
+  }
+
+  buildDom() {
+    const fileId = nextId('real-log-file');
+    this.fileInput = el('input', { type: 'file', id: fileId, name: 'log-file', accept: '.log,.gz,.clf,.txt,application/gzip,text/plain' });
+    this.fileInput.addEventListener('change', () => {
+      const file = this.fileInput.files?.[0];
+      if (file) this.loadFile(file);
+    });
+    this.datasetMenu = select('Log on this server', [['', 'choose a log…']], '', (v) => v && this.loadUrl(v), { name: 'dataset' });
+    this.datasetMenu.root.hidden = true;
+
+    const s = this.settings;
+    const m = (v) => `${fixed(v, 2)} m`;
+    this.controls = {
+      resolution: select('Resolution', [['0.025', '2.5 cm'], ['0.05', '5 cm'], ['0.1', '10 cm'], ['0.2', '20 cm']], String(s.resolution), (v) => this.change({ resolution: Number(v) }), { name: 'resolution' }),
+      rangeCap: slider({ label: 'z_max (range cap)', min: 2, max: 80, step: 1, value: s.rangeCap, format: (v) => `${v} m`, onInput: (v) => this.change({ rangeCap: v }), name: 'range-cap' }),
+      alpha: slider({ label: 'α (obstacle depth)', min: 0.02, max: 0.5, step: 0.01, value: s.alpha, format: m, onInput: (v) => this.change({ alpha: v }), name: 'alpha' }),
+      lOcc: slider({ label: 'l_occ', min: 0.05, max: 3, step: 0.05, value: s.lOcc, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lOcc: v }), name: 'l-occ' }),
+      lFree: slider({ label: 'l_free', min: -3, max: -0.05, step: 0.05, value: s.lFree, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lFree: v }), name: 'l-free' }),
+      clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
+    };
+
+    this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
+    this.status = el('p', { class: 'map-weaver-log-status occgrid-readout', 'aria-live': 'polite' }, 'No log loaded yet.');
+    this.timing = el('p', { class: 'map-weaver-log-timing occgrid-readout' });
+    this.canvas = el('canvas', { class: 'occgrid-map map-weaver-log-map', role: 'img', tabindex: 0, 'aria-label': 'occupancy grid map built from the log', width: 1, height: 1, hidden: true });
+    this.canvas.addEventListener('mousemove', (e) => this.hover(e));
+    this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
+    this.canvas.addEventListener('blur', () => this.setCursor(null));
+    this.stage = el('div', { class: 'map-weaver-log-stage' },
+      this.canvas,
+      el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.'));
+    this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' },
+      'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.');
+    this.counts = el('p', { class: 'map-weaver-log-counts occgrid-readout' });
+    this.scrub = slider({ label: 'Scans integrated', min: 0, max: 1, step: 1, value: 0, format: (v) => `${count(v)} of ${count(this.total ?? 0)}`, onInput: (v) => this.seek(v), name: 'scrub' });
+    this.scrub.input.disabled = true;
+    this.exportButton = button('Export map', () => this.exportMap(), { name: 'export', title: 'Save the map as a ROS map_server PGM + YAML pair (one zip)' });
+    this.exportButton.disabled = true;
+
+    this.root = el('div', { class: 'map-weaver-log', dataset: { state: 'idle' } },
+      el('div', { class: 'map-weaver-log-source occgrid-controls' },
+        el('div', { class: 'occgrid-control' }, el('label', { for: fileId }, 'Open a CARMEN log'), this.fileInput),
+        this.datasetMenu.root),
+      el('div', { class: 'occgrid-controls' }, Object.values(this.controls).map((c) => c.root)),
+      this.progress, this.status, this.timing,
+      this.stage,
+      el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
+      this.readout, this.counts,
+      el('p', { class: 'occgrid-caption' },
+        'FLASER and ROBOTLASER1 lines are read with their corrected poses; the map covers every pose and every ',
+        'reading closer than z_max, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
+        'of Table 9.2: l_occ within α/2 of the reading, l_free in front of it; a reading at or beyond z_max is a ',
+        'no-return that only clears space. Scrub back and the map is rebuilt from the first scan.'));
+
+    const drag = (on) => (e) => {
+      e.preventDefault();
+      this.stage.classList.toggle('map-weaver-log-dragging', on);
+    };
+    this.root.addEventListener('dragenter', drag(true));
+    this.root.addEventListener('dragover', drag(true));
+    this.root.addEventListener('dragleave', (e) => { if (!this.root.contains(e.relatedTarget)) drag(false)(e); });
+    this.root.addEventListener('drop', (e) => {
+      drag(false)(e);
+      const file = e.dataTransfer?.files?.[0];
+      if (file) this.loadFile(file);
+    });
+  }
+
+  /**
+   * Shows the dataset menu when the server has /datasets/ beside /widgets/:
+   * the logs its README names, or the two known ones.
+   */
+  async probeDatasets() {
+    let names = [];
+    try {
+      const r = await fetch(new URL('README.md', DATASET_BASE));
+      if (r.ok) {
+        const text = await r.text();
+        names = [...new Set(text.match(/[\w.-]+\.log(?:\.gz)?\b/g) ?? [])];
+        if (names.length === 0) names = DATASETS.map(([n]) => n);
+      }
+    } catch {
+      // Not served here: the menu stays hidden.
+    }
+    const known = new Map(DATASETS);
+    const input = this.datasetMenu.input;
+    input.replaceChildren(el('option', { value: '' }, 'choose a log…'), ...names.map((n) => el('option', { value: n }, known.get(n) ?? n)));
+    this.datasetMenu.root.hidden = names.length === 0;
+  }
+
+  loadFile(file) {
+    return this.load(file.name, async () => new Uint8Array(await file.arrayBuffer()));
+  }
+
+  loadUrl(name) {
+    return this.load(name, async () => {
+      const response = await fetch(new URL(name, DATASET_BASE));
+      if (!response.ok) throw new Error(`cannot fetch ${name}: HTTP ${response.status}`);
+      return new Uint8Array(await response.arrayBuffer());
+    });
+  }
+
+  /** Reads a log and maps it, timing the whole from the reader's choice. */
+  async load(name, getBytes) {
+    const t0 = performance.now();
+    const run = ++this.run;
+    this.setState('reading');
+    clearError(this.root);
+    this.timing.textContent = '';
+    this.progress.value = 0;
+    // The previous map stays on screen, but cannot be scrubbed meanwhile.
+    this.scrub.input.disabled = true;
+    let session = null;
+    this.trace = [];
+    try {
+      const bytes = await getBytes();
+      if (run !== this.run) return;
+      this.trace.push(['file', performance.now() - t0]);
+      let t = performance.now();
+      session = new this.core.LogMapSession(bytes);
+      this.trace.push(['copy', performance.now() - t]);
+      const requested = this.applied;
+      session.configure(requested);
+      let n = 128;
+      let p;
+      do {
+        t = performance.now();
+        p = session.read(n);
+        const ms = performance.now() - t;
+        this.trace.push(['read', ms, n]);
+        n = nextChunk(n, ms);
+        this.progress.value = READ_SHARE * (p.bytesRead / Math.max(1, p.bytesTotal));
+        this.status.textContent = `Reading ${name}: ${count(p.lines)} lines, ${count(p.scans)} scans…`;
+        if (!p.finished) await yieldToEventLoop();
+        if (run !== this.run) return void session.free();
+      } while (!p.finished);
+      // Settings moved while the file was read: apply them before mapping.
+      if (this.applied !== requested) session.configure(this.applied);
+      const readMs = performance.now() - t0;
+      this.adopt(session, name);
+      session = null;
+      const built = await this.buildToTarget(run, READ_SHARE);
+      if (!built) return;
+      const totalMs = performance.now() - t0;
+      this.root.dataset.totalMs = totalMs.toFixed(1);
+      this.root.dataset.readMs = readMs.toFixed(1);
+      this.timing.textContent =
+        `${name}: ${count(this.lines)} lines (${count(Math.round(this.bytes / 1024))} kB) read and ${count(built.scansDone)} scans mapped ` +
+        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).`;
+    } catch (e) {
+      if (run !== this.run) return void session?.free();
+      this.setState('error');
+      if (session?.awaitingSettings) {
+        // The log is read; only its map does not fit these settings. Keep
+        // it: the next change of settings maps it.
+        this.adopt(session, name);
+        session = null;
+        this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
+      } else {
+        session?.free();
+        // The previous map, if any, stays and can be scrubbed again.
+        this.scrub.input.disabled = !this.session || !this.geometry;
+        this.status.textContent = `Could not read ${name}.`;
+      }
+      showError(this.root, e, `${name}: `);
+    }
+  }
+
+  /** Makes a fully read session the panel's, freeing the previous one. */
+  adopt(session, name) {
+    const summary = session.readSummary();
+    if (this.session !== session) this.session?.free();
+    this.session = session;
+    this.name = name;
+    this.lines = summary.lines;
+    this.bytes = summary.bytesTotal;
+    this.total = summary.scans;
+    this.layout();
+  }
+
+  /** Sizes the canvas for the session's map (if it has one) and enables the controls. */
+  layout() {
+    this.geometry = this.session.geometry();
+    // The last image belongs to the old geometry (or the old session).
+    this.pixels = null;
+    this.cursor = null;
+    if (!this.geometry) {
+      this.canvas.hidden = true;
+      this.scrub.input.disabled = true;
+      this.exportButton.disabled = true;
+      return;
+    }
+    const { width, height } = this.geometry;
+    this.canvas.width = width;
+    this.canvas.height = height;
+    this.canvas.hidden = false;
+    this.path = this.session.pathPixels();
+    this.scrub.input.max = String(this.total);
+    this.scrub.input.disabled = false;
+    this.exportButton.disabled = false;
+    this.fitCanvas();
+  }
+
+  /** Display size: the whole map within the panel's width and 75% of the window's height. */
+  fitCanvas() {
+    if (!this.geometry) return;
+    const { width, height } = this.geometry;
+    const avail = Math.max(100, this.stage.clientWidth - 8);
+    const scale = Math.min(avail / width, (0.75 * window.innerHeight) / height, 4);
+    this.canvas.style.width = `${Math.floor(width * scale)}px`;
+    this.canvas.style.height = `${Math.floor(height * scale)}px`;
+    // Shrinking with nearest-neighbour sampling would drop one-cell walls.
+    this.canvas.classList.toggle('map-weaver-log-smooth', scale * (window.devicePixelRatio || 1) < 1);
+  }
+
+  /** Integrates scans towards the session's target, a time slice per call. */
+  async buildToTarget(run, offset = 0) {
+    this.setState('building');
+    let n = 32;
+    let drawn = performance.now();
+    for (;;) {
+      const t = performance.now();
+      const p = this.session.buildChunk(n);
+      const ms = performance.now() - t;
+      this.trace.push(['build', ms, n]);
+      const msPerScan = ms / Math.max(1, n);
+      n = nextChunk(n, ms);
+      this.progress.value = offset + (1 - offset) * (p.scansTarget ? p.scansDone / p.scansTarget : 1);
+      this.scrub.set(p.scansDone);
+      // No intermediate frame when the build is about to finish anyway.
+      const remaining = (p.scansTarget - p.scansDone) * msPerScan;
+      if (p.finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
+        const t1 = performance.now();
+        this.draw(p);
+        drawn = performance.now();
+        this.trace.push(['draw', drawn - t1]);
+      } else {
+        this.status.textContent = `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+      }
+      if (p.finished) {
+        this.setState('done');
+        return p;
+      }
+      await yieldToEventLoop();
+      if (run !== this.run) return null;
+    }
+  }
+
+  draw(p) {
+    this.pixels = this.session.render();
+    this.done = p.scansDone;
+    this.redraw();
+    const { width, height } = this.geometry;
+    const c = this.session.counts();
+    this.status.textContent = p.finished
+      ? `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
+        `map ${count(width)} × ${count(height)} cells at ${this.geometry.resolution} m`
+      : `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+    this.counts.textContent =
+      `occupied (p > 0.65) ${count(c.occupied)} · free (p < 0.35) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
+    this.canvas.setAttribute('aria-label', `Map of ${this.name} after ${p.scansDone} scans: ${this.counts.textContent}`);
+  }
+
+  /** The laser's path up to the last integrated scan, and where it is now. */
+  drawPath(done) {
+    if (!this.path || done < 1) return;
+    const ctx = this.canvas.getContext('2d');
+    const { width } = this.geometry;
+    const unit = Math.max(1, width / 700);
+    ctx.save();
+    ctx.strokeStyle = PATH_COLOR;
+    ctx.lineWidth = unit;
+    ctx.lineJoin = 'round';
+    ctx.beginPath();
+    ctx.moveTo(this.path[0], this.path[1]);
+    for (let k = 1; k < done; k++) ctx.lineTo(this.path[2 * k], this.path[2 * k + 1]);
+    ctx.stroke();
+    const [x, y] = [this.path[2 * (done - 1)], this.path[2 * (done - 1) + 1]];
+    const theta = this.session.heading(done - 1);
+    ctx.fillStyle = ROBOT_COLOR;
+    ctx.strokeStyle = ROBOT_COLOR;
+    ctx.lineWidth = 1.5 * unit;
+    ctx.beginPath();
+    ctx.arc(x, y, 4 * unit, 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.beginPath();
+    ctx.moveTo(x, y);
+    ctx.lineTo(x + 10 * unit * Math.cos(theta), y - 10 * unit * Math.sin(theta));
+    ctx.stroke();
+    ctx.restore();
+  }
+
+  /** Draws the last rendered map (no core call), the path and the keyboard cursor. */
+  redraw() {
+    if (!this.pixels) return;
+    const { width, height } = this.geometry;
+    drawMap(this.canvas, this.memory, this.pixels, width, height);
+    this.drawPath(this.done);
+    if (this.cursor) {
+      const ctx = this.canvas.getContext('2d');
+      const r = Math.max(2, width / 250);
+      ctx.save();
+      ctx.strokeStyle = '#2c7bb6';
+      ctx.lineWidth = Math.max(1, r / 2);
+      ctx.strokeRect(this.cursor.col + 0.5 - r, this.cursor.row + 0.5 - r, 2 * r, 2 * r);
+      ctx.restore();
+    }
+  }
+
+  hover(e) {
+    if (!this.session || !this.geometry) return;
+    const rect = this.canvas.getBoundingClientRect();
+    const col = Math.floor(((e.clientX - rect.left) / rect.width) * this.geometry.width);
+    const row = Math.floor(((e.clientY - rect.top) / rect.height) * this.geometry.height);
+    if (this.cursor) this.setCursor(null);
+    this.readCell(col, row);
+  }
+
+  /** Arrow keys move a cursor over the map (with Shift, ten cells at a time). */
+  moveCursor(e) {
+    const steps = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] }[e.key];
+    if (!steps || !this.geometry) return;
+    e.preventDefault();
+    const { width, height } = this.geometry;
+    const k = e.shiftKey ? 10 : 1;
+    const c = this.cursor ?? { col: width >> 1, row: height >> 1 };
+    const col = Math.min(width - 1, Math.max(0, c.col + k * steps[0]));
+    const row = Math.min(height - 1, Math.max(0, c.row + k * steps[1]));
+    this.setCursor({ col, row });
+    this.readCell(col, row);
+  }
+
+  setCursor(cursor) {
+    this.cursor = cursor;
+    this.redraw();
+  }
+
+  readCell(col, row) {
+    if (col < 0 || row < 0) return;
+    const c = this.session.cellAt(col, row);
+    if (!c) return;
+    this.readout.dataset.ix = String(c.ix);
+    this.readout.dataset.iy = String(c.iy);
+    this.readout.dataset.l = String(c.l);
+    this.readout.dataset.p = String(c.p);
+    this.readout.dataset.updates = String(c.updates);
+    this.readout.textContent =
+      `cell (${c.ix}, ${c.iy}) at (${fixed(c.x, 2)} m, ${fixed(c.y, 2)} m): l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ` +
+      `${count(c.updates)} update${c.updates === 1 ? '' : 's'}`;
+  }
+
+  /** A control moved: rebuild with the new settings (the core validates them). */
+  change(patch) {
+    this.settings = { ...this.settings, ...patch };
+    clearTimeout(this.changeTimer);
+    // Wait for the slider to settle: each rebuild restarts from scan 0.
+    this.changeTimer = setTimeout(() => this.reconfigure(), 120);
+  }
+
+  async reconfigure() {
+    if (!this.session || this.root.dataset.state === 'reading') {
+      // Nothing mapped yet, or a log is being read: `load` applies them.
+      this.applied = { ...this.settings };
+      return;
+    }
+    const run = ++this.run;
+    try {
+      this.session.configure(this.settings);
+      this.applied = { ...this.settings };
+      clearError(this.root);
+    } catch (e) {
+      showError(this.root, e, 'settings: ');
+      this.settings = { ...this.applied };
+      this.syncControls();
+      return;
+    }
+    this.layout();
+    await this.buildToTarget(run);
+  }
+
+  syncControls() {
+    const s = this.settings;
+    this.controls.resolution.input.value = String(s.resolution);
+    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp']) this.controls[key].set(s[key]);
+  }
+
+  async seek(k) {
+    if (!this.session) return;
+    const run = ++this.run;
+    try {
+      this.session.seek(k);
+    } catch (e) {
+      return void showError(this.root, e, 'scrub: ');
+    }
+    await this.buildToTarget(run);
+  }
+
+  async exportMap() {
+    if (!this.session) return;
+    try {
+      const stem = mapStem(this.name);
+      await downloadMapPair(stem, this.session.exportMap(stem));
+    } catch (e) {
+      showError(this.root, e, 'export: ');
+    }
+  }
+
+  setState(state) {
+    this.root.dataset.state = state;
+    this.root.setAttribute('aria-busy', String(state === 'reading' || state === 'building'));
+  }
+}

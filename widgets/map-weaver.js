@@ -1,0 +1,573 @@
+// <occgrid-map-weaver>: the apartment lap, live (SPEC §10.1; Probabilistic
+// Robotics Table 9.1 with the inverse models of Table 9.2 and §9.3).
+//
+// A robot drives laps through a simulated apartment with a 60-beam LiDAR
+// while two maps are built side by side from the same scans: by default the
+// hand-crafted model on the left and the learned one on the right, both at
+// the true poses. Either pane can switch model, pose source (oracle or dead
+// reckoning), clamp and evidence strength. Readouts: entropy and its curve,
+// Brier score against the ground truth, cells visited per scan, time per
+// frame, three cells' log odds over time, and any cell under the pointer.
+// Every number comes from the wasm core (MapWeaver); this module lays out,
+// forwards input and draws: map pixels straight from wasm memory, and the
+// robot, its beams and the person over them.
+//
+// Attributes: seed (whole number), laps (1 to 20), person ("on" or "off"),
+// speed (0.25, 0.5, 1, 2, 4 or 8).
+import { loadCore } from './lib/core.js';
+import { lineChart, COLORS } from './lib/chart.js';
+import { downloadMapPair } from './lib/export.js';
+import {
+  el, slider, button, toggle, select, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
+  whenVisible, trackVisibility, prefersReducedMotion, fixed, nextId,
+} from './lib/ui.js';
+
+/** The simulated LiDAR's rate: one scan per 1/12 s at speed 1. */
+const SCANS_PER_SECOND = 12;
+const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
+/** Never more scans per animation frame than this (a slow frame catches up later). */
+const MAX_SCANS_PER_FRAME = 16;
+/** Least time between two chart redraws while playing, ms. */
+const CHART_EVERY_MS = 150;
+const MAX_CSS_WIDTH = 480;
+const SIDES = ['left', 'right'];
+
+const ROBOT_COLOR = COLORS.series[1];
+const PERSON_COLOR = '#d01c8b';
+/** The tracked cells: a wall cell, a corridor floor cell, a closet cell. */
+const TRACK_COLORS = [COLORS.series[2], COLORS.series[3], '#8c510a'];
+
+const MODEL_NAMES = { 'hand-crafted': 'hand-crafted model (Table 9.2)', learned: 'learned model (§9.3)' };
+const POSE_NAMES = { oracle: 'pose oracle', 'dead-reckoning': 'dead reckoning' };
+
+const count = (n) => Number(n).toLocaleString('en-US');
+const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
+const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
+
+function parseWhole(name, text, min, max) {
+  const v = Number(text);
+  if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) {
+    throw new Error(`invalid ${name}: "${text}" (expected a whole number from ${min} to ${max})`);
+  }
+  return v;
+}
+
+class MapWeaverElement extends HTMLElement {
+  static observedAttributes = ['seed', 'laps', 'person', 'speed'];
+
+  constructor() {
+    super();
+    this.options = { seed: null, laps: null, person: true, speed: 1 };
+    this.weaver = null;
+    this.playing = false;
+    this.raf = 0;
+    this.onScreen = true;
+    this.cursor = null; // { pane, col, row } under the pointer or keyboard
+  }
+
+  async connectedCallback() {
+    if (this.built) return;
+    this.built = true;
+    ensureStyles();
+    this.build();
+    try {
+      ({ core: this.core, memory: this.memory } = await loadCore());
+    } catch (e) {
+      showError(this, e, 'could not load the core: ');
+      return;
+    }
+    this.readAttributes();
+    this.stopTracking = trackVisibility(this, (v) => { this.onScreen = v; });
+    whenVisible(this, async () => {
+      await this.create();
+      if (this.weaver && !prefersReducedMotion() && this.mode === 'sim') this.play();
+    });
+  }
+
+  disconnectedCallback() {
+    this.pause();
+  }
+
+  attributeChangedCallback(name) {
+    if (!this.core) return;
+    if (!this.readAttributes()) return;
+    if (name === 'speed') this.speedSelect.input.value = String(this.options.speed);
+    else if (name === 'person') this.setPerson(this.options.person);
+    else if (this.weaver) this.create();
+  }
+
+  /** Reads the attributes; a bad value is shown and the last good one kept. */
+  readAttributes() {
+    try {
+      const o = { ...this.options };
+      const seed = this.getAttribute('seed');
+      const laps = this.getAttribute('laps');
+      const person = this.getAttribute('person');
+      const speed = this.getAttribute('speed');
+      if (seed !== null) o.seed = parseWhole('seed', seed, 0, Number.MAX_SAFE_INTEGER);
+      if (laps !== null) o.laps = parseWhole('laps', laps, 1, 20);
+      if (person !== null) {
+        if (!['on', 'off'].includes(person)) throw new Error(`invalid person: "${person}" (expected "on" or "off")`);
+        o.person = person === 'on';
+      }
+      if (speed !== null) {
+        const s = Number(speed);
+        if (!SPEEDS.includes(s)) throw new Error(`invalid speed: "${speed}" (expected one of ${SPEEDS.join(', ')})`);
+        o.speed = s;
+      }
+      this.options = o;
+      clearError(this);
+      return true;
+    } catch (e) {
+      showError(this, e);
+      return false;
+    }
+  }
+
+  // ---- layout ------------------------------------------------------------
+
+  build() {
+    this.mode = 'sim';
+    const group = nextId('map-weaver-mode');
+    const radio = (value, label, checked) => {
+      const id = nextId('map-weaver-mode');
+      const input = el('input', { type: 'radio', name: group, id, value });
+      input.checked = checked;
+      input.addEventListener('change', () => input.checked && this.setMode(value));
+      return el('span', { class: 'map-weaver-mode-option' }, input, el('label', { for: id }, label));
+    };
+    const modes = el('fieldset', { class: 'map-weaver-mode' },
+      el('legend', {}, 'Data'),
+      radio('sim', 'Simulated apartment', true),
+      radio('log', 'Real log', false));
+
+    this.playButton = button('Play', () => (this.playing ? this.pause() : this.play()), { name: 'play', pressed: false });
+    this.speedSelect = select('Speed', SPEEDS.map((s) => [String(s), `${s}×`]), String(this.options.speed),
+      (v) => { this.options.speed = Number(v); }, { name: 'speed' });
+    this.personToggle = toggle('Person in the corridor', this.options.person, (on) => this.setPerson(on), { name: 'person' });
+    this.status = el('p', { class: 'occgrid-readout map-weaver-status', 'aria-live': 'polite' }, 'Loading the core…');
+
+    this.panes = SIDES.map((side, k) => this.buildPane(side, k));
+    this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite' },
+      'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.');
+    this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart' });
+
+    this.simPanel = el('div', { class: 'map-weaver-sim' },
+      el('div', { class: 'occgrid-controls' },
+        this.playButton,
+        button('Step', () => { this.pause(); this.advance(1); }, { name: 'step', title: 'Integrate one scan' }),
+        button('Reset', () => this.reset(), { name: 'reset', title: 'Start the lap again with the current settings' }),
+        this.speedSelect.root,
+        this.personToggle.root),
+      this.status,
+      el('div', { class: 'map-weaver-panes' }, this.panes.map((p) => p.root)),
+      this.hover,
+      this.entropyBox,
+      el('p', { class: 'occgrid-caption' },
+        'Gray is unknown (the prior), white free, black occupied. Green lines are the current scan’s beams, drawn from where the pane believes the robot is; ',
+        'the hollow ring marks where it truly is. The magenta square is the person: the LiDAR sees them, so the map gets a ghost where they stood, ',
+        'and only later scans through that spot can erase it. The clamp caps how sure a cell can get, and with it how many contradicting scans a ghost needs to fade. ',
+        'Switch a pane to dead reckoning and its map is rebuilt from the same scans at the odometry’s poses: walls double and the corridor bends. ',
+        'The far halves of the two north rooms and the closet are never seen and stay at the prior. ',
+        'Changing a pane’s model or pose source rebuilds it over the scans so far. The sliders act as the lap goes on: ',
+        'a lower clamp pulls saturated cells in at once, a new strength weighs the scans still to come.'));
+
+    this.logPanel = el('div', { class: 'map-weaver-log-host', hidden: true });
+    this.append(modes, this.simPanel, this.logPanel);
+
+    if ('ResizeObserver' in window) {
+      this.resizer = new ResizeObserver(() => this.layout());
+      this.resizer.observe(this.querySelector('.map-weaver-panes'));
+    }
+  }
+
+  buildPane(side, k) {
+    const title = el('strong', {}, side === 'left' ? 'Left map' : 'Right map');
+    const note = el('span', { class: 'map-weaver-note' });
+    const canvas = el('canvas', {
+      class: 'occgrid-map map-weaver-map', tabindex: 0, role: 'img',
+      'aria-label': `${side} map; arrow keys move a cursor cell whose values are read out below the maps`,
+    });
+    const learned = toggle('Learned model', k === 1, (on) => this.setModel(k, on ? 'learned' : 'hand-crafted'), { name: `learned-${side}` });
+    const oracle = toggle('Pose oracle', true, (on) => this.setPose(k, on ? 'oracle' : 'dead-reckoning'), { name: `oracle-${side}` });
+    const clamp = slider({
+      label: 'Clamp l_max', min: 1, max: 16, step: 0.5, value: 12, format: (v) => fixed(v, 1),
+      onInput: (v) => this.knob(() => this.weaver.setClamp(k, v)), name: `clamp-${side}`,
+    });
+    const strength = slider({
+      label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: 1, format: (v) => `${fixed(v, 2)}×`,
+      onInput: (v) => this.knob(() => this.weaver.setStrength(k, v)), name: `strength-${side}`,
+    });
+    const out = (cls) => el('output', { class: `map-weaver-value map-weaver-${cls}` }, '–');
+    const entropy = out('entropy');
+    const brier = out('brier');
+    const visited = out('visited');
+    const exportButton = button('Export map', () => this.exportMap(k), {
+      name: `export-${side}`, title: `Save the ${side} map as a ROS map_server PGM + YAML pair`,
+    });
+    exportButton.setAttribute('aria-label', `Export the ${side} map`);
+    const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart' });
+    const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
+      el('figcaption', {}, title, ' ', note),
+      canvas,
+      el('div', { class: 'map-weaver-readouts occgrid-readout' },
+        el('span', {}, 'Entropy ', entropy, ' bits'),
+        el('span', {}, 'Brier ', brier),
+        el('span', {}, 'Cells visited ', visited, ' per scan')),
+      el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root),
+      chartBox,
+      el('div', { class: 'map-weaver-foot' }, exportButton));
+    const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox };
+    canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
+    canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
+    canvas.addEventListener('keydown', (e) => this.keyCursor(pane, e));
+    canvas.addEventListener('focus', () => {
+      if (!this.cursor || this.cursor.pane !== k) this.cursor = { pane: k, col: 30, row: 35 };
+      this.draw();
+    });
+    return pane;
+  }
+
+  /** Sizes the canvases to their panes (hi-DPI) and redraws. */
+  layout() {
+    if (!this.weaver) return;
+    const { width: w, height: h } = this.weaver;
+    for (const p of this.panes) {
+      const cssW = Math.max(160, Math.min(MAX_CSS_WIDTH, Math.floor(p.root.clientWidth || 320)));
+      if (p.cssW === cssW) continue;
+      p.cssW = cssW;
+      p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
+    }
+    this.draw(true);
+  }
+
+  makeCharts() {
+    if (this.entropyChart) return;
+    this.entropyChart = lineChart(this.entropyBox, {
+      title: 'Map entropy over time (bits)', xLabel: 'time (s)', yLabel: 'bits', height: 210,
+      series: [
+        { label: 'left map', color: COLORS.series[0] },
+        { label: 'right map', color: COLORS.series[1], dash: [6, 3] },
+      ],
+    });
+    const names = this.tracked.map((t) => t.name);
+    for (const p of this.panes) {
+      p.chart = lineChart(p.chartBox, {
+        title: `${p.side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds`, xLabel: 'time (s)', yLabel: 'log odds', height: 230,
+        // Symmetric about 0, so "up" is occupied and "down" free at a glance.
+        yRange: (u, lo, hi) => {
+          const m = 1.08 * Math.max(2, Math.abs(lo ?? 0), Math.abs(hi ?? 0));
+          return [-m, m];
+        },
+        series: [
+          ...names.map((name, i) => ({ label: name, color: TRACK_COLORS[i], width: i === 2 ? 3 : 2 })),
+          { label: 'l0 (prior)', color: COLORS.l0, dash: [5, 4], width: 1.5 },
+        ],
+      });
+    }
+  }
+
+  // ---- the core ----------------------------------------------------------
+
+  /** (Re)creates the run from the attributes. Training the learned model takes a moment. */
+  async create() {
+    this.pause();
+    this.status.textContent = 'Training the learned inverse model…';
+    // Let the message paint before the core works for a moment.
+    await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+    try {
+      const settings = { person: this.options.person };
+      if (this.options.seed !== null) settings.seed = this.options.seed;
+      if (this.options.laps !== null) settings.laps = this.options.laps;
+      const next = new this.core.MapWeaver(settings);
+      this.weaver?.free();
+      this.weaver = next;
+      this.tracked = this.weaver.trackedCells();
+      clearError(this);
+    } catch (e) {
+      showError(this, e);
+      return;
+    }
+    this.personToggle.input.checked = this.options.person;
+    for (const p of this.panes) {
+      p.learned.input.checked = p.k === 1;
+      p.oracle.input.checked = true;
+      p.clamp.set(12);
+      p.strength.set(1);
+    }
+    this.makeCharts();
+    this.layout();
+  }
+
+  /** Runs `change` (a call into the core), shows an error instead of throwing, redraws. */
+  knob(change) {
+    if (!this.weaver) return;
+    try {
+      change();
+      clearError(this);
+    } catch (e) {
+      showError(this, e);
+    }
+    this.draw(true);
+  }
+
+  setModel(k, model) { this.knob(() => this.weaver.setModel(k, model)); }
+  setPose(k, pose) { this.knob(() => this.weaver.setPoseSource(k, pose)); }
+  setPerson(on) {
+    this.options.person = on;
+    this.personToggle.input.checked = on;
+    this.knob(() => this.weaver.setPerson(on));
+  }
+
+  reset() {
+    this.pause();
+    this.knob(() => this.weaver.reset());
+  }
+
+  play() {
+    if (!this.weaver || this.playing) return;
+    if (this.weaver.readout().done) this.weaver.reset();
+    this.playing = true;
+    this.playButton.textContent = 'Pause';
+    this.playButton.setAttribute('aria-pressed', 'true');
+    this.status.setAttribute('aria-live', 'off');
+    let last = performance.now();
+    let owed = 0;
+    const tick = (now) => {
+      if (!this.playing) return;
+      const dt = Math.min(now - last, 250);
+      last = now;
+      if (this.onScreen && this.mode === 'sim') {
+        owed += (dt / 1000) * SCANS_PER_SECOND * this.options.speed;
+        const n = Math.min(MAX_SCANS_PER_FRAME, Math.floor(owed));
+        if (n > 0) {
+          owed -= n;
+          if (!this.advance(n)) {
+            this.pause();
+            return;
+          }
+        }
+      }
+      this.raf = requestAnimationFrame(tick);
+    };
+    this.raf = requestAnimationFrame(tick);
+  }
+
+  pause() {
+    if (this.raf) cancelAnimationFrame(this.raf);
+    this.raf = 0;
+    if (!this.playing) return;
+    this.playing = false;
+    this.playButton.textContent = 'Play';
+    this.playButton.setAttribute('aria-pressed', 'false');
+    this.status.setAttribute('aria-live', 'polite');
+    this.draw(true);
+  }
+
+  /** Integrates up to `n` scans and redraws; false once the run is over. */
+  advance(n) {
+    if (!this.weaver) return false;
+    let taken;
+    try {
+      const t = performance.now();
+      taken = this.weaver.advance(n);
+      this.weaver.recordFrameMs(performance.now() - t);
+    } catch (e) {
+      showError(this, e);
+      this.pause();
+      return false;
+    }
+    this.draw(!this.playing);
+    return taken > 0 && !this.weaver.readout().done;
+  }
+
+  // ---- drawing -----------------------------------------------------------
+
+  /** Draws both maps, their overlays and every readout from the core's state. */
+  draw(charts = false) {
+    if (!this.weaver) return;
+    let r;
+    try {
+      r = this.weaver.readout();
+      const { width: w, height: h } = this.weaver;
+      r.panes.forEach((pr, k) => {
+        const p = this.panes[k];
+        if (!p.ctx) return;
+        drawMap(p.canvas, this.memory, this.weaver.pixels(k), w, h);
+        this.overlay(p, this.weaver.overlay(k));
+        p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]}`;
+        p.entropy.textContent = bits(pr.entropyBits);
+        p.brier.textContent = fixed(pr.brier, 4);
+        p.visited.textContent = count(pr.cellsVisited);
+        p.root.dataset.entropy = String(pr.entropyBits);
+        p.root.dataset.brier = String(pr.brier);
+        p.root.dataset.model = pr.model;
+        p.root.dataset.pose = pr.pose;
+      });
+      const now = performance.now();
+      if (charts || !this.chartTime || now - this.chartTime > CHART_EVERY_MS) {
+        this.chartTime = now;
+        this.drawCharts(r);
+      }
+      this.readCursor();
+    } catch (e) {
+      showError(this, e);
+      this.pause();
+      return;
+    }
+    this.dataset.scans = String(r.scans);
+    this.dataset.lap = String(r.lap);
+    this.dataset.done = String(r.done);
+    this.reading = r;
+    const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
+    this.status.textContent =
+      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.laps * r.scansPerLap)} · ${fixed(r.time, 1)} s of driving · ` +
+      `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}`;
+  }
+
+  drawCharts(r) {
+    if (!this.entropyChart) return;
+    const t = (n) => Array.from({ length: n }, (_, i) => i / SCANS_PER_SECOND);
+    const e0 = this.weaver.entropyCurve(0);
+    const e1 = this.weaver.entropyCurve(1);
+    this.entropyChart.setData(t(e0.length), Array.from(e0), Array.from(e1));
+    r.panes.forEach((pr, k) => {
+      const flat = this.weaver.trackedHistory(k);
+      const n = flat.length / 3;
+      const series = [0, 1, 2].map((j) => Array.from({ length: n }, (_, i) => flat[3 * i + j]));
+      this.panes[k].chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
+    });
+  }
+
+  /** Robot, beams, person, tracked cells and the cursor, in the map's own cells. */
+  overlay(p, o) {
+    const ctx = p.ctx;
+    const s = p.cssW / this.weaver.width;
+    const X = (u) => u * s;
+    ctx.save();
+    ctx.lineWidth = 0.8;
+    ctx.strokeStyle = COLORS.evidence + 'b0';
+    ctx.beginPath();
+    for (let i = 0; i < o.hits.length; i++) {
+      ctx.moveTo(X(o.robot[0]), X(o.robot[1]));
+      ctx.lineTo(X(o.beams[2 * i]), X(o.beams[2 * i + 1]));
+    }
+    ctx.stroke();
+    ctx.fillStyle = COLORS.evidence;
+    for (let i = 0; i < o.hits.length; i++) {
+      if (!o.hits[i]) continue;
+      ctx.fillRect(X(o.beams[2 * i]) - 1.5, X(o.beams[2 * i + 1]) - 1.5, 3, 3);
+    }
+    if (o.person) {
+      const [u0, v0, u1, v1] = o.person;
+      ctx.fillStyle = PERSON_COLOR + '55';
+      ctx.strokeStyle = PERSON_COLOR;
+      ctx.lineWidth = 2;
+      ctx.fillRect(X(u0), X(v0), X(u1) - X(u0), X(v1) - X(v0));
+      ctx.strokeRect(X(u0), X(v0), X(u1) - X(u0), X(v1) - X(v0));
+    }
+    this.tracked.forEach((t, i) => {
+      const row = this.weaver.height - 1 - t.iy;
+      ctx.strokeStyle = TRACK_COLORS[i];
+      ctx.lineWidth = 2;
+      ctx.strokeRect(X(t.ix) - 2, X(row) - 2, s + 4, s + 4);
+    });
+    if (this.cursor && this.cursor.pane === p.k) {
+      ctx.strokeStyle = COLORS.l0;
+      ctx.lineWidth = 2;
+      ctx.strokeRect(X(this.cursor.col), X(this.cursor.row), s, s);
+    }
+    // Where the robot truly is (differs under dead reckoning), then where
+    // this pane believes it is.
+    ctx.strokeStyle = ROBOT_COLOR;
+    ctx.lineWidth = 1.5;
+    ctx.beginPath();
+    ctx.arc(X(o.truth[0]), X(o.truth[1]), 6, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.fillStyle = ROBOT_COLOR;
+    ctx.lineWidth = 2.5;
+    ctx.beginPath();
+    ctx.arc(X(o.robot[0]), X(o.robot[1]), 4, 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.beginPath();
+    ctx.moveTo(X(o.robot[0]), X(o.robot[1]));
+    ctx.lineTo(X(o.nose[0]), X(o.nose[1]));
+    ctx.stroke();
+    ctx.restore();
+  }
+
+  // ---- hover and keyboard cursor ----------------------------------------
+
+  pointAt(p, e) {
+    if (!this.weaver) return;
+    const rect = p.canvas.getBoundingClientRect();
+    const col = Math.floor(((e.clientX - rect.left) / rect.width) * this.weaver.width);
+    const row = Math.floor(((e.clientY - rect.top) / rect.height) * this.weaver.height);
+    this.cursor = { pane: p.k, col, row };
+    this.draw();
+  }
+
+  keyCursor(p, e) {
+    const moves = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] };
+    const m = moves[e.key];
+    if (!m || !this.weaver) return;
+    e.preventDefault();
+    const c = this.cursor && this.cursor.pane === p.k ? this.cursor : { pane: p.k, col: 30, row: 35 };
+    const col = Math.max(0, Math.min(this.weaver.width - 1, c.col + m[0]));
+    const row = Math.max(0, Math.min(this.weaver.height - 1, c.row + m[1]));
+    this.cursor = { pane: p.k, col, row };
+    this.draw();
+  }
+
+  readCursor() {
+    const c = this.cursor;
+    if (!c) return;
+    const info = this.weaver.cellInfo(c.pane, c.col, c.row);
+    if (!info) return;
+    const side = SIDES[c.pane];
+    const state = info.unknown ? 'unknown (at the prior)' : info.p > 0.5 ? 'leaning occupied' : 'leaning free';
+    this.hover.textContent =
+      `${side === 'left' ? 'Left' : 'Right'} map, cell (${info.ix}, ${info.iy}) at (${fixed(info.x, 2)} m, ${fixed(info.y, 2)} m): ` +
+      `l = ${signed(info.l, 3)}, p = ${fixed(info.p, 4)}, ${count(info.updates)} update${info.updates === 1 ? '' : 's'} — ${state}; ` +
+      `ground truth: ${info.occupied ? 'occupied' : 'free'}.`;
+    this.hover.dataset.l = String(info.l);
+    this.hover.dataset.p = String(info.p);
+    this.hover.dataset.updates = String(info.updates);
+  }
+
+  // ---- modes and export --------------------------------------------------
+
+  async setMode(mode) {
+    this.mode = mode;
+    this.simPanel.hidden = mode !== 'sim';
+    this.logPanel.hidden = mode !== 'log';
+    if (mode !== 'log') {
+      this.layout();
+      return;
+    }
+    this.pause();
+    if (this.realLog || this.loadingLog) return;
+    this.loadingLog = true;
+    try {
+      const { RealLogPanel } = await import('./map-weaver-log.js');
+      this.realLog = new RealLogPanel(this.logPanel, { core: this.core, memory: this.memory });
+    } catch (e) {
+      this.logPanel.replaceChildren(el('p', { class: 'occgrid-caption map-weaver-log-missing' },
+        `The real-log panel could not be loaded here (${e && e.message ? e.message : e}).`));
+    } finally {
+      this.loadingLog = false;
+    }
+  }
+
+  /** Saves one pane's map as a ROS map_server pair (PGM + YAML, in one zip). */
+  async exportMap(k) {
+    if (!this.weaver) return;
+    try {
+      await downloadMapPair(`apartment-${SIDES[k]}`, this.weaver.exportMap(k));
+    } catch (e) {
+      showError(this, e);
+    }
+  }
+}
+
+if (!customElements.get('occgrid-map-weaver')) customElements.define('occgrid-map-weaver', MapWeaverElement);
