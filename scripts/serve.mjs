@@ -28,6 +28,22 @@ function mounts() {
   return list;
 }
 
+/**
+ * sirv takes `x.log.gz` for a precompressed `x.log` and sends it with
+ * `Content-Encoding: gzip`, so a browser would hand the page (or a download)
+ * decompressed text under a `.gz` name. A log file is served as the gzip
+ * file it is.
+ */
+function keepCompressed(res) {
+  const writeHead = res.writeHead.bind(res);
+  res.writeHead = (code, headers = {}) => {
+    delete headers['Content-Encoding'];
+    headers['Content-Type'] = 'application/gzip';
+    res.removeHeader('Content-Encoding');
+    return writeHead(code, headers);
+  };
+}
+
 /** Creates (does not start) the server. */
 export function createServer() {
   const list = mounts();
@@ -44,6 +60,7 @@ export function createServer() {
     };
     if (!mount) return notFound();
     const [prefix, handler] = mount;
+    if (url.pathname.endsWith('.gz')) keepCompressed(res);
     // Hand the mounted handler a path relative to its own root.
     req.url = '/' + req.url.slice(prefix.length);
     handler(req, res, notFound);

@@ -813,6 +813,17 @@ impl Default for LogMapSettings {
 }
 
 impl LogMapSettings {
+    /// The field names as a page spells them (the serde names).
+    pub const FIELDS: [&'static str; 7] = [
+        "resolution",
+        "rangeCap",
+        "alpha",
+        "lOcc",
+        "lFree",
+        "clamp",
+        "margin",
+    ];
+
     /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
     /// margin, its corners on whole multiples of the resolution (so that
     /// maps of one log at one resolution line up cell for cell).

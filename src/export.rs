@@ -28,6 +28,12 @@ use crate::grid::LogOddsGrid;
 /// occupied.
 pub const OCCUPIED_THRESH: f64 = 0.65;
 /// `free_thresh` of the YAML: a cell with `p < 0.25` is exported as free.
+///
+/// This is the value SPEC §11 fixes. Note what a loader does with it: the
+/// unknown gray 205 reads as `occ = 50 / 255 = 0.196`, which is below 0.25,
+/// so `map_server` and `nav2_map_server` load unknown cells as *free*. ROS 1's
+/// `map_saver` writes 0.196 for that reason, and Nav2's saver does the same
+/// for trinary maps since navigation2 PR #5278.
 pub const FREE_THRESH: f64 = 0.25;
 /// Gray level of an occupied cell.
 pub const OCCUPIED_GRAY: u8 = 0;

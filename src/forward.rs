@@ -123,7 +123,14 @@ impl BeamModel {
             };
             return mass + hit;
         }
-        p.z_hit * self.hit(z, z_star) + p.z_short * self.short(z, z_star) + p.z_rand / p.z_max
+        // A component of weight 0 is absent, whatever its density (which
+        // may be infinite in a degenerate corner: 0 * inf would be NaN).
+        // The sum is capped at f64::MAX so that its logarithm stays finite.
+        let part = |w: f64, density: f64| if w > 0.0 { w * density } else { 0.0 };
+        (part(p.z_hit, self.hit(z, z_star))
+            + part(p.z_short, self.short(z, z_star))
+            + p.z_rand / p.z_max)
+            .min(f64::MAX)
     }
 
     /// The hit component's normalised density (eq. 6.4–6.6).
@@ -134,8 +141,15 @@ impl BeamModel {
         }
         let s = p.sigma_hit;
         let eta = normal_cdf((p.z_max - z_star) / s) - normal_cdf(-z_star / s);
+        if !(eta > 1e-6) {
+            // A Gaussian hundreds of thousands of times wider than
+            // [0, z_max] is flat on it. Its normaliser is then below the
+            // erf fit's accuracy (about 1e-7) and could even come out
+            // negative; the limit is the uniform density.
+            return 1.0 / p.z_max;
+        }
         let u = (z - z_star) / s;
-        (-0.5 * u * u).exp() / (s * (2.0 * std::f64::consts::PI).sqrt()) / eta
+        ((-0.5 * u * u).exp() / (s * (2.0 * std::f64::consts::PI).sqrt()) / eta).min(f64::MAX)
     }
 
     /// The short component's normalised density (eq. 6.7–6.9).
@@ -144,7 +158,15 @@ impl BeamModel {
         if !(0.0..=z_star).contains(&z) || z_star <= 0.0 {
             return 0.0;
         }
-        l * (-l * z).exp() / (1.0 - (-l * z_star).exp())
+        // 1 - exp(-lambda z*) by expm1: for a tiny lambda z* the plain
+        // difference rounds to 0 and the quotient to infinity. The limit
+        // there is the uniform density on [0, z*].
+        let d = l * (-l * z).exp() / -(-l * z_star).exp_m1();
+        if d.is_finite() {
+            d
+        } else {
+            (1.0 / z_star).min(f64::MAX)
+        }
     }
 }
 
@@ -489,7 +511,9 @@ pub fn erf(x: f64) -> f64 {
                         + t * (0.278_868_07
                             + t * (-1.135_203_98
                                 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
-    let erfc = t * poly.exp();
+    // The fit slightly exceeds 1 right at 0; capping it keeps erf odd and
+    // monotone there (else Phi(a) - Phi(b) could be negative for a > b).
+    let erfc = (t * poly.exp()).min(1.0);
     if x >= 0.0 {
         1.0 - erfc
     } else {

@@ -216,6 +216,17 @@ impl FilterSettings {
     pub fn validate(&self) -> Result<()> {
         error::open_probability("prior", self.prior)?;
         error::positive("clamp", self.clamp)?;
+        // Cells are stored as f32. A clamp past f32's range would be
+        // infinite there (and an infinite cell turns into NaN at the next
+        // update of the opposite sign); one below it rounds to a clamp of 0.
+        let stored = self.clamp as f32;
+        if !(stored.is_finite() && stored > 0.0) {
+            return Err(invalid(
+                "clamp",
+                self.clamp,
+                "a saturation that f32 cells can hold, from 1.5e-45 to 3.4e38 log odds",
+            ));
+        }
         let l0 = logit(self.prior);
         if l0.abs() > self.clamp {
             return Err(invalid(

@@ -121,21 +121,21 @@ impl RayMapper {
                 Some(p) if p.free != 0.0 && p.occupied != 0.0 => {
                     let (free_until, occupied_until) = (p.free_until, p.occupied_until);
                     let (free, occupied) = (p.free, p.occupied);
-                    let verdict = move |r: f64| {
+                    let verdict = move |r: f64, i: usize, scratch: &mut Scratch| {
                         if r <= free_until {
-                            Some(free)
+                            scratch.record(i, free);
                         } else if r <= occupied_until {
-                            Some(occupied)
-                        } else {
-                            None
+                            scratch.record(i, occupied);
                         }
                     };
                     trace(walk, at, verdict, &mut scratch)
                 }
                 _ => {
-                    let verdict = |r: f64| {
+                    let verdict = |r: f64, i: usize, scratch: &mut Scratch| {
                         let e = sanitize(model.evidence(r, 0.0, z));
-                        (e != 0.0).then_some(e)
+                        if e != 0.0 {
+                            scratch.record(i, e);
+                        }
                     };
                     trace(walk, at, verdict, &mut scratch)
                 }
@@ -144,10 +144,22 @@ impl RayMapper {
 
         // Table 9.1, line 4, once per touched cell.
         let count = scratch.count;
-        for &i in &self.touched[..count] {
-            let slot = &mut self.pending[i as usize];
+        let mask = self.pending.len() - 1;
+        let pending = &mut self.pending[..=mask];
+        let mut apply = |i: u32| {
+            let slot = &mut pending[i as usize & mask];
             grid.apply(i as usize, *slot);
             *slot = UNTOUCHED;
+        };
+        let mut chunks = self.touched[..count].chunks_exact(4);
+        for c in &mut chunks {
+            apply(c[0]);
+            apply(c[1]);
+            apply(c[2]);
+            apply(c[3]);
+        }
+        for &i in chunks.remainder() {
+            apply(i);
         }
         ScanStats {
             cells_visited: visits,
@@ -250,7 +262,7 @@ impl<'a> Scratch<'a> {
 /// returns the number of visits. Kept out of line so that the walk's whole
 /// state fits in registers.
 #[inline(never)]
-fn trace<V: Fn(f64) -> Option<f32>>(
+fn trace<V: Fn(f64, usize, &mut Scratch)>(
     walk: Walk,
     at: BeamState,
     verdict: V,
@@ -282,12 +294,10 @@ struct BeamCursor<'a, V> {
     verdict: V,
 }
 
-impl<V: Fn(f64) -> Option<f32>> Cursor for BeamCursor<'_, V> {
+impl<V: Fn(f64, usize, &mut Scratch)> Cursor for BeamCursor<'_, V> {
     #[inline(always)]
     fn visit(&mut self) {
-        if let Some(e) = (self.verdict)(self.at.range) {
-            self.scratch.record(self.at.index, e);
-        }
+        (self.verdict)(self.at.range, self.at.index, &mut self.scratch);
     }
     #[inline(always)]
     fn step_x(&mut self) {

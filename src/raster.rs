@@ -126,41 +126,36 @@ impl Walk {
         let mut visits = 1 + n_x + n_y;
         // tMaxX - tMaxY: negative when the next crossing is on x.
         let mut gap = self.t_max.0 - self.t_max.1;
-        if n_x != 0 && n_y != 0 {
-            loop {
+        let both = n_x != 0 && n_y != 0;
+        // One step of the two-axis phase; false once an axis is used up.
+        let mut step = |cursor: &mut C| -> bool {
+            cursor.visit();
+            if gap < -CORNER_EPS {
+                cursor.step_x();
+                gap += d_x;
+                n_x -= 1;
+                n_x != 0
+            } else if gap > CORNER_EPS {
+                cursor.step_y();
+                gap -= d_y;
+                n_y -= 1;
+                n_y != 0
+            } else {
+                cursor.step_x();
                 cursor.visit();
-                if gap < -CORNER_EPS {
-                    cursor.step_x();
-                    gap += d_x;
-                    n_x -= 1;
-                    if n_x == 0 {
-                        break;
-                    }
-                } else if gap > CORNER_EPS {
-                    cursor.step_y();
-                    gap -= d_y;
-                    n_y -= 1;
-                    if n_y == 0 {
-                        break;
-                    }
-                } else {
-                    // Through a corner: both side cells, then the diagonal
-                    // one at the top of the loop.
-                    cursor.step_x();
-                    cursor.visit();
-                    cursor.unstep_x();
-                    cursor.step_y();
-                    cursor.visit();
-                    cursor.step_x();
-                    visits += 1;
-                    gap += d_x - d_y;
-                    n_x -= 1;
-                    n_y -= 1;
-                    if n_x == 0 || n_y == 0 {
-                        break;
-                    }
-                }
+                cursor.unstep_x();
+                cursor.step_y();
+                cursor.visit();
+                cursor.step_x();
+                visits += 1;
+                gap += d_x - d_y;
+                n_x -= 1;
+                n_y -= 1;
+                n_x != 0 && n_y != 0
             }
+        };
+        if both {
+            while step(cursor) && step(cursor) {}
         }
         for _ in 0..n_x {
             cursor.visit();

@@ -82,11 +82,13 @@ impl Scan {
                 found: bearings.len(),
             });
         }
-        for (i, &r) in ranges.iter().enumerate() {
-            error::non_negative(&format!("ranges[{i}]"), r)?;
+        // The field name is formatted only on error: a log holds millions
+        // of ranges.
+        if let Some((i, &r)) = ranges.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r >= 0.0)) {
+            return Err(invalid(&format!("ranges[{i}]"), r, "a finite number of at least 0"));
         }
-        for (i, &b) in bearings.iter().enumerate() {
-            error::finite(&format!("bearings[{i}]"), b)?;
+        if let Some((i, &b)) = bearings.iter().enumerate().find(|(_, b)| !b.is_finite()) {
+            return Err(invalid(&format!("bearings[{i}]"), b, "a finite number"));
         }
         Ok(Self {
             pose,

@@ -5,7 +5,8 @@
 
 use js_sys::{Error, Reflect};
 use occgrid::bindings::cell_filter::{run_cell_filter, worked_example};
-use occgrid::bindings::real_log::LaserLog;
+use occgrid::bindings::doorway_trap::{chapter_two_cell_query, joint_answer, DoorwayTrap};
+use occgrid::bindings::real_log::{LaserLog, LogMapSession};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
@@ -53,4 +54,43 @@ fn garbage_logs_arrive_as_line_numbered_errors() {
     assert!(msg.contains("line"), "{msg}");
     let ok = LaserLog::from_bytes(b"FLASER 2 1.0 2.0 0 0 0 0 0 0 1 h 1\n").unwrap();
     assert_eq!(ok.scan_count(), 1);
+}
+
+#[wasm_bindgen_test]
+fn chapter_two_cell_case_crosses_the_boundary() {
+    let a = joint_answer(chapter_two_cell_query().unwrap()).unwrap();
+    let joint = js_sys::Array::from(&get(&a, "joint"));
+    for (k, w) in [0.0047, 0.3318, 0.3318, 0.3318].iter().enumerate() {
+        assert!((joint.get(k as u32).as_f64().unwrap() - w).abs() < 1e-3);
+    }
+    let msg = js_error_message(joint_answer(JsValue::from_str("nope")).unwrap_err());
+    assert!(msg.contains("joint query"), "{msg}");
+    assert!(!msg.contains("Error:"), "no doubled prefix: {msg}");
+}
+
+#[wasm_bindgen_test]
+fn doorway_climb_reaches_a_local_maximum() {
+    let mut t = DoorwayTrap::new(JsValue::UNDEFINED).unwrap();
+    assert_eq!(t.map_run(10_000), 20);
+    assert!(t.map_step().unwrap().is_null());
+}
+
+#[wasm_bindgen_test]
+fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
+    let text = b"# log\nFLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 2.0 3.0 0.1 0 0 0 0 0 2 h 2\n";
+    let mut s = LogMapSession::new(text.to_vec());
+    let p = s.read(100).unwrap();
+    assert_eq!(get(&p, "finished").as_bool(), Some(true));
+    assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
+    let b = s.build_chunk(100).unwrap();
+    assert_eq!(get(&b, "scansDone").as_f64(), Some(2.0));
+    let pair = s.export_map(Some("lab".into())).unwrap();
+    assert!(get(&pair, "yaml").as_string().unwrap().starts_with("image: lab.pgm\nmode: trinary\n"));
+    let msg = js_error_message(s.configure(js_sys::JSON::parse(r#"{"resolution": -1}"#).unwrap()).unwrap_err());
+    assert!(msg.contains("resolution") && msg.contains("-1"), "{msg}");
+    let msg = js_error_message(s.configure(js_sys::JSON::parse(r#"{"resoluton": 0.1}"#).unwrap()).unwrap_err());
+    assert!(msg.contains("resoluton"), "{msg}");
+    let mut broken = LogMapSession::new(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
+    let msg = js_error_message(broken.read(10).unwrap_err());
+    assert!(msg.starts_with("line 2:") && msg.contains("negative"), "{msg}");
 }

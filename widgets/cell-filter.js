@@ -4,11 +4,14 @@
 // default is the chapter's worked example; the "forget to subtract l0"
 // toggle shows why the prior must be removed once per update.
 //
-// Attributes: p-occ, p-free, prior (probabilities strictly between 0 and 1),
-// readings (a string of o/f letters, e.g. "oof"), forget-l0 (boolean).
+// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// p-occ, p-free, prior (probabilities on the sliders' steps), readings (a
+// string of o/f letters, e.g. "oof"), forget-l0 ("on"/"off"), controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, ensureStyles, fixed } from './lib/ui.js';
+import { AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
+import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
 const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] };
 // The l0 lesson: a prior of 0.2 and an inverse model whose two answers sit
@@ -17,27 +20,37 @@ const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] 
 // until the update forgets to remove l0.
 const L0_LESSON = { pOcc: 0.37, pFree: 0.1, prior: 0.2, readings: [1, 0, 1, 0, 1, 0, 1, 0], forget: true };
 const CLAMP = 12;
+const GROUPS = ['readings', 'presets', 'sliders', 'toggles', 'link'];
 
-function parseReadings(text) {
-  const out = [];
-  for (const ch of text.replace(/[\s,]/g, '')) {
-    if (ch === 'o' || ch === 'O' || ch === '1') out.push(1);
-    else if (ch === 'f' || ch === 'F' || ch === '0') out.push(0);
-    else throw new Error(`invalid readings: "${text}" (expected letters o for occupied and f for free)`);
-  }
-  return out;
-}
+const readingsType = {
+  describe: 'letters o for occupied and f for free, e.g. "oof"',
+  parse(text, name) {
+    const out = [];
+    for (const ch of text.replace(/[\s,]/g, '')) {
+      if (ch === 'o' || ch === 'O' || ch === '1') out.push(1);
+      else if (ch === 'f' || ch === 'F' || ch === '0') out.push(0);
+      else throw invalidValue(name, text, this.describe);
+    }
+    return out;
+  },
+};
 
-function parseProbability(name, text) {
-  const v = Number(text);
-  if (text.trim() === '' || !Number.isFinite(v) || v <= 0 || v >= 1) {
-    throw new Error(`invalid ${name}: "${text}" (expected a probability strictly between 0 and 1)`);
-  }
-  return v;
-}
+const lettersOf = (readings) => readings.map((r) => (r ? 'o' : 'f')).join('');
+
+/** Attribute name → the state field it sets. */
+const FIELDS = { 'p-occ': 'pOcc', 'p-free': 'pFree', prior: 'prior', readings: 'readings', 'forget-l0': 'forget' };
 
 class CellFilterElement extends HTMLElement {
-  static observedAttributes = ['p-occ', 'p-free', 'prior', 'readings', 'forget-l0'];
+  static attributeSpec = {
+    'p-occ': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: '0.70', doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
+    'p-free': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: '0.30', doc: 'p(m | free reading): its answer to a free reading' },
+    prior: { type: probability({ min: 0.05, max: 0.95, step: 0.05 }), default: '0.50', doc: 'the prior p(m), whose log odds is l0' },
+    readings: { type: readingsType, default: 'oof', doc: 'the readings so far, in order' },
+    'forget-l0': { type: flag(), default: 'off', doc: 'start with the update that forgets to subtract l0' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: readings (the two reading buttons, undo, clear), presets (worked example, l0 lesson), sliders, toggles, link' },
+  };
+
+  static observedAttributes = Object.keys(CellFilterElement.attributeSpec);
 
   constructor() {
     super();
@@ -47,10 +60,14 @@ class CellFilterElement extends HTMLElement {
 
   async connectedCallback() {
     if (this.built) return;
+    // A link handed out by an instructor sets the attributes first.
+    restoreFromUrl(this, CellFilterElement.attributeSpec);
     this.built = true;
     ensureStyles();
-    this.readAttributes();
+    this.attrs = new AttributeReader(this, CellFilterElement.attributeSpec);
+    this.applyAttributes(Object.keys(FIELDS));
     this.build();
+    applyControls(this, this.values.controls);
     try {
       ({ core: this.core } = await loadCore());
       this.ready = true;
@@ -60,28 +77,37 @@ class CellFilterElement extends HTMLElement {
     }
   }
 
-  attributeChangedCallback() {
+  attributeChangedCallback(name) {
     if (!this.built) return;
-    this.readAttributes();
+    this.applyAttributes([name]);
+    if (name === 'controls') applyControls(this, this.values.controls);
     this.syncControls();
     this.render();
   }
 
-  /** Reads the attributes into the state; a bad value is reported in the widget. */
-  readAttributes() {
-    try {
-      const a = (n) => this.getAttribute(n);
-      const next = { ...this.state };
-      if (a('p-occ') !== null) next.pOcc = parseProbability('p-occ', a('p-occ'));
-      if (a('p-free') !== null) next.pFree = parseProbability('p-free', a('p-free'));
-      if (a('prior') !== null) next.prior = parseProbability('prior', a('prior'));
-      if (a('readings') !== null) next.readings = parseReadings(a('readings'));
-      next.forget = this.hasAttribute('forget-l0');
-      this.state = next;
-      this.attributeError = null;
-    } catch (e) {
-      this.attributeError = e;
+  /**
+   * Reads the attributes (a bad value is reported in the widget and the
+   * last good one kept) and copies those named in `names` into the state.
+   */
+  applyAttributes(names) {
+    this.values = this.attrs.read();
+    const next = { ...this.state };
+    for (const n of names) {
+      if (!(n in FIELDS)) continue;
+      const v = this.values[n];
+      next[FIELDS[n]] = Array.isArray(v) ? [...v] : v;
     }
+    this.state = next;
+  }
+
+  /** The current state as attribute values, for "Copy link". */
+  linkState() {
+    const s = this.state;
+    return {
+      'p-occ': s.pOcc.toFixed(2), 'p-free': s.pFree.toFixed(2), prior: s.prior.toFixed(2),
+      readings: lettersOf(s.readings), 'forget-l0': s.forget ? 'on' : 'off',
+      controls: formatControls(this.values.controls, GROUPS),
+    };
   }
 
   build() {
@@ -98,15 +124,18 @@ class CellFilterElement extends HTMLElement {
     this.chartBox = el('div', { class: 'cell-filter-chart', role: 'img', 'aria-label': 'log odds after each reading' });
 
     this.append(
-      el('div', { class: 'occgrid-buttons', role: 'group', 'aria-label': 'readings' },
-        button('Occupied reading', () => this.add(1), { name: 'occupied' }),
-        button('Free reading', () => this.add(0), { name: 'free' }),
-        button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
-        button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' }),
-        button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false }), { name: 'worked-example' }),
-        button('The l0 lesson', () => this.set({ ...L0_LESSON, readings: [...L0_LESSON.readings] }), { name: 'l0-lesson', title: 'prior 0.2, alternating readings, without subtracting l0' }),
-      ),
-      el('div', { class: 'occgrid-controls' }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root, this.forgetToggle.root),
+      el('div', { class: 'occgrid-buttons' },
+        el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'readings', dataset: { controls: 'readings' } },
+          button('Occupied reading', () => this.add(1), { name: 'occupied' }),
+          button('Free reading', () => this.add(0), { name: 'free' }),
+          button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
+          button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' })),
+        el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'presets', dataset: { controls: 'presets' } },
+          button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false }), { name: 'worked-example' }),
+          button('The l0 lesson', () => this.set({ ...L0_LESSON, readings: [...L0_LESSON.readings] }), { name: 'l0-lesson', title: 'prior 0.2, alternating readings, without subtracting l0' }))),
+      el('div', { class: 'occgrid-controls' },
+        el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'sliders' } }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root),
+        el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'toggles' } }, this.forgetToggle.root)),
       el('div', { class: 'cell-filter-layout' },
         el('div', {},
           el('table', { class: 'occgrid-table cell-filter-table' },
@@ -120,6 +149,7 @@ class CellFilterElement extends HTMLElement {
         'Each reading adds the inverse model’s log odds and removes the prior l0 once. ',
         'The inverse model answers with a posterior, which already contains the prior; forget to remove l0 and every reading counts the prior once more. ',
         '“The l0 lesson” uses a prior of 0.2 and answers of 0.37 / 0.10, symmetric around it: alternating readings keep the cell near l0 = −1.386, but without the subtraction each reading adds another −1.386 and the cell drifts toward free.'),
+      copyLinkControl(this, CellFilterElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
       xLabel: 'step', yLabel: 'log odds l',
@@ -148,10 +178,6 @@ class CellFilterElement extends HTMLElement {
 
   render() {
     if (!this.ready) return;
-    if (this.attributeError) {
-      showError(this, this.attributeError);
-      return;
-    }
     const s = this.state;
     let table;
     try {

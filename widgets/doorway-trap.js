@@ -13,14 +13,20 @@
 // adjustable. Every number comes from the wasm core; this module draws,
 // lays out and forwards input.
 //
-// Attributes: seed (a whole number: the readings' noise).
+// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// seed, scene, autoplay, scans, flips, arrangement, cells, reading, prior,
+// map-width, controls.
 import { loadCore } from './lib/core.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
   el, slider, button, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, prefersReducedMotion, fixed,
+  whenVisible, frameLoop, prefersReducedMotion, fixed,
 } from './lib/ui.js';
+import {
+  AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
+} from './lib/attributes.js';
+import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
 /** Sweep scans and MAP flips per second while playing. */
 const SCANS_PER_SECOND = 1.5;
@@ -47,46 +53,74 @@ const DIAGRAM_H = 200;
 const MIN_RANGE = 0.1;
 const MAX_RANGE = 3.0;
 
-function parseWhole(name, text, min, max) {
-  const v = Number(text);
-  if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) {
-    throw new Error(`invalid ${name}: "${text}" (expected a whole number from ${min} to ${max})`);
-  }
-  return v;
-}
+/** The cone's half-width in the two-cell diagram, degrees (a 22° sonar). */
+const HALF_CONE_DEG = 11;
+const GROUPS = ['playback', 'arrangements', 'sliders', 'export', 'link'];
+const MAP_HINT = 'Arrow keys move a cursor cell whose values are read out below the maps.';
+
+/** The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres, degrees). */
+const cellsType = {
+  describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${MIN_RANGE} to ${MAX_RANGE} m, bearings from -${HALF_CONE_DEG} to ${HALF_CONE_DEG}°`,
+  parse(text, name) {
+    const v = text.split(/[\s,;]+/).filter(Boolean).map(Number);
+    const ok = v.length === 4 && v.every(Number.isFinite) &&
+      [v[0], v[2]].every((r) => r >= MIN_RANGE && r <= MAX_RANGE) &&
+      [v[1], v[3]].every((b) => Math.abs(b) <= HALF_CONE_DEG);
+    if (!ok) throw invalidValue(name, text, this.describe);
+    return [{ range: v[0], bearing_deg: v[1] }, { range: v[2], bearing_deg: v[3] }];
+  },
+};
 
 const bits = (occupied) => occupied.map((o) => (o ? '1' : '0')).join(' ');
 
 class DoorwayTrapElement extends HTMLElement {
-  static observedAttributes = ['seed'];
+  static attributeSpec = {
+    seed: { type: whole(0, Number.MAX_SAFE_INTEGER), doc: 'seed of the sonar readings’ noise; absent: the chapter’s' },
+    scene: { type: jsonObject('{"prior": 0.3}'), doc: 'fields of the doorway scene to override (the core checks each); absent: the chapter’s room and door' },
+    autoplay: { type: flag(), default: 'on', doc: 'play both halves when first scrolled into view (never under prefers-reduced-motion)' },
+    scans: { type: whole(0, 4096), default: '0', doc: 'sweep scans done before the first frame' },
+    flips: { type: whole(0, 100_000), default: '0', doc: 'MAP flips done before the first frame (the climb stops at its local maximum)' },
+    arrangement: { type: oneOf(['side', 'collinear', 'apart']), default: 'side', doc: 'the two cells of the two-cell table: side by side, one behind the other, or apart' },
+    cells: { type: cellsType, doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement' },
+    reading: { type: number(0.1, 3, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (3 = no echo)' },
+    prior: { type: number(0.05, 0.95, { step: 0.05 }), default: '0.50', doc: 'the two-cell table’s prior occupancy p₀' },
+    'map-width': { type: whole(160, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (step, play, reset of both halves), arrangements, sliders (reading, prior), export, link' },
+  };
+
+  static observedAttributes = Object.keys(DoorwayTrapElement.attributeSpec);
 
   constructor() {
     super();
-    this.seed = null;
     this.trap = null;
     this.playing = { sweep: false, map: false };
-    this.frame = 0;
     this.lastFlip = null;
     this.lastScan = null;
     this.query = null;
+    this.cursor = null; // { key, ix, iy }: the keyboard cursor on a map
+    this.movingCell = 1; // which two-cell point the arrow keys move (0 = A, 1 = B)
   }
 
   async connectedCallback() {
     if (this.built) return;
+    // A link handed out by an instructor sets the attributes first.
+    restoreFromUrl(this, DoorwayTrapElement.attributeSpec);
     this.built = true;
     ensureStyles();
+    this.attrs = new AttributeReader(this, DoorwayTrapElement.attributeSpec);
+    this.values = this.attrs.read();
     this.build();
+    applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    this.readAttributes();
     this.create();
-    this.setArrangement('side');
+    this.initTwoCell();
     whenVisible(this, () => {
-      if (!prefersReducedMotion() && this.trap) {
+      if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
         this.play('sweep');
         this.play('map');
       }
@@ -98,22 +132,38 @@ class DoorwayTrapElement extends HTMLElement {
     this.pause('map');
   }
 
-  attributeChangedCallback() {
-    if (!this.core) return;
-    const before = this.seed;
-    if (this.readAttributes() && this.seed !== before) this.create();
+  attributeChangedCallback(name) {
+    if (!this.built) return;
+    const before = this.values;
+    this.values = this.attrs.read();
+    const key = (v) => JSON.stringify(v instanceof Set ? [...v] : v);
+    if (key(this.values[name]) === key(before[name])) return;
+    if (name === 'controls') applyControls(this, this.values.controls);
+    else if (name === 'map-width') {
+      for (const p of Object.values(this.panes)) p.cssW = 0;
+      this.layout();
+    } else if (!this.core) return;
+    else if (['seed', 'scene', 'scans', 'flips'].includes(name)) this.create();
+    else if (['arrangement', 'cells', 'reading', 'prior'].includes(name)) this.initTwoCell();
   }
 
-  readAttributes() {
-    try {
-      const seed = this.getAttribute('seed');
-      if (seed !== null) this.seed = parseWhole('seed', seed, 0, Number.MAX_SAFE_INTEGER);
-      clearError(this);
-      return true;
-    } catch (e) {
-      showError(this, e);
-      return false;
-    }
+  /** The current state as attribute values, for "Copy link". */
+  linkState() {
+    const v = this.values;
+    const q = this.query;
+    const custom = this.arrangement === 'custom' && q;
+    return {
+      seed: v.seed, scene: v.scene ? JSON.stringify(v.scene) : null,
+      autoplay: this.playing.sweep || this.playing.map ? 'on' : 'off',
+      scans: this.report ? this.report.scansDone : v.scans,
+      flips: this.state ? this.state.flips.length : v.flips,
+      arrangement: custom ? null : this.arrangement,
+      cells: custom ? q.cells.map((c) => `${fixed(c.range, 2)},${fixed(c.bearing_deg, 1)}`).join(',') : null,
+      reading: q ? q.readings[0].toFixed(2) : null,
+      prior: q ? q.prior.toFixed(2) : null,
+      'map-width': v['map-width'],
+      controls: formatControls(v.controls, GROUPS),
+    };
   }
 
   // ---- Layout ----
@@ -121,8 +171,8 @@ class DoorwayTrapElement extends HTMLElement {
   build() {
     const pane = (key, title, note, exportLabel, controls) => {
       const canvas = el('canvas', {
-        class: 'occgrid-map doorway-trap-canvas', role: 'img',
-        'aria-label': `${title} map of the doorway scene`,
+        class: 'occgrid-map doorway-trap-canvas', role: 'img', tabindex: 0,
+        'aria-label': `${title} map of the doorway scene. ${MAP_HINT}`,
       });
       const status = el('p', { class: 'occgrid-readout doorway-trap-status', 'aria-live': 'polite' }, 'Loading…');
       const door = el('p', { class: 'occgrid-readout doorway-trap-door' });
@@ -132,11 +182,19 @@ class DoorwayTrapElement extends HTMLElement {
       exportButton.setAttribute('aria-label', exportLabel);
       const root = el('figure', { class: `doorway-trap-pane doorway-trap-${key}`, dataset: { map: key } },
         el('figcaption', {}, el('strong', {}, title), ' ', el('span', { class: 'doorway-trap-note' }, note)),
-        el('div', { class: 'occgrid-controls doorway-trap-buttons' }, controls),
+        el('div', { class: 'occgrid-controls doorway-trap-buttons', dataset: { controls: 'playback' } }, controls),
         canvas, status, door,
-        el('div', { class: 'doorway-trap-foot' }, exportButton));
+        el('div', { class: 'doorway-trap-foot', dataset: { controls: 'export' } }, exportButton));
       canvas.addEventListener('pointermove', (ev) => this.hover(key, ev));
       canvas.addEventListener('pointerleave', () => this.hover(key, null));
+      canvas.addEventListener('keydown', (ev) => this.keyCursor(key, ev));
+      canvas.addEventListener('focus', () => {
+        if (!this.cursor || this.cursor.key !== key) this.moveCursor(key, 0, 0);
+      });
+      canvas.addEventListener('blur', () => {
+        this.cursor = null;
+        this.draw();
+      });
       return { key, canvas, status, door, root };
     };
 
@@ -156,10 +214,11 @@ class DoorwayTrapElement extends HTMLElement {
         button('Reset', () => { this.pause('map'); this.trap?.mapReset(); this.lastFlip = null; this.draw(); }, { name: 'map-reset', title: 'Back to the all-free start' }),
       ]),
     };
-    this.hoverOut = el('p', { class: 'occgrid-readout doorway-trap-hover', 'aria-live': 'off' }, 'Point at a cell to read it.');
+    this.hoverOut = el('p', { class: 'occgrid-readout doorway-trap-hover', 'aria-live': 'polite' }, HOVER_HINT);
     this.flipText = el('p', { class: 'occgrid-readout doorway-trap-flip', 'aria-live': 'polite' });
-    this.barBox = el('div', { class: 'doorway-trap-chart doorway-trap-bars' });
-    this.curveBox = el('div', { class: 'doorway-trap-chart doorway-trap-curve' });
+    this.barBox = el('div', { class: 'doorway-trap-chart doorway-trap-bars', role: 'img', 'aria-label': 'Change of each beam’s log likelihood for the latest flip: no flip yet.' });
+    this.curveBox = el('div', { class: 'doorway-trap-chart doorway-trap-curve', role: 'img', 'aria-label': 'Objective J(m) over flips: no flip yet.' });
+    this.loop = frameLoop(this, (dt) => this.tick(dt));
 
     this.append(
       el('div', { class: 'doorway-trap-panes' }, this.panes.sweep.root, this.panes.map.root),
@@ -173,6 +232,7 @@ class DoorwayTrapElement extends HTMLElement {
         'and an occupied doorway cell would contradict the cone that reads the far wall straight through the door. ',
         'A red square is a cell the climb set occupied, a purple one a cell it cleared again; the yellow square is the latest flip, with the beams it changed (green raised, red dashed lowered).'),
       this.buildTwoCell(),
+      copyLinkControl(this, DoorwayTrapElement.attributeSpec, () => this.linkState()),
     );
 
     this.bars = barChart(this.barBox, { title: 'Δ log p(z | x, m) per beam (stop.sonar), nats', yLabel: 'Δ nats', height: 170 });

@@ -12,15 +12,20 @@
 // forwards input and draws: map pixels straight from wasm memory, and the
 // robot, its beams and the person over them.
 //
-// Attributes: seed (whole number), laps (1 to 20), person ("on" or "off"),
-// speed (0.25, 0.5, 1, 2, 4 or 8).
+// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
+// model, pose, clamp and strength, map-width, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
   el, slider, button, toggle, select, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, trackVisibility, prefersReducedMotion, fixed, nextId,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId,
 } from './lib/ui.js';
+import {
+  AttributeReader, applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
+} from './lib/attributes.js';
+import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
 /** The simulated LiDAR's rate: one scan per 1/12 s at speed 1. */
 const SCANS_PER_SECOND = 12;
@@ -39,48 +44,77 @@ const TRACK_COLORS = [COLORS.series[2], COLORS.series[3], '#8c510a'];
 
 const MODEL_NAMES = { 'hand-crafted': 'hand-crafted model (Table 9.2)', learned: 'learned model (§9.3)' };
 const POSE_NAMES = { oracle: 'pose oracle', 'dead-reckoning': 'dead reckoning' };
+/** The same, as the maps' text alternatives say them (not the controls' labels). */
+const SPOKEN_MODELS = { 'hand-crafted': 'the hand-crafted inverse model of Table 9.2', learned: 'the inverse model learned in §9.3' };
+const SPOKEN_POSES = { oracle: 'at the true poses', 'dead-reckoning': 'at the dead-reckoned poses' };
+
+/** How a map canvas is operated, for its text alternative. */
+const CURSOR_HINT = 'Gray is unknown, white free, black occupied. Arrow keys move a cursor cell whose values are read out below the maps.';
+const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'export', 'link'];
+/** Every pane attribute, per side, and the pane setting it sets. */
+const PANE_FIELDS = { model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength' };
 
 const count = (n) => Number(n).toLocaleString('en-US');
 const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 
-function parseWhole(name, text, min, max) {
-  const v = Number(text);
-  if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) {
-    throw new Error(`invalid ${name}: "${text}" (expected a whole number from ${min} to ${max})`);
-  }
-  return v;
-}
+const paneSpec = (side, model) => ({
+  [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), default: model, doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
+  [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), default: 'oracle', doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
+  [`${side}-clamp`]: { type: number(1, 16, { step: 0.5 }), default: '12', doc: `the ${side} map’s clamp l_max, log odds` },
+  [`${side}-strength`]: { type: number(0.25, 3, { step: 0.25 }), default: '1', doc: `factor on the ${side} map’s evidence` },
+});
 
 class MapWeaverElement extends HTMLElement {
-  static observedAttributes = ['seed', 'laps', 'person', 'speed'];
+  static attributeSpec = {
+    seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'seed of the simulation: odometry noise, range noise, the person’s walk' },
+    laps: { type: whole(1, 20), default: '3', doc: 'laps in the run' },
+    scene: { type: jsonObject('{"scan_rate": 6}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
+    person: { type: flag(), default: 'on', doc: 'a person walking the corridor' },
+    speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed, × 12 scans per second' },
+    autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
+    scans: { type: whole(0, 1_000_000), default: '0', doc: 'scans integrated before the first frame (the run stops at its last lap)' },
+    mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
+    ...paneSpec('left', 'hand-crafted'),
+    ...paneSpec('right', 'learned'),
+    'map-width': { type: whole(160, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), export, link' },
+  };
+
+  static observedAttributes = Object.keys(MapWeaverElement.attributeSpec);
 
   constructor() {
     super();
-    this.options = { seed: null, laps: null, person: true, speed: 1 };
     this.weaver = null;
     this.playing = false;
-    this.raf = 0;
-    this.onScreen = true;
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
   async connectedCallback() {
     if (this.built) return;
+    // A link handed out by an instructor sets the attributes first.
+    restoreFromUrl(this, MapWeaverElement.attributeSpec);
     this.built = true;
     ensureStyles();
+    this.attrs = new AttributeReader(this, MapWeaverElement.attributeSpec);
+    this.values = this.attrs.read();
+    this.options = {
+      speed: this.values.speed,
+      person: this.values.person,
+      panes: SIDES.map((side) => this.paneOptions(side)),
+    };
     this.build();
+    applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    this.readAttributes();
-    this.stopTracking = trackVisibility(this, (v) => { this.onScreen = v; });
+    if (this.values.mode === 'log') this.setMode('log');
     whenVisible(this, async () => {
       await this.create();
-      if (this.weaver && !prefersReducedMotion() && this.mode === 'sim') this.play();
+      if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
     });
   }
 
@@ -88,40 +122,53 @@ class MapWeaverElement extends HTMLElement {
     this.pause();
   }
 
-  attributeChangedCallback(name) {
-    if (!this.core) return;
-    if (!this.readAttributes()) return;
-    if (name === 'speed') this.speedSelect.input.value = String(this.options.speed);
-    else if (name === 'person') this.setPerson(this.options.person);
-    else if (this.weaver) this.create();
+  /** One pane's settings from the attributes. */
+  paneOptions(side) {
+    const o = {};
+    for (const [attr, field] of Object.entries(PANE_FIELDS)) o[field] = this.values[`${side}-${attr}`];
+    return o;
   }
 
-  /** Reads the attributes; a bad value is shown and the last good one kept. */
-  readAttributes() {
-    try {
-      const o = { ...this.options };
-      const seed = this.getAttribute('seed');
-      const laps = this.getAttribute('laps');
-      const person = this.getAttribute('person');
-      const speed = this.getAttribute('speed');
-      if (seed !== null) o.seed = parseWhole('seed', seed, 0, Number.MAX_SAFE_INTEGER);
-      if (laps !== null) o.laps = parseWhole('laps', laps, 1, 20);
-      if (person !== null) {
-        if (!['on', 'off'].includes(person)) throw new Error(`invalid person: "${person}" (expected "on" or "off")`);
-        o.person = person === 'on';
-      }
-      if (speed !== null) {
-        const s = Number(speed);
-        if (!SPEEDS.includes(s)) throw new Error(`invalid speed: "${speed}" (expected one of ${SPEEDS.join(', ')})`);
-        o.speed = s;
-      }
-      this.options = o;
-      clearError(this);
-      return true;
-    } catch (e) {
-      showError(this, e);
-      return false;
-    }
+  attributeChangedCallback(name) {
+    if (!this.built) return;
+    const before = this.values;
+    this.values = this.attrs.read();
+    const value = this.values[name];
+    const same = JSON.stringify(value instanceof Set ? [...value] : value) === JSON.stringify(before[name] instanceof Set ? [...before[name]] : before[name]);
+    if (same) return;
+    if (name === 'controls') applyControls(this, value);
+    else if (name === 'speed') {
+      this.options.speed = value;
+      this.speedSelect.input.value = String(value);
+    } else if (name === 'person') this.setPerson(value);
+    else if (name === 'mode') this.setMode(value);
+    else if (name === 'map-width') {
+      for (const p of this.panes) p.cssW = 0;
+      this.layout();
+    } else if (/^(left|right)-/.test(name)) {
+      const k = name.startsWith('left') ? 0 : 1;
+      const field = PANE_FIELDS[name.replace(/^(left|right)-/, '')];
+      this.setPane(k, { [field]: value });
+    } else if (['seed', 'laps', 'scene', 'scans'].includes(name) && this.weaver) this.create();
+  }
+
+  /** The current state as attribute values, for "Copy link". */
+  linkState() {
+    const o = this.options;
+    const state = {
+      seed: this.values.seed, laps: this.values.laps,
+      scene: this.values.scene ? JSON.stringify(this.values.scene) : null,
+      person: o.person ? 'on' : 'off', speed: o.speed,
+      autoplay: this.playing ? 'on' : 'off',
+      scans: this.reading ? this.reading.scans : this.values.scans,
+      mode: this.mode,
+      'map-width': this.values['map-width'],
+      controls: formatControls(this.values.controls, GROUPS),
+    };
+    SIDES.forEach((side, k) => {
+      for (const [attr, field] of Object.entries(PANE_FIELDS)) state[`${side}-${attr}`] = o.panes[k][field];
+    });
+    return state;
   }
 
   // ---- layout ------------------------------------------------------------
@@ -129,14 +176,16 @@ class MapWeaverElement extends HTMLElement {
   build() {
     this.mode = 'sim';
     const group = nextId('map-weaver-mode');
+    this.radios = {};
     const radio = (value, label, checked) => {
       const id = nextId('map-weaver-mode');
       const input = el('input', { type: 'radio', name: group, id, value });
       input.checked = checked;
       input.addEventListener('change', () => input.checked && this.setMode(value));
+      this.radios[value] = input;
       return el('span', { class: 'map-weaver-mode-option' }, input, el('label', { for: id }, label));
     };
-    const modes = el('fieldset', { class: 'map-weaver-mode' },
+    const modes = el('fieldset', { class: 'map-weaver-mode', dataset: { controls: 'data' } },
       el('legend', {}, 'Data'),
       radio('sim', 'Simulated apartment', true),
       radio('log', 'Real log', false));
@@ -146,19 +195,23 @@ class MapWeaverElement extends HTMLElement {
       (v) => { this.options.speed = Number(v); }, { name: 'speed' });
     this.personToggle = toggle('Person in the corridor', this.options.person, (on) => this.setPerson(on), { name: 'person' });
     this.status = el('p', { class: 'occgrid-readout map-weaver-status', 'aria-live': 'polite' }, 'Loading the core…');
+    this.loop = frameLoop(this, (dt) => this.tick(dt));
 
     this.panes = SIDES.map((side, k) => this.buildPane(side, k));
     this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite' },
       'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.');
-    this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart' });
+    this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart', role: 'img', 'aria-label': 'Map entropy over time: no scans yet.' });
 
+    const playback = [
+      this.playButton,
+      button('Step', () => { this.pause(); this.advance(1); }, { name: 'step', title: 'Integrate one scan' }),
+      button('Reset', () => this.reset(), { name: 'reset', title: 'Start the lap again with the current settings' }),
+      this.speedSelect.root,
+    ];
+    for (const c of playback) c.dataset.controls = 'playback';
+    this.personToggle.root.dataset.controls = 'toggles';
     this.simPanel = el('div', { class: 'map-weaver-sim' },
-      el('div', { class: 'occgrid-controls' },
-        this.playButton,
-        button('Step', () => { this.pause(); this.advance(1); }, { name: 'step', title: 'Integrate one scan' }),
-        button('Reset', () => this.reset(), { name: 'reset', title: 'Start the lap again with the current settings' }),
-        this.speedSelect.root,
-        this.personToggle.root),
+      el('div', { class: 'occgrid-controls' }, playback, this.personToggle.root),
       this.status,
       el('div', { class: 'map-weaver-panes' }, this.panes.map((p) => p.root)),
       this.hover,
@@ -173,7 +226,8 @@ class MapWeaverElement extends HTMLElement {
         'a lower clamp pulls saturated cells in at once, a new strength weighs the scans still to come.'));
 
     this.logPanel = el('div', { class: 'map-weaver-log-host', hidden: true });
-    this.append(modes, this.simPanel, this.logPanel);
+    this.append(modes, this.simPanel, this.logPanel,
+      copyLinkControl(this, MapWeaverElement.attributeSpec, () => this.linkState()));
 
     if ('ResizeObserver' in window) {
       this.resizer = new ResizeObserver(() => this.layout());
@@ -186,18 +240,23 @@ class MapWeaverElement extends HTMLElement {
     const note = el('span', { class: 'map-weaver-note' });
     const canvas = el('canvas', {
       class: 'occgrid-map map-weaver-map', tabindex: 0, role: 'img',
-      'aria-label': `${side} map; arrow keys move a cursor cell whose values are read out below the maps`,
+      'aria-label': `${side === 'left' ? 'Left' : 'Right'} map, not built yet. ${CURSOR_HINT}`,
     });
-    const learned = toggle('Learned model', k === 1, (on) => this.setModel(k, on ? 'learned' : 'hand-crafted'), { name: `learned-${side}` });
-    const oracle = toggle('Pose oracle', true, (on) => this.setPose(k, on ? 'oracle' : 'dead-reckoning'), { name: `oracle-${side}` });
+    const o = this.options.panes[k];
+    const learned = toggle('Learned model', o.model === 'learned', (on) => this.setPane(k, { model: on ? 'learned' : 'hand-crafted' }), { name: `learned-${side}` });
+    const oracle = toggle('Pose oracle', o.pose === 'oracle', (on) => this.setPane(k, { pose: on ? 'oracle' : 'dead-reckoning' }), { name: `oracle-${side}` });
     const clamp = slider({
-      label: 'Clamp l_max', min: 1, max: 16, step: 0.5, value: 12, format: (v) => fixed(v, 1),
-      onInput: (v) => this.knob(() => this.weaver.setClamp(k, v)), name: `clamp-${side}`,
+      label: 'Clamp l_max', min: 1, max: 16, step: 0.5, value: o.clamp, format: (v) => fixed(v, 1),
+      onInput: (v) => this.setPane(k, { clamp: v }), name: `clamp-${side}`,
     });
     const strength = slider({
-      label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: 1, format: (v) => `${fixed(v, 2)}×`,
-      onInput: (v) => this.knob(() => this.weaver.setStrength(k, v)), name: `strength-${side}`,
+      label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: o.strength, format: (v) => `${fixed(v, 2)}×`,
+      onInput: (v) => this.setPane(k, { strength: v }), name: `strength-${side}`,
     });
+    learned.root.dataset.controls = 'toggles';
+    oracle.root.dataset.controls = 'toggles';
+    clamp.root.dataset.controls = 'sliders';
+    strength.root.dataset.controls = 'sliders';
     const out = (cls) => el('output', { class: `map-weaver-value map-weaver-${cls}` }, '–');
     const entropy = out('entropy');
     const brier = out('brier');
@@ -206,7 +265,7 @@ class MapWeaverElement extends HTMLElement {
       name: `export-${side}`, title: `Save the ${side} map as a ROS map_server PGM + YAML pair`,
     });
     exportButton.setAttribute('aria-label', `Export the ${side} map`);
-    const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart' });
+    const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart', role: 'img', 'aria-label': `${side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds over time, no scans yet.` });
     const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
       el('figcaption', {}, title, ' ', note),
       canvas,
@@ -216,7 +275,7 @@ class MapWeaverElement extends HTMLElement {
         el('span', {}, 'Cells visited ', visited, ' per scan')),
       el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root),
       chartBox,
-      el('div', { class: 'map-weaver-foot' }, exportButton));
+      el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, exportButton));
     const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox };
     canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
     canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
@@ -232,8 +291,9 @@ class MapWeaverElement extends HTMLElement {
   layout() {
     if (!this.weaver) return;
     const { width: w, height: h } = this.weaver;
+    const widest = this.values['map-width'];
     for (const p of this.panes) {
-      const cssW = Math.max(160, Math.min(MAX_CSS_WIDTH, Math.floor(p.root.clientWidth || 320)));
+      const cssW = Math.max(120, Math.min(widest, Math.floor(p.root.clientWidth || 320)));
       if (p.cssW === cssW) continue;
       p.cssW = cssW;
       p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
@@ -275,28 +335,38 @@ class MapWeaverElement extends HTMLElement {
     this.status.textContent = 'Training the learned inverse model…';
     // Let the message paint before the core works for a moment.
     await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+    const v = this.values;
     try {
-      const settings = { person: this.options.person };
-      if (this.options.seed !== null) settings.seed = this.options.seed;
-      if (this.options.laps !== null) settings.laps = this.options.laps;
+      const settings = { seed: v.seed, laps: v.laps, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
+      if (v.scene) settings.scene = v.scene;
       const next = new this.core.MapWeaver(settings);
+      // A link may open the run part-way through.
+      if (v.scans > 0) next.advance(v.scans);
       this.weaver?.free();
       this.weaver = next;
       this.tracked = this.weaver.trackedCells();
       clearError(this);
     } catch (e) {
       showError(this, e);
+      this.status.textContent = this.weaver ? 'Kept the previous run.' : 'No run: see the message above.';
       return;
     }
-    this.personToggle.input.checked = this.options.person;
-    for (const p of this.panes) {
-      p.learned.input.checked = p.k === 1;
-      p.oracle.input.checked = true;
-      p.clamp.set(12);
-      p.strength.set(1);
-    }
+    this.syncControls();
     this.makeCharts();
     this.layout();
+  }
+
+  /** Puts the controls in line with the options. */
+  syncControls() {
+    this.personToggle.input.checked = this.options.person;
+    this.speedSelect.input.value = String(this.options.speed);
+    for (const p of this.panes) {
+      const o = this.options.panes[p.k];
+      p.learned.input.checked = o.model === 'learned';
+      p.oracle.input.checked = o.pose === 'oracle';
+      p.clamp.set(o.clamp);
+      p.strength.set(o.strength);
+    }
   }
 
   /** Runs `change` (a call into the core), shows an error instead of throwing, redraws. */
@@ -311,8 +381,22 @@ class MapWeaverElement extends HTMLElement {
     this.draw(true);
   }
 
-  setModel(k, model) { this.knob(() => this.weaver.setModel(k, model)); }
-  setPose(k, pose) { this.knob(() => this.weaver.setPoseSource(k, pose)); }
+  /**
+   * Changes pane `k`'s settings (any of model, pose, clamp, strength) in
+   * the options, the controls and the core.
+   */
+  setPane(k, patch) {
+    const o = this.options.panes[k];
+    Object.assign(o, patch);
+    this.syncControls();
+    this.knob(() => {
+      if ('model' in patch) this.weaver.setModel(k, o.model);
+      if ('pose' in patch) this.weaver.setPoseSource(k, o.pose);
+      if ('clamp' in patch) this.weaver.setClamp(k, o.clamp);
+      if ('strength' in patch) this.weaver.setStrength(k, o.strength);
+    });
+  }
+
   setPerson(on) {
     this.options.person = on;
     this.personToggle.input.checked = on;
@@ -328,34 +412,32 @@ class MapWeaverElement extends HTMLElement {
     if (!this.weaver || this.playing) return;
     if (this.weaver.readout().done) this.weaver.reset();
     this.playing = true;
+    this.owed = 0;
     this.playButton.textContent = 'Pause';
     this.playButton.setAttribute('aria-pressed', 'true');
     this.status.setAttribute('aria-live', 'off');
-    let last = performance.now();
-    let owed = 0;
-    const tick = (now) => {
-      if (!this.playing) return;
-      const dt = Math.min(now - last, 250);
-      last = now;
-      if (this.onScreen && this.mode === 'sim') {
-        owed += (dt / 1000) * SCANS_PER_SECOND * this.options.speed;
-        const n = Math.min(MAX_SCANS_PER_FRAME, Math.floor(owed));
-        if (n > 0) {
-          owed -= n;
-          if (!this.advance(n)) {
-            this.pause();
-            return;
-          }
-        }
+    // The loop gets frames only while the widget is on screen.
+    this.loop.start();
+  }
+
+  /** One animation frame: the scans owed for `dt` ms at the chosen speed. */
+  tick(dt) {
+    if (!this.playing) return false;
+    if (this.mode !== 'sim') return true;
+    this.owed += (dt / 1000) * SCANS_PER_SECOND * this.options.speed;
+    const n = Math.min(MAX_SCANS_PER_FRAME, Math.floor(this.owed));
+    if (n > 0) {
+      this.owed -= n;
+      if (!this.advance(n)) {
+        this.pause();
+        return false;
       }
-      this.raf = requestAnimationFrame(tick);
-    };
-    this.raf = requestAnimationFrame(tick);
+    }
+    return true;
   }
 
   pause() {
-    if (this.raf) cancelAnimationFrame(this.raf);
-    this.raf = 0;
+    this.loop?.stop();
     if (!this.playing) return;
     this.playing = false;
     this.playButton.textContent = 'Play';
@@ -403,6 +485,9 @@ class MapWeaverElement extends HTMLElement {
         p.root.dataset.brier = String(pr.brier);
         p.root.dataset.model = pr.model;
         p.root.dataset.pose = pr.pose;
+        p.canvas.setAttribute('aria-label',
+          `${p.side === 'left' ? 'Left' : 'Right'} map: ${SPOKEN_MODELS[pr.model]} ${SPOKEN_POSES[pr.pose]}, after ${count(r.scans)} ` +
+          `scan${r.scans === 1 ? '' : 's'}: entropy ${bits(pr.entropyBits)} bits, Brier score ${fixed(pr.brier, 4)}. ${CURSOR_HINT}`);
       });
       const now = performance.now();
       if (charts || !this.chartTime || now - this.chartTime > CHART_EVERY_MS) {
@@ -431,11 +516,18 @@ class MapWeaverElement extends HTMLElement {
     const e0 = this.weaver.entropyCurve(0);
     const e1 = this.weaver.entropyCurve(1);
     this.entropyChart.setData(t(e0.length), Array.from(e0), Array.from(e1));
+    this.entropyBox.setAttribute('aria-label',
+      `Map entropy over time, after ${fixed(r.time, 1)} s of driving: left map ${bits(r.panes[0].entropyBits)} bits, ` +
+      `right map ${bits(r.panes[1].entropyBits)} bits.`);
     r.panes.forEach((pr, k) => {
       const flat = this.weaver.trackedHistory(k);
       const n = flat.length / 3;
       const series = [0, 1, 2].map((j) => Array.from({ length: n }, (_, i) => flat[3 * i + j]));
-      this.panes[k].chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
+      const p = this.panes[k];
+      p.chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
+      p.chartBox.setAttribute('aria-label',
+        `${p.side === 'left' ? 'Left' : 'Right'} map: log odds over time of three cells, now ` +
+        this.tracked.map((c, i) => `${c.name} ${signed(pr.tracked[i], 2)}`).join(', ') + `; the prior l0 is ${fixed(pr.l0, 2)}.`);
     });
   }
 
@@ -539,6 +631,7 @@ class MapWeaverElement extends HTMLElement {
 
   async setMode(mode) {
     this.mode = mode;
+    if (this.radios[mode]) this.radios[mode].checked = true;
     this.simPanel.hidden = mode !== 'sim';
     this.logPanel.hidden = mode !== 'log';
     if (mode !== 'log') {

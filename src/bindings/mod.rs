@@ -32,7 +32,13 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
     what: &str,
     value: JsValue,
 ) -> Result<T, JsError> {
-    serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("invalid {what}: {e}")))
+    serde_wasm_bindgen::from_value(value).map_err(|e| {
+        // The library's message already reads "Error: ..." (it is a JS
+        // error's text); keep only the reason.
+        let text = e.to_string();
+        let reason = text.strip_prefix("Error: ").unwrap_or(&text);
+        JsError::new(&format!("invalid {what}: {reason}"))
+    })
 }
 
 /// An RGBA image of a map, kept in wasm memory so that a widget draws it

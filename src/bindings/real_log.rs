@@ -138,6 +138,20 @@ impl LogMapSession {
     /// count; returns the map's geometry, or `null` while the log is still
     /// being read. On error nothing changes.
     pub fn configure(&mut self, settings: JsValue) -> Result<JsValue, JsError> {
+        // serde-wasm-bindgen reads only the fields it knows, so a misspelt
+        // one would pass unnoticed: name it instead.
+        if settings.is_object() {
+            let object: &js_sys::Object = settings.unchecked_ref();
+            for key in js_sys::Object::keys(object).iter() {
+                let key = key.as_string().unwrap_or_default();
+                if !LogMapSettings::FIELDS.contains(&key.as_str()) {
+                    return Err(JsError::new(&format!(
+                        "invalid settings: unknown field \"{key}\" (expected {})",
+                        LogMapSettings::FIELDS.join(", ")
+                    )));
+                }
+            }
+        }
         let settings: LogMapSettings = from_js("settings", settings)?;
         settings.validate()?;
         if let Some(build) = self.build.as_mut() {

@@ -79,11 +79,25 @@ pub struct HandCrafted {
 impl HandCrafted {
     pub fn new(params: HandCraftedParams) -> Result<Self> {
         params.validate()?;
-        Ok(Self {
-            params,
-            occ: (params.l_occ - params.l0) as f32,
-            free: (params.l_free - params.l0) as f32,
-        })
+        let (occ, free) = (
+            (params.l_occ - params.l0) as f32,
+            (params.l_free - params.l0) as f32,
+        );
+        // The evidence reaches the map as f32: finite log odds whose
+        // difference overflows f32 would add an infinity to a cell.
+        for (field, value, evidence) in [
+            ("l_occ", params.l_occ, occ),
+            ("l_free", params.l_free, free),
+        ] {
+            if !evidence.is_finite() {
+                return Err(invalid(
+                    field,
+                    value,
+                    "log odds within 3.4e38 of l0 (evidence is stored as f32)",
+                ));
+            }
+        }
+        Ok(Self { params, occ, free })
     }
 
     /// The same model with `l_occ` and `l_free` scaled together by

@@ -27,9 +27,9 @@
 //!   own `l0` is the bias plus this weight: the score of a cell far beyond
 //!   a short reading, read off the model. Cells there get exactly zero
 //!   evidence, so a mapper may visit them without moving them.
-//! * `(1 - m) a_w(u) N_k(d)`, `k = 0..7` — a uniform cubic B-spline basis in
-//!   `d` with knots every 0.15 m from -0.6 m to +0.9 m (each function lies
-//!   wholly inside that span): the shape of the free-to-occupied transition.
+//! * `(1 - m) a_w(u) N_k(d)`, `k = 0..=6` — seven uniform cubic B-splines
+//!   in `d` with knots every 0.15 m from -0.6 m to +0.9 m (each lies wholly
+//!   inside that span): the shape of the free-to-occupied transition.
 //! * `(1 - m) F(d) {a_w(u), a_n(u), a_w(u) z / z_max}` — the free plateau
 //!   in front of the reading, under the wide and a narrower angular window
 //!   (free space may be narrower than the occupied band) and scaled with the
@@ -57,7 +57,9 @@
 //! separates into `w0 + w_G G(d) + a_w(u) (T(d) + (z / z_max) w_z F(d)) +
 //! a_n(u) w_n F(d)` with `T(d) = sum_k w_k N_k(d) + w_F F(d)`, and that of a
 //! no-return into `w0 + a_w(u) (w_m0 + w_m1 r / z_max + w_m2 H(r))`. At
-//! construction `w_G G`, `T` and `F` are tabulated on a 5 mm lattice over
+//! construction `w_G (G - 1)` (so that it is exactly zero past the span,
+//! scores being taken relative to `l0 = w0 + w_G`), `T` and `F` are
+//! tabulated on a 5 mm lattice over
 //! the spline's span and interpolated linearly (the interpolation error is
 //! below 1e-3 in log odds, far below the fit's own uncertainty); the angular
 //! windows are two short polynomials, skipped on the axis (`psi = 0`, all
@@ -245,10 +247,43 @@ pub struct LearnedInverse {
     /// `own_l0 - l0`: the evidence of a cell far beyond a reading (0 with
     /// the model's own prior).
     base: f64,
-    /// `(w_G (G(d) - 1), T(d), F(d))` on the lattice
-    /// `d = SPLINE_START + k * TABLE_STEP`.
-    table: Vec<[f32; 3]>,
+    /// The score's parts on the lattice `d = SPLINE_START + k * TABLE_STEP`.
+    table: Vec<Row>,
     inv_half_width: f64,
+    inv_z_max: f64,
+}
+
+/// One lattice point of the tabulated score (log odds). Kept in `f64`: the
+/// table is a few kilobytes and a conversion per read costs more than the
+/// memory.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Row {
+    /// `w_G (G(d) - 1)`: exactly 0 from the end of the span on, so that the
+    /// cells the model knows nothing about get exactly `own_l0 - l0`.
+    g: f64,
+    /// `T(d)`, the part under the wide window.
+    t: f64,
+    /// `F(d)`.
+    front: f64,
+    /// On the axis (both windows 1), everything but the range-scaled part:
+    /// `g + T + w_n F`.
+    axis: f64,
+    /// On the axis, the range-scaled part per unit of `z / z_max`: `w_z F`.
+    range: f64,
+}
+
+impl Row {
+    #[inline]
+    fn lerp(a: &Row, b: &Row, f: f64) -> Row {
+        let m = |x: f64, y: f64| x + f * (y - x);
+        Row {
+            g: m(a.g, b.g),
+            t: m(a.t, b.t),
+            front: m(a.front, b.front),
+            axis: m(a.axis, b.axis),
+            range: m(a.range, b.range),
+        }
+    }
 }
 
 impl LearnedInverse {
@@ -266,6 +301,7 @@ impl LearnedInverse {
             base: 0.0,
             table: Vec::new(),
             inv_half_width: 1.0 / frame.half_width,
+            inv_z_max: 1.0 / frame.z_max,
         };
         // Read the prior off the model: a cell two spline spans beyond a
         // short reading (a quarter of the range), on the axis. (Only the
@@ -287,14 +323,14 @@ impl LearnedInverse {
                         .sum()
                 });
                 let t = spline + weights[FREE_WIDE] * front;
-                // G enters as w_G (G - 1), which is exactly 0 from the end
-                // of the span on: the cells the model knows nothing about
-                // get exactly `own_l0 - l0`, not a rounding error.
-                [
-                    (weights[BEYOND] * (beyond(d) - 1.0)) as f32,
-                    t as f32,
-                    front as f32,
-                ]
+                let g = weights[BEYOND] * (beyond(d) - 1.0);
+                Row {
+                    g,
+                    t,
+                    front,
+                    axis: g + t + weights[FREE_NARROW] * front,
+                    range: weights[FREE_RANGE] * front,
+                }
             })
             .collect();
         model.own_l0 = own_l0;
@@ -330,21 +366,17 @@ impl LearnedInverse {
         phi.iter().zip(&self.weights).map(|(p, w)| p * w).sum()
     }
 
-    /// `w_G (G(d) - 1)`, `T(d)` and `F(d)` from the table, linearly
-    /// interpolated and held at the ends (in front of the span they are
-    /// `-w_G, w_F, 1`; past it all 0).
+    /// The tabulated score's parts at `d` metres past the reading,
+    /// linearly interpolated, and held at the ends (in front of the span
+    /// at the first row, past it at the last, where every part is 0).
     #[inline]
-    fn lookup(&self, d: f64) -> [f64; 3] {
-        let t = (d.max(SPLINE_START) - SPLINE_START) * (1.0 / TABLE_STEP);
-        let k = t as usize;
-        let at = |v: &[f32; 3]| v.map(|x| x as f64);
+    fn lookup(&self, d: f64) -> Row {
+        let t = ((d - SPLINE_START) * (1.0 / TABLE_STEP)).max(0.0);
+        let k = (t as usize).min(self.table.len().saturating_sub(2));
+        let f = (t - k as f64).min(1.0);
         match (self.table.get(k), self.table.get(k + 1)) {
-            (Some(a), Some(b)) => {
-                let f = (t - k as f64) as f32;
-                [0, 1, 2].map(|i| (a[i] + f * (b[i] - a[i])) as f64)
-            }
-            (Some(a), None) => at(a),
-            _ => self.table.last().map_or([0.0; 3], at),
+            (Some(a), Some(b)) => Row::lerp(a, b, f),
+            _ => Row::default(),
         }
     }
 }
@@ -352,30 +384,40 @@ impl LearnedInverse {
 impl InverseModel for LearnedInverse {
     #[inline]
     fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
-        let u = phi.abs() * self.inv_half_width;
-        if !(u <= FIELD && r <= self.reach(z) && r.is_finite()) {
-            return 0.0; // outside the perceptual field (or not a number)
-        }
-        let z_max = self.frame.z_max;
-        let (wide, narrow) = if u == 0.0 {
-            (1.0, 1.0)
-        } else {
-            (window(u * (1.0 / FIELD)), window(u))
-        };
         let w = &self.weights;
-        // Scores are taken relative to `own_l0 = w0 + w_G`, so that the
-        // cells the model knows nothing about get exactly `base`.
-        let e = if z >= z_max {
-            let rt = (r * (1.0 / z_max)).clamp(0.0, 1.0);
-            self.base - w[BEYOND]
-                + wide * (w[NO_RETURN] + rt * w[NO_RETURN + 1] + near_sensor(r) * w[NO_RETURN + 2])
-        } else {
-            let [g, t, front] = self.lookup(r - z);
-            self.base
-                + g
-                + wide * (t + (z * (1.0 / z_max)).clamp(0.0, 1.0) * w[FREE_RANGE] * front)
-                + narrow * w[FREE_NARROW] * front
-        };
+        if z < self.frame.z_max {
+            let d = r - z;
+            // Past the reach, or not a number: no information.
+            if !(d <= SPLINE_END + BEHIND_BAND && r > -1.0) {
+                return 0.0;
+            }
+            let row = self.lookup(d);
+            let zt = z * self.inv_z_max;
+            if phi == 0.0 {
+                // On the axis, all the ray-traversal mapper asks.
+                return (self.base + row.axis + zt * row.range) as f32;
+            }
+            let u = phi.abs() * self.inv_half_width;
+            if !(u <= FIELD) {
+                return 0.0;
+            }
+            let (wide, narrow) = (window(u * (1.0 / FIELD)), window(u));
+            let e = self.base
+                + row.g
+                + wide * (row.t + zt * w[FREE_RANGE] * row.front)
+                + narrow * w[FREE_NARROW] * row.front;
+            return e as f32;
+        }
+        // A no-return (a NaN reading fails both tests).
+        let u = phi.abs() * self.inv_half_width;
+        if !(z >= self.frame.z_max && r <= self.frame.z_max && r > -1.0 && u <= FIELD) {
+            return 0.0;
+        }
+        let wide = window(u * (1.0 / FIELD));
+        let rt = (r * self.inv_z_max).clamp(0.0, 1.0);
+        // Scores are taken relative to `own_l0 = w0 + w_G`.
+        let e = self.base - w[BEYOND]
+            + wide * (w[NO_RETURN] + rt * w[NO_RETURN + 1] + near_sensor(r) * w[NO_RETURN + 2]);
         e as f32
     }
 

@@ -128,8 +128,11 @@ pub fn cell_look(l: f32) -> (u8, f64, f64) {
     let t = (l as f64 + TABLE_RANGE as f64) * TABLE_DENSITY as f64;
     let table = cell_table();
     if t >= 0.0 {
+        // An infinite `l` saturates `k` at usize::MAX: look the neighbour
+        // up without overflowing.
         let k = t as usize;
-        if let (Some(a), Some(b)) = (table.get(k), table.get(k + 1)) {
+        let next = k.checked_add(1).and_then(|j| table.get(j));
+        if let (Some(a), Some(b)) = (table.get(k), next) {
             let f = (t - k as f64) as f32;
             let gray = if l >= a.step { a.gray - 1 } else { a.gray };
             return (

@@ -59,7 +59,11 @@ export function barChart(container, { title, yLabel, color = COLORS.evidence, he
   const opts = {
     title,
     ...sizeOf(container, height),
-    scales: { x: { time: false, range: (u, lo, hi) => [lo - 0.6, hi + 0.6] } },
+    // Bars grow from zero, so the y range always includes it.
+    scales: {
+      x: { time: false, range: (u, lo, hi) => [lo - 0.6, hi + 0.6] },
+      y: { range: (u, lo, hi) => { const a = Math.min(0, lo), b = Math.max(0, hi); return a === b ? [-1, 1] : [a - 0.05 * (b - a), b + 0.05 * (b - a)]; } },
+    },
     axes: [{ values: (u, ticks) => ticks.map((t) => labels[t] ?? '') }, { label: yLabel }],
     legend: { show: false },
     cursor: { show: false },

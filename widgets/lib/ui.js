@@ -126,14 +126,20 @@ export function drawMap(canvas, memory, ptr, w, h) {
   ctx.restore();
 }
 
+/** The box of `showError`; attribute problems have their own (widgets/lib/attributes.js). */
+const RUNTIME_ERROR = ':scope > .occgrid-error:not(.occgrid-attribute-error)';
+
 /** Shows an error inside the widget (and in the console), instead of a blank box. */
 export function showError(host, error, context = '') {
   const message = error && error.message ? error.message : String(error);
   console.error(`${host.localName}: ${context}${message}`);
-  let box = host.querySelector(':scope > .occgrid-error');
+  let box = host.querySelector(RUNTIME_ERROR);
   if (!box) {
     box = el('div', { class: 'occgrid-error', role: 'alert' });
-    host.prepend(box);
+    // Below the attribute reports (widgets/lib/attributes.js), if any.
+    const reports = host.querySelectorAll(':scope > .occgrid-attribute-error, :scope > .occgrid-attribute-warning');
+    if (reports.length) reports[reports.length - 1].after(box);
+    else host.prepend(box);
   }
   box.textContent = `${context}${message}`;
   return box;
@@ -141,7 +147,7 @@ export function showError(host, error, context = '') {
 
 /** Clears an error shown by `showError`. */
 export function clearError(host) {
-  host.querySelector(':scope > .occgrid-error')?.remove();
+  host.querySelector(RUNTIME_ERROR)?.remove();
 }
 
 /** Calls `start` once, the first time `element` scrolls into view. */
@@ -168,6 +174,67 @@ export function trackVisibility(element, onChange) {
   const io = new IntersectionObserver((entries) => onChange(entries.some((e) => e.isIntersecting)));
   io.observe(element);
   return () => io.disconnect();
+}
+
+/**
+ * An animation loop that works only while `element` is on screen: each
+ * frame calls `step(dtMs)` with the time since the previous frame (0 on
+ * the first frame after a start or a return to the screen, at most 250 ms);
+ * `step` returns false to end the loop. Off screen the loop stops asking
+ * for frames altogether (and a hidden tab gets none), so a widget scrolled
+ * away costs nothing; it resumes where it was when it comes back.
+ * Returns `{ start(), stop(), running }`.
+ */
+export function frameLoop(element, step) {
+  let running = false;
+  let onScreen = false;
+  let raf = 0;
+  let last = 0;
+  let untrack = null;
+  const frame = (now) => {
+    raf = 0;
+    if (!running || !onScreen) return;
+    const dt = last ? Math.min(now - last, 250) : 0;
+    last = now;
+    if (step(dt) === false) {
+      stop();
+      return;
+    }
+    if (running && onScreen && !raf) raf = requestAnimationFrame(frame);
+  };
+  const schedule = () => {
+    if (running && onScreen && !raf) {
+      last = 0;
+      raf = requestAnimationFrame(frame);
+    }
+  };
+  const stop = () => {
+    running = false;
+    if (raf) cancelAnimationFrame(raf);
+    raf = 0;
+  };
+  return {
+    start() {
+      if (running) return;
+      running = true;
+      // The observer reports the element's visibility right after it starts.
+      if (!untrack) {
+        untrack = trackVisibility(element, (visible) => {
+          onScreen = visible;
+          if (visible) schedule();
+          else if (raf) {
+            cancelAnimationFrame(raf);
+            raf = 0;
+          }
+        });
+      }
+      schedule();
+    },
+    stop,
+    get running() { return running; },
+    /** True while the loop is running and actually receiving frames. */
+    get active() { return running && onScreen; },
+  };
 }
 
 /** True when the reader asked for reduced motion: animations wait for "play". */

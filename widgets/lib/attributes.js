@@ -1,0 +1,260 @@
+// How the widgets read their HTML attributes. Each widget declares its
+// attributes once, as a table of name → { type, default, doc }; this module
+// parses them, keeps the last good value of each, and reports a bad value
+// or an attribute the widget does not know inside the widget (and in the
+// console) instead of leaving a blank box. The same table feeds the
+// widget's "Copy link" state (widgets/lib/state.js), the `controls`
+// attribute that hides groups of controls, and the README's list.
+//
+// Usage in a widget:
+//   static attributeSpec = { seed: { type: whole(0, MAX), default: '1', doc: '…' }, … };
+//   static observedAttributes = Object.keys(MyElement.attributeSpec);
+//   this.attrs = new AttributeReader(this, MyElement.attributeSpec);
+//   const values = this.attrs.read();   // every name → parsed value (default when absent)
+import { el } from './ui.js';
+
+/**
+ * Attributes every HTML element may carry; never reported as unknown. So
+ * are `data-*`, `aria-*` and event handlers (`on*`).
+ */
+const GLOBAL_ATTRIBUTES = new Set([
+  'id', 'class', 'style', 'hidden', 'title', 'lang', 'dir', 'tabindex', 'slot', 'part', 'is', 'role',
+  'inert', 'nonce', 'autofocus', 'draggable', 'spellcheck', 'translate', 'contenteditable', 'accesskey',
+  'autocapitalize', 'enterkeyhint', 'inputmode', 'popover', 'exportparts', 'itemscope', 'itemtype',
+  'itemprop', 'itemid', 'itemref', 'writingsuggestions',
+]);
+
+const isGlobal = (name) =>
+  GLOBAL_ATTRIBUTES.has(name) || name.startsWith('data-') || name.startsWith('aria-') || name.startsWith('on');
+
+/** The message every widget shows for a bad value. */
+export function invalidValue(name, text, expected) {
+  return new Error(`invalid ${name}: "${text}" (expected ${expected})`);
+}
+
+// ---- value types ----------------------------------------------------------
+// Each type is `{ describe, parse(text, name) }`: `describe` completes
+// "expected …" and `parse` returns the value or throws `invalidValue`.
+
+/** A whole number in [min, max]. */
+export function whole(min, max) {
+  const describe = `a whole number from ${min} to ${max}`;
+  return {
+    describe,
+    parse(text, name) {
+      const v = Number(text);
+      if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) throw invalidValue(name, text, describe);
+      return v;
+    },
+  };
+}
+
+/**
+ * A number in [min, max]; with `step`, one of min, min + step, … (what the
+ * widget's slider can show). `unit` is named in the description.
+ */
+export function number(min, max, { step, unit = '' } = {}) {
+  const u = unit ? ` ${unit}` : '';
+  const describe = `a number from ${min} to ${max}${u}${step ? ` in steps of ${step}` : ''}`;
+  return {
+    describe,
+    parse(text, name) {
+      const v = Number(text);
+      let ok = text.trim() !== '' && Number.isFinite(v) && v >= min && v <= max;
+      if (ok && step) {
+        const k = (v - min) / step;
+        ok = Math.abs(k - Math.round(k)) < 1e-6;
+      }
+      if (!ok) throw invalidValue(name, text, describe);
+      return v;
+    },
+  };
+}
+
+/** A probability strictly between 0 and 1 (optionally on a slider's steps). */
+export function probability({ min = 0, max = 1, step } = {}) {
+  const inner = number(min, max, { step });
+  const describe = `a probability strictly between 0 and 1${min > 0 || max < 1 ? ` (from ${min} to ${max}${step ? ` in steps of ${step}` : ''})` : ''}`;
+  return {
+    describe,
+    parse(text, name) {
+      const v = Number(text);
+      if (text.trim() === '' || !(v > 0 && v < 1)) throw invalidValue(name, text, describe);
+      try {
+        return inner.parse(text, name);
+      } catch {
+        throw invalidValue(name, text, describe);
+      }
+    },
+  };
+}
+
+/** One of a list of words; `map` turns the word into the value. */
+export function oneOf(words, map = (w) => w) {
+  const describe = words.length === 2 ? `"${words[0]}" or "${words[1]}"` : `one of ${words.map((w) => `"${w}"`).join(', ')}`;
+  return {
+    describe,
+    parse(text, name) {
+      const w = text.trim();
+      if (!words.includes(w)) throw invalidValue(name, text, describe);
+      return map(w);
+    },
+  };
+}
+
+/** On or off: present and empty, "on" or "true" mean on; "off" or "false" off. */
+export function flag() {
+  const describe = '"on" or "off"';
+  return {
+    describe,
+    parse(text, name) {
+      const w = text.trim().toLowerCase();
+      if (w === '' || w === 'on' || w === 'true') return true;
+      if (w === 'off' || w === 'false') return false;
+      throw invalidValue(name, text, describe);
+    },
+  };
+}
+
+/** A JSON object, handed to the core as it is (the core checks its fields). */
+export function jsonObject(example) {
+  const describe = `a JSON object such as ${example}`;
+  return {
+    describe,
+    parse(text, name) {
+      let v;
+      try {
+        v = JSON.parse(text);
+      } catch {
+        throw invalidValue(name, text, describe);
+      }
+      if (v === null || typeof v !== 'object' || Array.isArray(v)) throw invalidValue(name, text, describe);
+      return v;
+    },
+  };
+}
+
+/**
+ * The `controls` attribute: which groups of controls a widget shows —
+ * "all", "none", or group names separated by spaces or commas. The value
+ * is a Set of group names.
+ */
+export function controlGroups(groups) {
+  const describe = `"all", "none" or any of: ${groups.join(', ')}`;
+  return {
+    describe,
+    groups,
+    parse(text, name) {
+      const words = text.trim().toLowerCase().split(/[\s,]+/).filter(Boolean);
+      if (words.length === 1 && words[0] === 'all') return new Set(groups);
+      if (words.length === 0 || (words.length === 1 && words[0] === 'none')) return new Set();
+      const unknown = words.filter((w) => !groups.includes(w));
+      if (unknown.length) {
+        throw new Error(`invalid ${name}: "${text}" (unknown group${unknown.length > 1 ? 's' : ''} ${unknown.map((w) => `"${w}"`).join(', ')}; expected ${describe})`);
+      }
+      return new Set(words);
+    },
+  };
+}
+
+/** The `controls` value for a set of groups, as a link writes it. */
+export function formatControls(visible, groups) {
+  if (groups.every((g) => visible.has(g))) return 'all';
+  const shown = groups.filter((g) => visible.has(g));
+  return shown.length ? shown.join(' ') : 'none';
+}
+
+/**
+ * Shows the control groups in `visible` and hides the others: every
+ * element of `host` marked `data-controls="GROUP"` belongs to GROUP.
+ */
+export function applyControls(host, visible) {
+  for (const node of host.querySelectorAll('[data-controls]')) node.hidden = !visible.has(node.dataset.controls);
+}
+
+// ---- reading and reporting --------------------------------------------------
+
+/**
+ * Reads a widget's attributes against its table and reports problems in
+ * two boxes at the top of the widget: bad values (an alert, `console.error`)
+ * and unknown attribute names (a notice, `console.warn`). Each problem is
+ * logged once, when it appears.
+ */
+export class AttributeReader {
+  constructor(host, spec) {
+    this.host = host;
+    this.spec = spec;
+    this.last = {};
+    this.logged = new Set();
+    for (const [name, s] of Object.entries(spec)) this.last[name] = s.default === undefined ? undefined : s.type.parse(s.default, name);
+  }
+
+  /**
+   * Every attribute of the table → its value: the parsed attribute when it
+   * is present and good, the last good value when it is bad, the default
+   * when it is absent. Also refreshes the report boxes.
+   */
+  read() {
+    const errors = [];
+    for (const [name, s] of Object.entries(this.spec)) {
+      const text = this.host.getAttribute(name);
+      if (text === null) {
+        this.last[name] = s.default === undefined ? undefined : s.type.parse(s.default, name);
+        continue;
+      }
+      try {
+        this.last[name] = s.type.parse(text, name);
+      } catch (e) {
+        errors.push(e.message);
+      }
+    }
+    const unknown = this.host.getAttributeNames().filter((n) => !(n in this.spec) && !isGlobal(n));
+    this.report(errors, unknown);
+    return { ...this.last };
+  }
+
+  /** True while some attribute value is bad. */
+  get hasErrors() {
+    return Boolean(this.host.querySelector(':scope > .occgrid-attribute-error'));
+  }
+
+  report(errors, unknown) {
+    const tag = this.host.localName;
+    const known = Object.keys(this.spec).join(', ');
+    const warnings = unknown.map((n) => {
+      const v = this.host.getAttribute(n);
+      return `unknown attribute ${n}${v === '' ? '' : `="${v}"`} (ignored; ${tag} knows: ${known})`;
+    });
+    const now = new Set([...errors, ...warnings]);
+    for (const m of errors) if (!this.logged.has(m)) console.error(`${tag}: ${m}`);
+    for (const m of warnings) if (!this.logged.has(m)) console.warn(`${tag}: ${m}`);
+    this.logged = now;
+    this.box('occgrid-error occgrid-attribute-error', 'alert', errors);
+    this.box('occgrid-attribute-warning', 'status', warnings);
+  }
+
+  box(cls, role, lines) {
+    const selector = `:scope > .${cls.split(' ').at(-1)}`;
+    let box = this.host.querySelector(selector);
+    if (!lines.length) {
+      box?.remove();
+      return;
+    }
+    if (!box) {
+      box = el('div', { class: cls, role });
+      // Errors above warnings, both above the widget's own content.
+      const error = this.host.querySelector(':scope > .occgrid-attribute-error');
+      if (role === 'status' && error) error.after(box);
+      else this.host.prepend(box);
+    }
+    box.replaceChildren(...lines.map((m, i) => (i ? [el('br'), m] : [m])).flat());
+  }
+}
+
+/**
+ * The table as documentation rows: `[{ name, expected, default, doc }]`
+ * (used by tests to check the README lists every attribute).
+ */
+export function describeAttributes(spec) {
+  return Object.entries(spec).map(([name, s]) => ({ name, expected: s.type.describe, default: s.default, doc: s.doc }));
+}

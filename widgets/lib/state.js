@@ -1,0 +1,111 @@
+// A widget's state in the page URL, so that an instructor can hand out a
+// link that opens a widget just so. The state is the widget's attributes
+// (widgets/lib/attributes.js): the widget reports its current settings as
+// attribute values, they go into the query string under the widget's key
+// (`?map-weaver.seed=3&map-weaver.left-clamp=4`), and on load the widget
+// sets them as its attributes before it reads them. The key is the
+// element's id, or its tag name without "occgrid-" (with "-2", "-3", … for
+// further elements of the same tag), so several widgets share one URL.
+import { el, button } from './ui.js';
+
+/** The widget's key in the URL: its id, else its tag (numbered when repeated). */
+export function widgetKey(host) {
+  if (host.id) return host.id;
+  const base = host.localName.replace(/^occgrid-/, '');
+  const peers = [...document.getElementsByTagName(host.localName)].filter((e) => !e.id);
+  const k = peers.indexOf(host);
+  return k > 0 ? `${base}-${k + 1}` : base;
+}
+
+/** The attribute values the page URL holds for `host`: `{ name: text }`. */
+export function urlState(host, search = location.search) {
+  const prefix = `${widgetKey(host)}.`;
+  const out = {};
+  for (const [k, v] of new URLSearchParams(search)) if (k.startsWith(prefix)) out[k.slice(prefix.length)] = v;
+  return out;
+}
+
+/**
+ * Sets `host`'s attributes from the page URL, if it holds any for this
+ * widget: the URL then describes the whole state, so the attributes of
+ * `spec` it leaves out go back to their defaults. Call once, before the
+ * widget first reads its attributes. A name that cannot be an attribute
+ * is reported in the console and skipped.
+ */
+export function restoreFromUrl(host, spec) {
+  const state = urlState(host);
+  if (!Object.keys(state).length) return false;
+  for (const name of Object.keys(spec)) if (!(name in state)) host.removeAttribute(name);
+  for (const [name, value] of Object.entries(state)) {
+    try {
+      host.setAttribute(name, value);
+    } catch {
+      console.warn(`${host.localName}: ignored "${widgetKey(host)}.${name}" in the page URL: not an attribute name`);
+    }
+  }
+  return true;
+}
+
+/**
+ * The page URL with `host`'s state in it. `state` maps attribute names to
+ * values; a value equal to the attribute's default (in `spec`), null or
+ * undefined is left out. The fragment points at the widget (its id, or
+ * the nearest enclosing element with an id) so the link opens there.
+ */
+export function linkFor(host, spec, state) {
+  const url = new URL(location.href);
+  const key = widgetKey(host);
+  for (const k of [...url.searchParams.keys()]) if (k.startsWith(`${key}.`)) url.searchParams.delete(k);
+  for (const [name, value] of Object.entries(state)) {
+    if (value === null || value === undefined) continue;
+    const text = String(value);
+    if (spec[name] && spec[name].default === text) continue;
+    url.searchParams.set(`${key}.${name}`, text);
+  }
+  const anchor = host.id || host.parentElement?.closest('[id]')?.id;
+  if (anchor) url.hash = anchor;
+  return url.href;
+}
+
+/**
+ * The "Copy link" control (control group "link"): puts the widget's
+ * current state (`getState()` → attribute values) into the page URL and
+ * copies the link; where the clipboard is not available (a page not
+ * served over https, a denied permission) it shows the link selected in a
+ * text box instead. The last link is also in `host.dataset.link`.
+ */
+export function copyLinkControl(host, spec, getState) {
+  const status = el('output', { class: 'occgrid-link-status', 'aria-live': 'polite' });
+  const field = el('input', {
+    type: 'text', readonly: true, class: 'occgrid-link-field', hidden: true,
+    'aria-label': 'Link to this widget with its current settings',
+  });
+  const copy = button('Copy link', async () => {
+    let href;
+    try {
+      href = linkFor(host, spec, getState());
+    } catch (e) {
+      status.textContent = `No link: ${e && e.message ? e.message : e}`;
+      return;
+    }
+    host.dataset.link = href;
+    try {
+      history.replaceState(history.state, '', href);
+    } catch {
+      // A sandboxed frame may not change its URL; the link is still shown.
+    }
+    field.value = href;
+    try {
+      await navigator.clipboard.writeText(href);
+      field.hidden = true;
+      status.textContent = 'Link copied: it opens this page with this widget as it is now.';
+    } catch {
+      field.hidden = false;
+      field.focus();
+      field.select();
+      status.textContent = 'Copy this link (Ctrl+C or ⌘C):';
+    }
+  }, { name: 'copy-link', title: 'Copy a link that opens this page with this widget’s current settings' });
+  copy.setAttribute('aria-label', `Copy link to this ${host.localName.replace(/^occgrid-/, '').replace(/-/g, ' ')} with its current settings`);
+  return el('div', { class: 'occgrid-link', dataset: { controls: 'link' } }, copy, status, field);
+}
