@@ -15,7 +15,11 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Timed repetitions per workload (OCCGRID_BENCH_RUNS, default 7): 1 for
 /// instruction counting under valgrind.
 fn runs() -> usize {
-    std::env::var("OCCGRID_BENCH_RUNS").ok().and_then(|v| v.parse().ok()).filter(|&n| n > 0).unwrap_or(7)
+    std::env::var("OCCGRID_BENCH_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or(7)
 }
 
 fn datasets() -> std::path::PathBuf {
@@ -104,7 +108,8 @@ fn apartment_frame() {
     };
     let (frame_us, _) = time(&mut w, &|w| w.frame().iter().map(|s| s.cells_visited).sum());
     let (hand_us, hand_cells) = time(&mut w, &|w| w.integrate(0).map_or(0, |s| s.cells_visited));
-    let (learned_us, learned_cells) = time(&mut w, &|w| w.integrate(1).map_or(0, |s| s.cells_visited));
+    let (learned_us, learned_cells) =
+        time(&mut w, &|w| w.integrate(1).map_or(0, |s| s.cells_visited));
     println!(
         "{{\"workload\":\"apartment-frame\",\"runtime\":\"native\",\"scans\":{n},\"laps\":{},\"cells\":10800,\"frame_us\":{frame_us:.1},\"integrate_us\":{hand_us:.1},\"cells_per_scan\":{hand_cells:.0},\"integrate_learned_us\":{learned_us:.1},\"cells_per_scan_learned\":{learned_cells:.0}}}",
         runs()
@@ -150,7 +155,8 @@ fn intel_real_log() {
         let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
         read.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
-        let mut b = carmen::LogMapBuild::new(scans, carmen::LogMapSettings::default()).expect("default settings");
+        let mut b = carmen::LogMapBuild::new(scans, carmen::LogMapSettings::default())
+            .expect("default settings");
         let p = b.advance(usize::MAX);
         build.push(t.elapsed().as_secs_f64() * 1e3);
         last = Some((p, b.counts(), *b.grid().geometry()));
@@ -223,10 +229,22 @@ fn main() {
     if run("intel-full") {
         intel_full();
     }
-    if run("table-fusion") { table_fusion(); }
-    if run("apartment-frame") { apartment_frame(); }
-    if run("all-cells-vs-traversal") { all_cells_vs_traversal(); }
-    if run("intel-real-log") { intel_real_log(); }
-    if run("doorway-map") { doorway_map(); }
-    if run("learn-inverse") { learn_inverse(); }
+    if run("table-fusion") {
+        table_fusion();
+    }
+    if run("apartment-frame") {
+        apartment_frame();
+    }
+    if run("all-cells-vs-traversal") {
+        all_cells_vs_traversal();
+    }
+    if run("intel-real-log") {
+        intel_real_log();
+    }
+    if run("doorway-map") {
+        doorway_map();
+    }
+    if run("learn-inverse") {
+        learn_inverse();
+    }
 }

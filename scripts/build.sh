@@ -4,3 +4,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/env.sh
 wasm-pack --log-level warn build --target web --release --out-dir pkg --no-pack
+node scripts/lib/strip-wasm-names.mjs pkg/occgrid_bg.wasm

@@ -12,6 +12,9 @@ cargo test --quiet
 echo "== wasm: wasm-pack test --node"
 wasm-pack --log-level warn test --node
 
-echo "== browser: Chromium"
 bash scripts/build.sh
+echo "== node: wasm soak and JS-side garbage"
+node --test --test-concurrency=1 tests/node/
+
+echo "== browser: Chromium"
 node --test --test-concurrency=1 tests/browser/

@@ -834,7 +834,9 @@ impl LogMapSettings {
         let (i0, j0) = (((x0 - m) / r).floor(), ((y0 - m) / r).floor());
         let (i1, j1) = (((x1 + m) / r).floor() + 1.0, ((y1 + m) / r).floor() + 1.0);
         let (w, h) = (i1 - i0, j1 - j0);
-        if w * h > MAX_CELLS as f64 {
+        // Written so that a NaN (cells so small that both edges overflow to
+        // the same infinity) is refused too.
+        if !(w * h <= MAX_CELLS as f64) {
             return Err(invalid(
                 "width x height",
                 format!("{w} x {h}"),
@@ -844,7 +846,18 @@ impl LogMapSettings {
         // Rounded to a nanometre: -418 cells of 0.05 m is -20.900000000000002
         // in binary, and the exported YAML should read -20.9.
         let round = |v: f64| (v * 1e9).round() / 1e9;
-        GridGeometry::new(w as usize, h as usize, r, round(i0 * r), round(j0 * r))
+        let (ox, oy) = (round(i0 * r), round(j0 * r));
+        // Absurdly large cells put the corners beyond f64 (the rounding
+        // above overflows first): the page sent a resolution, so name it.
+        let corners = [ox, oy, ox + w * r, oy + h * r];
+        if !corners.iter().all(|c| c.is_finite()) {
+            return Err(invalid(
+                "resolution",
+                error::show(r),
+                "cells small enough that the map's corners are finite numbers of metres",
+            ));
+        }
+        GridGeometry::new(w as usize, h as usize, r, ox, oy)
     }
 
     fn model_params(&self) -> HandCraftedParams {
@@ -876,9 +889,35 @@ impl LogMapSettings {
         error::finite("lOcc", self.l_occ)?;
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
+        // The model checks what is left of it (evidence past f32) under its
+        // own names: report them as the page spells them.
+        HandCrafted::new(self.model_params()).map_err(Self::page_names)?;
         // What is left to check (the clamp) is named alike by the filter.
-        HandCrafted::new(self.model_params())?;
         self.filter().validate()
+    }
+
+    /// A Table 9.2 model error under the name the page used for the field.
+    fn page_names(e: OccError) -> OccError {
+        match e {
+            OccError::InvalidParameter {
+                field,
+                value,
+                expected,
+            } => {
+                let field = match field.as_str() {
+                    "z_max" => "rangeCap".to_string(),
+                    "l_occ" => "lOcc".to_string(),
+                    "l_free" => "lFree".to_string(),
+                    _ => field,
+                };
+                OccError::InvalidParameter {
+                    field,
+                    value,
+                    expected,
+                }
+            }
+            other => other,
+        }
     }
 }
 

@@ -62,12 +62,23 @@ pub fn invalid(field: &str, value: impl fmt::Display, expected: &'static str) ->
     }
 }
 
+/// A number as a reader wants it in a message: plain, or in exponent form
+/// when plain would print dozens of digits (1e300, 2.2e-308).
+pub fn show(v: f64) -> String {
+    let a = v.abs();
+    if v.is_finite() && (a >= 1e16 || (a != 0.0 && a < 1e-6)) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
 /// `value` must be a finite number.
 pub fn finite(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(invalid(field, value, "a finite number"))
+        Err(invalid(field, show(value), "a finite number"))
     }
 }
 
@@ -76,7 +87,11 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(invalid(field, value, "a finite number greater than 0"))
+        Err(invalid(
+            field,
+            show(value),
+            "a finite number greater than 0",
+        ))
     }
 }
 
@@ -85,7 +100,7 @@ pub fn non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(invalid(field, value, "a finite number of at least 0"))
+        Err(invalid(field, show(value), "a finite number of at least 0"))
     }
 }
 
@@ -97,7 +112,7 @@ pub fn open_probability(field: &str, value: f64) -> Result<f64> {
     } else {
         Err(invalid(
             field,
-            value,
+            show(value),
             "a probability strictly between 0 and 1",
         ))
     }

@@ -116,12 +116,12 @@ impl BeamModel {
             // together with the hit Gaussian's density at the boundary when
             // z* itself is z_max.
             let mass = p.z_maxw;
-            let hit = if z == p.z_max {
+            let hit = if z == p.z_max && p.z_hit > 0.0 {
                 p.z_hit * self.hit(z, z_star)
             } else {
                 0.0
             };
-            return mass + hit;
+            return (mass + hit).min(f64::MAX);
         }
         // A component of weight 0 is absent, whatever its density (which
         // may be infinite in a degenerate corner: 0 * inf would be NaN).
@@ -146,7 +146,7 @@ impl BeamModel {
             // [0, z_max] is flat on it. Its normaliser is then below the
             // erf fit's accuracy (about 1e-7) and could even come out
             // negative; the limit is the uniform density.
-            return 1.0 / p.z_max;
+            return (1.0 / p.z_max).min(f64::MAX);
         }
         let u = (z - z_star) / s;
         ((-0.5 * u * u).exp() / (s * (2.0 * std::f64::consts::PI).sqrt()) / eta).min(f64::MAX)
@@ -375,6 +375,9 @@ pub fn expected_range(
 ) -> Result<f64> {
     let pose = Pose::new(pose.x, pose.y, pose.theta)?;
     error::finite("bearing", bearing)?;
+    // Two finite angles can still add up to an infinity (and a beam
+    // without a direction).
+    error::finite("pose.theta + bearing", pose.theta + bearing)?;
     error::positive("z_max", z_max)?;
     let (s, c) = (pose.theta + bearing).sin_cos();
     Ok(expected_range_along(

@@ -223,7 +223,7 @@ impl FilterSettings {
         if !(stored.is_finite() && stored > 0.0) {
             return Err(invalid(
                 "clamp",
-                self.clamp,
+                error::show(self.clamp),
                 "a saturation that f32 cells can hold, from 1.5e-45 to 3.4e38 log odds",
             ));
         }
@@ -231,7 +231,7 @@ impl FilterSettings {
         if l0.abs() > self.clamp {
             return Err(invalid(
                 "clamp",
-                self.clamp,
+                error::show(self.clamp),
                 "at least |l0|, the prior's log odds (or the prior itself would be clamped)",
             ));
         }

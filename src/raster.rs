@@ -49,7 +49,7 @@ pub struct Walk {
     /// Step direction per axis, +1 or -1.
     pub step: (i8, i8),
     /// Parameter of the first grid-line crossing on each axis (infinite
-    /// when the axis has no crossing ahead).
+    /// for a segment parallel to that axis's grid lines).
     t_max: (f64, f64),
     /// Parameter distance between two crossings on each axis.
     t_delta: (f64, f64),
@@ -76,15 +76,21 @@ impl Walk {
                 if q < 0.0 {
                     return None; // parallel to this border and outside it
                 }
-            } else {
-                // (Comparisons rather than f64::max/min: `r` is never NaN,
-                // and in wasm those are library calls.)
-                let r = q / p;
-                if p < 0.0 {
+            } else if p < 0.0 {
+                // Entering through this border. From a start on its inner
+                // side (q >= 0, the usual case) the ratio is <= 0 and
+                // cannot move t0: skip the division.
+                if q < 0.0 {
+                    let r = q / p;
                     if r > t0 {
                         t0 = r;
                     }
-                } else if r < t1 {
+                }
+            } else {
+                // Leaving through this border. (Comparisons rather than
+                // f64::min: `r` is never NaN, and in wasm that is a call.)
+                let r = q / p;
+                if r < t1 {
                     t1 = r;
                 }
             }
@@ -104,12 +110,6 @@ impl Walk {
         })
     }
 
-    /// How many cells the walk will visit at least (one per crossing plus
-    /// the first cell; each exact corner adds one more).
-    pub fn min_visits(&self) -> usize {
-        1 + self.crossings.0 + self.crossings.1
-    }
-
     /// Amanatides & Woo's incremental phase: visits the first cell, then at
     /// each grid-line crossing, in order along the segment, moves the cursor
     /// into the next cell and visits it. Returns the number of visits.
@@ -126,36 +126,41 @@ impl Walk {
         let mut visits = 1 + n_x + n_y;
         // tMaxX - tMaxY: negative when the next crossing is on x.
         let mut gap = self.t_max.0 - self.t_max.1;
-        let both = n_x != 0 && n_y != 0;
-        // One step of the two-axis phase; false once an axis is used up.
-        let mut step = |cursor: &mut C| -> bool {
-            cursor.visit();
-            if gap < -CORNER_EPS {
-                cursor.step_x();
-                gap += d_x;
-                n_x -= 1;
-                n_x != 0
-            } else if gap > CORNER_EPS {
-                cursor.step_y();
-                gap -= d_y;
-                n_y -= 1;
-                n_y != 0
-            } else {
-                cursor.step_x();
+        if n_x != 0 && n_y != 0 {
+            loop {
                 cursor.visit();
-                cursor.unstep_x();
-                cursor.step_y();
-                cursor.visit();
-                cursor.step_x();
-                visits += 1;
-                gap += d_x - d_y;
-                n_x -= 1;
-                n_y -= 1;
-                n_x != 0 && n_y != 0
+                if gap < -CORNER_EPS {
+                    cursor.step_x();
+                    gap += d_x;
+                    n_x -= 1;
+                    if n_x == 0 {
+                        break;
+                    }
+                } else if gap > CORNER_EPS {
+                    cursor.step_y();
+                    gap -= d_y;
+                    n_y -= 1;
+                    if n_y == 0 {
+                        break;
+                    }
+                } else {
+                    // Through a corner: both side cells, then the diagonal
+                    // one at the top of the loop.
+                    cursor.step_x();
+                    cursor.visit();
+                    cursor.unstep_x();
+                    cursor.step_y();
+                    cursor.visit();
+                    cursor.step_x();
+                    visits += 1;
+                    gap += d_x - d_y;
+                    n_x -= 1;
+                    n_y -= 1;
+                    if n_x == 0 || n_y == 0 {
+                        break;
+                    }
+                }
             }
-        };
-        if both {
-            while step(cursor) && step(cursor) {}
         }
         for _ in 0..n_x {
             cursor.visit();
@@ -204,11 +209,13 @@ impl Axis {
         } else {
             (-1i8, below_cell(end, last), first)
         };
+        // One division per axis: the crossings are multiples of 1/d.
+        let inv = 1.0 / d;
         Self {
             first: first as usize,
             step,
-            t_max: (boundary as f64 - a) / d,
-            t_delta: 1.0 / d.abs(),
+            t_max: (boundary as f64 - a) * inv,
+            t_delta: inv.abs(),
             crossings: ((last_cell - first) * step as i64).max(0) as usize,
         }
     }
@@ -295,6 +302,74 @@ impl<F: FnMut(usize, usize)> Cursor for CellCursor<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
+
+    /// The textbook form of the traversal, kept as the reference: `tMaxX`
+    /// and `tMaxY` carried separately, a range test against the clipped end
+    /// and a border test at every step.
+    fn reference(w: usize, h: usize, a: (f64, f64), b: (f64, f64)) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        let (wf, hf) = (w as f64, h as f64);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for (p, q) in [(-dx, a.0), (dx, wf - a.0), (-dy, a.1), (dy, hf - a.1)] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return out;
+                }
+            } else if p < 0.0 {
+                t0 = t0.max(q / p);
+            } else {
+                t1 = t1.min(q / p);
+            }
+        }
+        if t0 > t1 {
+            return out;
+        }
+        let start = (a.0 + t0 * dx, a.1 + t0 * dy);
+        let mut ix = (start.0.floor() as i64).clamp(0, w as i64 - 1);
+        let mut iy = (start.1.floor() as i64).clamp(0, h as i64 - 1);
+        let (sx, sy) = (if dx > 0.0 { 1 } else { -1 }, if dy > 0.0 { 1 } else { -1 });
+        let first = |i: i64, s: i64, a: f64, d: f64| {
+            if d == 0.0 {
+                (f64::INFINITY, f64::INFINITY)
+            } else {
+                let boundary = if s > 0 { i + 1 } else { i };
+                ((boundary as f64 - a) / d, 1.0 / d.abs())
+            }
+        };
+        let (mut tx, ddx) = first(ix, sx, a.0, dx);
+        let (mut ty, ddy) = first(iy, sy, a.1, dy);
+        let inside = |x: i64, y: i64| x >= 0 && y >= 0 && x < w as i64 && y < h as i64;
+        loop {
+            out.push((ix as usize, iy as usize));
+            if tx.min(ty) > t1 {
+                break;
+            }
+            if (tx - ty).abs() <= CORNER_EPS {
+                for (cx, cy) in [(ix + sx, iy), (ix, iy + sy)] {
+                    if inside(cx, cy) {
+                        out.push((cx as usize, cy as usize));
+                    }
+                }
+                ix += sx;
+                iy += sy;
+                tx += ddx;
+                ty += ddy;
+            } else if tx < ty {
+                ix += sx;
+                tx += ddx;
+            } else {
+                iy += sy;
+                ty += ddy;
+            }
+            if !inside(ix, iy) {
+                break;
+            }
+        }
+        out
+    }
 
     fn cells(w: usize, h: usize, a: (f64, f64), b: (f64, f64)) -> Vec<(usize, usize)> {
         let mut v = Vec::new();
@@ -348,5 +423,89 @@ mod tests {
         assert!(cells(4, 2, (-3.0, 5.0), (9.0, 5.0)).is_empty());
         // Ignores a non-finite segment instead of looping.
         assert!(cells(4, 2, (0.5, 0.5), (f64::NAN, 1.0)).is_empty());
+    }
+
+    #[test]
+    fn walk_matches_the_reference_traversal_on_random_segments() {
+        let mut rng = StdRng::seed_from_u64(7);
+        let (w, h) = (37, 23);
+        for k in 0..20_000 {
+            // Starts inside and outside the grid, short and long segments,
+            // every direction. (Ends exactly on a grid line are left to the
+            // test below: there the reference's accumulated `tMax` decides
+            // by rounding whether the touched cell is reached.)
+            let mut point = |spread: f64| {
+                (
+                    rng.random_range(-spread..w as f64 + spread),
+                    rng.random_range(-spread..h as f64 + spread),
+                )
+            };
+            let a = point(if k % 3 == 0 { 20.0 } else { 0.0 });
+            let b = point(30.0);
+            let got = cells(w, h, a, b);
+            assert_eq!(got, reference(w, h, a, b), "{a:?} -> {b:?}");
+        }
+    }
+
+    #[test]
+    fn walk_matches_the_reference_through_exact_corners() {
+        // Centre to centre along slopes of +-1 and +-1/2 or 2 (through
+        // corners every one or two cells). Both ends inside: a clipped end
+        // on a corner is the case below.
+        let mut rng = StdRng::seed_from_u64(11);
+        let (w, h) = (16, 12);
+        let inside = |p: (f64, f64)| p.0 > 0.0 && p.1 > 0.0 && p.0 < w as f64 && p.1 < h as f64;
+        for _ in 0..5_000 {
+            let a = (
+                rng.random_range(0..w) as f64 + 0.5,
+                rng.random_range(0..h) as f64 + 0.5,
+            );
+            let n = rng.random_range(1..20) as f64;
+            let (kx, ky) = [(1.0, 1.0), (1.0, 2.0), (2.0, 1.0)][rng.random_range(0..3)];
+            let sx = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let sy = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let b = (a.0 + sx * kx * n, a.1 + sy * ky * n);
+            if inside(b) {
+                assert_eq!(cells(w, h, a, b), reference(w, h, a, b), "{a:?} -> {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_segment_ending_on_a_grid_line_reaches_the_cell_beyond_it() {
+        // The end point touches the next cell's edge, in either direction.
+        assert_eq!(cells(6, 1, (0.5, 0.5), (3.0, 0.5)).last(), Some(&(3, 0)));
+        assert_eq!(cells(6, 1, (4.5, 0.5), (2.0, 0.5)).last(), Some(&(1, 0)));
+        assert_eq!(cells(1, 6, (0.5, 4.5), (0.5, 2.0)).last(), Some(&(0, 1)));
+        // At the border there is no cell beyond.
+        assert_eq!(cells(6, 1, (0.5, 0.5), (6.0, 0.5)).last(), Some(&(5, 0)));
+        assert_eq!(cells(6, 1, (4.5, 0.5), (0.0, 0.5)).last(), Some(&(0, 0)));
+        // Clipped exactly at a corner on the border: the cell beside that
+        // corner inside the map is touched, so it is visited. (Carrying
+        // `tMax` and testing it against the clipped end would decide this by
+        // rounding: 0.1 + 0.2 > 0.3.)
+        assert_eq!(
+            cells(4, 12, (1.5, 5.5), (-3.5, 10.5)),
+            vec![(1, 5), (0, 5), (1, 6), (0, 6), (0, 7)]
+        );
+    }
+
+    #[test]
+    fn a_corner_on_the_border_visits_only_the_side_cell_inside() {
+        // Leaves through the top-right corner of a 3 x 3 grid.
+        assert_eq!(
+            cells(3, 3, (1.5, 1.5), (3.5, 3.5)),
+            vec![(1, 1), (2, 1), (1, 2), (2, 2)]
+        );
+        // Leaves through the right border exactly at a row line: of the
+        // corner's side cells only the upper one is inside.
+        assert_eq!(cells(3, 3, (2.5, 0.5), (3.5, 1.5)), vec![(2, 0), (2, 1)]);
+    }
+
+    #[test]
+    fn a_point_or_a_grazing_touch_visits_one_cell() {
+        assert_eq!(cells(4, 4, (2.5, 1.5), (2.5, 1.5)), vec![(2, 1)]);
+        // Touches the grid only at its corner (0, 0).
+        assert_eq!(cells(4, 4, (-1.0, 1.0), (1.0, -1.0)), vec![(0, 0)]);
     }
 }

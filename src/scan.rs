@@ -84,8 +84,16 @@ impl Scan {
         }
         // The field name is formatted only on error: a log holds millions
         // of ranges.
-        if let Some((i, &r)) = ranges.iter().enumerate().find(|(_, r)| !(r.is_finite() && **r >= 0.0)) {
-            return Err(invalid(&format!("ranges[{i}]"), r, "a finite number of at least 0"));
+        if let Some((i, &r)) = ranges
+            .iter()
+            .enumerate()
+            .find(|(_, r)| !(r.is_finite() && **r >= 0.0))
+        {
+            return Err(invalid(
+                &format!("ranges[{i}]"),
+                r,
+                "a finite number of at least 0",
+            ));
         }
         if let Some((i, &b)) = bearings.iter().enumerate().find(|(_, b)| !b.is_finite()) {
             return Err(invalid(&format!("bearings[{i}]"), b, "a finite number"));

@@ -10,7 +10,12 @@ fn worked_example_matches_the_chapter_to_four_decimals() {
     let lo = cell_filter::log_odds_of(&CellFilterParams::WORKED_EXAMPLE).unwrap();
     assert_abs_diff_eq!(lo.l_occ, 0.8473, epsilon = 1e-4);
     assert_abs_diff_eq!(lo.l_free, -0.8473, epsilon = 1e-4);
-    let steps = cell_filter::run(&CellFilterParams::WORKED_EXAMPLE, &[true, true, false], true).unwrap();
+    let steps = cell_filter::run(
+        &CellFilterParams::WORKED_EXAMPLE,
+        &[true, true, false],
+        true,
+    )
+    .unwrap();
     let expected = [(0.8473, 0.7000), (1.6946, 0.8448), (0.8473, 0.7000)];
     for (s, (l, p)) in steps.iter().zip(expected) {
         assert_abs_diff_eq!(s.l, l, epsilon = 1e-4);
@@ -25,10 +30,19 @@ fn any_order_of_the_same_readings_ends_at_the_same_log_odds() {
         [true, false, true],
         [false, true, true],
     ];
-    let params = CellFilterParams { prior: 0.3, ..CellFilterParams::WORKED_EXAMPLE };
+    let params = CellFilterParams {
+        prior: 0.3,
+        ..CellFilterParams::WORKED_EXAMPLE
+    };
     let ends: Vec<f64> = orders
         .iter()
-        .map(|o| cell_filter::run(&params, o, true).unwrap().last().unwrap().l)
+        .map(|o| {
+            cell_filter::run(&params, o, true)
+                .unwrap()
+                .last()
+                .unwrap()
+                .l
+        })
         .collect();
     for e in &ends {
         assert_abs_diff_eq!(*e, ends[0], epsilon = 1e-12);
@@ -48,7 +62,12 @@ fn any_order_of_the_same_readings_ends_at_the_same_log_odds() {
 
 #[test]
 fn forgetting_to_subtract_l0_with_prior_0_2_drifts_by_l0_per_reading() {
-    let params = CellFilterParams { p_occ: 0.37, p_free: 0.1, prior: 0.2, clamp: 100.0 };
+    let params = CellFilterParams {
+        p_occ: 0.37,
+        p_free: 0.1,
+        prior: 0.2,
+        clamp: 100.0,
+    };
     let readings: Vec<bool> = (0..10).map(|i| i % 2 == 0).collect();
     let kept = cell_filter::run(&params, &readings, true).unwrap();
     let forgot = cell_filter::run(&params, &readings, false).unwrap();
@@ -65,7 +84,10 @@ fn forgetting_to_subtract_l0_with_prior_0_2_drifts_by_l0_per_reading() {
 
 #[test]
 fn clamp_saturates_and_keeps_the_cell_revisable() {
-    let params = CellFilterParams { clamp: 3.5, ..CellFilterParams::WORKED_EXAMPLE };
+    let params = CellFilterParams {
+        clamp: 3.5,
+        ..CellFilterParams::WORKED_EXAMPLE
+    };
     let mut readings = vec![true; 40];
     let steps = cell_filter::run(&params, &readings, true).unwrap();
     assert_eq!(steps.last().unwrap().l, 3.5, "saturates at the clamp");
@@ -75,7 +97,10 @@ fn clamp_saturates_and_keeps_the_cell_revisable() {
     assert!(steps.last().unwrap().p < 0.5);
     assert!(steps[steps.len() - 2].p > 0.5);
     // Without a clamp (a huge one), the same 5 free readings barely dent it.
-    let unclamped = CellFilterParams { clamp: 1e6, ..params };
+    let unclamped = CellFilterParams {
+        clamp: 1e6,
+        ..params
+    };
     let steps = cell_filter::run(&unclamped, &readings, true).unwrap();
     assert!(steps.last().unwrap().p > 0.99);
 }
@@ -85,15 +110,33 @@ fn a_fresh_map_holds_exactly_one_bit_per_cell() {
     let g = GridGeometry::new(120, 90, 0.1, 0.0, 0.0).unwrap();
     let m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
     assert_eq!(m.entropy_bits(), 10_800.0);
-    let biased = LogOddsGrid::new(g, FilterSettings { prior: 0.2, clamp: 12.0 }).unwrap();
+    let biased = LogOddsGrid::new(
+        g,
+        FilterSettings {
+            prior: 0.2,
+            clamp: 12.0,
+        },
+    )
+    .unwrap();
     // l0 is stored as f32, so the prior comes back to about 1e-8.
-    assert_abs_diff_eq!(biased.entropy_bits(), 10_800.0 * binary_entropy_bits(0.2), epsilon = 1e-3);
+    assert_abs_diff_eq!(
+        biased.entropy_bits(),
+        10_800.0 * binary_entropy_bits(0.2),
+        epsilon = 1e-3
+    );
 }
 
 #[test]
 fn brier_score_of_a_certain_map_is_zero_and_of_a_fresh_one_a_quarter() {
     let g = GridGeometry::new(4, 1, 0.1, 0.0, 0.0).unwrap();
-    let mut m = LogOddsGrid::new(g, FilterSettings { prior: 0.5, clamp: 40.0 }).unwrap();
+    let mut m = LogOddsGrid::new(
+        g,
+        FilterSettings {
+            prior: 0.5,
+            clamp: 40.0,
+        },
+    )
+    .unwrap();
     let truth = [true, false, true, false];
     assert_abs_diff_eq!(m.brier_score(&truth, None).unwrap(), 0.25, epsilon = 1e-12);
     for (i, &t) in truth.iter().enumerate() {

@@ -1,15 +1,19 @@
 #![cfg(not(target_arch = "wasm32"))]
 //! The learned inverse model of §9.3 (SPEC §5): training is deterministic
 //! and reaches the regression's optimum; the model learns its own negative
-//! prior and its skepticism of max-range readings; removing its own `l0`
-//! keeps unknown cells put while `l0 = 0` makes them drift; it works in
-//! both mappers; and its map of the apartment is scored against the ground
-//! truth beside the hand-crafted model's.
+//! prior and its skepticism of max-range readings; trained on buildings
+//! with thin walls, its occupied band ends a few decimetres past the
+//! reading, and its reach, read off the model, ends with it; removing its
+//! own `l0` keeps unknown cells put while `l0 = 0` makes them drift; it
+//! works in both mappers; and its map of the apartment is scored against
+//! the ground truth beside the hand-crafted model's, in Map Weaver too,
+//! without the band behind every wall a prior of deep blocks paints.
 
 use occgrid::forward::{BeamModel, BeamShape};
 use occgrid::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
 use occgrid::inverse::learned::{
-    axis_log_odds, prior_drift, BeamLattice, LearnedInverse, BEYOND, BIAS, FEATURES, SPLINE_END,
+    axis_log_odds, prior_drift, BeamLattice, LearnedInverse, BEHIND_BAND, BEYOND, BIAS, FEATURES,
+    NEGLIGIBLE, SPLINE_END,
 };
 use occgrid::inverse::training::{
     cross_entropy, fit, sample_triplets, seed_from_number, summarize, train, FitReport,
@@ -74,9 +78,18 @@ fn learned_l0_is_negative_and_near_the_prior_of_the_sampled_maps() {
         set.maps
     );
     assert!(l0 < 0.0, "{l0}");
-    assert!((-0.6..=-0.1).contains(&l0), "{l0}");
+    // The sampled buildings are about a sixth occupied, so the prior is
+    // well below the -0.3 of a map of deep blocks (about two fifths
+    // occupied): the price of thin walls.
+    assert!((0.12..0.22).contains(&set.map_occupancy), "{set:?}");
+    assert!((-2.4..=-1.5).contains(&l0), "{l0}");
     assert!((l0 - logit(share)).abs() < 0.2, "{l0} vs {}", logit(share));
-    assert!((l0 - logit(set.map_occupancy)).abs() < 0.35);
+    // Cells past a reading's band are room behind a wall or a piece of
+    // furniture, a little emptier than the maps as a whole (whose count
+    // includes the outer wall and the inside of every obstacle, which no
+    // target past a reading lands in).
+    let prior = logit(set.map_occupancy);
+    assert!(l0 < prior && prior - l0 < 0.5, "{l0} vs {prior}");
 }
 
 #[test]
@@ -98,7 +111,8 @@ fn free_evidence_along_a_max_range_reading_is_less_than_half_of_a_short_ones() {
 #[test]
 fn mapping_with_l0_forced_to_zero_drifts_and_with_its_own_l0_does_not() {
     let m = model();
-    let scans = 20;
+    // Few enough scans that the drift stays inside the grid's clamp.
+    let scans = 5;
     let r = prior_drift(m, 2.0, scans).unwrap();
     println!("{r:?}, l0 = {:.4}", m.own_l0());
     assert!(r.cells > 10);
@@ -107,11 +121,17 @@ fn mapping_with_l0_forced_to_zero_drifts_and_with_its_own_l0_does_not() {
     assert!((r.zero_l0 - expected).abs() < 1e-3, "{r:?} vs {expected}");
     assert!(r.zero_l0 < -2.0, "{r:?}");
 
-    // The same with the ray-traversal mapper along one thin beam: the cells
-    // the traversal reaches behind the reading.
+    // The same with the ray-traversal mapper along one thin beam: a cell
+    // just past the band, which the traversal reaches only when the prior
+    // is not the model's own (with its own, the cell would get exactly
+    // nothing, so the field ends with the band).
     let g = GridGeometry::new(60, 5, 0.1, 0.0, 0.0).unwrap();
     let scan = Scan::new(Pose::new(0.05, 0.25, 0.0).unwrap(), vec![2.0], vec![0.0]).unwrap();
-    let behind = g.index(((0.05 + 2.0 + SPLINE_END + 0.1) / 0.1) as usize, 2);
+    let i = ((2.0 + m.band_end()) / 0.1).floor() as usize + 1;
+    let d = i as f64 * 0.1 - 2.0;
+    assert!(d > m.band_end() && d <= m.band_end() + BEHIND_BAND, "{d}");
+    assert!(m.reach(2.0) < 2.0 + d && m.with_l0(0.0).reach(2.0) >= 2.0 + d);
+    let behind = g.index(i, 2);
     let run = |model: &LearnedInverse| {
         let mut grid = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
         let mut mapper = RayMapper::new();
@@ -209,8 +229,10 @@ fn the_learned_model_has_the_shape_the_chapter_describes() {
     );
     assert!(peak_r > z && peak_r < z + 0.4, "{peak_r}");
     assert!(peak - l0 > 0.5);
-    // A soft ramp, not a step: from the free plateau to the prior over a
-    // couple of decimetres, about as wide as the reading's noise.
+    // A ramp, not a step (a step would cross in one 1 cm sample): from the
+    // free plateau to the prior over a few centimetres, as wide as the
+    // reading's noise (sigma_hit 5 cm) and no wider than half of the
+    // counterpart's alpha (two cells, 0.2 m), ending at the reading.
     let plateau = at(1.0);
     let first = |test: &dyn Fn(f32) -> bool| {
         (100..axis.len()).find(|&i| test(axis[i] - l0)).unwrap() as f64 * 0.01
@@ -218,15 +240,16 @@ fn the_learned_model_has_the_shape_the_chapter_describes() {
     let start = first(&|e| e > 0.9 * plateau);
     let end = first(&|e| e > 0.0);
     println!("ramp: from 90% of the free evidence at {start:.2} m to the prior at {end:.2} m");
-    assert!(end - start > 0.1 && end - start < 0.5, "{start} {end}");
-    assert!(end < z + 0.05);
+    assert!(end - start > 0.02 && end - start <= 0.1, "{start} {end}");
+    assert!((end - z).abs() < 0.05, "{end}");
     // Evidence concentrated near the axis: at the cone's edge (half of
     // beta) the occupied evidence is less than half of the axis's.
     let h = TrainingConfig::default().half_width;
     assert!(m.evidence(peak_r, h, z) < 0.5 * m.evidence(peak_r, 0.0, z));
-    // Far beyond the reading, and outside the field: nothing at all.
+    // Past the band, and outside the field: nothing at all.
+    assert_eq!(m.evidence(z + m.band_end() + 0.01, 0.0, z), 0.0);
+    assert_eq!(m.evidence(z + m.band_end() + 0.01, 0.8 * h, z), 0.0);
     assert_eq!(m.evidence(z + SPLINE_END + 0.05, 0.0, z), 0.0);
-    assert_eq!(m.evidence(z + SPLINE_END + 0.05, 0.8 * h, z), 0.0);
     assert_eq!(m.evidence(1.0, m.half_width() * 1.01, z), 0.0);
     assert_eq!(m.evidence(m.reach(z) + 0.01, 0.0, z), 0.0);
 }
@@ -251,11 +274,14 @@ fn the_learned_model_maps_a_wall_in_both_mappers() {
     for (name, grid) in [("ray traversal", &by_ray), ("sweep", &by_sweep)] {
         let l = |x, y| grid.log_odds()[cell(x, y)];
         assert!(l(1.5, 0.05) < -1.5, "{name}: free in front");
-        assert!(l(3.05, 0.05) > 0.0, "{name}: occupied at the wall's face");
+        assert!(l(2.85, 0.05) < 0.0, "{name}: free in front of the face");
+        assert!(l(3.05, 0.05) > 1.5, "{name}: most occupied at the face");
+        assert!(l(3.25, 0.05) > 0.0, "{name}: still occupied just past it");
         assert!(
-            l(3.25, 0.05) > 1.0,
-            "{name}: most occupied just past the face"
+            l(3.05, 0.05) > 2.0 * l(3.25, 0.05),
+            "{name}: the band falls off behind the face"
         );
+        assert_eq!(l(3.55, 0.05), 0.0, "{name}: nothing 0.6 m behind");
         assert_eq!(l(4.5, 0.05), 0.0, "{name}: nothing far behind");
         assert_eq!(l(1.5, 1.5), 0.0, "{name}: nothing outside the fan");
     }
@@ -309,20 +335,157 @@ fn lap_brier(forward_readings: bool) -> [(f64, f64); 2] {
 #[test]
 fn brier_scores_of_both_models_against_the_apartments_ground_truth() {
     // An untouched map (p = 0.5 everywhere) scores 0.25; a perfect one 0.
-    for (forward, what) in [
-        (false, "the apartment's LiDAR readings"),
-        (
-            true,
-            "forward-model readings (5 degree cone, chapter mixture)",
-        ),
-    ] {
-        let [hand, learned] = lap_brier(forward);
+    let [hand, learned] = lap_brier(false);
+    println!(
+        "one lap, the apartment's LiDAR readings: Brier surveyed / whole map: \
+         hand-crafted {:.4} / {:.4}, learned {:.4} / {:.4}",
+        hand.0, hand.1, learned.0, learned.1
+    );
+    assert!(hand.0 < 0.08 && hand.1 < 0.14, "{hand:?}");
+    // The learned model maps the apartment at least as well as Table 9.2,
+    // over the surveyed rooms and over the whole map (where a band behind
+    // every wall of the rooms the lap never enters would show).
+    assert!(learned.0 < hand.0 + 0.01, "{hand:?} {learned:?}");
+    assert!(learned.1 < hand.1 + 0.01, "{hand:?} {learned:?}");
+
+    // Readings from the forward model it was trained on (short readings,
+    // random ones, dropouts): there it knows better than to trust them.
+    let [hand, learned] = lap_brier(true);
+    println!(
+        "one lap, forward-model readings (5 degree cone, chapter mixture): Brier surveyed / \
+         whole map: hand-crafted {:.4} / {:.4}, learned {:.4} / {:.4}",
+        hand.0, hand.1, learned.0, learned.1
+    );
+    assert!(hand.0 < 0.2 && hand.1 < 0.25, "{hand:?}");
+    assert!(
+        learned.0 < hand.0 && learned.1 < hand.1,
+        "{hand:?} {learned:?}"
+    );
+}
+
+#[test]
+fn the_occupied_band_ends_a_few_decimetres_past_the_reading() {
+    let m = model();
+    let l0 = m.own_l0();
+    println!(
+        "band ends {:.3} m past the reading; reach of a 2 m reading {:.3} m",
+        m.band_end(),
+        m.reach(2.0)
+    );
+    // Read off the model: a few decimetres, well short of the features'
+    // ceiling, and the reach of a real return ends with the band.
+    assert!(
+        (0.2..=0.45).contains(&m.band_end()) && m.band_end() < SPLINE_END - 0.05,
+        "{}",
+        m.band_end()
+    );
+    for z in [1.0, 2.0, 4.0, 6.0] {
+        assert_eq!(m.reach(z), z + m.band_end());
+        let e = |d: f64| m.evidence(z + d, 0.0, z);
+        let peak = (0..50).map(|i| e(i as f64 * 0.01)).fold(f32::MIN, f32::max);
         println!(
-            "one lap, {what}: Brier surveyed / whole map: hand-crafted {:.4} / {:.4}, learned {:.4} / {:.4}",
-            hand.0, hand.1, learned.0, learned.1
+            "z = {z}: peak {peak:.2}, at +0.2 m {:.2}, +0.3 m {:.2}, +0.4 m {:.2}",
+            e(0.2),
+            e(0.3),
+            e(0.4)
         );
-        assert!(hand.0 < 0.13 && learned.0 < 0.2, "{hand:?} {learned:?}");
-        assert!(learned.1 < 0.25);
+        assert!(peak > 1.5, "{z}: {peak}");
+        // Past its half-height by 0.3 m, and nothing at 0.4 m, at any
+        // bearing: the fitted score itself, before anything is dropped, is
+        // negligible there.
+        assert!(e(0.3) < 0.5 * peak, "{z}: {}", e(0.3));
+        for psi in [0.0, 0.02, -0.04, 0.06] {
+            assert_eq!(m.evidence(z + 0.4, psi, z), 0.0);
+            for k in 0..=20 {
+                let d = m.band_end() + k as f64 * (SPLINE_END - m.band_end()) / 20.0;
+                let fitted = m.score(z + d, psi, z) - l0;
+                assert!(fitted.abs() < NEGLIGIBLE, "{z} {psi} {d}: {fitted}");
+            }
+        }
+    }
+}
+
+/// Map Weaver as shipped (the apartment, seed 1, the person walking, the
+/// hand-crafted pane beside the learned one) with the default training.
+fn weaver_after(laps: usize) -> occgrid::sim::session::Weaver {
+    use occgrid::sim::session::{ModelKind, Weaver, WeaverSettings};
+    let settings = WeaverSettings::default();
+    assert_eq!(settings.training, TrainingConfig::default());
+    assert_eq!(settings.panes[0].model, ModelKind::HandCrafted);
+    assert_eq!(settings.panes[1].model, ModelKind::Learned);
+    let mut w = Weaver::with_learned(settings, model().clone()).unwrap();
+    let n = w.scans_per_lap();
+    assert_eq!(w.advance(laps * n).unwrap(), laps * n);
+    w
+}
+
+#[test]
+fn map_weavers_learned_pane_scores_within_a_hundredth_of_the_hand_crafted_one() {
+    for laps in [1, 3] {
+        let w = weaver_after(laps);
+        let r = w.readout();
+        let (hand, learned) = (&r.panes[0], &r.panes[1]);
+        println!(
+            "Map Weaver after {laps} lap(s): Brier surveyed / whole map: hand-crafted {:.4} / {:.4}, \
+             learned {:.4} / {:.4}; cells visited per scan {} / {}",
+            hand.brier, hand.brier_all, learned.brier, learned.brier_all,
+            hand.cells_visited, learned.cells_visited
+        );
+        assert!(hand.brier < 0.09, "{hand:?}");
+        assert!(learned.brier < hand.brier + 0.01, "{hand:?} {learned:?}");
+        assert!(
+            learned.brier_all < hand.brier_all + 0.01,
+            "{hand:?} {learned:?}"
+        );
+    }
+}
+
+#[test]
+fn no_band_is_painted_behind_the_walls_of_the_rooms_the_lap_never_enters() {
+    // The corridor's north wall (y 5.5 to 5.6 m) between the two doors:
+    // the lap sees it only from the corridor, so whatever its beams paint
+    // behind it, in the study and the bedroom, stays.
+    let w = weaver_after(3);
+    let g = *w.geometry();
+    let grid = w.grid(1).unwrap();
+    let truth = w.ground_truth();
+    // Cells of row y (metres) between the doors whose truth is `wall`, and
+    // how many of them the learned pane calls occupied.
+    let row = |y: f64, wall: bool| -> (usize, usize) {
+        let (mut occupied, mut cells) = (0, 0);
+        for k in 0..85 {
+            let x = 1.55 + 0.1 * k as f64;
+            let (ix, iy) = g.world_to_cell(x, y).unwrap();
+            let i = g.index(ix, iy);
+            // (The study | bedroom wall at x = 5.0 m crosses the rows
+            // behind the corridor's.)
+            if truth[i] == wall {
+                cells += 1;
+                occupied += (grid.probability_at(i) > 0.5) as usize;
+            }
+        }
+        (occupied, cells)
+    };
+    let wall = row(5.55, true);
+    println!("the wall: {wall:?} cells occupied");
+    assert!(wall.1 == 85 && wall.0 >= 80, "{wall:?}");
+    for (k, y) in [5.65, 5.75, 5.85, 5.95, 6.05, 6.15].into_iter().enumerate() {
+        let (occupied, cells) = row(y, false);
+        println!(
+            "{:.2} m behind the wall: {occupied} of {cells} cells occupied",
+            0.1 * k as f64 + 0.05
+        );
+        // The band the model learned runs some 0.3 m past a reading: a
+        // beam cannot tell a wall met head-on (free room behind it) from
+        // one met at a slant (more wall behind the face), so up to three
+        // cells behind the wall fill in. Past that, nothing: a prior of
+        // deep blocks painted 0.7 m.
+        if k == 3 {
+            assert!(occupied * 10 < cells, "{y}: {occupied} of {cells}");
+        }
+        if k > 3 {
+            assert_eq!(occupied, 0, "{y}");
+        }
     }
 }
 

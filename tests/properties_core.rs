@@ -22,8 +22,8 @@ use occgrid::mapper::{sweep_scan, RayMapper};
 use occgrid::raster::supercover;
 use occgrid::scan::{wrap_angle, Pose, Scan};
 use occgrid::sim::view::{cell_look, gray_level, MapView};
-use proptest::prelude::*;
 use properties_support::*;
+use proptest::prelude::*;
 
 /// The field `GridGeometry::new` must blame, in the order it checks them,
 /// or `None` when the input is valid.
@@ -57,7 +57,13 @@ fn geometry_fault(w: usize, h: usize, res: f64, ox: f64, oy: f64) -> Option<&'st
 
 /// A small valid geometry with an arbitrary (finite) placement.
 fn small_geometry() -> impl Strategy<Value = GridGeometry> {
-    (1usize..30, 1usize..30, 0.02..1.0f64, -50.0..50.0f64, -50.0..50.0f64)
+    (
+        1usize..30,
+        1usize..30,
+        0.02..1.0f64,
+        -50.0..50.0f64,
+        -50.0..50.0f64,
+    )
         .prop_map(|(w, h, r, x, y)| GridGeometry::new(w, h, r, x, y).unwrap())
 }
 
@@ -81,14 +87,16 @@ fn wild_hand_crafted() -> impl Strategy<Value = HandCraftedParams> {
         wild_f64(),
         prop_oneof![3 => Just(0.0), 1 => wild_f64()],
     )
-        .prop_map(|(alpha, beta, z_max, l_occ, l_free, l0)| HandCraftedParams {
-            alpha,
-            beta,
-            z_max,
-            l_occ,
-            l_free,
-            l0,
-        })
+        .prop_map(
+            |(alpha, beta, z_max, l_occ, l_free, l0)| HandCraftedParams {
+                alpha,
+                beta,
+                z_max,
+                l_occ,
+                l_free,
+                l0,
+            },
+        )
 }
 
 /// The field `HandCraftedParams::validate` must blame, or `None`.
@@ -120,7 +128,8 @@ fn valid_scan() -> impl Strategy<Value = Scan> {
         6 => 0.0..12.0f64,
         1 => prop::sample::select(vec![0.0, 5e-324, 1e-300, 1e300, f64::MAX, 1e39]),
     ];
-    let bearing = prop_oneof![4 => -7.0..7.0f64, 1 => prop::sample::select(vec![1e300, -1e18, 0.0])];
+    let bearing =
+        prop_oneof![4 => -7.0..7.0f64, 1 => prop::sample::select(vec![1e300, -1e18, 0.0])];
     (
         coordinate.clone(),
         coordinate,
@@ -139,12 +148,15 @@ fn valid_scan() -> impl Strategy<Value = Scan> {
 fn assert_sane(grid: &LogOddsGrid) {
     let c = grid.clamp();
     for (i, &l) in grid.log_odds().iter().enumerate() {
-        assert!(l.is_finite() && l.abs() <= c, "cell {i} holds {l} (clamp {c})");
+        assert!(
+            l.is_finite() && l.abs() <= c,
+            "cell {i} holds {l} (clamp {c})"
+        );
     }
 }
 
 proptest! {
-    #![proptest_config(config(512))]
+    #![proptest_config(config(1024))]
 
     #[test]
     fn geometry_new_accepts_exactly_the_valid_limits_and_names_what_it_rejects(
@@ -213,10 +225,12 @@ proptest! {
             Err(e) => {
                 if !(prior > 0.0 && prior < 1.0) {
                     assert_names(&e, "prior");
-                    prop_assert!(e.to_string().contains(&shown(prior)));
+                    let names_value = names_number(&e.to_string(), prior);
+                    prop_assert!(names_value);
                 } else {
                     assert_names(&e, "clamp");
-                    prop_assert!(e.to_string().contains(&shown(clamp)));
+                    let names_value = names_number(&e.to_string(), clamp);
+                    prop_assert!(names_value);
                 }
             }
         }
@@ -533,11 +547,21 @@ proptest! {
 #[ignore = "raster.rs (performance engineer's file): Walk::new must return None for a 0-wide or 0-high grid; fix in the hardening report"]
 fn supercover_on_a_grid_without_cells_visits_nothing() {
     for (w, h) in [(0, 25), (25, 0), (0, 0), (0, 1)] {
-        for (a, b) in [((0.0, 0.0), (0.0, 5.0)), ((-1.0, 0.5), (3.0, 0.5)), ((0.0, 0.0), (0.0, 0.0))] {
+        for (a, b) in [
+            ((0.0, 0.0), (0.0, 5.0)),
+            ((-1.0, 0.5), (3.0, 0.5)),
+            ((0.0, 0.0), (0.0, 0.0)),
+        ] {
             let n = supercover(w, h, a, b, |ix, iy| {
                 panic!("visited ({ix}, {iy}) of a {w} x {h} grid");
             });
             assert_eq!(n, 0, "{w} x {h}, {a:?} -> {b:?}");
         }
     }
+}
+
+/// A message names a number either as Rust prints it or in the core's short
+/// form for extreme magnitudes (`error::show`).
+fn names_number(message: &str, x: f64) -> bool {
+    message.contains(&shown(x)) || message.contains(&occgrid::error::show(x))
 }

@@ -64,13 +64,19 @@ fn a_beam_leaving_the_map_still_carves_the_cells_inside_it() {
     for ix in 10..30 {
         assert!(m.log_odds()[g.index(ix, 5)] < 0.0, "cell {ix} carved free");
     }
-    assert!(m.log_odds().iter().all(|&l| l <= 0.0), "nothing occupied: the hit is off the map");
+    assert!(
+        m.log_odds().iter().all(|&l| l <= 0.0),
+        "nothing occupied: the hit is off the map"
+    );
     // A sensor outside the map, looking in, carves the cells it crosses.
     let mut m2 = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
     let scan = Scan::new(Pose::new(-2.0, 0.55, 0.0).unwrap(), vec![3.5], vec![0.0]).unwrap();
     RayMapper::new().integrate(&mut m2, &lidar(1.0), &scan);
     assert!(m2.log_odds()[g.index(0, 5)] < 0.0);
-    assert!(m2.log_odds()[g.index(14, 5)] > 0.0, "hit at 1.5 m inside the map");
+    assert!(
+        m2.log_odds()[g.index(14, 5)] > 0.0,
+        "hit at 1.5 m inside the map"
+    );
 }
 
 /// A 6 m x 5 m room with a pillar, scanned from a few poses.
@@ -86,10 +92,15 @@ fn room() -> (World, Vec<Pose>) {
             Rect::new(3.0, 2.0, 3.4, 2.4),
         ],
     );
-    let poses = [(1.5, 1.5, 0.3), (4.5, 1.2, 2.0), (2.2, 3.8, -0.7), (4.6, 3.9, 3.5)]
-        .iter()
-        .map(|&(x, y, t)| Pose::new(x, y, t).unwrap())
-        .collect();
+    let poses = [
+        (1.5, 1.5, 0.3),
+        (4.5, 1.2, 2.0),
+        (2.2, 3.8, -0.7),
+        (4.6, 3.9, 3.5),
+    ]
+    .iter()
+    .map(|&(x, y, t)| Pose::new(x, y, t).unwrap())
+    .collect();
     (w, poses)
 }
 
@@ -108,7 +119,18 @@ fn scans(world: &World, poses: &[Pose], beams: usize) -> Vec<Scan> {
 
 /// Each cell as free (-1), unknown (0) or occupied (+1).
 fn classes(m: &LogOddsGrid) -> Vec<i8> {
-    m.log_odds().iter().map(|&l| if l > 0.0 { 1 } else if l < 0.0 { -1 } else { 0 }).collect()
+    m.log_odds()
+        .iter()
+        .map(|&l| {
+            if l > 0.0 {
+                1
+            } else if l < 0.0 {
+                -1
+            } else {
+                0
+            }
+        })
+        .collect()
 }
 
 fn both_ways(beams: usize, beta_deg: f64) -> (Vec<i8>, Vec<i8>) {
@@ -126,7 +148,11 @@ fn both_ways(beams: usize, beta_deg: f64) -> (Vec<i8>, Vec<i8>) {
 }
 
 fn disagreement(a: &[i8], b: &[i8]) -> f64 {
-    let seen = a.iter().zip(b).filter(|(x, y)| **x != 0 || **y != 0).count();
+    let seen = a
+        .iter()
+        .zip(b)
+        .filter(|(x, y)| **x != 0 || **y != 0)
+        .count();
     let differ = a.iter().zip(b).filter(|(x, y)| x != y).count();
     differ as f64 / seen as f64
 }
@@ -157,7 +183,10 @@ fn traversal_and_sweep_differ_for_a_22_degree_sonar_cone() {
     let swept_cells = s.iter().filter(|&&c| c != 0).count();
     let traversed_cells = t.iter().filter(|&&c| c != 0).count();
     println!("cells touched: swept {swept_cells}, traversed {traversed_cells}");
-    assert!(2 * swept_cells > 3 * traversed_cells, "{swept_cells} vs {traversed_cells}");
+    assert!(
+        2 * swept_cells > 3 * traversed_cells,
+        "{swept_cells} vs {traversed_cells}"
+    );
 }
 
 #[test]
@@ -168,7 +197,10 @@ fn each_cell_is_updated_at_most_once_per_scan_and_beam_order_does_not_matter() {
     let mut a = LogOddsGrid::new(*world.geometry(), FilterSettings::default()).unwrap();
     let stats = RayMapper::new().integrate(&mut a, &model, scan);
     assert!(a.update_counts().iter().all(|&n| n <= 1));
-    assert!(stats.cells_visited > stats.cells_updated, "cells near the sensor lie on many beams");
+    assert!(
+        stats.cells_visited > stats.cells_updated,
+        "cells near the sensor lie on many beams"
+    );
     // Reverse the beams: the same map, bit for bit.
     let rev = Scan::new(
         scan.pose(),
@@ -184,15 +216,29 @@ fn each_cell_is_updated_at_most_once_per_scan_and_beam_order_does_not_matter() {
 #[test]
 fn traversal_cost_follows_the_beams_not_the_map() {
     let model = lidar(1.0);
-    let scan = Scan::uniform(Pose::new(5.0, 5.0, 0.0).unwrap(), vec![1.0; 90], 0.0, 2.0 * PI / 90.0).unwrap();
+    let scan = Scan::uniform(
+        Pose::new(5.0, 5.0, 0.0).unwrap(),
+        vec![1.0; 90],
+        0.0,
+        2.0 * PI / 90.0,
+    )
+    .unwrap();
     let mut cost = Vec::new();
     for size in [100, 400] {
         let g = GridGeometry::new(size, size, 0.1, 0.0, 0.0).unwrap();
         let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
-        cost.push(RayMapper::new().integrate(&mut m, &model, &scan).cells_visited);
+        cost.push(
+            RayMapper::new()
+                .integrate(&mut m, &model, &scan)
+                .cells_visited,
+        );
     }
     assert_eq!(cost[0], cost[1], "16x the map, same work");
     let g = GridGeometry::new(100, 100, 0.1, 0.0, 0.0).unwrap();
     let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
-    assert_eq!(sweep_scan(&mut m, &model, &scan).cells_visited, 10_000, "the sweep visits every cell");
+    assert_eq!(
+        sweep_scan(&mut m, &model, &scan).cells_visited,
+        10_000,
+        "the sweep visits every cell"
+    );
 }

@@ -28,7 +28,10 @@ fn worked_example_crosses_the_boundary() {
     assert!((l_occ - 0.8473).abs() < 1e-4);
     let steps = js_sys::Array::from(&get(&t, "steps"));
     assert_eq!(steps.length(), 3);
-    let p: Vec<f64> = steps.iter().map(|s| get(&s, "p").as_f64().unwrap()).collect();
+    let p: Vec<f64> = steps
+        .iter()
+        .map(|s| get(&s, "p").as_f64().unwrap())
+        .collect();
     for (got, want) in p.iter().zip([0.7, 0.8448, 0.7]) {
         assert!((got - want).abs() < 1e-4, "{got} vs {want}");
     }
@@ -48,7 +51,11 @@ fn bad_probabilities_arrive_as_errors_naming_field_and_value() {
 
 #[wasm_bindgen_test]
 fn garbage_logs_arrive_as_line_numbered_errors() {
-    let msg = js_error_message(LaserLog::from_bytes(b"PARAM x\nFLASER 3 1.0 oops\n").err().unwrap());
+    let msg = js_error_message(
+        LaserLog::from_bytes(b"PARAM x\nFLASER 3 1.0 oops\n")
+            .err()
+            .unwrap(),
+    );
     assert!(msg.starts_with("line 2:"), "{msg}");
     let msg = js_error_message(LaserLog::from_bytes(&[0x1f, 0x8b, 0, 0, 0]).err().unwrap());
     assert!(msg.contains("line"), "{msg}");
@@ -85,12 +92,24 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     let b = s.build_chunk(100).unwrap();
     assert_eq!(get(&b, "scansDone").as_f64(), Some(2.0));
     let pair = s.export_map(Some("lab".into())).unwrap();
-    assert!(get(&pair, "yaml").as_string().unwrap().starts_with("image: lab.pgm\nmode: trinary\n"));
-    let msg = js_error_message(s.configure(js_sys::JSON::parse(r#"{"resolution": -1}"#).unwrap()).unwrap_err());
+    assert!(get(&pair, "yaml")
+        .as_string()
+        .unwrap()
+        .starts_with("image: lab.pgm\nmode: trinary\n"));
+    let msg = js_error_message(
+        s.configure(js_sys::JSON::parse(r#"{"resolution": -1}"#).unwrap())
+            .unwrap_err(),
+    );
     assert!(msg.contains("resolution") && msg.contains("-1"), "{msg}");
-    let msg = js_error_message(s.configure(js_sys::JSON::parse(r#"{"resoluton": 0.1}"#).unwrap()).unwrap_err());
+    let msg = js_error_message(
+        s.configure(js_sys::JSON::parse(r#"{"resoluton": 0.1}"#).unwrap())
+            .unwrap_err(),
+    );
     assert!(msg.contains("resoluton"), "{msg}");
     let mut broken = LogMapSession::new(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
     let msg = js_error_message(broken.read(10).unwrap_err());
-    assert!(msg.starts_with("line 2:") && msg.contains("negative"), "{msg}");
+    assert!(
+        msg.starts_with("line 2:") && msg.contains("negative"),
+        "{msg}"
+    );
 }

@@ -56,6 +56,7 @@ const MAX_RANGE = 3.0;
 /** The cone's half-width in the two-cell diagram, degrees (a 22° sonar). */
 const HALF_CONE_DEG = 11;
 const GROUPS = ['playback', 'arrangements', 'sliders', 'export', 'link'];
+const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read it.';
 const MAP_HINT = 'Arrow keys move a cursor cell whose values are read out below the maps.';
 
 /** The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres, degrees). */
@@ -84,7 +85,7 @@ class DoorwayTrapElement extends HTMLElement {
     cells: { type: cellsType, doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement' },
     reading: { type: number(0.1, 3, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (3 = no echo)' },
     prior: { type: number(0.05, 0.95, { step: 0.05 }), default: '0.50', doc: 'the two-cell table’s prior occupancy p₀' },
-    'map-width': { type: whole(160, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
+    'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (step, play, reset of both halves), arrangements, sliders (reading, prior), export, link' },
   };
 
@@ -179,7 +180,8 @@ class DoorwayTrapElement extends HTMLElement {
       const exportButton = button('Export map', () => this.exportMap(key), {
         name: `export-${key}`, title: `${exportLabel} as a ROS map_server PGM + YAML pair`,
       });
-      exportButton.setAttribute('aria-label', exportLabel);
+      // The spoken name starts with the visible text (WCAG 2.5.3).
+      exportButton.setAttribute('aria-label', `Export map (${exportLabel.replace(/^Export the /, '')})`);
       const root = el('figure', { class: `doorway-trap-pane doorway-trap-${key}`, dataset: { map: key } },
         el('figcaption', {}, el('strong', {}, title), ' ', el('span', { class: 'doorway-trap-note' }, note)),
         el('div', { class: 'occgrid-controls doorway-trap-buttons', dataset: { controls: 'playback' } }, controls),
@@ -257,7 +259,7 @@ class DoorwayTrapElement extends HTMLElement {
   buildTwoCell() {
     this.diagram = el('canvas', {
       class: 'doorway-trap-diagram', tabindex: '0', role: 'img',
-      'aria-label': 'Sonar cone with cells A and B. Drag a cell, or use the arrow keys to move cell B.',
+      'aria-label': 'Sonar cone with cells A and B. Drag a cell, or use the arrow keys to move cell B (Space switches to cell A).',
     });
     this.diagramCtx = hiDpiCanvas(this.diagram, DIAGRAM_W, DIAGRAM_H);
     this.arrangementButtons = [
@@ -268,18 +270,20 @@ class DoorwayTrapElement extends HTMLElement {
       return b;
     });
     this.readingSlider = slider({
-      label: 'Reading z', min: 0.1, max: 3.0, step: 0.01, value: 2.0,
+      label: 'Reading z', min: 0.1, max: 3.0, step: 0.01, value: this.values.reading,
       format: (v) => (v >= MAX_RANGE ? `${v.toFixed(2)} m (no echo)` : `${v.toFixed(2)} m`),
       onInput: (v) => { if (this.query) { this.query.readings = [v]; this.updateJoint(); } },
       name: 'reading',
     });
     this.priorSlider = slider({
-      label: 'Prior p₀', min: 0.05, max: 0.95, step: 0.05, value: 0.5,
+      label: 'Prior p₀', min: 0.05, max: 0.95, step: 0.05, value: this.values.prior,
       format: (v) => v.toFixed(2),
       onInput: (v) => { if (this.query) { this.query.prior = v; this.updateJoint(); } },
       name: 'prior',
     });
     this.jointBody = el('tbody');
+    this.readingSlider.root.dataset.controls = 'sliders';
+    this.priorSlider.root.dataset.controls = 'sliders';
     this.jointTable = el('table', { class: 'occgrid-table doorway-trap-joint' },
       el('caption', {}, 'Exact joint posterior vs the factored map'),
       el('thead', {}, el('tr', {},
@@ -297,16 +301,20 @@ class DoorwayTrapElement extends HTMLElement {
     this.diagram.addEventListener('pointerup', (ev) => this.dragEnd(ev));
     this.diagram.addEventListener('pointercancel', (ev) => this.dragEnd(ev));
     this.diagram.addEventListener('keydown', (ev) => this.nudge(ev));
+    this.diagram.addEventListener('focus', () => this.query && this.drawDiagram());
+    this.diagram.addEventListener('blur', () => this.query && this.drawDiagram());
 
     return el('section', { class: 'doorway-trap-two-cell', 'aria-label': 'Two cells, one cone' },
       el('h3', {}, 'Two cells, one cone'),
       el('div', { class: 'doorway-trap-two-cell-layout' },
         el('div', { class: 'doorway-trap-diagram-box' },
           this.diagram,
-          el('div', { class: 'occgrid-buttons' }, this.arrangementButtons),
+          el('div', { class: 'occgrid-buttons', role: 'group', 'aria-label': 'arrangement of the two cells', dataset: { controls: 'arrangements' } }, this.arrangementButtons),
           this.readingSlider.root, this.priorSlider.root),
         el('div', { class: 'doorway-trap-table-box' },
-          this.jointTable, this.marginalsOut, this.trapOut,
+          // Scrolls sideways in a narrow column; focusable so the keyboard can scroll it.
+          el('div', { class: 'occgrid-scroll', tabindex: 0, role: 'region', 'aria-label': 'Joint posterior table' }, this.jointTable),
+          this.marginalsOut, this.trapOut,
           el('p', { class: 'occgrid-caption' },
             'Both cells start at the prior. One echo from inside the cone says that something in it is occupied, not which cell: ',
             'the exact posterior puts almost no mass on “both free”, while the factored map, which keeps only p_A and p_B, ',
@@ -318,9 +326,24 @@ class DoorwayTrapElement extends HTMLElement {
   create() {
     this.pause('sweep');
     this.pause('map');
+    const v = this.values;
+    let lastScan = null;
+    let lastFlip = null;
     try {
-      const scene = this.seed === null ? undefined : { seed: this.seed };
+      let scene;
+      if (v.scene || v.seed !== undefined) scene = { ...(v.scene ?? {}), ...(v.seed !== undefined ? { seed: v.seed } : {}) };
       const next = new this.core.DoorwayTrap(scene);
+      // A link may open the sweep and the climb part-way through.
+      for (let i = 0; i < v.scans; i++) {
+        const s = next.sweepStep();
+        if (!s) break;
+        lastScan = s;
+      }
+      for (let i = 0; i < v.flips; i++) {
+        const f = next.mapStep();
+        if (!f) break;
+        lastFlip = f;
+      }
       this.trap?.free();
       this.trap = next;
       this.view = next.view();
@@ -329,10 +352,39 @@ class DoorwayTrapElement extends HTMLElement {
       showError(this, e);
       return;
     }
-    this.lastFlip = null;
-    this.lastScan = null;
+    this.lastFlip = lastFlip;
+    this.lastScan = lastScan;
+    this.cursor = null;
     for (const p of Object.values(this.panes)) p.cssW = 0;
     this.layout();
+  }
+
+  /** Sets up the two-cell table from the attributes. */
+  initTwoCell() {
+    const v = this.values;
+    try {
+      this.query = this.core.chapterTwoCellQuery();
+    } catch (e) {
+      showError(this, e);
+      return;
+    }
+    this.query.readings = [v.reading];
+    this.query.prior = v.prior;
+    this.readingSlider.set(v.reading);
+    this.priorSlider.set(v.prior);
+    if (!v.cells) {
+      this.setArrangement(v.arrangement);
+      return;
+    }
+    // Cells placed where a preset puts them count as that preset.
+    const presets = { side: this.query.cells, ...ARRANGEMENTS };
+    const same = (a, b) => a.every((c, j) => Math.abs(c.range - b[j].range) < 1e-9 && Math.abs(c.bearing_deg - b[j].bearing_deg) < 1e-9);
+    const preset = Object.keys(presets).find((k) => same(v.cells, presets[k]));
+    if (preset) this.setArrangement(preset);
+    else {
+      this.query.cells = v.cells.map((c) => ({ ...c }));
+      this.moveCell(1, this.query.cells[1].range, this.query.cells[1].bearing_deg);
+    }
   }
 
   sweepStep() {
@@ -368,10 +420,8 @@ class DoorwayTrapElement extends HTMLElement {
     b.setAttribute('aria-label', `Pause ${which === 'sweep' ? 'the sweep' : 'the MAP climb'}`);
     this.owed = this.owed || { sweep: 0, map: 0 };
     this.owed[which] = 1; // the first step at once
-    if (!this.frame) {
-      this.last = performance.now();
-      this.frame = requestAnimationFrame((t) => this.tick(t));
-    }
+    // The loop gets frames only while the widget is on screen.
+    this.loop.start();
   }
 
   pause(which) {
@@ -381,16 +431,12 @@ class DoorwayTrapElement extends HTMLElement {
     b.textContent = 'Play';
     b.setAttribute('aria-pressed', 'false');
     b.setAttribute('aria-label', `Play ${which === 'sweep' ? 'the sweep' : 'the MAP climb'}`);
-    if (!this.playing.sweep && !this.playing.map && this.frame) {
-      cancelAnimationFrame(this.frame);
-      this.frame = 0;
-    }
+    if (!this.playing.sweep && !this.playing.map) this.loop.stop();
   }
 
-  tick(now) {
-    this.frame = 0;
-    const dt = (now - this.last) / 1000;
-    this.last = now;
+  /** One animation frame, `dtMs` after the previous one. */
+  tick(dtMs) {
+    const dt = dtMs / 1000;
     let changed = false;
     try {
       for (const [which, rate, step] of [['sweep', SCANS_PER_SECOND, () => this.sweepStep()], ['map', FLIPS_PER_SECOND, () => this.mapStep()]]) {
@@ -408,7 +454,7 @@ class DoorwayTrapElement extends HTMLElement {
       this.pause('map');
     }
     if (changed) this.draw();
-    if (this.playing.sweep || this.playing.map) this.frame = requestAnimationFrame((t) => this.tick(t));
+    return this.playing.sweep || this.playing.map;
   }
 
   // ---- Drawing ----
@@ -416,8 +462,9 @@ class DoorwayTrapElement extends HTMLElement {
   layout() {
     if (!this.trap) return;
     const { width: w, height: h } = this.view;
+    const widest = this.values['map-width'];
     for (const p of Object.values(this.panes)) {
-      const cssW = Math.max(160, Math.min(MAX_CSS_WIDTH, Math.floor(p.root.clientWidth || 320)));
+      const cssW = Math.max(120, Math.min(widest, Math.floor(p.root.clientWidth || 320)));
       if (p.cssW === cssW) continue;
       p.cssW = cssW;
       p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
@@ -465,6 +512,14 @@ class DoorwayTrapElement extends HTMLElement {
     map.status.textContent = `Flip ${flips} · J = ${fixed(st.objective, 3)} nats · ${st.occupied} cells occupied` +
       (st.converged ? ' · local maximum: no single flip helps.' : '.');
     map.door.textContent = `MAP cells in the doorway: ${r.mapInDoorway}; on the far wall behind it: ${r.mapOnFarWall}.`;
+    sweep.canvas.setAttribute('aria-label',
+      `Swept map (Table 9.1) after ${r.scansDone} of ${r.scans} scans: ${r.sweepClosed} of ${r.doorCells} doorway cells ` +
+      `above p = 0.5${r.sweepClosed === r.doorCells ? ', the door is closed' : ''}. Gray unknown, white free, black occupied; ` +
+      `orange outlines the true walls. ${MAP_HINT}`);
+    map.canvas.setAttribute('aria-label',
+      `MAP map (Table 9.3) after ${flips} flip${flips === 1 ? '' : 's'}: ${st.occupied} cells occupied, ${r.mapInDoorway} in the doorway, ` +
+      `${r.mapOnFarWall} on the far wall behind it; J = ${fixed(st.objective, 3)} nats${st.converged ? ', a local maximum' : ''}. ` +
+      `White free, black occupied; orange outlines the true walls. ${MAP_HINT}`);
 
     Object.assign(this.dataset, {
       scan: String(r.scansDone), sweepClosed: String(r.sweepClosed), doorCells: String(r.doorCells),
@@ -494,9 +549,15 @@ class DoorwayTrapElement extends HTMLElement {
       if (f.priorTerm !== 0) { labels.push('prior'); values.push(f.priorTerm); }
     }
     this.bars.setData(labels, values);
+    this.barBox.setAttribute('aria-label', f
+      ? `Change of each beam’s log likelihood for flip ${f.number}, nats: ` + labels.map((l, i) => `${l === 'prior' ? 'prior' : `beam ${l}`} ${values[i] >= 0 ? '+' : ''}${fixed(values[i], 3)}`).join(', ') + '.'
+      : 'Change of each beam’s log likelihood for the latest flip: no flip yet.');
     Object.assign(this.barBox.dataset, { flip: String(f ? f.number : 0), bars: String(values.length), values: JSON.stringify(values) });
     const xs = st.history.map((_, i) => i);
     this.curve.setData(xs, st.history);
+    this.curveBox.setAttribute('aria-label', flips
+      ? `Objective J(m) over ${flips} flip${flips === 1 ? '' : 's'}: from ${fixed(st.history[0], 3)} to ${fixed(st.history[st.history.length - 1], 3)} nats.`
+      : `Objective J(m) over flips: no flip yet; J = ${fixed(st.objective, 3)} nats at the all-free start.`);
     Object.assign(this.curveBox.dataset, { points: String(st.history.length), last: String(st.history[st.history.length - 1]) });
   }
 
@@ -570,6 +631,19 @@ class DoorwayTrapElement extends HTMLElement {
       for (const b of this.view.beams) if (b.scan === current) this.drawCone(ctx, fr, b, COLORS.evidence);
     }
     this.drawPoses(ctx, fr, current);
+    this.drawCursor(p, fr);
+  }
+
+  /** The keyboard cursor's cell, outlined in blue. */
+  drawCursor(p, { s, X, Y }) {
+    const c = this.cursor;
+    if (!c || c.key !== p.key) return;
+    const ctx = p.ctx;
+    ctx.save();
+    ctx.strokeStyle = COLORS.l0;
+    ctx.lineWidth = 2;
+    ctx.strokeRect(X(c.ix), Y(c.iy + 1), s, s);
+    ctx.restore();
   }
 
   overlayMap(p, st) {
@@ -616,11 +690,12 @@ class DoorwayTrapElement extends HTMLElement {
       ctx.fillText(label, lx, ly);
     }
     ctx.restore();
+    this.drawCursor(p, fr);
   }
 
   hover(key, ev) {
     if (!this.trap || !ev) {
-      this.hoverOut.textContent = 'Point at a cell to read it.';
+      this.hoverOut.textContent = HOVER_HINT;
       return;
     }
     const p = this.panes[key];
@@ -628,6 +703,33 @@ class DoorwayTrapElement extends HTMLElement {
     const s = rect.width / this.view.width;
     const ix = Math.floor((ev.clientX - rect.left) / s);
     const iy = this.view.height - 1 - Math.floor((ev.clientY - rect.top) / s);
+    this.readCell(ix, iy);
+  }
+
+  /** Arrow keys move the cursor cell on a focused map. */
+  keyCursor(key, ev) {
+    const moves = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] };
+    const m = moves[ev.key];
+    if (!m || !this.trap) return;
+    ev.preventDefault();
+    this.moveCursor(key, m[0], m[1]);
+  }
+
+  /** Moves (or places, at the doorway) the cursor on map `key` and reads its cell. */
+  moveCursor(key, dx, dy) {
+    if (!this.trap) return;
+    const { width: w, height: h, door } = this.view;
+    const c = this.cursor && this.cursor.key === key ? this.cursor
+      : { key, ix: Math.floor((door[0] + door[2]) / 2), iy: Math.floor(door[1]) };
+    const ix = Math.max(0, Math.min(w - 1, c.ix + dx));
+    const iy = Math.max(0, Math.min(h - 1, c.iy + dy));
+    this.cursor = { key, ix, iy };
+    this.draw();
+    this.readCell(ix, iy);
+  }
+
+  /** Reads cell (ix, iy) of both halves into the readout line. */
+  readCell(ix, iy) {
     if (ix < 0 || iy < 0 || ix >= this.view.width || iy >= this.view.height) return;
     try {
       const c = this.trap.cellInfo(ix, iy);
@@ -760,6 +862,16 @@ class DoorwayTrapElement extends HTMLElement {
       ctx.lineWidth = 2.5;
       ctx.strokeStyle = color;
       ctx.stroke();
+      if (j === this.movingCell && document.activeElement === this.diagram) {
+        // The cell the arrow keys move.
+        ctx.save();
+        ctx.setLineDash([3, 2]);
+        ctx.lineWidth = 1.5;
+        ctx.beginPath();
+        ctx.arc(x, y, 11, 0, 2 * Math.PI);
+        ctx.stroke();
+        ctx.restore();
+      }
       const label = j === 0 ? 'A' : 'B';
       ctx.font = '700 13px system-ui, sans-serif';
       ctx.textAlign = 'center';
@@ -778,7 +890,8 @@ class DoorwayTrapElement extends HTMLElement {
     this.diagram.setAttribute('aria-label',
       `Sonar cone with cell A at ${q.cells[0].range.toFixed(2)} m, ${q.cells[0].bearing_deg.toFixed(1)}° and cell B at ` +
       `${q.cells[1].range.toFixed(2)} m, ${q.cells[1].bearing_deg.toFixed(1)}°; reading ${z.toFixed(2)} m. ` +
-      'Drag a cell, or use the arrow keys to move cell B (left and right in range, up and down in bearing).');
+      `Drag a cell, or use the arrow keys to move cell ${this.movingCell === 0 ? 'A' : 'B'} (left and right in range, up and down in bearing); ` +
+      `Space switches to cell ${this.movingCell === 0 ? 'B' : 'A'}.`);
   }
 
   /** A pointer position on the diagram as (range, bearing) inside the cone. */
@@ -825,10 +938,20 @@ class DoorwayTrapElement extends HTMLElement {
     if (this.diagram.hasPointerCapture(ev.pointerId)) this.diagram.releasePointerCapture(ev.pointerId);
   }
 
-  /** Arrow keys move cell B: right/left in range (5 cm), up/down in bearing (1°). */
+  /**
+   * Arrow keys move a cell (B unless Space or Enter switched to A): right
+   * and left in range (5 cm), up and down in bearing (1°).
+   */
   nudge(ev) {
     if (!this.query) return;
-    const b = this.query.cells[1];
+    if (ev.key === ' ' || ev.key === 'Enter') {
+      ev.preventDefault();
+      this.movingCell = 1 - this.movingCell;
+      this.drawDiagram();
+      return;
+    }
+    const j = this.movingCell;
+    const b = this.query.cells[j];
     const half = this.query.beta_deg / 2;
     const moves = {
       ArrowRight: [0.05, 0], ArrowLeft: [-0.05, 0], ArrowUp: [0, 1], ArrowDown: [0, -1],
@@ -838,7 +961,7 @@ class DoorwayTrapElement extends HTMLElement {
     ev.preventDefault();
     const range = Math.min(MAX_RANGE, Math.max(MIN_RANGE, Math.round((b.range + m[0]) * 100) / 100));
     const bearing = Math.max(-half, Math.min(half, Math.round((b.bearing_deg + m[1]) * 10) / 10));
-    this.moveCell(1, range, bearing);
+    this.moveCell(j, range, bearing);
   }
 
   moveCell(j, range, bearingDeg) {

@@ -8,15 +8,19 @@
 // models' log odds along the beam axis with their priors l0 (blue). The
 // reader moves the reading, tries a max-range reading (a no-return), and
 // retrains the learned model with another seed. The core trains the model
-// and computes every value drawn; this module lays them out.
+// and computes every value drawn; this module lays them out. Nothing moves
+// by itself; training waits until the widget is first on screen.
 //
-// Attributes: reading (metres, default 2), seed (a whole number, default 9).
+// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// reading, seed, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, ensureStyles, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
+import { AttributeReader, applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
+import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
-const DEFAULT_READING = 2;
-const DEFAULT_SEED = 9;
+/** The sensor's maximum range, metres (the core's training sensor: z_max = 8 m). */
+const Z_MAX = 8;
 /** Samples of the lattice: one column per 2.5 cm of the full range, bearings every ~1/6 degree. */
 const RANGES = 369;
 const BEARINGS = 61;
@@ -28,27 +32,40 @@ const ZOOM = 1.5;
 const IMAGE_HEIGHT = 150;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
+const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
 
 const deg = (rad) => (rad * 180) / Math.PI;
 
 class InverseWorkbenchElement extends HTMLElement {
-  static observedAttributes = ['reading', 'seed'];
+  static attributeSpec = {
+    reading: { type: number(0.2, Z_MAX, { step: 0.05, unit: 'm' }), default: '2.00', doc: `the reading z, metres (at ${Z_MAX}, the sensor’s z_max: a no-return)` },
+    seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
+    zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
+  };
+
+  static observedAttributes = Object.keys(InverseWorkbenchElement.attributeSpec);
 
   constructor() {
     super();
-    this.z = DEFAULT_READING;
-    this.seed = DEFAULT_SEED;
-    this.zoom = false;
     this.bench = null;
     this.frame = 0;
+    this.zMax = Z_MAX;
   }
 
   async connectedCallback() {
     if (this.built) return;
+    // A link handed out by an instructor sets the attributes first.
+    restoreFromUrl(this, InverseWorkbenchElement.attributeSpec);
     this.built = true;
     ensureStyles();
-    this.readAttributes();
+    this.attrs = new AttributeReader(this, InverseWorkbenchElement.attributeSpec);
+    this.values = this.attrs.read();
+    this.z = this.values.reading;
+    this.seed = this.values.seed;
+    this.zoom = this.values.zoom;
     this.build();
+    applyControls(this, this.values.controls);
     try {
       ({ core: this.core } = await loadCore());
     } catch (e) {
@@ -65,28 +82,42 @@ class InverseWorkbenchElement extends HTMLElement {
     this.frame = 0;
   }
 
+  /**
+   * An attribute changed: a bad value is only reported (the widget keeps
+   * what it shows); a good one is applied, and only that one.
+   */
   attributeChangedCallback(name) {
     if (!this.built) return;
-    const seedBefore = this.seed;
-    this.readAttributes();
-    if (!this.bench) return;
-    if (name === 'seed' && this.seed !== seedBefore) this.later(() => this.train(this.seed));
-    else this.requestDraw();
+    this.values = this.attrs.read();
+    if (this.attrs.errors.some((m) => m.startsWith(`invalid ${name}:`))) return;
+    const v = this.values[name];
+    if (name === 'controls') applyControls(this, v);
+    else if (name === 'reading') this.setReading(v);
+    else if (name === 'zoom') {
+      this.zoom = v;
+      this.zoomToggle.input.checked = v;
+      this.requestDraw();
+    } else if (name === 'seed') {
+      this.seed = v;
+      this.seedInput.value = String(v);
+      // Before the first training the new seed is simply the one used.
+      if (this.bench && v !== this.info?.run.seed) this.retrain();
+    }
   }
 
-  /** Attribute values go to the core as numbers; the core rejects bad ones. */
-  readAttributes() {
-    const reading = this.getAttribute('reading');
-    const seed = this.getAttribute('seed');
-    if (reading !== null) this.z = reading.trim() === '' ? NaN : Number(reading);
-    if (seed !== null) this.seed = seed.trim() === '' ? NaN : Number(seed);
-    if (this.readingSlider && Number.isFinite(this.z)) this.readingSlider.set(this.z);
-    if (this.seedInput && seed !== null) this.seedInput.value = seed;
+  /** The current state as attribute values, for "Copy link". */
+  linkState() {
+    return {
+      reading: this.z.toFixed(2),
+      seed: this.info?.run.seed ?? this.seed,
+      zoom: this.zoom ? 'on' : 'off',
+      controls: formatControls(this.values.controls, GROUPS),
+    };
   }
 
   build() {
     this.readingSlider = slider({
-      label: 'Reading z', min: 0.2, max: 8, step: 0.05, value: this.z,
+      label: 'Reading z', min: 0.2, max: Z_MAX, step: 0.05, value: this.z,
       format: (v) => `${v.toFixed(2)} m`,
       onInput: (v) => { this.z = v; this.requestDraw(); },
       name: 'reading',
@@ -94,7 +125,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.maxButton = button('Max-range reading', () => this.setReading(this.zMax), {
       name: 'max-range', title: 'A no-return: the reading sits at the sensor’s maximum range', pressed: false,
     });
-    this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, false, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
+    this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, this.zoom, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
     const seedId = nextId('seed');
     this.seedInput = el('input', { id: seedId, type: 'number', min: 0, step: 1, value: this.seed, name: 'seed', inputmode: 'numeric', class: 'inverse-workbench-seed' });
     this.seedInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') this.retrain(); });
@@ -103,7 +134,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
 
     const pane = (key, title) => {
-      const canvas = el('canvas', { class: 'inverse-workbench-image', role: 'img', 'aria-label': `${title}: evidence over range and bearing` });
+      const canvas = el('canvas', { class: 'inverse-workbench-image', role: 'img', 'aria-label': `${title} inverse model: what one reading adds to the cells around the beam; not drawn yet.` });
       const note = el('span', { class: 'inverse-workbench-note' });
       const free = el('output', { class: 'inverse-workbench-free', 'aria-live': 'off' }, '–');
       const root = el('figure', { class: `inverse-workbench-pane inverse-workbench-${key}` },
@@ -113,14 +144,18 @@ class InverseWorkbenchElement extends HTMLElement {
       return { key, title, canvas, note, free, root };
     };
     this.panes = [pane('hand', 'Hand-crafted (Table 9.2)'), pane('learned', 'Learned (§9.3)')];
-    this.legend = el('canvas', { class: 'inverse-workbench-legend', role: 'img', 'aria-label': 'colour scale' });
+    this.legend = el('canvas', { class: 'inverse-workbench-legend', role: 'img', 'aria-label': 'Colour scale of the two images: white free, mid-gray no evidence, black occupied.' });
     this.chartTitle = el('p', { class: 'inverse-workbench-chart-title' });
-    this.chartBox = el('div', { class: 'inverse-workbench-chart', role: 'img', 'aria-label': 'log odds along the beam axis' });
+    this.chartBox = el('div', { class: 'inverse-workbench-chart', role: 'img', 'aria-label': 'Log odds along the beam axis: not drawn yet.' });
+    this.readingSlider.root.dataset.controls = 'reading';
+    this.maxButton.dataset.controls = 'reading';
+    this.zoomToggle.root.dataset.controls = 'zoom';
+    this.retrainButton.dataset.controls = 'retrain';
 
     this.append(
       el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root),
       el('div', { class: 'occgrid-controls' },
-        el('div', { class: 'occgrid-control' }, el('label', { for: seedId }, 'Seed'), this.seedInput),
+        el('div', { class: 'occgrid-control', dataset: { controls: 'retrain' } }, el('label', { for: seedId }, 'Seed'), this.seedInput),
         this.retrainButton,
         el('span', { class: 'occgrid-readout' }, 'learned l0 = ', this.l0Out)),
       this.status,
@@ -136,6 +171,7 @@ class InverseWorkbenchElement extends HTMLElement {
         'its free-to-occupied ramp is soft, its occupied band sits a little past the reading, its evidence gathers near the axis, ',
         'and its own l0 is negative — the prior of the maps it was trained on. Try a max-range reading: one training reading in twenty was a ',
         'dropout from a real obstacle, so the learned model hardly trusts a no-return to mean free space.'),
+      copyLinkControl(this, InverseWorkbenchElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
       xLabel: 'range along the beam axis (m)', yLabel: 'log odds',
@@ -171,6 +207,7 @@ class InverseWorkbenchElement extends HTMLElement {
       this.info = this.bench.readout();
       this.zMax = this.info.zMax;
       this.readingSlider.input.max = String(this.zMax);
+      if (this.z > this.zMax) this.setReading(this.zMax);
       clearError(this);
       trained = true;
     } catch (e) {
@@ -241,12 +278,21 @@ class InverseWorkbenchElement extends HTMLElement {
       hand: `alpha ${fixed(info.alpha * 100, 0)} cm, beta ${fixed(2 * deg(info.handHalfWidth), 1)}°, l0 ${fixed(v.handL0, 2)}`,
       learned: `field ±${fixed(deg(info.learnedHalfWidth), 2)}°, l0 ${fixed(v.learnedL0, 3)}`,
     };
+    const reading = `a reading of ${fixed(this.z, 2)} m${atMax ? ' (max range: a no-return)' : ''}`;
     for (const p of this.panes) {
       this.image(p, width, fields[p.key], v, lattice, edges[p.key]);
       p.note.textContent = `· ${notes[p.key]}`;
       const free = p.key === 'hand' ? v.handFree : v.learnedFree;
+      const l0 = p.key === 'hand' ? v.handL0 : v.learnedL0;
       p.free.textContent = free === null ? '–' : fixed(free, 3);
       p.free.dataset.value = free === null ? '' : String(free);
+      p.canvas.setAttribute('aria-label',
+        `${p.title} inverse model: the log odds one reading adds to each cell around the beam, for ${reading}, ` +
+        `ranges ${fixed(lattice.minRange, 1)} to ${fixed(lattice.maxRange, 1)} m, bearings within ±${fixed(deg(lattice.maxBearing), 1)}°. ` +
+        (free === null
+          ? 'The reading is too short to leave free space in front of it. '
+          : `Mean free evidence in front of the reading: ${fixed(free, 3)} log odds. `) +
+        `Prior l0 ${fixed(l0, 3)}; colour scale ±${fixed(v.scale, 2)} log odds, white free, black occupied.`);
     }
     this.colourBar(width, v.scale);
     const xs = Array.from(v.rangeAxis);

@@ -9,8 +9,13 @@
 // out, forwards input and draws. The one figure measured here is the wall
 // time from choosing a file to the finished map, file reading included.
 //
-// Usage: `new RealLogPanel(container, await loadCore())`; `dispose()` frees it.
-import { el, slider, select, button, drawMap, showError, clearError, ensureStyles, fixed, nextId } from './lib/ui.js';
+// Usage: `new RealLogPanel(container, await loadCore(), { settings, log })`
+// (both optional: starting settings, and a log of /datasets/ to load once
+// the panel is first on screen); `linkState()` gives them back as they are
+// now; `dispose()` frees the panel. Its control groups are marked
+// `data-controls`: log-source (file picker, dataset menu), log-settings
+// (resolution and the model's sliders) and export.
+import { el, slider, select, button, drawMap, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { downloadMapPair } from './lib/export.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
@@ -39,6 +44,9 @@ const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
 const ROBOT_COLOR = '#1a9850';
 
 const count = (n) => Number(n).toLocaleString('en-US');
+const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.';
+/** How the map canvas is operated, for its text alternative. */
+const CURSOR_HINT = 'Arrow keys move a cursor cell (Shift: ten cells) whose values are read out below the map.';
 
 /**
  * Yields to the event loop and comes back in a new task: input is handled
@@ -61,13 +69,28 @@ function nextChunk(n, ms) {
   return Math.max(1, Math.min(n * 2, Math.round((n * SLICE_MS) / Math.max(ms, 0.25))));
 }
 
+/** The fields of `settings` the panel knows (the others are dropped). */
+function pick(settings) {
+  const out = {};
+  for (const k of SETTING_FIELDS) if (settings[k] !== undefined) out[k] = settings[k];
+  return out;
+}
+
 /** "intel-corrected.log.gz" → "intel-corrected-map" */
 function mapStem(fileName) {
   return `${fileName.replace(/\.gz$/i, '').replace(/\.(log|clf|txt)$/i, '') || 'log'}-map`;
 }
 
+/** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
+export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp'];
+
 export class RealLogPanel {
-  constructor(container, { core, memory }) {
+  /**
+   * `settings`: any of SETTING_FIELDS (the core checks them when a log is
+   * mapped); `log`: the file name of a log in /datasets/ to load when the
+   * panel first comes into view.
+   */
+  constructor(container, { core, memory }, { settings = {}, log = null } = {}) {
     ensureStyles();
     this.core = core;
     this.memory = memory;
@@ -77,13 +100,46 @@ export class RealLogPanel {
     this.run = 0;
     /** Duration of each call into the core during the last load, for tests. */
     this.trace = [];
-    this.settings = core.LogMapSession.defaultSettings();
+    this.settings = { ...core.LogMapSession.defaultSettings(), ...pick(settings) };
     this.applied = { ...this.settings };
+    /** The /datasets/ log shown (or being read), null for a file of the reader's own. */
+    this.dataset = null;
     this.buildDom();
     container.append(this.root);
     this.probeDatasets();
     this.resizer = new ResizeObserver(() => this.fitCanvas());
     this.resizer.observe(this.stage);
+    if (log) this.open(log);
+  }
+
+  /** The panel's state: `{ settings, log }`, as the constructor takes them. */
+  linkState() {
+    const settings = {};
+    for (const k of SETTING_FIELDS) settings[k] = this.settings[k];
+    return { settings, log: this.dataset };
+  }
+
+  /**
+   * Loads a log of /datasets/ by file name, as the menu does, once the
+   * panel is on screen: a page's choice costs nothing until the reader can
+   * see it (the last name asked for wins).
+   */
+  open(name) {
+    this.wanted = name;
+    if (this.waiting) return;
+    this.waiting = true;
+    whenVisible(this.root, () => {
+      this.waiting = false;
+      const wanted = this.wanted;
+      this.wanted = null;
+      if (wanted) this.loadUrl(wanted);
+    });
+  }
+
+  /** New settings from the page (any of SETTING_FIELDS): as if the controls moved. */
+  setSettings(patch) {
+    this.change(pick(patch));
+    this.syncControls();
   }
 
   /** Frees the wasm session and removes the panel. */
@@ -119,26 +175,27 @@ export class RealLogPanel {
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
     this.status = el('p', { class: 'map-weaver-log-status occgrid-readout', 'aria-live': 'polite' }, 'No log loaded yet.');
     this.timing = el('p', { class: 'map-weaver-log-timing occgrid-readout' });
-    this.canvas = el('canvas', { class: 'occgrid-map map-weaver-log-map', role: 'img', tabindex: 0, 'aria-label': 'occupancy grid map built from the log', width: 1, height: 1, hidden: true });
+    this.canvas = el('canvas', { class: 'occgrid-map map-weaver-log-map', role: 'img', tabindex: 0, 'aria-label': `Occupancy grid map built from the log: no log mapped yet. ${CURSOR_HINT}`, width: 1, height: 1, hidden: true });
     this.canvas.addEventListener('mousemove', (e) => this.hover(e));
     this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
     this.canvas.addEventListener('blur', () => this.setCursor(null));
     this.stage = el('div', { class: 'map-weaver-log-stage' },
       this.canvas,
       el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.'));
-    this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' },
-      'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.');
+    this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' }, READOUT_HINT);
     this.counts = el('p', { class: 'map-weaver-log-counts occgrid-readout' });
     this.scrub = slider({ label: 'Scans integrated', min: 0, max: 1, step: 1, value: 0, format: (v) => `${count(v)} of ${count(this.total ?? 0)}`, onInput: (v) => this.seek(v), name: 'scrub' });
     this.scrub.input.disabled = true;
     this.exportButton = button('Export map', () => this.exportMap(), { name: 'export', title: 'Save the map as a ROS map_server PGM + YAML pair (one zip)' });
+    this.exportButton.dataset.controls = 'export';
     this.exportButton.disabled = true;
 
     this.root = el('div', { class: 'map-weaver-log', dataset: { state: 'idle' } },
-      el('div', { class: 'map-weaver-log-source occgrid-controls' },
+      el('div', { class: 'map-weaver-log-source occgrid-controls', role: 'group', 'aria-label': 'log to map', dataset: { controls: 'log-source' } },
         el('div', { class: 'occgrid-control' }, el('label', { for: fileId }, 'Open a CARMEN log'), this.fileInput),
         this.datasetMenu.root),
-      el('div', { class: 'occgrid-controls' }, Object.values(this.controls).map((c) => c.root)),
+      el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },
+        Object.values(this.controls).map((c) => c.root)),
       this.progress, this.status, this.timing,
       this.stage,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
@@ -183,13 +240,27 @@ export class RealLogPanel {
     const input = this.datasetMenu.input;
     input.replaceChildren(el('option', { value: '' }, 'choose a log…'), ...names.map((n) => el('option', { value: n }, known.get(n) ?? n)));
     this.datasetMenu.root.hidden = names.length === 0;
+    this.showDataset();
+  }
+
+  /** The menu shows the /datasets/ log in the panel (or none). */
+  showDataset() {
+    const input = this.datasetMenu.input;
+    const listed = [...input.options].some((o) => o.value === this.dataset);
+    input.value = listed ? this.dataset : '';
   }
 
   loadFile(file) {
+    this.dataset = null;
+    this.showDataset();
     return this.load(file.name, async () => new Uint8Array(await file.arrayBuffer()));
   }
 
   loadUrl(name) {
+    this.dataset = name;
+    this.showDataset();
+    // The file picker would otherwise go on naming the reader's last file.
+    this.fileInput.value = '';
     return this.load(name, async () => {
       const response = await fetch(new URL(name, DATASET_BASE));
       if (!response.ok) throw new Error(`cannot fetch ${name}: HTTP ${response.status}`);
@@ -278,9 +349,12 @@ export class RealLogPanel {
   /** Sizes the canvas for the session's map (if it has one) and enables the controls. */
   layout() {
     this.geometry = this.session.geometry();
-    // The last image belongs to the old geometry (or the old session).
+    // The last image belongs to the old geometry (or the old session), and
+    // so does the last cell read out.
     this.pixels = null;
     this.cursor = null;
+    this.readout.textContent = READOUT_HINT;
+    for (const k of ['ix', 'iy', 'l', 'p', 'updates']) delete this.readout.dataset[k];
     if (!this.geometry) {
       this.canvas.hidden = true;
       this.scrub.input.disabled = true;
@@ -355,7 +429,13 @@ export class RealLogPanel {
       : `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
     this.counts.textContent =
       `occupied (p > 0.65) ${count(c.occupied)} · free (p < 0.35) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
-    this.canvas.setAttribute('aria-label', `Map of ${this.name} after ${p.scansDone} scans: ${this.counts.textContent}`);
+    Object.assign(this.root.dataset, {
+      scans: String(p.scansDone), occupied: String(c.occupied), free: String(c.free), unknown: String(c.unknown), cells: String(c.cells),
+    });
+    this.canvas.setAttribute('aria-label',
+      `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${this.geometry.resolution} m, ` +
+      `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (p > 0.65), ${count(c.free)} free (p < 0.35), ` +
+      `${count(c.unknown)} unknown. Gray is unknown, white free, black occupied; the green line is the laser’s path. ${CURSOR_HINT}`);
   }
 
   /** The laser's path up to the last integrated scan, and where it is now. */

@@ -14,7 +14,9 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
-// model, pose, clamp and strength, map-width, controls.
+// model, pose, clamp and strength, map-width, controls; for the real-log
+// panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
+// log-alpha, log-l-occ, log-l-free, log-clamp.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
@@ -23,7 +25,7 @@ import {
   whenVisible, frameLoop, prefersReducedMotion, fixed, nextId,
 } from './lib/ui.js';
 import {
-  AttributeReader, applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
+  AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
 import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
@@ -50,9 +52,33 @@ const SPOKEN_POSES = { oracle: 'at the true poses', 'dead-reckoning': 'at the de
 
 /** How a map canvas is operated, for its text alternative. */
 const CURSOR_HINT = 'Gray is unknown, white free, black occupied. Arrow keys move a cursor cell whose values are read out below the maps.';
-const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'export', 'link'];
+const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'log-source', 'log-settings', 'export', 'link'];
 /** Every pane attribute, per side, and the pane setting it sets. */
 const PANE_FIELDS = { model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength' };
+
+/**
+ * The real-log panel's attributes: the panel setting each sets, and how a
+ * link writes the setting back (as the default is written, so that a
+ * default stays out of the link). The ranges are the panel's controls'.
+ */
+const LOG_FIELDS = {
+  'log-resolution': { field: 'resolution', format: (v) => String(v) },
+  'log-range-cap': { field: 'rangeCap', format: (v) => String(v) },
+  'log-alpha': { field: 'alpha', format: (v) => fixed(v, 2) },
+  'log-l-occ': { field: 'lOcc', format: (v) => fixed(v, 2) },
+  'log-l-free': { field: 'lFree', format: (v) => fixed(v, 2) },
+  'log-clamp': { field: 'clamp', format: (v) => fixed(v, 1) },
+};
+
+/** A log's file name in the server's /datasets/: one name, no path. */
+const logName = {
+  describe: 'the file name of a CARMEN log in the server’s /datasets/, such as "intel-corrected.log.gz"',
+  parse(text, name) {
+    const w = text.trim();
+    if (!/^[\w-][\w.-]*\.(log|clf|txt)(\.gz)?$/i.test(w)) throw invalidValue(name, text, this.describe);
+    return w;
+  },
+};
 
 const count = (n) => Number(n).toLocaleString('en-US');
 const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
@@ -69,7 +95,7 @@ class MapWeaverElement extends HTMLElement {
   static attributeSpec = {
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'seed of the simulation: odometry noise, range noise, the person’s walk' },
     laps: { type: whole(1, 20), default: '3', doc: 'laps in the run' },
-    scene: { type: jsonObject('{"scan_rate": 6}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
+    scene: { type: jsonObject('{"scan_rate": 12}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
     person: { type: flag(), default: 'on', doc: 'a person walking the corridor' },
     speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed, × 12 scans per second' },
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
@@ -77,8 +103,15 @@ class MapWeaverElement extends HTMLElement {
     mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
     ...paneSpec('left', 'hand-crafted'),
     ...paneSpec('right', 'learned'),
-    'map-width': { type: whole(160, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
-    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), export, link' },
+    'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
+    log: { type: logName, doc: 'real-log mode: the log of the server’s /datasets/ to load when the panel first comes into view; absent: the reader picks one' },
+    'log-resolution': { type: oneOf(['0.025', '0.05', '0.1', '0.2'], Number), default: '0.05', doc: 'real-log mode: metres per cell' },
+    'log-range-cap': { type: number(2, 80, { step: 1, unit: 'm' }), default: '30', doc: 'real-log mode: z_max, metres; a reading at or beyond it is a no-return' },
+    'log-alpha': { type: number(0.02, 0.5, { step: 0.01, unit: 'm' }), default: '0.10', doc: 'real-log mode: obstacle depth α of Table 9.2, metres' },
+    'log-l-occ': { type: number(0.05, 3, { step: 0.05 }), default: '0.85', doc: 'real-log mode: l_occ, log odds added at the reading' },
+    'log-l-free': { type: number(-3, -0.05, { step: 0.05 }), default: '-0.40', doc: 'real-log mode: l_free, log odds added in front of the reading' },
+    'log-clamp': { type: number(0.5, 12, { step: 0.5 }), default: '3.5', doc: 'real-log mode: the clamp l_max, log odds' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
   static observedAttributes = Object.keys(MapWeaverElement.attributeSpec);
@@ -137,6 +170,9 @@ class MapWeaverElement extends HTMLElement {
     const same = JSON.stringify(value instanceof Set ? [...value] : value) === JSON.stringify(before[name] instanceof Set ? [...before[name]] : before[name]);
     if (same) return;
     if (name === 'controls') applyControls(this, value);
+    else if (name === 'log') {
+      if (value && this.realLog) this.realLog.open(value);
+    } else if (name in LOG_FIELDS) this.realLog?.setSettings({ [LOG_FIELDS[name].field]: value });
     else if (name === 'speed') {
       this.options.speed = value;
       this.speedSelect.input.value = String(value);
@@ -168,7 +204,28 @@ class MapWeaverElement extends HTMLElement {
     SIDES.forEach((side, k) => {
       for (const [attr, field] of Object.entries(PANE_FIELDS)) state[`${side}-${attr}`] = o.panes[k][field];
     });
+    return { ...state, ...this.logLinkState() };
+  }
+
+  /**
+   * The real-log attributes for a link: the panel's state once it exists
+   * (the log it shows when that came from /datasets/, and its settings),
+   * else what the attributes say.
+   */
+  logLinkState() {
+    const panel = this.realLog?.linkState();
+    const state = { log: panel ? panel.log : this.values.log };
+    for (const [attr, { field, format }] of Object.entries(LOG_FIELDS)) {
+      state[attr] = format(panel ? panel.settings[field] : this.values[attr]);
+    }
     return state;
+  }
+
+  /** The real-log panel's starting state from the attributes. */
+  logOptions() {
+    const settings = {};
+    for (const [attr, { field }] of Object.entries(LOG_FIELDS)) settings[field] = this.values[attr];
+    return { settings, log: this.values.log ?? null };
   }
 
   // ---- layout ------------------------------------------------------------
@@ -264,7 +321,7 @@ class MapWeaverElement extends HTMLElement {
     const exportButton = button('Export map', () => this.exportMap(k), {
       name: `export-${side}`, title: `Save the ${side} map as a ROS map_server PGM + YAML pair`,
     });
-    exportButton.setAttribute('aria-label', `Export the ${side} map`);
+    exportButton.setAttribute('aria-label', `Export map (${side})`); // spoken name starts with the visible text
     const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart', role: 'img', 'aria-label': `${side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds over time, no scans yet.` });
     const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
       el('figcaption', {}, title, ' ', note),
@@ -643,7 +700,8 @@ class MapWeaverElement extends HTMLElement {
     this.loadingLog = true;
     try {
       const { RealLogPanel } = await import('./map-weaver-log.js');
-      this.realLog = new RealLogPanel(this.logPanel, { core: this.core, memory: this.memory });
+      this.realLog = new RealLogPanel(this.logPanel, { core: this.core, memory: this.memory }, this.logOptions());
+      applyControls(this, this.values.controls);
     } catch (e) {
       this.logPanel.replaceChildren(el('p', { class: 'occgrid-caption map-weaver-log-missing' },
         `The real-log panel could not be loaded here (${e && e.message ? e.message : e}).`));

@@ -9,14 +9,17 @@
 // the max-fused table stays. Every number shown comes from the wasm core;
 // this module only draws and forwards input.
 //
-// Attributes: lidar-beams (a whole number, 1 to 2048), seed (a whole number).
+// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// lidar-beams, seed, scene, autoplay, scans, map-width, controls.
 import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
   el, slider, button, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, prefersReducedMotion, fixed,
+  whenVisible, frameLoop, prefersReducedMotion, fixed,
 } from './lib/ui.js';
+import { AttributeReader, applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
+import { copyLinkControl, restoreFromUrl } from './lib/state.js';
 
 /** Beam counts the slider offers (an attribute may add another). */
 const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
@@ -35,41 +38,47 @@ const PANES = [
   { key: 'sum', title: 'Summation', describe: () => 'one grid, both streams added' },
 ];
 
-function parseWhole(name, text, min, max) {
-  const v = Number(text);
-  if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) {
-    throw new Error(`invalid ${name}: "${text}" (expected a whole number from ${min} to ${max})`);
-  }
-  return v;
-}
+const GROUPS = ['playback', 'sliders', 'export', 'link'];
 
 class SensorFusionElement extends HTMLElement {
-  static observedAttributes = ['lidar-beams', 'seed'];
+  static attributeSpec = {
+    'lidar-beams': { type: whole(1, 2048), default: String(DEFAULT_BEAMS), doc: 'beams of the LiDAR’s 360° scan' },
+    seed: { type: whole(0, Number.MAX_SAFE_INTEGER), doc: 'seed of the range noise; absent: the chapter’s' },
+    scene: { type: jsonObject('{"laps": 2}'), doc: 'fields of the table scene to override (the core checks each); absent: the chapter’s room and table' },
+    autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
+    scans: { type: whole(0, 100_000), default: '0', doc: 'scans integrated before the first frame (the run stops at the end of its laps)' },
+    'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each of the four maps, CSS pixels' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (play, step, reset), sliders (LiDAR beams), export, link' },
+  };
+
+  static observedAttributes = Object.keys(SensorFusionElement.attributeSpec);
 
   constructor() {
     super();
-    this.beams = DEFAULT_BEAMS;
-    this.seed = null;
     this.sim = null;
     this.playing = false;
-    this.frame = 0;
   }
 
   async connectedCallback() {
     if (this.built) return;
+    // A link handed out by an instructor sets the attributes first.
+    restoreFromUrl(this, SensorFusionElement.attributeSpec);
     this.built = true;
     ensureStyles();
+    this.attrs = new AttributeReader(this, SensorFusionElement.attributeSpec);
+    this.values = this.attrs.read();
+    this.beams = this.values['lidar-beams'];
     this.build();
+    applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    this.readAttributes();
     this.create();
     whenVisible(this, () => {
-      if (!prefersReducedMotion() && this.sim) this.play();
+      if (this.values.autoplay && !prefersReducedMotion() && this.sim) this.play();
     });
   }
 
@@ -78,29 +87,30 @@ class SensorFusionElement extends HTMLElement {
   }
 
   attributeChangedCallback(name) {
-    if (!this.core) return;
-    const seedBefore = this.seed;
-    if (!this.readAttributes()) return;
-    if (name === 'seed' && this.seed !== seedBefore) this.create();
-    else if (name === 'lidar-beams') this.requestBeams(this.beams);
+    if (!this.built) return;
+    const before = this.values;
+    this.values = this.attrs.read();
+    const key = (v) => JSON.stringify(v instanceof Set ? [...v] : v);
+    if (key(this.values[name]) === key(before[name])) return;
+    if (name === 'controls') applyControls(this, this.values.controls);
+    else if (name === 'map-width') {
+      for (const p of this.panes) p.cssW = 0;
+      this.layout();
+    } else if (!this.core) return;
+    else if (['seed', 'scene', 'scans'].includes(name)) this.create();
+    else if (name === 'lidar-beams') this.requestBeams(this.values['lidar-beams']);
   }
 
-  /**
-   * Reads the attributes; a bad value is shown in the widget (false), and
-   * the widget keeps working with the last good values.
-   */
-  readAttributes() {
-    try {
-      const beams = this.getAttribute('lidar-beams');
-      const seed = this.getAttribute('seed');
-      if (beams !== null) this.beams = parseWhole('lidar-beams', beams, 1, 2048);
-      if (seed !== null) this.seed = parseWhole('seed', seed, 0, Number.MAX_SAFE_INTEGER);
-      clearError(this);
-      return true;
-    } catch (e) {
-      showError(this, e);
-      return false;
-    }
+  /** The current state as attribute values, for "Copy link". */
+  linkState() {
+    const v = this.values;
+    return {
+      'lidar-beams': this.beams, seed: v.seed, scene: v.scene ? JSON.stringify(v.scene) : null,
+      autoplay: this.playing ? 'on' : 'off',
+      scans: this.reading ? this.reading.step : v.scans,
+      'map-width': v['map-width'],
+      controls: formatControls(v.controls, GROUPS),
+    };
   }
 
   build() {
@@ -116,25 +126,29 @@ class SensorFusionElement extends HTMLElement {
     });
     this.status = el('p', { class: 'occgrid-readout sensor-fusion-status', 'aria-live': 'polite' }, 'Loading…');
     this.panes = PANES.map((p) => {
-      const canvas = el('canvas', { class: 'occgrid-map sensor-fusion-map', role: 'img', 'aria-label': `${p.title} map` });
+      const canvas = el('canvas', { class: 'occgrid-map sensor-fusion-map', role: 'img', 'aria-label': `${p.title}: not built yet.` });
       const note = el('span', { class: 'sensor-fusion-note' });
       const mean = el('output', { class: 'sensor-fusion-mean', 'aria-live': 'off' }, '–');
       const exportButton = button('Export map', () => this.exportMap(p.key), { name: `export-${p.key}`, title: `Save the ${p.title.toLowerCase()} as a ROS map_server PGM + YAML pair` });
-      exportButton.setAttribute('aria-label', `Export the ${p.title.toLowerCase()}`);
+      exportButton.setAttribute('aria-label', `Export map (${p.title.toLowerCase()})`); // spoken name starts with the visible text
       const root = el('figure', { class: `sensor-fusion-pane sensor-fusion-${p.key}`, dataset: { map: p.key } },
         el('figcaption', {}, el('strong', {}, p.title), ' ', note),
         canvas,
         el('div', { class: 'sensor-fusion-foot' },
           el('span', {}, 'footprint mean occupancy ', mean),
-          exportButton));
+          el('span', { dataset: { controls: 'export' } }, exportButton)));
       return { ...p, canvas, note, mean, root };
     });
+    this.loop = frameLoop(this, (dt) => this.tick(dt));
+    const playback = [
+      this.playButton,
+      button('Step', () => { this.pause(); this.advance(1); }, { name: 'step' }),
+      button('Reset', () => { this.pause(); this.sim && this.sim.reset(); this.draw(); }, { name: 'reset' }),
+    ];
+    for (const b of playback) b.dataset.controls = 'playback';
+    this.beamSlider.root.dataset.controls = 'sliders';
     this.append(
-      el('div', { class: 'occgrid-controls' },
-        this.playButton,
-        button('Step', () => { this.pause(); this.advance(1); }, { name: 'step' }),
-        button('Reset', () => { this.pause(); this.sim && this.sim.reset(); this.draw(); }, { name: 'reset' }),
-        this.beamSlider.root),
+      el('div', { class: 'occgrid-controls' }, playback, this.beamSlider.root),
       this.status,
       el('div', { class: 'sensor-fusion-panes' }, this.panes.map((p) => p.root)),
       el('p', { class: 'occgrid-caption' },
@@ -143,6 +157,7 @@ class SensorFusionElement extends HTMLElement {
         '(and a cell stays gray wherever one sensor has not looked yet: unknown, p = 0.5, outranks free). ',
         'Summation adds both streams into one grid as if they measured the same thing: the table’s probability then follows whichever sensor delivers more evidence. ',
         'Lower the beam count and the summed table comes back; the table never changed.'),
+      copyLinkControl(this, SensorFusionElement.attributeSpec, () => this.linkState()),
     );
     if ('ResizeObserver' in window) {
       this.resizer = new ResizeObserver(() => this.layout());
@@ -153,10 +168,14 @@ class SensorFusionElement extends HTMLElement {
   /** (Re)creates the experiment in the core from the attributes. */
   create() {
     this.pause();
+    const v = this.values;
     try {
-      const scene = this.seed === null ? undefined : { seed: this.seed };
+      let scene;
+      if (v.scene || v.seed !== undefined) scene = { ...(v.scene ?? {}), ...(v.seed !== undefined ? { seed: v.seed } : {}) };
       const next = new this.core.SensorFusion(scene, undefined);
       if (this.beams !== DEFAULT_BEAMS) next.setLidarBeams(this.beams);
+      // A link may open the lap part-way through.
+      for (let i = 0; i < v.scans && next.step(); i++);
       this.sim?.free();
       this.sim = next;
       clearError(this);
@@ -200,8 +219,9 @@ class SensorFusionElement extends HTMLElement {
   layout() {
     if (!this.sim) return;
     const { width: w, height: h } = this.sim;
+    const widest = this.values['map-width'];
     for (const p of this.panes) {
-      const cssW = Math.max(120, Math.min(MAX_CSS_WIDTH, Math.floor(p.root.clientWidth || 300)));
+      const cssW = Math.max(120, Math.min(widest, Math.floor(p.root.clientWidth || 300)));
       if (p.cssW === cssW) continue;
       p.cssW = cssW;
       p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
@@ -216,28 +236,28 @@ class SensorFusionElement extends HTMLElement {
     this.playing = true;
     this.playButton.textContent = 'Pause';
     this.playButton.setAttribute('aria-pressed', 'true');
-    let last = performance.now();
-    let owed = 0;
-    const tick = (now) => {
-      if (!this.playing) return;
-      owed += ((now - last) / 1000) * STEPS_PER_SECOND;
-      last = now;
-      const n = Math.min(4, Math.floor(owed));
-      if (n > 0) {
-        owed -= n;
-        if (!this.advance(n)) {
-          this.pause();
-          return;
-        }
+    this.owed = 0;
+    // The loop gets frames only while the widget is on screen.
+    this.loop.start();
+  }
+
+  /** One animation frame, `dt` ms after the previous one. */
+  tick(dt) {
+    if (!this.playing) return false;
+    this.owed += (dt / 1000) * STEPS_PER_SECOND;
+    const n = Math.min(4, Math.floor(this.owed));
+    if (n > 0) {
+      this.owed -= n;
+      if (!this.advance(n)) {
+        this.pause();
+        return false;
       }
-      this.frame = requestAnimationFrame(tick);
-    };
-    this.frame = requestAnimationFrame(tick);
+    }
+    return true;
   }
 
   pause() {
-    if (this.frame) cancelAnimationFrame(this.frame);
-    this.frame = 0;
+    this.loop?.stop();
     if (!this.playing) return;
     this.playing = false;
     this.playButton.textContent = 'Play';
@@ -271,6 +291,9 @@ class SensorFusionElement extends HTMLElement {
         const mean = r.footprint[p.key];
         p.mean.textContent = fixed(mean, 3);
         p.mean.dataset.value = String(mean);
+        p.canvas.setAttribute('aria-label',
+          `${p.title} (${p.describe(r)}) after ${r.step} of ${r.steps} scans: mean occupancy over the table’s footprint ${fixed(mean, 3)}. ` +
+          'Gray unknown, white free, black occupied; the dashed outline is the table top.');
       }
     } catch (e) {
       showError(this, e);

@@ -4,9 +4,43 @@ use super::to_js;
 use crate::cell_filter::{self, CellFilterParams};
 use wasm_bindgen::prelude::*;
 
-/// Runs one cell's filter over `readings` (1 = occupied, 0 = free) and
-/// returns `{ lOcc, lFree, l0, steps: [{ step, occupied, l, p }] }`.
+/// Runs one cell's filter over `readings` (a `Uint8Array` or an array of
+/// numbers, 1 = occupied, 0 = free) and returns `{ lOcc, lFree, l0, steps:
+/// [{ step, occupied, l, p }] }`.
 #[wasm_bindgen(js_name = runCellFilter)]
+pub fn run_cell_filter_js(
+    p_occ: f64,
+    p_free: f64,
+    prior: f64,
+    clamp: f64,
+    readings: JsValue,
+    subtract_prior: bool,
+) -> Result<JsValue, JsError> {
+    let readings = if let Some(array) = readings.dyn_ref::<js_sys::Array>() {
+        // Each element as JavaScript holds it: the glue's copy into bytes
+        // would wrap 256 to 0 and -1 to 255.
+        array
+            .iter()
+            .enumerate()
+            .map(|(i, r)| match r.as_f64() {
+                Some(v) if v == 0.0 || v == 1.0 => Ok(v as u8),
+                _ => Err(JsError::new(&format!(
+                    "invalid readings[{i}]: {} (expected 1 for occupied or 0 for free)",
+                    super::describe(&r)
+                ))),
+            })
+            .collect::<Result<Vec<u8>, JsError>>()?
+    } else {
+        super::bytes_from_js(
+            "readings",
+            &readings,
+            "a Uint8Array or an array of 1 (occupied) and 0 (free)",
+        )?
+    };
+    run_cell_filter(p_occ, p_free, prior, clamp, &readings, subtract_prior)
+}
+
+/// [`run_cell_filter_js`] for Rust callers, the readings already bytes.
 pub fn run_cell_filter(
     p_occ: f64,
     p_free: f64,

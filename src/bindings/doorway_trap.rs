@@ -2,7 +2,7 @@
 //! MAP search of Table 9.3 on the doorway scene, stepped by the widget, and
 //! the exact joint posterior of the two-cell table (SPEC §6, §7).
 
-use super::{from_js, to_js, Pixels};
+use super::{budget_from_js, object_from_js, string_from_js, to_js, Pixels};
 use crate::export;
 use crate::grid::LogOddsGrid;
 use crate::joint::{JointPosterior, JointQuery};
@@ -34,7 +34,7 @@ impl DoorwayTrap {
         let scene: DoorwayScene = if scene.is_undefined() || scene.is_null() {
             DoorwayScene::standard()
         } else {
-            from_js("scene", scene)?
+            object_from_js("scene", scene)?
         };
         Ok(DoorwayTrap {
             sweep: DoorwaySweep::new(&scene)?,
@@ -112,11 +112,12 @@ impl DoorwayTrap {
         self.search.reset();
     }
 
-    /// Runs the climb to its end (at most `max_flips` more flips); returns
-    /// the number of flips made.
+    /// Runs the climb to its end (at most `maxFlips` more flips, a whole
+    /// number; `Infinity` for no limit); returns the number of flips made.
     #[wasm_bindgen(js_name = mapRun)]
-    pub fn map_run(&mut self, max_flips: u32) -> u32 {
-        self.search.run(max_flips as usize) as u32
+    pub fn map_run_js(&mut self, max_flips: f64) -> Result<u32, JsError> {
+        let max_flips = budget_from_js("maxFlips", max_flips)?;
+        Ok(self.map_run(u32::try_from(max_flips).unwrap_or(u32::MAX)))
     }
 
     /// Renders the MAP map (black occupied, white free) and returns the
@@ -179,15 +180,19 @@ impl DoorwayTrap {
     /// occupied, sensitivity, beams }` (swept log odds and probability, the
     /// MAP cell and its objective change if flipped, the cones through it).
     #[wasm_bindgen(js_name = cellInfo)]
-    pub fn cell_info(&self, ix: usize, iy: usize) -> Result<JsValue, JsError> {
+    pub fn cell_info(&self, ix: f64, iy: f64) -> Result<JsValue, JsError> {
         let g = *self.search.geometry();
-        if ix >= g.width() || iy >= g.height() {
+        let inside = |v: f64, n: usize| v.fract() == 0.0 && v >= 0.0 && v < n as f64;
+        if !(inside(ix, g.width()) && inside(iy, g.height())) {
             return Err(JsError::new(&format!(
-                "invalid cell: ({ix}, {iy}) (expected a cell of the {} x {} map)",
+                "invalid cell: ({}, {}) (expected whole numbers naming a cell of the {} x {} map)",
+                crate::error::show(ix),
+                crate::error::show(iy),
                 g.width(),
                 g.height()
             )));
         }
+        let (ix, iy) = (ix as usize, iy as usize);
         let i = g.index(ix, iy);
         let grid = self.sweep.grid();
         #[derive(serde::Serialize)]
@@ -216,9 +221,10 @@ impl DoorwayTrap {
     /// One map (`"sweep"` or `"map"`) as a ROS `map_server` pair:
     /// `{ pgm: Uint8Array, yaml }`.
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map(&self, which: &str) -> Result<JsValue, JsError> {
+    pub fn export_map(&self, which: JsValue) -> Result<JsValue, JsError> {
+        let which = string_from_js("map", &which, "\"sweep\" or \"map\"")?;
         let name = format!("doorway-{which}.pgm");
-        let pair = match which {
+        let pair = match which.as_str() {
             "sweep" => export::map_server_pair(self.sweep.grid(), &name),
             "map" => export::map_server_pair(&self.search.to_grid(EXPORT_CLAMP)?, &name),
             _ => {
@@ -239,7 +245,13 @@ impl DoorwayTrap {
     }
 }
 
+/// Typed entry points for Rust callers.
 impl DoorwayTrap {
+    /// [`Self::map_run_js`] for Rust callers.
+    pub fn map_run(&mut self, max_flips: u32) -> u32 {
+        self.search.run(max_flips as usize) as u32
+    }
+
     fn scene_grid(&self) -> &LogOddsGrid {
         self.sweep.grid()
     }
@@ -252,7 +264,7 @@ impl DoorwayTrap {
 /// likelihood, joint, factored }] }`.
 #[wasm_bindgen(js_name = jointPosterior)]
 pub fn joint_posterior(query: JsValue) -> Result<JsValue, JsError> {
-    let q: JointQuery = from_js("joint query", query)?;
+    let q: JointQuery = object_from_js("joint query", query)?;
     to_js(&JointPosterior::compute(&q)?.report())
 }
 
@@ -260,7 +272,7 @@ pub fn joint_posterior(query: JsValue) -> Result<JsValue, JsError> {
 /// allFreeTrue, allFreeFactored }`.
 #[wasm_bindgen(js_name = jointAnswer)]
 pub fn joint_answer(query: JsValue) -> Result<JsValue, JsError> {
-    let q: JointQuery = from_js("joint query", query)?;
+    let q: JointQuery = object_from_js("joint query", query)?;
     to_js(&JointPosterior::compute(&q)?.answer())
 }
 

@@ -4,7 +4,7 @@
 //! and their log odds along its axis for one reading, and retrains the
 //! learned model with another seed; it draws what it gets.
 
-use super::{from_js, to_js};
+use super::{object_from_js, to_js};
 use crate::forward::{BeamModel, BeamModelParams};
 use crate::inverse::learned::{mean_free_evidence, side_by_side, BeamLattice};
 use crate::inverse::training::{self, TrainingConfig};
@@ -15,8 +15,14 @@ use wasm_bindgen::prelude::*;
 extern "C" {
     /// The host's monotonic clock in milliseconds (browsers and Node both
     /// have `performance.now`): the core has no clock of its own in wasm.
-    #[wasm_bindgen(js_namespace = performance, js_name = now)]
-    fn performance_now() -> f64;
+    #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
+    fn performance_now() -> Result<f64, JsValue>;
+}
+
+/// Milliseconds on the host's clock; NaN (a timing of "unknown") on a host
+/// without `performance.now`, rather than an exception through wasm.
+fn now_ms() -> f64 {
+    performance_now().unwrap_or(f64::NAN)
 }
 
 /// Both models and the last training run, held in wasm memory.
@@ -63,11 +69,11 @@ struct Readout<'a> {
 
 /// Trains the learned model, timing sampling and fitting apart.
 fn train(config: &TrainingConfig) -> Result<(LearnedInverse, TrainingRun), JsError> {
-    let t0 = performance_now();
+    let t0 = now_ms();
     let set = training::sample_triplets(config)?;
-    let t1 = performance_now();
+    let t1 = now_ms();
     let (model, report) = training::fit(config, &set)?;
-    let t2 = performance_now();
+    let t2 = now_ms();
     let run = TrainingRun {
         seed: config.seed,
         triplets: set.triplets.len(),
@@ -123,8 +129,9 @@ impl InverseWorkbench {
 
     /// `{ run: { seed, triplets, epochs, maps, mapOccupancy, noReturns,
     /// occupiedFraction, sampleMs, fitMs, trainMs }, learned: { l0,
-    /// shortReading, freeEvidenceShort, freeEvidenceMaxRange }, handL0,
-    /// zMax, halfWidth, handHalfWidth, learnedHalfWidth, alpha, weights }`.
+    /// shortReading, freeEvidenceShort, freeEvidenceMaxRange, bandEnd },
+    /// handL0, zMax, halfWidth, handHalfWidth, learnedHalfWidth, alpha,
+    /// weights }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
         to_js(&Readout {
             run: &self.run,
@@ -150,7 +157,7 @@ impl InverseWorkbench {
     /// `{ handFree, learnedFree }`: the mean evidence on the axis in front
     /// of the reading (null when the reading is too short to have any).
     pub fn view(&self, z: f64, lattice: JsValue) -> Result<JsValue, JsError> {
-        let lattice: BeamLattice = from_js("lattice", lattice)?;
+        let lattice: BeamLattice = object_from_js("lattice", lattice)?;
         let v = side_by_side(&self.hand, &self.learned, z, &lattice)?;
         let out = js_sys::Object::new();
         let set = |key: &str, value: JsValue| -> Result<(), JsError> {
@@ -201,7 +208,7 @@ pub fn forward_density(z: f64, z_star: f64, params: JsValue) -> Result<f64, JsEr
     let params: BeamModelParams = if params.is_undefined() || params.is_null() {
         BeamModelParams::CHAPTER
     } else {
-        from_js("params", params)?
+        object_from_js("params", params)?
     };
     let model = BeamModel::new(params)?;
     crate::error::non_negative("z", z)?;

@@ -2,7 +2,10 @@
 //! ([`crate::sim::session::Weaver`]), and the W2/W3 benchmark workloads
 //! ([`crate::sim::weaver_workloads`]) for the wasm run under Node.
 
-use super::{from_js, to_js};
+use super::{
+    budget_from_js, coordinate_from_js, from_js, index_from_js, object_from_js, string_from_js,
+    to_js,
+};
 use crate::export;
 use crate::inverse::training::{self, TrainingConfig};
 use crate::sim::session::{ModelKind, PoseSource, Weaver, WeaverSettings};
@@ -23,7 +26,7 @@ impl MapWeaver {
         let settings: WeaverSettings = if settings.is_undefined() || settings.is_null() {
             WeaverSettings::default()
         } else {
-            from_js("settings", settings)?
+            object_from_js("settings", settings)?
         };
         Ok(MapWeaver(Weaver::new(settings)?))
     }
@@ -44,16 +47,17 @@ impl MapWeaver {
         self.0.geometry().resolution()
     }
 
-    /// Simulates and integrates up to `n` scans; returns how many were
-    /// taken (0 once the run's laps are done).
-    pub fn advance(&mut self, n: usize) -> Result<usize, JsError> {
-        Ok(self.0.advance(n)?)
+    /// Simulates and integrates up to `scans` scans (a whole number;
+    /// `Infinity` for the rest of the run); returns how many were taken (0
+    /// once the run's laps are done).
+    pub fn advance(&mut self, scans: f64) -> Result<usize, JsError> {
+        Ok(self.0.advance(budget_from_js("scans", scans)?)?)
     }
 
     /// Address of pane `pane`'s RGBA pixels (width x height x 4, north up)
     /// in wasm memory, as of the last scan.
-    pub fn pixels(&self, pane: usize) -> Result<usize, JsError> {
-        Ok(self.0.view(pane)?.rgba().as_ptr() as usize)
+    pub fn pixels(&self, pane: f64) -> Result<usize, JsError> {
+        Ok(self.0.view(pane_from_js(pane)?)?.rgba().as_ptr() as usize)
     }
 
     /// `{ scans, scansPerLap, lap, time, done, person, frameMs, panes: [...] }`.
@@ -63,23 +67,23 @@ impl MapWeaver {
 
     /// Entropy (bits) after each scan, from the empty map on.
     #[wasm_bindgen(js_name = entropyCurve)]
-    pub fn entropy_curve(&self, pane: usize) -> Result<Vec<f64>, JsError> {
-        Ok(self.0.entropy_curve(pane)?.to_vec())
+    pub fn entropy_curve(&self, pane: f64) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.entropy_curve(pane_from_js(pane)?)?.to_vec())
     }
 
     /// Brier score over the surveyed rooms after each scan.
     #[wasm_bindgen(js_name = brierCurve)]
-    pub fn brier_curve(&self, pane: usize) -> Result<Vec<f64>, JsError> {
-        Ok(self.0.brier_curve(pane)?.to_vec())
+    pub fn brier_curve(&self, pane: f64) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.brier_curve(pane_from_js(pane)?)?.to_vec())
     }
 
     /// The three tracked cells' log odds after each scan, interleaved:
     /// `[wall0, floor0, closet0, wall1, ...]`.
     #[wasm_bindgen(js_name = trackedHistory)]
-    pub fn tracked_history(&self, pane: usize) -> Result<Vec<f32>, JsError> {
+    pub fn tracked_history(&self, pane: f64) -> Result<Vec<f32>, JsError> {
         Ok(self
             .0
-            .tracked_history(pane)?
+            .tracked_history(pane_from_js(pane)?)?
             .iter()
             .flatten()
             .copied()
@@ -118,11 +122,16 @@ impl MapWeaver {
         to_js(&list)
     }
 
-    /// The cell under image column `col`, row `row` of pane `pane`:
-    /// `{ ix, iy, x, y, l, p, updates, occupied, unknown }`, or `null`
-    /// outside the map.
+    /// The cell under image column `col`, row `row` (whole numbers) of
+    /// pane `pane`: `{ ix, iy, x, y, l, p, updates, occupied, unknown }`, or
+    /// `null` outside the map.
     #[wasm_bindgen(js_name = cellInfo)]
-    pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<JsValue, JsError> {
+    pub fn cell_info(&self, pane: f64, col: f64, row: f64) -> Result<JsValue, JsError> {
+        let pane = pane_from_js(pane)?;
+        let (col, row) = (
+            coordinate_from_js("col", col)?,
+            coordinate_from_js("row", row)?,
+        );
         match self.0.cell_info(pane, col, row)? {
             Some(info) => to_js(&info),
             None => Ok(JsValue::NULL),
@@ -131,8 +140,8 @@ impl MapWeaver {
 
     /// What to draw over pane `pane`, in image units:
     /// `{ robot, nose, truth, beams, hits, person }`.
-    pub fn overlay(&self, pane: usize) -> Result<JsValue, JsError> {
-        to_js(&self.0.overlay(pane)?)
+    pub fn overlay(&self, pane: f64) -> Result<JsValue, JsError> {
+        to_js(&self.0.overlay(pane_from_js(pane)?)?)
     }
 
     #[wasm_bindgen(js_name = setPerson)]
@@ -141,28 +150,34 @@ impl MapWeaver {
     }
 
     #[wasm_bindgen(js_name = setClamp)]
-    pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<(), JsError> {
-        Ok(self.0.set_clamp(pane, clamp)?)
+    pub fn set_clamp(&mut self, pane: f64, clamp: f64) -> Result<(), JsError> {
+        Ok(self.0.set_clamp(pane_from_js(pane)?, clamp)?)
     }
 
     #[wasm_bindgen(js_name = setStrength)]
-    pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<(), JsError> {
-        Ok(self.0.set_strength(pane, strength)?)
+    pub fn set_strength(&mut self, pane: f64, strength: f64) -> Result<(), JsError> {
+        Ok(self.0.set_strength(pane_from_js(pane)?, strength)?)
     }
 
     /// `"hand-crafted"` or `"learned"`; rebuilds the pane over the scans so
     /// far.
     #[wasm_bindgen(js_name = setModel)]
-    pub fn set_model(&mut self, pane: usize, model: &str) -> Result<(), JsError> {
-        let model: ModelKind = from_js("model", JsValue::from_str(model))?;
+    pub fn set_model(&mut self, pane: f64, model: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(pane)?;
+        let name = string_from_js("model", &model, "\"hand-crafted\" or \"learned\"")?;
+        let model: ModelKind = from_js("model", JsValue::from_str(&name))?;
+        drop(name);
         Ok(self.0.set_model(pane, model)?)
     }
 
     /// `"oracle"` or `"dead-reckoning"`; rebuilds the pane over the scans
     /// so far.
     #[wasm_bindgen(js_name = setPoseSource)]
-    pub fn set_pose_source(&mut self, pane: usize, pose: &str) -> Result<(), JsError> {
-        let pose: PoseSource = from_js("pose source", JsValue::from_str(pose))?;
+    pub fn set_pose_source(&mut self, pane: f64, pose: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(pane)?;
+        let name = string_from_js("pose source", &pose, "\"oracle\" or \"dead-reckoning\"")?;
+        let pose: PoseSource = from_js("pose source", JsValue::from_str(&name))?;
+        drop(name);
         Ok(self.0.set_pose_source(pane, pose)?)
     }
 
@@ -182,7 +197,8 @@ impl MapWeaver {
     /// yaml }`, the YAML naming the image `apartment-left.pgm` or
     /// `apartment-right.pgm`.
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map(&self, pane: usize) -> Result<JsValue, JsError> {
+    pub fn export_map(&self, pane: f64) -> Result<JsValue, JsError> {
+        let pane = pane_from_js(pane)?;
         let side = if pane == 0 { "left" } else { "right" };
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         let out = js_sys::Object::new();
@@ -229,8 +245,8 @@ impl ApartmentFrameBench {
 
     /// One `integrate_scan` call into map `map` (0 hand-crafted, 1
     /// learned); returns the cells visited.
-    pub fn integrate(&mut self, map: usize) -> Result<usize, JsError> {
-        Ok(self.0.integrate(map)?.cells_visited)
+    pub fn integrate(&mut self, map: f64) -> Result<usize, JsError> {
+        Ok(self.0.integrate(index_from_js("map", map)?)?.cells_visited)
     }
 }
 
@@ -253,12 +269,25 @@ impl AllCellsVsTraversalBench {
     }
 
     /// Scan `k` by ray traversal; returns the cells visited.
-    pub fn traverse(&mut self, k: usize) -> Result<usize, JsError> {
-        Ok(self.0.traverse(k)?.cells_visited)
+    pub fn traverse(&mut self, k: f64) -> Result<usize, JsError> {
+        Ok(self.0.traverse(index_from_js("scan", k)?)?.cells_visited)
     }
 
     /// Scan `k` by the sweep over every cell; returns the cells visited.
-    pub fn sweep(&mut self, k: usize) -> Result<usize, JsError> {
-        Ok(self.0.sweep(k)?.cells_visited)
+    pub fn sweep(&mut self, k: f64) -> Result<usize, JsError> {
+        Ok(self.0.sweep(index_from_js("scan", k)?)?.cells_visited)
+    }
+}
+
+/// A pane index from JavaScript: 0 (left) or 1 (right), checked here with
+/// the value as JavaScript sent it (the core checks the range again).
+fn pane_from_js(pane: f64) -> Result<usize, JsError> {
+    if pane == 0.0 || pane == 1.0 {
+        Ok(pane as usize)
+    } else {
+        Err(JsError::new(&format!(
+            "invalid pane: {} (expected 0 (left) or 1 (right))",
+            crate::error::show(pane)
+        )))
     }
 }

@@ -1,7 +1,11 @@
 //! The JavaScript surface: one file per widget, each a thin wrapper that
-//! validates nothing itself (the core does), converts types, and turns
-//! [`crate::OccError`] into a JavaScript `Error` through `?` (`JsError`
-//! takes any `std::error::Error`). No algorithm lives here.
+//! converts types, and turns [`crate::OccError`] into a JavaScript `Error`
+//! through `?` (`JsError` takes any `std::error::Error`). No algorithm lives
+//! here. The core validates every value; the bindings check only what
+//! JavaScript's loose types can break before a value reaches it (a number
+//! where a string belongs, an array for a settings object, a fractional or
+//! negative index), with the helpers below, so that those too come back as
+//! an `Error` naming the parameter.
 
 use wasm_bindgen::prelude::*;
 
@@ -27,18 +31,158 @@ pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> 
         .map_err(|e| JsError::new(&format!("cannot pass a readout to JavaScript: {e}")))
 }
 
-/// Reads a settings object from JavaScript, naming the object in the error.
+/// Reads a value from JavaScript, naming what it is and, when one field of
+/// it is wrong, the path to that field (`invalid scene.sonar.sub_rays:
+/// ...`). Use [`object_from_js`] for settings objects; this one is for
+/// values that may legitimately be strings or numbers (an enum's name).
 pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
     what: &str,
     value: JsValue,
 ) -> Result<T, JsError> {
-    serde_wasm_bindgen::from_value(value).map_err(|e| {
+    let deserializer = serde_wasm_bindgen::Deserializer::from(value);
+    serde_path_to_error::deserialize(deserializer).map_err(|e| {
         // The library's message already reads "Error: ..." (it is a JS
         // error's text); keep only the reason.
-        let text = e.to_string();
+        let text = e.inner().to_string();
         let reason = text.strip_prefix("Error: ").unwrap_or(&text);
-        JsError::new(&format!("invalid {what}: {reason}"))
+        let path = e.path().to_string();
+        if path == "." {
+            JsError::new(&format!("invalid {what}: {reason}"))
+        } else {
+            JsError::new(&format!("invalid {what}.{path}: {reason}"))
+        }
     })
+}
+
+/// Reads a settings object: a plain object of named fields. Anything else
+/// (a string, a number, `null`, an array) is refused first: the
+/// deserializer would read an array's missing named fields as absent and
+/// quietly take every default.
+pub(crate) fn object_from_js<T: serde::de::DeserializeOwned>(
+    what: &str,
+    value: JsValue,
+) -> Result<T, JsError> {
+    if !value.is_object() || js_sys::Array::is_array(&value) {
+        return Err(JsError::new(&format!(
+            "invalid {what}: {} (expected an object of named settings)",
+            describe(&value)
+        )));
+    }
+    from_js(what, value)
+}
+
+/// A JavaScript value as a reader would write it: its JSON (cut short
+/// when long), or its type when it has no JSON (`undefined`, a function).
+pub(crate) fn describe(value: &JsValue) -> String {
+    const LONG: usize = 60;
+    // JSON writes NaN and the infinities as null.
+    if let Some(v) = value.as_f64() {
+        return crate::error::show(v);
+    }
+    match js_sys::JSON::stringify(value)
+        .ok()
+        .and_then(|s| s.as_string())
+    {
+        Some(text) if text.chars().count() > LONG => {
+            let head: String = text.chars().take(LONG).collect();
+            format!("{head}...")
+        }
+        Some(text) => text,
+        None if value.is_undefined() => "undefined".into(),
+        None => value
+            .js_typeof()
+            .as_string()
+            .map_or_else(|| "a value".into(), |t| format!("a {t}")),
+    }
+}
+
+/// True for a finite number without a fractional part.
+fn is_whole(value: f64) -> bool {
+    value.is_finite() && value.fract() == 0.0
+}
+
+/// An index from JavaScript (a pane, a scan, a map): a whole number from 0
+/// up. A JavaScript number reaches wasm as it is; converting it to an
+/// integer type in the glue would wrap -1 or 1e20 silently.
+pub(crate) fn index_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+    if is_whole(value) && value >= 0.0 && value <= usize::MAX as f64 {
+        Ok(value as usize)
+    } else {
+        Err(JsError::new(&format!(
+            "invalid {field}: {} (expected a whole number from 0 to {})",
+            crate::error::show(value),
+            usize::MAX
+        )))
+    }
+}
+
+/// A budget from JavaScript (scans to read, flips to make): a whole number
+/// from 0 up, where `Infinity`, or anything larger than the work there is,
+/// means "as many as there are".
+pub(crate) fn budget_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+    if value == f64::INFINITY || (is_whole(value) && value >= 0.0) {
+        // `as` saturates: past usize::MAX is "no limit" too.
+        Ok(value as usize)
+    } else {
+        Err(JsError::new(&format!(
+            "invalid {field}: {} (expected a whole number of at least 0, or Infinity)",
+            crate::error::show(value)
+        )))
+    }
+}
+
+/// A pixel or cell coordinate from JavaScript (a pointer position): a whole
+/// number. One outside every map (negative, or past `usize`) comes back as
+/// `usize::MAX`, which no map holds, so the caller answers "outside".
+pub(crate) fn coordinate_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+    if !is_whole(value) {
+        return Err(JsError::new(&format!(
+            "invalid {field}: {} (expected a whole number)",
+            crate::error::show(value)
+        )));
+    }
+    Ok(if value < 0.0 || value > usize::MAX as f64 {
+        usize::MAX
+    } else {
+        value as usize
+    })
+}
+
+/// A string parameter from JavaScript. Declared as `JsValue` rather than
+/// `&str`: the glue's own string conversion fails on a number or an object
+/// with a `TypeError` (or worse) that names nothing.
+pub(crate) fn string_from_js(
+    field: &str,
+    value: &JsValue,
+    expected: &str,
+) -> Result<String, JsError> {
+    value.as_string().ok_or_else(|| {
+        JsError::new(&format!(
+            "invalid {field}: {} (expected {expected})",
+            describe(value)
+        ))
+    })
+}
+
+/// Bytes from JavaScript: a `Uint8Array` (a Node `Buffer` is one) or an
+/// `ArrayBuffer`. Declared as `JsValue` rather than `&[u8]`: the glue's own
+/// copy reads any array-like without a word (a string as its characters'
+/// numbers, a number or an object as no bytes at all).
+pub(crate) fn bytes_from_js(
+    field: &str,
+    value: &JsValue,
+    expected: &str,
+) -> Result<Vec<u8>, JsError> {
+    if let Some(bytes) = value.dyn_ref::<js_sys::Uint8Array>() {
+        Ok(bytes.to_vec())
+    } else if value.is_instance_of::<js_sys::ArrayBuffer>() {
+        Ok(js_sys::Uint8Array::new(value).to_vec())
+    } else {
+        Err(JsError::new(&format!(
+            "invalid {field}: {} (expected {expected})",
+            describe(value)
+        )))
+    }
 }
 
 /// An RGBA image of a map, kept in wasm memory so that a widget draws it

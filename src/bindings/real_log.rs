@@ -3,24 +3,37 @@
 //! ([`LogMapSession`]), and the zip packing of an exported map pair that
 //! every widget's "Export map" button uses ([`zip_map_pair`]).
 
-use super::{from_js, to_js, Pixels};
+use super::{
+    budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, object_from_js,
+    string_from_js, to_js, Pixels,
+};
 use crate::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
 use crate::export;
 use crate::workloads;
 use std::io::Cursor;
 use wasm_bindgen::prelude::*;
 
+/// What a log's bytes may come as.
+const LOG_BYTES: &str = "the bytes of a log file: a Uint8Array or an ArrayBuffer";
+
 /// A parsed CARMEN log held in wasm memory.
 #[wasm_bindgen]
 pub struct LaserLog(CarmenLog);
 
-#[wasm_bindgen]
 impl LaserLog {
-    /// Parses a log (gzip or plain text). Malformed laser lines are errors
-    /// naming their line number.
-    #[wasm_bindgen(js_name = fromBytes)]
+    /// [`Self::from_bytes_js`] for Rust callers.
     pub fn from_bytes(bytes: &[u8]) -> Result<LaserLog, JsError> {
         Ok(LaserLog(carmen::parse_bytes(bytes)?))
+    }
+}
+
+#[wasm_bindgen]
+impl LaserLog {
+    /// Parses a log (a `Uint8Array` or `ArrayBuffer` of gzip or plain
+    /// text). Malformed laser lines are errors naming their line number.
+    #[wasm_bindgen(js_name = fromBytes)]
+    pub fn from_bytes_js(bytes: JsValue) -> Result<LaserLog, JsError> {
+        Self::from_bytes(&bytes_from_js("bytes", &bytes, LOG_BYTES)?)
     }
 
     #[wasm_bindgen(getter, js_name = scanCount)]
@@ -83,19 +96,11 @@ struct GeometryReport {
 
 #[wasm_bindgen]
 impl LogMapSession {
-    /// Takes the bytes of a log file (gzip or plain text); nothing is read
-    /// until [`Self::read`].
+    /// Takes the bytes of a log file (a `Uint8Array` or `ArrayBuffer` of
+    /// gzip or plain text); nothing is read until [`Self::read`].
     #[wasm_bindgen(constructor)]
-    pub fn new(bytes: Vec<u8>) -> LogMapSession {
-        LogMapSession {
-            bytes_total: bytes.len(),
-            loader: Some(LogLoader::new(Cursor::new(bytes))),
-            pending: None,
-            read_summary: None,
-            settings: LogMapSettings::default(),
-            build: None,
-            pixels: Pixels::default(),
-        }
+    pub fn new_js(bytes: JsValue) -> Result<LogMapSession, JsError> {
+        Ok(Self::new(bytes_from_js("bytes", &bytes, LOG_BYTES)?))
     }
 
     /// The default settings (those of BENCHMARKS.md W1):
@@ -105,32 +110,16 @@ impl LogMapSession {
         to_js(&LogMapSettings::default())
     }
 
-    /// Reads up to `max_scans` more laser lines and returns
-    /// `{ lines, scans, beams, bytesRead, bytesTotal, finished }`. When the
-    /// log is finished the map is set up; a malformed line is an error
-    /// naming its line number, and so is a log without laser lines. If the
-    /// settings make too large a grid for this log, that is an error too,
-    /// and the scans wait (`awaitingSettings`) for a `configure` that fits.
-    pub fn read(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        let Some(loader) = self.loader.as_mut() else {
-            return Err(JsError::new("the log has been read already"));
-        };
-        let progress = loader.read(max_scans)?;
-        if progress.finished {
-            self.read_summary = Some(progress);
-            if let Some(loader) = self.loader.take() {
-                let scans = loader.into_scans();
-                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
-                    self.pending = Some(scans);
-                    return Err(e.into());
-                }
-                self.build = Some(LogMapBuild::new(scans, self.settings)?);
-            }
-        }
-        to_js(&ReadReport {
-            progress,
-            bytes_total: self.bytes_total,
-        })
+    /// Reads up to `maxScans` more laser lines (a whole number; `Infinity`
+    /// for the rest of the log) and returns `{ lines, scans, beams,
+    /// bytesRead, bytesTotal, finished }`. When the log is finished the map
+    /// is set up; a malformed line is an error naming its line number, and
+    /// so is a log without laser lines. If the settings make too large a
+    /// grid for this log, that is an error too, and the scans wait
+    /// (`awaitingSettings`) for a `configure` that fits.
+    #[wasm_bindgen(js_name = read)]
+    pub fn read_js(&mut self, max_scans: f64) -> Result<JsValue, JsError> {
+        self.read(budget_from_js("maxScans", max_scans)?)
     }
 
     /// New settings (a partial object: missing fields keep the defaults;
@@ -152,7 +141,7 @@ impl LogMapSession {
                 }
             }
         }
-        let settings: LogMapSettings = from_js("settings", settings)?;
+        let settings: LogMapSettings = object_from_js("settings", settings)?;
         settings.validate()?;
         if let Some(build) = self.build.as_mut() {
             build.configure(settings)?;
@@ -206,11 +195,12 @@ impl LogMapSession {
         }
     }
 
-    /// Integrates up to `max_scans` more scans and returns
-    /// `{ scansDone, scansTarget, scansTotal, cellUpdates, beams, finished }`.
+    /// Integrates up to `maxScans` more scans (a whole number; `Infinity`
+    /// for all) and returns `{ scansDone, scansTarget, scansTotal,
+    /// cellUpdates, beams, finished }`.
     #[wasm_bindgen(js_name = buildChunk)]
-    pub fn build_chunk(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        to_js(&self.built_mut()?.advance(max_scans))
+    pub fn build_chunk_js(&mut self, max_scans: f64) -> Result<JsValue, JsError> {
+        self.build_chunk(budget_from_js("maxScans", max_scans)?)
     }
 
     /// The build's progress without doing any work.
@@ -220,7 +210,8 @@ impl LogMapSession {
 
     /// Scrubs to `scans` integrated scans; `buildChunk` then does the work
     /// (going back restarts from the first scan).
-    pub fn seek(&mut self, scans: usize) -> Result<(), JsError> {
+    pub fn seek(&mut self, scans: f64) -> Result<(), JsError> {
+        let scans = index_from_js("scan", scans)?;
         Ok(self.built_mut()?.seek(scans)?)
     }
 
@@ -235,10 +226,15 @@ impl LogMapSession {
         Ok(self.pixels.render(build.grid()) as usize)
     }
 
-    /// The cell under image pixel `(col, row)` (row 0 at the top):
-    /// `{ ix, iy, x, y, l, p, updates }`, or `null` outside the map.
+    /// The cell under image pixel `(col, row)` (row 0 at the top; whole
+    /// numbers): `{ ix, iy, x, y, l, p, updates }`, or `null` outside the
+    /// map.
     #[wasm_bindgen(js_name = cellAt)]
-    pub fn cell_at(&self, col: usize, row: usize) -> Result<JsValue, JsError> {
+    pub fn cell_at(&self, col: f64, row: f64) -> Result<JsValue, JsError> {
+        let (col, row) = (
+            coordinate_from_js("col", col)?,
+            coordinate_from_js("row", row)?,
+        );
         match self.built()?.readout_at_pixel(col, row) {
             Some(r) => to_js(&r),
             None => Ok(JsValue::NULL),
@@ -258,7 +254,8 @@ impl LogMapSession {
     }
 
     /// The heading of scan `k`'s laser, radians counter-clockwise from east.
-    pub fn heading(&self, k: usize) -> Result<f64, JsError> {
+    pub fn heading(&self, k: f64) -> Result<f64, JsError> {
+        let k = index_from_js("scan", k)?;
         self.built()?
             .scans()
             .pose(k)
@@ -267,16 +264,74 @@ impl LogMapSession {
     }
 
     /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the
-    /// YAML naming the image `NAME.pgm` (default `map.pgm`).
+    /// YAML naming the image `NAME.pgm` (`name` a string; `undefined` or
+    /// `null` for `map.pgm`).
     #[wasm_bindgen(js_name = exportMap)]
+    pub fn export_map_js(&self, name: JsValue) -> Result<JsValue, JsError> {
+        let name = if name.is_undefined() || name.is_null() {
+            None
+        } else {
+            Some(string_from_js(
+                "name",
+                &name,
+                "a file name, or nothing for map.pgm",
+            )?)
+        };
+        self.export_map(name)
+    }
+}
+
+/// Typed entry points for Rust callers (the JavaScript surface above
+/// checks what JavaScript sends, then calls these).
+impl LogMapSession {
+    /// [`Self::new_js`] for Rust callers.
+    pub fn new(bytes: Vec<u8>) -> LogMapSession {
+        LogMapSession {
+            bytes_total: bytes.len(),
+            loader: Some(LogLoader::new(Cursor::new(bytes))),
+            pending: None,
+            read_summary: None,
+            settings: LogMapSettings::default(),
+            build: None,
+            pixels: Pixels::default(),
+        }
+    }
+
+    /// [`Self::read_js`] for Rust callers, with the budget already a count.
+    pub fn read(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
+        let Some(loader) = self.loader.as_mut() else {
+            return Err(JsError::new("the log has been read already"));
+        };
+        let progress = loader.read(max_scans)?;
+        if progress.finished {
+            self.read_summary = Some(progress);
+            if let Some(loader) = self.loader.take() {
+                let scans = loader.into_scans();
+                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
+                    self.pending = Some(scans);
+                    return Err(e.into());
+                }
+                self.build = Some(LogMapBuild::new(scans, self.settings)?);
+            }
+        }
+        to_js(&ReadReport {
+            progress,
+            bytes_total: self.bytes_total,
+        })
+    }
+
+    /// [`Self::build_chunk_js`] for Rust callers.
+    pub fn build_chunk(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
+        to_js(&self.built_mut()?.advance(max_scans))
+    }
+
+    /// [`Self::export_map_js`] for Rust callers.
     pub fn export_map(&self, name: Option<String>) -> Result<JsValue, JsError> {
         let stem = export::file_stem(name.as_deref().unwrap_or(""));
         let pair = export::map_server_pair(self.built()?.grid(), &format!("{stem}.pgm"));
         pair_to_js(&pair.pgm, &pair.yaml)
     }
-}
 
-impl LogMapSession {
     fn built(&self) -> Result<&LogMapBuild, JsError> {
         self.build
             .as_ref()
@@ -306,10 +361,13 @@ fn pair_to_js(pgm: &[u8], yaml: &str) -> Result<JsValue, JsError> {
 /// Packs an exported pair into one zip download for `downloadMapPair`
 /// (widgets/lib/export.js): `{ fileName, bytes: Uint8Array }`, the archive
 /// holding `STEM.pgm` and `STEM.yaml` with the YAML's `image:` pointing at
-/// the PGM.
+/// the PGM. `name` and `yaml` are strings, `pgm` a `Uint8Array`.
 #[wasm_bindgen(js_name = zipMapPair)]
-pub fn zip_map_pair(name: &str, pgm: Vec<u8>, yaml: String) -> Result<JsValue, JsError> {
-    let (file_name, bytes) = export::zip_pair(&export::MapServerPair { pgm, yaml }, name);
+pub fn zip_map_pair(name: JsValue, pgm: JsValue, yaml: JsValue) -> Result<JsValue, JsError> {
+    let name = string_from_js("name", &name, "a file name")?;
+    let pgm = bytes_from_js("pgm", &pgm, "the Uint8Array of an exported pair")?;
+    let yaml = string_from_js("yaml", &yaml, "the YAML text of an exported pair")?;
+    let (file_name, bytes) = export::zip_pair(&export::MapServerPair { pgm, yaml }, &name);
     let out = js_sys::Object::new();
     js_sys::Reflect::set(&out, &"fileName".into(), &JsValue::from_str(&file_name))
         .and_then(|_| {

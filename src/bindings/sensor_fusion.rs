@@ -2,7 +2,7 @@
 //! sensor, max fusion (eq. 9.9) against summation. The widget steps the
 //! core, draws the four maps from wasm memory and reads small readouts.
 
-use super::{from_js, to_js, Pixels};
+use super::{object_from_js, string_from_js, to_js, Pixels};
 use crate::export;
 use crate::fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
@@ -30,12 +30,12 @@ impl SensorFusion {
         let scene: TableScene = if scene.is_undefined() || scene.is_null() {
             TableScene::default()
         } else {
-            from_js("scene", scene)?
+            object_from_js("scene", scene)?
         };
         let models: FusionModels = if models.is_undefined() || models.is_null() {
             FusionModels::default()
         } else {
-            from_js("models", models)?
+            object_from_js("models", models)?
         };
         Ok(SensorFusion {
             fusion: TableFusion::with_models(&scene, models)?,
@@ -97,8 +97,8 @@ impl SensorFusion {
     /// Renders one map (`"sonar"`, `"lidar"`, `"max"` or `"sum"`) to RGBA,
     /// north up, and returns the address of its `width * height * 4` bytes
     /// in wasm memory.
-    pub fn render(&mut self, which: &str) -> Result<usize, JsError> {
-        let k = map_index(which)?;
+    pub fn render(&mut self, which: JsValue) -> Result<usize, JsError> {
+        let k = map_index(&which)?;
         let grid = map_of(&self.fusion, k);
         let slot = self
             .pixels
@@ -109,9 +109,9 @@ impl SensorFusion {
 
     /// One map as a ROS `map_server` pair: `{ pgm: Uint8Array, yaml }`.
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map(&self, which: &str) -> Result<JsValue, JsError> {
-        let k = map_index(which)?;
-        let name = format!("table-{which}.pgm");
+    pub fn export_map(&self, which: JsValue) -> Result<JsValue, JsError> {
+        let k = map_index(&which)?;
+        let name = format!("table-{}.pgm", MAPS[k]);
         let pair = export::map_server_pair(map_of(&self.fusion, k), &name);
         let out = js_sys::Object::new();
         let set = |key: &str, value: JsValue| {
@@ -125,12 +125,13 @@ impl SensorFusion {
     }
 }
 
-fn map_index(which: &str) -> Result<usize, JsError> {
-    MAPS.iter().position(|&m| m == which).ok_or_else(|| {
-        JsError::new(&format!(
-            "invalid map: \"{which}\" (expected \"sonar\", \"lidar\", \"max\" or \"sum\")"
-        ))
-    })
+/// The index in [`MAPS`] of the map JavaScript named.
+fn map_index(which: &JsValue) -> Result<usize, JsError> {
+    const EXPECTED: &str = "\"sonar\", \"lidar\", \"max\" or \"sum\"";
+    let which = string_from_js("map", which, EXPECTED)?;
+    MAPS.iter()
+        .position(|&m| m == which)
+        .ok_or_else(|| JsError::new(&format!("invalid map: {which:?} (expected {EXPECTED})")))
 }
 
 fn map_of(f: &TableFusion, k: usize) -> &LogOddsGrid {

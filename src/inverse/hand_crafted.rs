@@ -54,7 +54,7 @@ impl HandCraftedParams {
         if self.beta > std::f64::consts::TAU {
             return Err(invalid(
                 "beta",
-                self.beta,
+                error::show(self.beta),
                 "an opening angle of at most 2 pi radians",
             ));
         }
@@ -92,7 +92,7 @@ impl HandCrafted {
             if !evidence.is_finite() {
                 return Err(invalid(
                     field,
-                    value,
+                    error::show(value),
                     "log odds within 3.4e38 of l0 (evidence is stored as f32)",
                 ));
             }
@@ -231,6 +231,8 @@ fn float_edge(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
 
     fn model() -> HandCrafted {
         HandCrafted::new(HandCraftedParams {
@@ -286,5 +288,54 @@ mod tests {
         let e = HandCraftedParams::from_probabilities(0.7, 0.3, 0.5, -0.2, 0.1, 5.0).unwrap_err();
         assert!(e.to_string().contains("alpha") && e.to_string().contains("-0.2"));
         assert!(HandCrafted::with_strength(*model().params(), f64::NAN).is_err());
+    }
+
+    #[test]
+    fn axis_profile_agrees_with_evidence_at_every_range() {
+        let mut rng = StdRng::seed_from_u64(3);
+        for _ in 0..2_000 {
+            let m = HandCrafted::new(HandCraftedParams {
+                alpha: rng.random_range(0.01..0.5),
+                beta: 0.1,
+                z_max: rng.random_range(1.0..40.0),
+                l_occ: rng.random_range(0.1..3.0),
+                l_free: rng.random_range(-3.0..-0.1),
+                l0: rng.random_range(-0.5..0.5),
+            })
+            .unwrap();
+            let z_max = m.params().z_max;
+            // Real returns, readings at and beyond z_max, and zero.
+            let z = match rng.random_range(0..4) {
+                0 => z_max,
+                1 => z_max * rng.random_range(1.0..3.0),
+                2 => 0.0,
+                _ => rng.random_range(0.0..z_max),
+            };
+            let p = m.axis_profile(z).expect("Table 9.2 is a step function");
+            let mut ranges: Vec<f64> = (0..40)
+                .map(|_| rng.random_range(-1.0..z_max + 1.0))
+                .collect();
+            // The edges themselves and their float neighbours.
+            for edge in [
+                p.free_until,
+                p.occupied_until,
+                z,
+                z - 0.5 * m.params().alpha,
+            ] {
+                ranges.extend([edge.next_down(), edge, edge.next_up()]);
+            }
+            for r in ranges {
+                assert_eq!(p.at(r), m.evidence(r, 0.0, z), "r = {r}, z = {z}, {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn axis_profile_of_a_no_return_is_free_out_to_z_max() {
+        let m = model();
+        let p = m.axis_profile(7.0).unwrap();
+        assert_eq!((p.free_until, p.occupied_until), (5.0, 5.0));
+        assert_eq!(p.at(4.99), -0.4f32);
+        assert_eq!(p.at(5.01), 0.0);
     }
 }

@@ -19,7 +19,7 @@ use crate::error::{self, invalid, Result};
 use crate::forward::BeamModelParams;
 use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::map_search::{ConeBeam, MapSearch, MapSearchSettings};
+use crate::map_search::{self as search, ConeBeam, MapSearch, MapSearchSettings};
 use crate::mapper::{sweep_scan, ScanStats};
 use crate::scan::{Pose, Scan};
 use rand::rngs::StdRng;
@@ -28,6 +28,14 @@ use rand::{Rng, SeedableRng};
 /// The most readings a scene may ask for (poses x sonars): the widget sweeps
 /// and climbs on them interactively.
 pub const MAX_READINGS: usize = 4096;
+
+/// The most cells a scene's map may hold: 125 times the chapter's 2,000
+/// (the chapter's room at 1 cm is 200,000). Every sweep step visits each
+/// cell and every MAP flip scans all of them for the best gain: at this
+/// size a sweep step takes about 12 ms and a whole climb a few tenths of a
+/// second natively, where a grid at the 16.7-million-cell limit of
+/// [`GridGeometry`] would hold the widget for minutes.
+pub const MAX_SCENE_CELLS: usize = 250_000;
 
 /// The sonar: cone, range, and how its readings are generated.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -134,13 +142,25 @@ impl DoorwayScene {
     }
 
     pub fn validate(&self) -> Result<()> {
-        GridGeometry::covering(
+        let g = GridGeometry::covering(
             self.min_x,
             self.min_y,
             self.max_x,
             self.max_y,
             self.resolution,
         )?;
+        if g.len() > MAX_SCENE_CELLS {
+            return Err(invalid(
+                "width x height",
+                format!(
+                    "{} x {} cells at resolution {}",
+                    g.width(),
+                    g.height(),
+                    error::show(self.resolution)
+                ),
+                "at most 250000 cells: a coarser resolution or a smaller room",
+            ));
+        }
         if self.poses.is_empty() {
             return Err(invalid("poses", "[]", "at least one pose"));
         }
@@ -183,7 +203,38 @@ impl DoorwayScene {
                 "between 1 and 1024 rays",
             ));
         }
+        // The MAP search's own limit, checked here before the readings are
+        // cast (casting them is the same order of work): the search would
+        // refuse the scene only after the sweep had cast it.
+        let work = search::raster_work(
+            readings,
+            self.sonar.sub_rays,
+            self.sonar.z_max,
+            self.resolution,
+        );
+        if !(work <= search::MAX_RASTER_WORK) {
+            return Err(invalid(
+                "poses x bearings_deg x sonar.sub_rays",
+                format!(
+                    "{readings} readings x {} sub-rays reaching {} m ({work:.2e} raster steps)",
+                    self.sonar.sub_rays,
+                    error::show(self.sonar.z_max),
+                ),
+                "at most 5e7 raster steps: fewer readings or sub-rays, a shorter sonar.z_max or a coarser resolution",
+            ));
+        }
         error::open_probability("prior", self.prior)?;
+        // The swept grid saturates at the default clamp: a prior whose log
+        // odds lie beyond it is refused here, under its own name, rather
+        // than as a clamp the scene does not have.
+        let clamp = FilterSettings::default().clamp;
+        if crate::grid::logit(self.prior).abs() > clamp {
+            return Err(invalid(
+                "prior",
+                self.prior,
+                "a prior whose log odds lie within the grid's clamp of 12 (about 6e-6 to 0.999994)",
+            ));
+        }
         Ok(())
     }
 
@@ -452,6 +503,9 @@ pub struct DoorwaySweep {
 
 impl DoorwaySweep {
     pub fn new(scene: &DoorwayScene) -> Result<Self> {
+        // Check the whole scene first, so that every error names the
+        // scene's own field (the model and grid below would name theirs).
+        scene.validate()?;
         let grid = LogOddsGrid::new(
             scene.geometry()?,
             FilterSettings {
@@ -548,5 +602,43 @@ mod tests {
             e.contains("poses x bearings_deg") && e.contains("7000"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn scenes_too_large_to_step_interactively_are_refused_before_any_work() {
+        // 1.5 mm cells: 8.9 million of them, accepted by the grid itself.
+        let s = DoorwayScene {
+            resolution: 0.0015,
+            ..DoorwayScene::standard()
+        };
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("width x height") && e.contains("3334 x 2667") && e.contains("250000"),
+            "{e}"
+        );
+        assert!(DoorwaySweep::new(&s).is_err() && map_search(&s).is_err());
+        // The chapter's room at 1 cm (200,000 cells) is fine.
+        let fine = DoorwayScene {
+            resolution: 0.01,
+            ..DoorwayScene::standard()
+        };
+        fine.validate().unwrap();
+        // 4,096 readings of 1,024 sub-rays at 1 cm: the MAP search's
+        // raster limit, refused by the scene before the sweep casts them.
+        let mut s = fine.clone();
+        s.poses = (0..64)
+            .map(|k| Pose {
+                x: 1.0 + 0.04 * k as f64,
+                ..s.poses[0]
+            })
+            .collect();
+        s.bearings_deg = (0..64).map(|k| -60.0 + 2.0 * k as f64).collect();
+        s.sonar.sub_rays = 1024;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("poses x bearings_deg x sonar.sub_rays") && e.contains("5e7"),
+            "{e}"
+        );
+        assert!(DoorwaySweep::new(&s).is_err());
     }
 }

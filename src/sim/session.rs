@@ -37,6 +37,11 @@ pub const MAX_LAPS: usize = 20;
 pub const MAX_READINGS: usize = 10_000_000;
 /// The strongest evidence the strength slider may ask for.
 pub const MAX_STRENGTH: f64 = 10.0;
+/// The most SGD updates (triplets x epochs) a run's training may ask for:
+/// about 26 times the default 24,000 x 8, a couple of seconds of fitting as
+/// wasm. The training's own bounds (a million triplets, 200 epochs) are
+/// each fine alone, but together they would hold the widget for a minute.
+pub const MAX_TRAINING_UPDATES: u64 = 5_000_000;
 /// How many recent frame times the "ms per frame" readout is the median of.
 const FRAME_WINDOW: usize = 31;
 
@@ -144,6 +149,17 @@ impl WeaverSettings {
             validate_pane(k, p)?;
         }
         self.training.validate()?;
+        let updates = self.training.triplets as u64 * self.training.epochs as u64;
+        if updates > MAX_TRAINING_UPDATES {
+            return Err(invalid(
+                "training.triplets x training.epochs",
+                format!(
+                    "{} x {} = {updates}",
+                    self.training.triplets, self.training.epochs
+                ),
+                "at most 5000000 updates: fewer triplets or epochs",
+            ));
+        }
         self.scene.validate()?;
         let readings = self
             .laps
@@ -167,8 +183,29 @@ fn default_right_model() -> ModelKind {
 }
 
 fn validate_pane(k: usize, p: &PaneSettings) -> Result<()> {
-    error::positive(&format!("panes[{k}].clamp"), p.clamp)?;
+    // The pane's grid (prior 0.5) must accept the clamp; say so under the
+    // pane's own name.
+    FilterSettings {
+        prior: 0.5,
+        clamp: p.clamp,
+    }
+    .validate()
+    .map_err(|e| pane_clamp_error(k, e))?;
     check_strength(k, p.strength)
+}
+
+/// A grid's clamp error, renamed to pane `k`'s field.
+fn pane_clamp_error(k: usize, e: crate::OccError) -> crate::OccError {
+    match e {
+        crate::OccError::InvalidParameter {
+            value, expected, ..
+        } => crate::OccError::InvalidParameter {
+            field: format!("panes[{k}].clamp"),
+            value,
+            expected,
+        },
+        other => other,
+    }
 }
 
 fn check_strength(k: usize, s: f64) -> Result<()> {
@@ -624,16 +661,9 @@ impl Weaver {
     /// later scans saturate at it.
     pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<()> {
         let p = self.pane_mut(pane)?;
-        p.grid.set_clamp(clamp).map_err(|e| match e {
-            crate::OccError::InvalidParameter {
-                value, expected, ..
-            } => crate::OccError::InvalidParameter {
-                field: format!("panes[{pane}].clamp"),
-                value,
-                expected,
-            },
-            other => other,
-        })?;
+        p.grid
+            .set_clamp(clamp)
+            .map_err(|e| pane_clamp_error(pane, e))?;
         p.settings.clamp = clamp;
         p.view.sync(&p.grid);
         self.settings.panes[pane].clamp = clamp;
@@ -806,6 +836,28 @@ mod tests {
             let b = grid.brier_score(w.ground_truth(), None).unwrap();
             assert!((w.view(k).unwrap().brier_all() - b).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn training_past_the_update_limit_is_refused_before_it_starts() {
+        let mut s = WeaverSettings::default();
+        s.training.triplets = 1_000_000;
+        s.training.epochs = 200;
+        let e = Weaver::new(s.clone()).err().unwrap().to_string();
+        assert!(
+            e.contains("training.triplets x training.epochs")
+                && e.contains("200000000")
+                && e.contains("5000000"),
+            "{e}"
+        );
+        // Each alone, at its own maximum, is fine.
+        s.training.epochs = 5;
+        s.validate().unwrap();
+        s.training = TrainingConfig {
+            epochs: 200,
+            ..TrainingConfig::default()
+        };
+        s.validate().unwrap();
     }
 
     #[test]

@@ -37,6 +37,25 @@ pub const MAX_LIDAR_BEAMS: usize = 2_048;
 pub const MAX_SONARS: usize = 256;
 pub const MAX_SUB_RAYS: usize = 256;
 
+/// Each bound above is harmless alone; together they are not (20,000 steps
+/// of 256 sonars of 256 sub-rays is minutes of casting). The products are
+/// bounded too, at multiples of the chapter's scene (81 steps, 16 sonars of
+/// 25 sub-rays, 360 LiDAR beams, 12,000 cells), so that building a scene
+/// or rebuilding its maps stays within about a second natively.
+///
+/// Cells of the map: about 20 times the chapter's (its room at 1.2 cm).
+/// Every step sweeps every cell twice (Table 9.1 for the sonar's cone).
+pub const MAX_SCENE_CELLS: usize = 250_000;
+/// Sonar sub-rays cast over the run (steps x sonars x sub-rays): about 60
+/// times the chapter's 32,400.
+pub const MAX_SONAR_RAYS: usize = 2_000_000;
+/// LiDAR beams cast over the run (steps x beams): about 70 times the
+/// chapter's 29,160, and 12 laps at the slider's 2,048 beams.
+pub const MAX_LIDAR_RAYS: usize = 2_000_000;
+/// Cells swept over the run (steps x cells): about 25 times the chapter's
+/// 972,000. Changing the LiDAR's beam count re-sweeps up to this many.
+pub const MAX_SWEEP_CELLS: usize = 25_000_000;
+
 /// Added to the seed of the LiDAR's noise stream, so that the two sensors
 /// never share random numbers (any odd constant would do; this is the
 /// 64-bit golden-ratio constant).
@@ -213,7 +232,19 @@ impl TableScene {
 
     /// Checks everything [`TableScene::build`] relies on.
     pub fn validate(&self) -> Result<()> {
-        self.geometry()?;
+        let g = self.geometry()?;
+        if g.len() > MAX_SCENE_CELLS {
+            return Err(invalid(
+                "width x height",
+                format!(
+                    "{} x {} cells at resolution {}",
+                    g.width(),
+                    g.height(),
+                    error::show(self.resolution)
+                ),
+                "at most 250000 cells: a coarser resolution or a smaller room",
+            ));
+        }
         error::positive("wall", self.wall)?;
         let [rw, rh] = self.room;
         if 2.0 * self.wall >= rw.min(rh) {
@@ -324,6 +355,41 @@ impl TableScene {
         }
         error::positive("lidar.z_max", l.z_max)?;
         error::non_negative("lidar.sigma", l.sigma)?;
+        self.check_work(steps as usize, g.len())
+    }
+
+    /// The bounds on the run's total work (see [`MAX_SONAR_RAYS`]), once
+    /// each factor is known to be within its own bound. In 64 bits: on
+    /// wasm32, 20,000 steps x 250,000 cells is past `usize`, while no
+    /// product of the bounded factors comes near `u64::MAX`.
+    fn check_work(&self, steps: usize, cells: usize) -> Result<()> {
+        let (s, l) = (&self.sonar, &self.lidar);
+        let [steps, cells, count, sub_rays, beams] =
+            [steps, cells, s.count, s.sub_rays, l.beams].map(|n| n as u64);
+        let sonar_rays = steps * count * sub_rays;
+        if sonar_rays > MAX_SONAR_RAYS as u64 {
+            return Err(invalid(
+                "steps x sonar.count x sonar.sub_rays",
+                format!("{steps} x {count} x {sub_rays} = {sonar_rays}"),
+                "at most 2000000 sonar sub-rays per run: fewer laps, a longer step, fewer sonars or sub-rays",
+            ));
+        }
+        let lidar_rays = steps * beams;
+        if lidar_rays > MAX_LIDAR_RAYS as u64 {
+            return Err(invalid(
+                "steps x lidar.beams",
+                format!("{steps} x {beams} = {lidar_rays}"),
+                "at most 2000000 LiDAR beams per run: fewer laps, a longer step or fewer beams",
+            ));
+        }
+        let swept = steps * cells;
+        if swept > MAX_SWEEP_CELLS as u64 {
+            return Err(invalid(
+                "steps x width x height",
+                format!("{steps} x {cells} = {swept}"),
+                "at most 25000000 cells swept per run: fewer laps, a longer step, a coarser resolution or a smaller room",
+            ));
+        }
         Ok(())
     }
 
@@ -681,5 +747,67 @@ mod tests {
             ..d()
         })
         .contains("room[0]"));
+    }
+
+    #[test]
+    fn work_past_the_run_limits_is_refused_naming_the_factors_and_the_limit() {
+        let e = |s: TableScene| s.validate().unwrap_err().to_string();
+        let d = TableScene::default;
+        // About 20,000 steps (a 0.41 mm step) and every other count at its
+        // own maximum: minutes of casting before.
+        let mut s = TableScene {
+            step: 0.00041,
+            ..d()
+        };
+        s.sonar.count = MAX_SONARS;
+        s.sonar.sub_rays = MAX_SUB_RAYS;
+        s.lidar.beams = MAX_LIDAR_BEAMS;
+        let text = e(s);
+        assert!(
+            text.contains("steps x sonar.count x sonar.sub_rays") && text.contains("2000000"),
+            "{text}"
+        );
+        // 25 laps (2,025 steps) of the chapter's scene pass every bound;
+        // 2,048 LiDAR beams on them do not.
+        let mut s = TableScene { laps: 25, ..d() };
+        s.validate().unwrap();
+        s.lidar.beams = MAX_LIDAR_BEAMS;
+        let text = e(s);
+        assert!(
+            text.contains("steps x lidar.beams") && text.contains("2000000"),
+            "{text}"
+        );
+        // 1 cm cells: 300,000 of them.
+        let text = e(TableScene {
+            resolution: 0.01,
+            ..d()
+        });
+        assert!(
+            text.contains("width x height")
+                && text.contains("600 x 500")
+                && text.contains("250000"),
+            "{text}"
+        );
+        // 2.5 cm cells (48,000) over 7 laps: 27 million cells swept.
+        let text = e(TableScene {
+            resolution: 0.025,
+            laps: 7,
+            ..d()
+        });
+        assert!(
+            text.contains("steps x width x height") && text.contains("25000000"),
+            "{text}"
+        );
+        // The slider's whole range stays open on the chapter's lap.
+        for beams in [1, 360, MAX_LIDAR_BEAMS] {
+            d().with_lidar_beams(beams).unwrap();
+        }
+        TableScene {
+            resolution: 0.025,
+            laps: 5,
+            ..d()
+        }
+        .validate()
+        .unwrap();
     }
 }

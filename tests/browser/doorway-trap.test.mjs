@@ -117,7 +117,7 @@ test('stepping the MAP climb updates the per-beam bars and the objective; it end
   await screenshot(w, 'doorway-trap-converged');
 
   // Both maps leave as ROS map_server pairs (one zip each).
-  for (const [label, file] of [['Export the MAP map', 'doorway-map.zip'], ['Export the swept map', 'doorway-sweep.zip']]) {
+  for (const [label, file] of [['Export map (MAP map)', 'doorway-map.zip'], ['Export map (swept map)', 'doorway-sweep.zip']]) {
     const [download] = await Promise.all([page.waitForEvent('download'), w.getByRole('button', { name: label }).click()]);
     assert.equal(download.suggestedFilename(), file);
   }

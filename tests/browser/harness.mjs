@@ -2,6 +2,7 @@
 // against the project's own server on a free loopback port, and collects
 // every console error and uncaught page error.
 import fs from 'node:fs';
+import http from 'node:http';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
 import { listen } from '../../scripts/serve.mjs';
@@ -34,20 +35,60 @@ export async function baseUrl() {
 }
 
 /**
- * Opens `urlPath` and returns `{ page, errors, close }`. `errors` holds the
- * text of every console error and page error seen so far.
+ * Opens `urlPath` and returns `{ page, errors, logs, close }`. `errors`
+ * holds the text of every console error and page error seen so far, `logs`
+ * every console message as `{ type, text }`.
  */
 export async function openPage(urlPath = '/', { viewport = { width: 1200, height: 900 }, reducedMotion = 'no-preference', deviceScaleFactor = 1 } = {}) {
   const { port, browser } = await startShared();
   const context = await browser.newContext({ viewport, reducedMotion, deviceScaleFactor });
   const page = await context.newPage();
   const errors = [];
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  // Content-Security-Policy violations become console errors too (Chromium
+  // logs most of them itself; this catches every one, with its directive).
+  await page.addInitScript(() => {
+    document.addEventListener('securitypolicyviolation', (e) => {
+      console.error(`CSP violation: ${e.violatedDirective} blocked ${e.blockedURI || 'inline code'}`);
+    });
+  });
+  const logs = [];
+  page.on('console', (m) => {
+    logs.push({ type: m.type(), text: m.text() });
+    if (m.type() === 'error') errors.push(m.text());
+  });
   page.on('pageerror', (e) => errors.push(String(e)));
   page.on('requestfailed', (r) => errors.push(`request failed: ${r.url()}`));
   const url = urlPath.startsWith('http') ? urlPath : `http://127.0.0.1:${port}${urlPath}`;
   await page.goto(url, { waitUntil: 'load' });
-  return { page, errors, close: () => context.close() };
+  return { page, errors, logs, close: () => context.close() };
+}
+
+/**
+ * Serves `pages` (URL path → HTML text) from a second server on another
+ * loopback port: another origin, like an instructor's own site that embeds
+ * widgets from the project's server. `headers` are added to every page
+ * (e.g. a Content-Security-Policy). Resolves to `{ origin, close() }`.
+ */
+export async function serveForeign(pages, { headers = {} } = {}) {
+  const server = http.createServer((req, res) => {
+    const { pathname } = new URL(req.url, 'http://localhost');
+    const body = pages[pathname];
+    if (body === undefined) {
+      res.writeHead(404, { 'Content-Type': 'text/plain; charset=utf-8' });
+      res.end(`Not found: ${pathname}\n`);
+      return;
+    }
+    res.writeHead(200, { 'Content-Type': 'text/html; charset=utf-8', 'Cache-Control': 'no-store', ...headers });
+    res.end(body);
+  });
+  await new Promise((resolve, reject) => {
+    server.once('error', reject);
+    server.listen(0, '127.0.0.1', resolve);
+  });
+  return {
+    origin: `http://127.0.0.1:${server.address().port}`,
+    close: () => new Promise((r) => server.close(r)),
+  };
 }
 
 /** Saves a screenshot of a locator or page under tests/browser/screenshots/. */

@@ -114,19 +114,28 @@ test('retraining with another seed gives another model; a bad seed keeps the cur
   await close();
 });
 
-test('a bad reading attribute is reported in the widget', async () => {
+test('a bad reading attribute is reported in the widget, which keeps the reading it shows', async () => {
   const { page, errors, close } = await openPage('/');
   const w = page.locator(SELECTOR);
   await w.scrollIntoViewIfNeeded();
   await until(page, 'state', 'ready');
+  const drawn = await state(w);
   await w.evaluate((el) => el.setAttribute('reading', '-1'));
   const box = w.locator('.occgrid-error');
   await box.waitFor();
-  assert.match(await box.textContent(), /invalid z: -1/);
+  const message = /invalid reading: "-1" \(expected a number from 0\.2 to 8 m in steps of 0\.05\)/;
+  assert.match(await box.textContent(), message);
+  assert.equal(await box.getAttribute('role'), 'alert');
+  const kept = await state(w);
+  assert.equal(kept.reading, '2');
+  assert.equal(kept.learnedFree, drawn.learnedFree);
+  assert.equal(await w.getByLabel('Reading z').inputValue(), '2');
   await w.evaluate((el) => el.setAttribute('reading', '3.5'));
   await until(page, 'reading', '3.5');
   assert.equal(await box.count(), 0, 'a good value clears the error');
+  assert.equal(await w.getByLabel('Reading z').inputValue(), '3.5');
   assert.equal(errors.length, 1);
-  assert.match(errors[0], /invalid z: -1/);
+  assert.match(errors[0], /^occgrid-inverse-workbench: /);
+  assert.match(errors[0], message);
   await close();
 });

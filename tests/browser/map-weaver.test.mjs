@@ -139,7 +139,7 @@ test('plays the lap with falling entropy, reacts to the person and the oracle, r
   // Export: the left map leaves as a map_server pair in one zip.
   const [download] = await Promise.all([
     page.waitForEvent('download'),
-    w.getByRole('button', { name: 'Export the left map' }).click(),
+    w.getByRole('button', { name: 'Export map (left)' }).click(),
   ]);
   assert.equal(download.suggestedFilename(), 'apartment-left.zip');
 

@@ -101,7 +101,7 @@ test('export map saves the max-fused map as a map_server PGM and YAML pair', asy
   for (let i = 0; i < 10; i++) await w.getByRole('button', { name: 'Step' }).click();
   const [download] = await Promise.all([
     page.waitForEvent('download'),
-    w.getByRole('button', { name: 'Export the max fusion' }).click(),
+    w.getByRole('button', { name: 'Export map (max fusion)' }).click(),
   ]);
   assert.equal(download.suggestedFilename(), 'table-max.zip');
   const chunks = [];

@@ -185,8 +185,21 @@ export class AttributeReader {
     this.host = host;
     this.spec = spec;
     this.last = {};
+    this.errors = [];
     this.logged = new Set();
     for (const [name, s] of Object.entries(spec)) this.last[name] = s.default === undefined ? undefined : s.type.parse(s.default, name);
+    // Names outside the table are not observed attributes: watch for them
+    // coming and going (the widget hears about its own names itself).
+    if ('MutationObserver' in window) {
+      new MutationObserver((records) => {
+        if (records.some((r) => !(r.attributeName in spec) && !isGlobal(r.attributeName))) this.report(this.errors, this.unknown());
+      }).observe(host, { attributes: true });
+    }
+  }
+
+  /** Attribute names of the host that neither the table nor HTML knows. */
+  unknown() {
+    return this.host.getAttributeNames().filter((n) => !(n in this.spec) && !isGlobal(n));
   }
 
   /**
@@ -208,8 +221,8 @@ export class AttributeReader {
         errors.push(e.message);
       }
     }
-    const unknown = this.host.getAttributeNames().filter((n) => !(n in this.spec) && !isGlobal(n));
-    this.report(errors, unknown);
+    this.errors = errors;
+    this.report(errors, this.unknown());
     return { ...this.last };
   }
 

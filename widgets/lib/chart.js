@@ -12,8 +12,36 @@ export const COLORS = {
   series: ['#1a1a1a', '#d7191c', '#7b3294', '#e66101'],
 };
 
+/**
+ * Width of a y axis that fits its longest tick label (uPlot's fixed
+ * default clips labels such as "20,000" into the axis title).
+ */
+function fitAxis(self, values, axisIdx, cycleNum) {
+  const axis = self.axes[axisIdx];
+  if (cycleNum > 1) return axis._size;
+  let size = axis.ticks.size + axis.gap;
+  const longest = (values ?? []).reduce((a, v) => (String(v).length > a.length ? String(v) : a), '');
+  if (longest) {
+    self.ctx.font = axis.font[0];
+    size += self.ctx.measureText(longest).width / (window.devicePixelRatio || 1);
+  }
+  return Math.max(40, Math.ceil(size) + 4);
+}
+
 function sizeOf(container, height) {
   return { width: Math.max(160, Math.floor(container.clientWidth || 320)), height };
+}
+
+/**
+ * A chart is one image to a screen reader: its container gets role="img"
+ * and a label (the widget replaces it with the values in words as they
+ * change), and uPlot's own canvas and legend are hidden from the
+ * accessibility tree so they are not read as unnamed parts.
+ */
+function describe(container, plot, fallback) {
+  if (!container.hasAttribute('role')) container.setAttribute('role', 'img');
+  if (!container.hasAttribute('aria-label')) container.setAttribute('aria-label', fallback);
+  plot.root.setAttribute('aria-hidden', 'true');
 }
 
 function followWidth(container, plot, height) {
@@ -30,7 +58,7 @@ export function lineChart(container, { title, xLabel, yLabel, series, height = 1
     title,
     ...sizeOf(container, height),
     scales: { x: { time: false }, y: yRange ? { range: yRange } : {} },
-    axes: [{ label: xLabel }, { label: yLabel }],
+    axes: [{ label: xLabel }, { label: yLabel, size: fitAxis }],
     legend: { live: false },
     cursor: { drag: { x: false, y: false } },
     series: [
@@ -46,6 +74,7 @@ export function lineChart(container, { title, xLabel, yLabel, series, height = 1
   };
   const empty = [[], ...series.map(() => [])];
   const plot = new uPlot(opts, empty, container);
+  describe(container, plot, title || `${yLabel} against ${xLabel}: ${series.map((s) => s.label).join(', ')}`);
   followWidth(container, plot, height);
   return { plot, setData: (x, ...ys) => plot.setData([x, ...ys]) };
 }
@@ -64,12 +93,13 @@ export function barChart(container, { title, yLabel, color = COLORS.evidence, he
       x: { time: false, range: (u, lo, hi) => [lo - 0.6, hi + 0.6] },
       y: { range: (u, lo, hi) => { const a = Math.min(0, lo), b = Math.max(0, hi); return a === b ? [-1, 1] : [a - 0.05 * (b - a), b + 0.05 * (b - a)]; } },
     },
-    axes: [{ values: (u, ticks) => ticks.map((t) => labels[t] ?? '') }, { label: yLabel }],
+    axes: [{ values: (u, ticks) => ticks.map((t) => labels[t] ?? '') }, { label: yLabel, size: fitAxis }],
     legend: { show: false },
     cursor: { show: false },
     series: [{}, { label: yLabel, fill: color, stroke: color, paths: uPlot.paths.bars({ size: [0.7, 40] }), points: { show: false } }],
   };
   const plot = new uPlot(opts, [[], []], container);
+  describe(container, plot, title || `bar chart of ${yLabel}`);
   followWidth(container, plot, height);
   return {
     plot,

@@ -171,7 +171,8 @@ export function trackVisibility(element, onChange) {
     onChange(true);
     return () => {};
   }
-  const io = new IntersectionObserver((entries) => onChange(entries.some((e) => e.isIntersecting)));
+  // Entries arrive in time order: the last one is the current state.
+  const io = new IntersectionObserver((entries) => onChange(entries[entries.length - 1].isIntersecting));
   io.observe(element);
   return () => io.disconnect();
 }

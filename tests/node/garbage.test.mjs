@@ -1,0 +1,169 @@
+// SPEC §12 from the JavaScript side of the glue: what a page actually
+// passes — strings from attributes, undefined, objects where numbers
+// belong, negative and fractional counts — must come back as an Error
+// naming the field (or be a harmless no-op), never as a dead module, and
+// the widget objects must keep working. Complements tests/wasm_garbage.rs,
+// which calls the same bindings from Rust. Needs pkg/ (npm run build).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { loadCore } from '../../scripts/lib/load-core.mjs';
+
+const { core } = await loadCore();
+
+/** Asserts that `f` throws an Error whose message names every word. */
+function refuses(f, ...words) {
+  let error;
+  try {
+    f();
+  } catch (e) {
+    error = e;
+  }
+  assert.ok(error instanceof Error, `expected an Error naming ${words.join(', ')}, got ${error}`);
+  for (const w of words) assert.ok(error.message.includes(w), `${JSON.stringify(error.message)} should name ${w}`);
+  return error.message;
+}
+
+test('the cell filter refuses strings, undefined and objects for its numbers', () => {
+  refuses(() => core.runCellFilter('0.7x', 0.3, 0.5, 12, new Uint8Array([1]), true), 'p_occ');
+  refuses(() => core.runCellFilter(0.7, undefined, 0.5, 12, new Uint8Array([1]), true), 'p_free');
+  refuses(() => core.runCellFilter(0.7, 0.3, {}, 12, new Uint8Array([1]), true), 'prior');
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, '-3', new Uint8Array([1]), true), 'clamp', '-3');
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 9]), true), 'readings[1]');
+  const t = core.runCellFilter('0.7', '0.3', '0.5', '12', new Uint8Array([1, 1, 0]), 1);
+  assert.equal(t.steps.length, 3, 'numeric strings are numbers to the glue');
+  // Readings are a Uint8Array or an array of 0s and 1s; the glue's own
+  // copy read '101' as three bytes and 5 as none, and wrapped 256 to 0.
+  for (const bad of ['101', 5, undefined, null, {}]) {
+    refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, bad, true), 'invalid readings', 'Uint8Array');
+  }
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, [1, 256], true), 'readings[1]', '256');
+  assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, [1, 0], true).steps.length, 2);
+});
+
+test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
+  refuses(() => new core.MapWeaver('3 laps'), 'settings');
+  refuses(() => new core.MapWeaver({ laps: 0 }), 'laps');
+  refuses(() => new core.MapWeaver({ laps: '3' }), 'settings');
+  refuses(() => new core.MapWeaver({ panes: [{ clamp: -1 }, {}] }), 'panes[0].clamp');
+  refuses(() => new core.MapWeaver({ seed: 'x' }), 'settings.seed');
+  refuses(() => new core.MapWeaver([1]), 'settings', '[1]', 'expected an object');
+  refuses(() => new core.MapWeaver({ training: { triplets: 1e6, epochs: 200 } }), 'training.triplets x training.epochs', '5000000');
+  const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
+  assert.equal(w.advance(3), 3);
+  const before = JSON.stringify(w.readout());
+  refuses(() => w.setClamp(0, 'high'), 'panes[0].clamp', 'NaN');
+  refuses(() => w.setClamp(0, undefined), 'panes[0].clamp');
+  refuses(() => w.setStrength(1, '11'), 'panes[1].strength', '11');
+  // A non-string for a string parameter is our Error naming the
+  // parameter, not a failure inside the generated glue.
+  for (const bad of [42, undefined, null, {}, ['x'], true]) {
+    const m = refuses(() => w.setModel(0, bad), 'invalid model', '"hand-crafted" or "learned"');
+    assert.ok(!m.includes('memory access'), m);
+    refuses(() => w.setPoseSource(1, bad), 'invalid pose source', '"oracle" or "dead-reckoning"');
+  }
+  refuses(() => w.setModel(0, 'magic'), 'model', 'magic');
+  refuses(() => w.setPoseSource(1, ''), 'pose source');
+  refuses(() => w.setClamp(2, 3), 'pane');
+  // Indices are whole numbers in range: the glue once wrapped -1 and
+  // 2^32 and truncated 1.5 to a valid pane.
+  for (const pane of [-1, 1.5, 2 ** 32, 1.5e10, NaN, Infinity, 'left', undefined]) {
+    refuses(() => w.pixels(pane), 'pane');
+    refuses(() => w.overlay(pane), 'pane');
+    refuses(() => w.setStrength(pane, 1), 'pane');
+    refuses(() => w.exportMap(pane), 'pane');
+  }
+  refuses(() => w.cellInfo(0, 0.5, 0), 'col', '0.5');
+  refuses(() => w.cellInfo(0, 0, 'x'), 'row', 'NaN');
+  for (const n of [-1, 0.5, NaN, 'many']) refuses(() => w.advance(n), 'scans');
+  w.recordFrameMs('slow');
+  w.recordFrameMs(-1);
+  assert.equal(JSON.stringify(w.readout()), before, 'refused calls changed nothing');
+  assert.equal(w.cellInfo(0, -1, 0), null);
+  assert.equal(w.cellInfo(0, 0, 1e12), null);
+  assert.equal(w.advance(0), 0);
+  assert.equal(w.advance(2), 2, 'still maps');
+  w.setModel(0, 'learned');
+  w.setPoseSource(1, 'dead-reckoning');
+  assert.equal(w.advance(1), 1);
+  assert.ok(w.exportMap(1).pgm.length > 0);
+  assert.ok(w.pixels(1) > 0);
+  w.free();
+});
+
+test('the doorway trap, the fusion widget and the log reader refuse garbage by name', () => {
+  refuses(() => new core.DoorwayTrap({ prior: 'half' }), 'scene');
+  refuses(() => new core.DoorwayTrap({ prior: 0 }), 'prior');
+  refuses(() => new core.DoorwayTrap({ sonar: { beta_deg: 180 } }), 'sonar.beta_deg');
+  refuses(() => new core.DoorwayTrap({ seed: 'seven' }), 'scene.seed');
+  refuses(() => new core.DoorwayTrap([]), 'invalid scene: [] (expected an object of named settings)');
+  refuses(() => new core.DoorwayTrap({ resolution: 0.0015 }), 'width x height', '250000');
+  const t = new core.DoorwayTrap({ seed: 5 });
+  refuses(() => t.cellInfo(-1, 0), 'cell', '-1');
+  refuses(() => t.cellInfo(0.5, 0), 'cell', '0.5');
+  for (const bad of [undefined, 0, {}, ['map']]) refuses(() => t.exportMap(bad), 'invalid map', '"sweep" or "map"');
+  refuses(() => t.exportMap('both'), 'map', 'both');
+  for (const bad of [-1, 0.5, NaN, 'all']) refuses(() => t.mapRun(bad), 'maxFlips');
+  assert.ok(t.mapRun(Infinity) > 0, 'Infinity runs the climb to its end');
+  assert.equal(t.mapStep(), null);
+  assert.ok(t.exportMap('map').pgm.length > 0);
+  t.free();
+  refuses(() => core.jointPosterior([]), 'joint query', '[]');
+  refuses(() => core.forwardDensity(1, 2, [1, 2]), 'params');
+  refuses(() => core.forwardDensity(1, 2, { z_max: 'far' }), 'params.z_max');
+
+  refuses(() => new core.SensorFusion({ lidar: { beams: -5 } }, undefined), 'scene.lidar.beams');
+  refuses(() => new core.SensorFusion(undefined, { clamp: 'x' }), 'models.clamp');
+  refuses(() => new core.SensorFusion({ step: 0.00041, sonar: { count: 256, sub_rays: 256 } }, undefined),
+    'steps x sonar.count x sonar.sub_rays', '2000000');
+  const f = new core.SensorFusion(undefined, undefined);
+  for (const beams of ['many', -1, 0.5, Infinity, NaN, null, 3000]) {
+    refuses(() => f.setLidarBeams(beams), 'lidar.beams');
+  }
+  for (const bad of [0, undefined, null, { key: 'max' }]) {
+    refuses(() => f.render(bad), 'invalid map', '"sonar"');
+    refuses(() => f.exportMap(bad), 'invalid map', '"sonar"');
+  }
+  refuses(() => f.render('top'), 'map', 'top');
+  assert.ok(f.step());
+  assert.ok(f.render('max') > 0);
+  f.free();
+
+  refuses(() => core.LaserLog.fromBytes(new TextEncoder().encode('<html>\n')), 'line 1');
+  for (const bad of [42, 'FLASER 1 2 0 0 0 0 0 0', undefined, {}, [70, 76]]) {
+    refuses(() => core.LaserLog.fromBytes(bad), 'invalid bytes', 'Uint8Array');
+    refuses(() => new core.LogMapSession(bad), 'invalid bytes', 'Uint8Array');
+  }
+  assert.equal(core.LaserLog.fromBytes(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n').buffer).scanCount, 1);
+  refuses(() => core.LaserLog.fromBytes(new Uint8Array([0x1f, 0x8b, 1, 2, 3])), 'line 1');
+  const s = new core.LogMapSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  s.read(10);
+  refuses(() => s.configure({ resolution: 'fine' }), 'settings.resolution');
+  refuses(() => s.configure([0.1]), 'settings');
+  refuses(() => s.configure({ clamp: -1 }), 'clamp');
+  refuses(() => s.configure({ lOcc: 1e39 }), 'lOcc');
+  refuses(() => s.seek(1e6), 'scan');
+  for (const bad of [-1, 0.5, NaN]) {
+    refuses(() => s.seek(bad), 'scan');
+    refuses(() => s.heading(bad), 'scan');
+    refuses(() => s.buildChunk(bad), 'maxScans');
+  }
+  assert.equal(s.cellAt(-1, 0), null);
+  assert.equal(s.cellAt(0, 2 ** 32), null);
+  refuses(() => s.cellAt(0.5, 0), 'col');
+  assert.equal(s.buildChunk(Infinity).finished, true);
+  for (const bad of [42, {}, ['m']]) refuses(() => s.exportMap(bad), 'invalid name');
+  assert.match(s.exportMap(undefined).yaml, /^image: map\.pgm/);
+  assert.match(s.exportMap('lab').yaml, /^image: lab\.pgm/);
+  assert.ok(s.render() > 0);
+  s.free();
+  const reading = new core.LogMapSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  for (const bad of [-1, 0.5, NaN, 'all']) refuses(() => reading.read(bad), 'maxScans');
+  assert.equal(reading.read(Infinity).finished, true);
+  reading.free();
+
+  const pgm = new Uint8Array([1, 2, 3]);
+  refuses(() => core.zipMapPair(42, pgm, 'image: x\n'), 'invalid name', '42');
+  refuses(() => core.zipMapPair('m', [1, 2, 3], 'image: x\n'), 'invalid pgm', '[1,2,3]');
+  refuses(() => core.zipMapPair('m', pgm, undefined), 'invalid yaml', 'undefined');
+  assert.equal(core.zipMapPair('m', pgm, 'image: x\n').fileName, 'm.zip');
+});

@@ -1,0 +1,919 @@
+#![cfg(target_arch = "wasm32")]
+//! SPEC §12 through the JavaScript surface (`wasm-pack test --node`): the
+//! garbage a page, an instructor's attributes or a dropped file can send —
+//! NaN, infinities, negative and absurd numbers, settings objects of the
+//! wrong type or with wrong-typed fields, empty arrays, huge counts, broken
+//! logs — must reach JavaScript as an `Error` whose message names the field,
+//! and every widget object must stay usable afterwards, unchanged by the
+//! call it refused.
+
+use js_sys::{Array, Error, Object, Reflect, JSON};
+use occgrid::bindings::cell_filter::{run_cell_filter, run_cell_filter_js};
+use occgrid::bindings::doorway_trap::{chapter_two_cell_query, joint_posterior, DoorwayTrap};
+use occgrid::bindings::inverse_workbench::{forward_density, InverseWorkbench};
+use occgrid::bindings::map_weaver::MapWeaver;
+use occgrid::bindings::real_log::{zip_map_pair, LaserLog, LogMapSession};
+use occgrid::bindings::sensor_fusion::SensorFusion;
+use wasm_bindgen::{JsCast, JsError, JsValue};
+use wasm_bindgen_test::*;
+
+/// The Intel log as shipped (read at build time from the shared datasets,
+/// not copied into the repository).
+const INTEL_GZ: &[u8] = include_bytes!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../shared/datasets/intel-corrected.log.gz"
+));
+
+const FLASER: &str = "FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
+
+/// The message of the JavaScript `Error` a refused call throws.
+fn message(e: JsError) -> String {
+    let value: JsValue = e.into();
+    let error = value
+        .dyn_into::<Error>()
+        .expect("a refused call throws a JavaScript Error");
+    String::from(error.message())
+}
+
+/// Asserts that `result` is a refusal whose message names every word.
+#[track_caller]
+fn refused<T>(result: Result<T, JsError>, words: &[&str]) -> String {
+    let Err(e) = result else {
+        panic!("expected an error naming {words:?}, the call succeeded");
+    };
+    let text = message(e);
+    for w in words {
+        assert!(text.contains(w), "{text:?} should name {w:?}");
+    }
+    text
+}
+
+fn json(text: &str) -> JsValue {
+    JSON::parse(text).expect("valid JSON in the test")
+}
+
+/// `value` with `path` (dot-separated keys) set to `v`, creating objects
+/// on the way: how a NaN or an infinity gets into a settings object (JSON
+/// has neither).
+fn with(value: &JsValue, path: &str, v: JsValue) -> JsValue {
+    let keys: Vec<&str> = path.split('.').collect();
+    let mut node = value.clone();
+    for (k, key) in keys.iter().enumerate() {
+        let key = JsValue::from_str(key);
+        if k + 1 == keys.len() {
+            Reflect::set(&node, &key, &v).unwrap();
+        } else {
+            let mut next = Reflect::get(&node, &key).unwrap();
+            if !next.is_object() {
+                next = Object::new().into();
+                Reflect::set(&node, &key, &next).unwrap();
+            }
+            node = next;
+        }
+    }
+    value.clone()
+}
+
+fn stringify(v: &JsValue) -> String {
+    JSON::stringify(v).unwrap().as_string().unwrap()
+}
+
+fn get(v: &JsValue, key: &str) -> JsValue {
+    Reflect::get(v, &JsValue::from_str(key)).unwrap()
+}
+
+const BAD_NUMBERS: [f64; 6] = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 0.0, 1e39];
+
+#[wasm_bindgen_test]
+fn the_cell_filter_refuses_every_bad_number_by_name() {
+    for v in BAD_NUMBERS {
+        refused(run_cell_filter(v, 0.3, 0.5, 12.0, &[1], true), &["p_occ"]);
+        refused(run_cell_filter(0.7, v, 0.5, 12.0, &[1], true), &["p_free"]);
+        refused(run_cell_filter(0.7, 0.3, v, 12.0, &[1], true), &["prior"]);
+        if !(v > 0.0 && v.is_finite()) {
+            refused(run_cell_filter(0.7, 0.3, 0.5, v, &[1], true), &["clamp"]);
+        }
+    }
+    refused(
+        run_cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true),
+        &["prior", "1"],
+    );
+    refused(
+        run_cell_filter(0.7, 0.3, 0.5, 12.0, &[0, 1, 2], false),
+        &["readings[2]", "2"],
+    );
+    // An empty run is a table with no rows, not an error.
+    let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &[], true).unwrap();
+    assert_eq!(Array::from(&get(&t, "steps")).length(), 0);
+    let long = vec![1u8; 100_000];
+    let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &long, true).unwrap();
+    let steps = Array::from(&get(&t, "steps"));
+    let last = steps.get(steps.length() - 1);
+    assert_eq!(
+        get(&last, "l").as_f64(),
+        Some(12.0),
+        "saturates at the clamp"
+    );
+}
+
+#[wasm_bindgen_test]
+fn the_forward_density_refuses_bad_readings_and_bad_models_by_name() {
+    refused(
+        forward_density(f64::NAN, 2.0, JsValue::UNDEFINED),
+        &["z", "NaN"],
+    );
+    refused(forward_density(-1.0, 2.0, JsValue::UNDEFINED), &["z", "-1"]);
+    refused(
+        forward_density(1.0, f64::INFINITY, JsValue::UNDEFINED),
+        &["z_star", "inf"],
+    );
+    refused(
+        forward_density(1.0, 2.0, JsValue::from_str("wide")),
+        &["params"],
+    );
+    refused(
+        forward_density(1.0, 2.0, json(r#"{"sigma_hit": -1}"#)),
+        &["sigma_hit", "-1"],
+    );
+    refused(
+        forward_density(1.0, 2.0, json(r#"{"z_rand": 0.5}"#)),
+        &["add up to 1"],
+    );
+    let nan_rate = with(&json("{}"), "lambda_short", JsValue::from_f64(f64::NAN));
+    refused(
+        forward_density(1.0, 2.0, nan_rate),
+        &["lambda_short", "NaN"],
+    );
+    refused(
+        forward_density(1.0, 2.0, json(r#"{"z_max": "far"}"#)),
+        &["params"],
+    );
+    // Degenerate but valid models still give a number.
+    let flat = json(r#"{"sigma_hit": 1e300, "lambda_short": 1e-300}"#);
+    let d = forward_density(1.0, 2.0, flat).unwrap();
+    assert!(d.is_finite() && d >= 0.0, "{d}");
+}
+
+#[wasm_bindgen_test]
+fn joint_queries_with_garbage_are_refused_by_field() {
+    let q = || chapter_two_cell_query().unwrap();
+    refused(joint_posterior(JsValue::from_str("nope")), &["joint query"]);
+    refused(joint_posterior(JsValue::NULL), &["joint query"]);
+    refused(
+        joint_posterior(with(&q(), "prior", JsValue::from_f64(1.0))),
+        &["prior"],
+    );
+    refused(
+        joint_posterior(with(&q(), "prior", JsValue::from_f64(f64::NAN))),
+        &["prior", "NaN"],
+    );
+    refused(
+        joint_posterior(with(&q(), "beta_deg", JsValue::from_f64(f64::INFINITY))),
+        &["beta_deg", "inf"],
+    );
+    refused(
+        joint_posterior(with(&q(), "cells", Array::new().into())),
+        &["cells"],
+    );
+    refused(
+        joint_posterior(with(&q(), "readings", Array::new().into())),
+        &["readings"],
+    );
+    refused(
+        joint_posterior(with(&q(), "readings", json("[2.0, -3]"))),
+        &["readings[1]", "-3"],
+    );
+    let many: Array = (0..5000).map(|_| JsValue::from_f64(2.0)).collect();
+    refused(
+        joint_posterior(with(&q(), "readings", many.into())),
+        &["readings", "5000"],
+    );
+    let cells: Array = (0..17)
+        .map(|_| json(r#"{"range": 2, "bearing_deg": 0}"#))
+        .collect();
+    refused(
+        joint_posterior(with(&q(), "cells", cells.into())),
+        &["cells", "17"],
+    );
+    refused(
+        joint_posterior(with(&q(), "model.sigma_hit", JsValue::from_f64(0.0))),
+        &["sigma_hit"],
+    );
+    refused(
+        joint_posterior(with(&q(), "cells", JsValue::from_f64(3.0))),
+        &["joint query"],
+    );
+    // The query still works after all that.
+    let a = joint_posterior(q()).unwrap();
+    assert!((get(&a, "allFreeRatio").as_f64().unwrap() - 24.0).abs() < 1.0);
+}
+
+#[wasm_bindgen_test]
+fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
+    let scene = |text: &str| json(text);
+    refused(DoorwayTrap::new(JsValue::from_str("door")), &["scene"]);
+    refused(
+        DoorwayTrap::new(with(&json("{}"), "prior", JsValue::from_f64(f64::NAN))),
+        &["prior", "NaN"],
+    );
+    refused(DoorwayTrap::new(scene(r#"{"prior": 1e-9}"#)), &["prior"]);
+    refused(
+        DoorwayTrap::new(scene(r#"{"resolution": 0}"#)),
+        &["resolution", "0"],
+    );
+    refused(
+        DoorwayTrap::new(scene(r#"{"resolution": 1e-4}"#)),
+        &["width x height"],
+    );
+    refused(DoorwayTrap::new(scene(r#"{"max_x": -1}"#)), &["max_x"]);
+    refused(DoorwayTrap::new(scene(r#"{"poses": []}"#)), &["poses"]);
+    refused(
+        DoorwayTrap::new(scene(r#"{"bearings_deg": []}"#)),
+        &["bearings_deg"],
+    );
+    refused(
+        DoorwayTrap::new(scene(r#"{"sonar": {"sub_rays": 0}}"#)),
+        &["sonar.sub_rays"],
+    );
+    refused(
+        DoorwayTrap::new(scene(r#"{"sonar": {"beta_deg": 200}}"#)),
+        &["sonar.beta_deg"],
+    );
+    refused(
+        DoorwayTrap::new(scene(r#"{"sonar": {"z_max": 1e300}}"#)),
+        &["z_max"],
+    );
+    refused(
+        DoorwayTrap::new(with(
+            &json("{}"),
+            "sonar.noise_sigma",
+            JsValue::from_f64(f64::NEG_INFINITY),
+        )),
+        &["sonar.noise_sigma"],
+    );
+    let bearings: Array = [0.0, f64::NAN]
+        .iter()
+        .map(|&b| JsValue::from_f64(b))
+        .collect();
+    refused(
+        DoorwayTrap::new(with(&json("{}"), "bearings_deg", bearings.into())),
+        &["bearings_deg[1]"],
+    );
+    refused(DoorwayTrap::new(scene(r#"{"seed": "seven"}"#)), &["scene"]);
+
+    let mut t = DoorwayTrap::new(scene(r#"{"seed": 3}"#)).unwrap();
+    let state = stringify(&t.map_state().unwrap());
+    refused(t.cell_info(-1.0, 0.0), &["cell", "-1"]);
+    refused(t.cell_info(0.0, t.height() as f64), &["cell"]);
+    refused(t.cell_info(0.5, 0.0), &["cell", "0.5"]);
+    refused(t.cell_info(f64::NAN, 0.0), &["cell", "NaN"]);
+    refused(t.cell_info(4_294_967_296.0, 0.0), &["cell"]);
+    refused(t.export_map("both".into()), &["map", "both"]);
+    for bad in [
+        JsValue::from_f64(0.0),
+        JsValue::UNDEFINED,
+        Object::new().into(),
+    ] {
+        refused(t.export_map(bad), &["map", "expected \"sweep\" or \"map\""]);
+    }
+    for bad in [f64::NAN, -1.0, 2.5, f64::NEG_INFINITY] {
+        refused(t.map_run_js(bad), &["maxFlips"]);
+    }
+    assert_eq!(
+        stringify(&t.map_state().unwrap()),
+        state,
+        "refusals changed nothing"
+    );
+    assert!(!t.sweep_step().unwrap().is_null());
+    assert!(t.map_run_js(f64::INFINITY).unwrap() > 0);
+    assert!(t.map_step().unwrap().is_null(), "converged");
+    assert!(t.map_render().unwrap() != 0 && t.sweep_render() != 0);
+    let report = t.report().unwrap();
+    assert!(get(&report, "doorCells").as_f64().unwrap() > 0.0);
+    t.export_map("map".into()).unwrap();
+    assert!(t.cell_info(0.0, 0.0).is_ok());
+}
+
+#[wasm_bindgen_test]
+fn sensor_fusion_refuses_bad_scenes_models_and_beam_counts_without_a_trace() {
+    refused(
+        SensorFusion::new(JsValue::from_f64(3.0), JsValue::UNDEFINED),
+        &["scene"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"resolution": "fine"}"#), JsValue::UNDEFINED),
+        &["scene"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"resolution": 0.2}"#), JsValue::UNDEFINED),
+        &["resolution"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"lidar": {"beams": 0}}"#), JsValue::UNDEFINED),
+        &["lidar.beams"],
+    );
+    refused(
+        SensorFusion::new(
+            json(r#"{"sonar": {"sub_rays": 100000}}"#),
+            JsValue::UNDEFINED,
+        ),
+        &["sonar.sub_rays"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"path": []}"#), JsValue::UNDEFINED),
+        &["path"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"step": 1e-12}"#), JsValue::UNDEFINED),
+        &["step"],
+    );
+    refused(
+        SensorFusion::new(
+            with(&json("{}"), "room", json("[1e999, 5]")),
+            JsValue::UNDEFINED,
+        ),
+        &["room[0]"],
+    );
+    refused(
+        SensorFusion::new(JsValue::UNDEFINED, json(r#"{"clamp": 0}"#)),
+        &["clamp"],
+    );
+    refused(
+        SensorFusion::new(JsValue::UNDEFINED, json(r#"{"prior": 1}"#)),
+        &["prior"],
+    );
+    refused(
+        SensorFusion::new(JsValue::UNDEFINED, json(r#"{"sonar_p_occ": -0.5}"#)),
+        &["sonar_p_occ"],
+    );
+    refused(
+        SensorFusion::new(JsValue::UNDEFINED, JsValue::from_str("strong")),
+        &["models"],
+    );
+
+    let mut f = SensorFusion::new(JsValue::UNDEFINED, JsValue::UNDEFINED).unwrap();
+    assert!(f.step());
+    let before = stringify(&f.readout().unwrap());
+    for beams in [f64::NAN, f64::INFINITY, -1.0, 1.5, 0.0, 4096.0, 1e300] {
+        refused(f.set_lidar_beams(beams), &["lidar.beams"]);
+        assert_eq!(
+            stringify(&f.readout().unwrap()),
+            before,
+            "refusing {beams} changed the run"
+        );
+    }
+    refused(f.render("sonar ".into()), &["map"]);
+    refused(f.export_map("".into()), &["map"]);
+    for bad in [JsValue::from_f64(2.0), JsValue::NULL, Array::new().into()] {
+        refused(f.render(bad.clone()), &["map", "\"sonar\""]);
+        refused(f.export_map(bad), &["map", "\"sonar\""]);
+    }
+    assert!(f.step(), "still steps");
+    f.set_lidar_beams(90.0).unwrap();
+    assert!(f.render("max".into()).unwrap() != 0);
+    assert!(f.export_map("sum".into()).is_ok());
+}
+
+/// A short Map Weaver run: one lap, a quickly trained learned model.
+fn weaver_settings() -> JsValue {
+    json(r#"{"laps": 1, "training": {"triplets": 400, "epochs": 1}}"#)
+}
+
+#[wasm_bindgen_test]
+fn map_weaver_refuses_bad_settings_by_field() {
+    let s = weaver_settings;
+    refused(MapWeaver::new(JsValue::from_str("weave")), &["settings"]);
+    refused(
+        MapWeaver::new(with(&s(), "laps", JsValue::from_f64(0.0))),
+        &["laps"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "laps", JsValue::from_f64(-1.0))),
+        &["settings"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "seed", JsValue::from_str("x"))),
+        &["settings"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "panes", json(r#"[{"clamp": 0}, {}]"#))),
+        &["panes[0].clamp"],
+    );
+    let nan_pane = with(&json("{}"), "strength", JsValue::from_f64(f64::NAN));
+    let panes: Array = [JsValue::from(Object::new()), nan_pane]
+        .into_iter()
+        .collect();
+    refused(
+        MapWeaver::new(with(&s(), "panes", panes.into())),
+        &["panes[1].strength", "NaN"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "panes", json(r#"[{"model": "oracle"}, {}]"#))),
+        &["settings", "oracle"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "training.triplets", JsValue::from_f64(0.0))),
+        &["triplets"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "scene.width", JsValue::from_f64(100_000.0))),
+        &["width"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "scene.resolution", JsValue::from_f64(-0.1))),
+        &["resolution"],
+    );
+    refused(
+        MapWeaver::new(with(
+            &s(),
+            "scene.scan_rate",
+            JsValue::from_f64(f64::INFINITY),
+        )),
+        &["scan_rate"],
+    );
+    refused(
+        MapWeaver::new(with(
+            &s(),
+            "scene.lidar",
+            json(r#"{"beams": 0, "z_max": 8, "sigma": 0, "first_bearing": 0}"#),
+        )),
+        &["lidar.beams"],
+    );
+    refused(
+        MapWeaver::new(with(
+            &s(),
+            "handCrafted",
+            json(
+                r#"{"alpha": 0.1, "beta": 0.02, "z_max": 8, "l_occ": 1e39, "l_free": -0.4, "l0": 0}"#,
+            ),
+        )),
+        &["l_occ"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "handCrafted", json(r#"{"alpha": 0.1}"#))),
+        &["settings", "beta"],
+    );
+    refused(
+        MapWeaver::new(with(&s(), "person", JsValue::from_str("yes"))),
+        &["settings"],
+    );
+}
+
+#[wasm_bindgen_test]
+fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
+    let mut w = MapWeaver::new(weaver_settings()).unwrap();
+    assert_eq!(w.advance(5.0).unwrap(), 5);
+    let before = stringify(&w.readout().unwrap());
+    for clamp in BAD_NUMBERS {
+        if clamp == 1e39 {
+            refused(w.set_clamp(0.0, clamp), &["panes[0].clamp"]);
+        } else {
+            refused(w.set_clamp(0.0, clamp), &["panes[0].clamp"]);
+        }
+    }
+    refused(w.set_clamp(7.0, 3.0), &["pane", "7"]);
+    for s in [f64::NAN, -1.0, 11.0, f64::INFINITY] {
+        refused(w.set_strength(1.0, s), &["panes[1].strength"]);
+    }
+    refused(w.set_strength(1e300, 1.0), &["pane", "1e300"]);
+    refused(w.set_model(0.0, "magic".into()), &["model", "magic"]);
+    refused(w.set_model(2.0, "learned".into()), &["pane"]);
+    refused(
+        w.set_pose_source(1.0, "gps".into()),
+        &["pose source", "gps"],
+    );
+    // A pane index that the glue would once have wrapped or truncated to a
+    // valid pane (2^32 to 0, 1.5 to 1, -0.5 to 0) is refused by name.
+    for pane in [4_294_967_296.0, 1.5, -0.5, -1.0, f64::NAN, f64::INFINITY] {
+        refused(w.pixels(pane), &["pane"]);
+        refused(w.set_clamp(pane, 3.0), &["pane"]);
+        refused(w.overlay(pane), &["pane"]);
+    }
+    refused(w.pixels(2.0), &["pane"]);
+    refused(w.entropy_curve(9.0), &["pane"]);
+    refused(w.brier_curve(9.0), &["pane"]);
+    refused(w.tracked_history(9.0), &["pane"]);
+    refused(w.cell_info(5.0, 0.0, 0.0), &["pane"]);
+    refused(w.cell_info(0.0, 0.5, 0.0), &["col", "0.5"]);
+    refused(w.cell_info(0.0, 0.0, f64::NAN), &["row", "NaN"]);
+    refused(w.overlay(3.0), &["pane"]);
+    refused(w.export_map(4.0), &["pane"]);
+    // Strings where strings belong, and nothing else.
+    for bad in [
+        JsValue::from_f64(42.0),
+        JsValue::UNDEFINED,
+        JsValue::NULL,
+        Object::new().into(),
+        json(r#"["learned"]"#),
+        JsValue::TRUE,
+    ] {
+        refused(w.set_model(0.0, bad.clone()), &["model", "\"learned\""]);
+        refused(w.set_pose_source(1.0, bad), &["pose source", "\"oracle\""]);
+    }
+    for bad in [f64::NAN, -1.0, 0.5, f64::NEG_INFINITY] {
+        refused(w.advance(bad), &["scans"]);
+    }
+    w.record_frame_ms(f64::NAN);
+    w.record_frame_ms(-5.0);
+    w.record_frame_ms(f64::INFINITY);
+    assert_eq!(
+        stringify(&w.readout().unwrap()),
+        before,
+        "refusals changed nothing"
+    );
+    assert!(w.cell_info(0.0, 1e12, 0.0).unwrap().is_null());
+    assert!(w.cell_info(1.0, 0.0, -1.0).unwrap().is_null());
+    assert!(w.cell_info(1.0, 0.0, 4_294_967_296.0).unwrap().is_null());
+
+    // Still maps, and a huge request stops at the end of the run.
+    assert_eq!(w.advance(3.0).unwrap(), 3);
+    w.set_pose_source(1.0, "dead-reckoning".into()).unwrap();
+    w.set_model(0.0, "learned".into()).unwrap();
+    let taken = w.advance(f64::INFINITY).unwrap();
+    let r = w.readout().unwrap();
+    assert_eq!(get(&r, "done").as_bool(), Some(true));
+    assert_eq!(get(&r, "scans").as_f64().unwrap() as usize, 8 + taken);
+    assert_eq!(w.advance(1e300).unwrap(), 0);
+    assert!(w.pixels(1.0).unwrap() != 0);
+    w.reset().unwrap();
+    assert_eq!(w.advance(2.0).unwrap(), 2);
+}
+
+#[wasm_bindgen_test]
+fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
+    // Random-looking bytes, a picture, gzip magic with garbage behind it,
+    // and the real log cut short.
+    let mut noise = Vec::new();
+    let mut x: u32 = 0x2545_f491;
+    for _ in 0..4096 {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        noise.push(x as u8);
+    }
+    refused(LaserLog::from_bytes(&noise), &["line"]);
+    refused(
+        LaserLog::from_bytes(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR"),
+        &["line 1"],
+    );
+    refused(
+        LaserLog::from_bytes(&[0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff]),
+        &["line"],
+    );
+    refused(
+        LaserLog::from_bytes(&INTEL_GZ[..20_000]),
+        &["line", "compressed"],
+    );
+    refused(
+        LaserLog::from_bytes(b"FLASER 3 1 2\n"),
+        &["line 1", "FLASER"],
+    );
+    refused(
+        LaserLog::from_bytes(b"ODOM 0 0 0\nFLASER 2 1 nan 0 0 0 0 0 0\n"),
+        &["line 2", "range 2"],
+    );
+    assert_eq!(LaserLog::from_bytes(&[]).unwrap().scan_count(), 0);
+
+    // A session over garbage: the read fails by line, every later call
+    // fails cleanly too.
+    let mut bad = LogMapSession::new(noise.clone());
+    refused(bad.read(10), &["line"]);
+    refused(bad.read(10), &["line"]);
+    refused(bad.render(), &["not been read"]);
+    refused(bad.seek(3.0), &["not been read"]);
+    refused(bad.build_chunk(usize::MAX), &["not been read"]);
+    assert!(bad.geometry().unwrap().is_null());
+
+    // A log without laser lines.
+    let mut empty = LogMapSession::new(b"ODOM 0 0 0\n".to_vec());
+    refused(empty.read_js(f64::INFINITY), &["log"]);
+
+    // A good session and bad settings.
+    let text = FLASER.repeat(6);
+    let mut s = LogMapSession::new(text.into_bytes());
+    for bad in [f64::NAN, -1.0, 0.5] {
+        refused(s.read_js(bad), &["maxScans"]);
+    }
+    let p = s.read_js(f64::INFINITY).unwrap();
+    assert_eq!(get(&p, "finished").as_bool(), Some(true));
+    let geometry = stringify(&s.geometry().unwrap());
+    refused(s.configure(JsValue::from_str("fine")), &["settings"]);
+    refused(
+        s.configure(json(r#"{"resolution": -1}"#)),
+        &["resolution", "-1"],
+    );
+    refused(
+        s.configure(json(r#"{"resolution": 1e-5}"#)),
+        &["width x height"],
+    );
+    refused(s.configure(json(r#"{"rangeCap": 0}"#)), &["rangeCap"]);
+    refused(s.configure(json(r#"{"clamp": 0}"#)), &["clamp"]);
+    refused(s.configure(json(r#"{"bogus": 1}"#)), &["settings", "bogus"]);
+    refused(
+        s.configure(with(&json("{}"), "lOcc", JsValue::from_f64(f64::NAN))),
+        &["lOcc"],
+    );
+    assert_eq!(
+        stringify(&s.geometry().unwrap()),
+        geometry,
+        "refused settings changed the map"
+    );
+    refused(s.build_chunk_js(f64::NAN), &["maxScans"]);
+    s.build_chunk_js(f64::INFINITY).unwrap();
+    refused(s.seek(1e6), &["scan"]);
+    refused(s.seek(-1.0), &["scan", "-1"]);
+    refused(s.seek(2.5), &["scan", "2.5"]);
+    refused(s.heading(1e9), &["scan"]);
+    refused(s.heading(-1.0), &["scan", "-1"]);
+    refused(s.heading(f64::NAN), &["scan", "NaN"]);
+    assert!(s.cell_at(1e12, 0.0).unwrap().is_null());
+    assert!(s.cell_at(-1.0, 0.0).unwrap().is_null());
+    refused(s.cell_at(0.5, 0.0), &["col"]);
+    refused(s.cell_at(0.0, f64::INFINITY), &["row"]);
+    assert!(s.render().unwrap() != 0);
+    let c = s.counts().unwrap();
+    assert!(get(&c, "occupied").as_f64().unwrap() > 0.0);
+    s.export_map(Some("../../etc/passwd\n".into())).unwrap();
+    s.export_map(None).unwrap();
+    s.export_map_js(JsValue::UNDEFINED).unwrap();
+    s.export_map_js("lab".into()).unwrap();
+    refused(s.export_map_js(JsValue::from_f64(7.0)), &["name", "7"]);
+    refused(s.export_map_js(Object::new().into()), &["name"]);
+    let bytes = |b: &[u8]| JsValue::from(js_sys::Uint8Array::from(b));
+    zip_map_pair("".into(), bytes(&[]), "".into()).unwrap();
+    zip_map_pair("\u{0}\n..".into(), bytes(&[1, 2, 3]), "image: x\n".into()).unwrap();
+    refused(
+        zip_map_pair(JsValue::UNDEFINED, bytes(&[1]), "".into()),
+        &["name", "undefined"],
+    );
+    refused(
+        zip_map_pair("m".into(), json("[1, 2]"), "".into()),
+        &["pgm", "[1,2]"],
+    );
+    refused(
+        zip_map_pair("m".into(), bytes(&[1]), JsValue::from_f64(3.0)),
+        &["yaml", "3"],
+    );
+}
+
+#[wasm_bindgen_test]
+fn the_inverse_workbench_refuses_bad_seeds_and_lattices_and_keeps_its_model() {
+    for seed in [f64::NAN, f64::INFINITY, -1.0, 1.5, 1e300] {
+        refused(InverseWorkbench::new(Some(seed)), &["seed"]);
+    }
+    let mut w = InverseWorkbench::new(None).unwrap();
+    let lattice = || {
+        json(r#"{"minRange": 0, "maxRange": 8, "ranges": 50, "maxBearing": 0.1, "bearings": 9}"#)
+    };
+    let before = stringify(&w.readout().unwrap());
+    for seed in [f64::NAN, -3.0, 0.5, f64::INFINITY] {
+        refused(w.retrain(seed), &["seed"]);
+    }
+    assert_eq!(
+        stringify(&w.readout().unwrap()),
+        before,
+        "a refused retrain changed the model"
+    );
+    refused(w.view(f64::NAN, lattice()), &["z", "NaN"]);
+    refused(w.view(-2.0, lattice()), &["z", "-2"]);
+    refused(w.view(3.0, JsValue::from_str("grid")), &["lattice"]);
+    refused(
+        w.view(3.0, with(&lattice(), "ranges", JsValue::from_f64(1e9))),
+        &["ranges"],
+    );
+    refused(
+        w.view(3.0, with(&lattice(), "ranges", JsValue::from_f64(-1.0))),
+        &["lattice"],
+    );
+    refused(
+        w.view(
+            3.0,
+            with(&lattice(), "ranges", JsValue::from_f64(100_000.0)),
+        ),
+        &["ranges"],
+    );
+    refused(
+        w.view(3.0, with(&lattice(), "bearings", JsValue::from_f64(1.0))),
+        &["bearings"],
+    );
+    refused(
+        w.view(
+            3.0,
+            with(&lattice(), "maxRange", JsValue::from_f64(f64::NAN)),
+        ),
+        &["max_range"],
+    );
+    refused(
+        w.view(3.0, with(&lattice(), "maxBearing", JsValue::from_f64(4.0))),
+        &["max_bearing"],
+    );
+    refused(w.view(3.0, json("{}")), &["lattice"]);
+    let v = w.view(3.0, lattice()).unwrap();
+    assert!(get(&v, "scale").as_f64().unwrap().is_finite());
+    // A reading too short to have free space in front: null, not NaN.
+    let v = w.view(0.1, lattice()).unwrap();
+    assert!(get(&v, "handFree").is_null());
+}
+
+/// Wrong-typed fields and arrays in place of settings objects: an array
+/// would otherwise be read as a settings struct with every field absent
+/// (so `[]` would silently mean "the chapter's scene"), and a wrong-typed
+/// field is reported under its path (`scene.seed`), not only as a type
+/// mismatch.
+#[wasm_bindgen_test]
+fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
+    refused(forward_density(1.0, 2.0, json("[1, 2]")), &["params"]);
+    refused(DoorwayTrap::new(json("[]")), &["scene"]);
+    refused(MapWeaver::new(json("[1]")), &["settings"]);
+    refused(DoorwayTrap::new(json(r#"{"seed": "seven"}"#)), &["seed"]);
+    refused(
+        SensorFusion::new(json(r#"{"resolution": "fine"}"#), JsValue::UNDEFINED),
+        &["resolution"],
+    );
+    refused(
+        forward_density(1.0, 2.0, json(r#"{"z_max": "far"}"#)),
+        &["z_max"],
+    );
+    let q = chapter_two_cell_query().unwrap();
+    refused(
+        joint_posterior(with(&q, "cells", JsValue::from_f64(3.0))),
+        &["cells"],
+    );
+    refused(
+        MapWeaver::new(with(&weaver_settings(), "seed", JsValue::from_str("x"))),
+        &["seed"],
+    );
+    refused(
+        MapWeaver::new(with(&weaver_settings(), "laps", JsValue::from_f64(-1.0))),
+        &["laps"],
+    );
+    // The message reads "invalid WHAT.PATH: reason", once, without a
+    // doubled "Error:" prefix.
+    let text = refused(
+        DoorwayTrap::new(json(r#"{"sonar": {"sub_rays": "many"}}"#)),
+        &["invalid scene.sonar.sub_rays: "],
+    );
+    assert!(!text.contains("Error:"), "{text}");
+    let text = refused(
+        MapWeaver::new(with(
+            &weaver_settings(),
+            "panes",
+            json(r#"[{}, {"clamp": "high"}]"#),
+        )),
+        &["settings.panes[1].clamp"],
+    );
+    assert!(!text.contains("Error:"), "{text}");
+    let text = refused(
+        DoorwayTrap::new(json("[]")),
+        &["invalid scene: [] (expected an object of named settings)"],
+    );
+    assert!(!text.contains("Error:"), "{text}");
+    refused(
+        SensorFusion::new(JsValue::UNDEFINED, json("[0.7, 0.4]")),
+        &["models", "[0.7,0.4]"],
+    );
+    refused(
+        SensorFusion::new(json("[]"), JsValue::UNDEFINED),
+        &["scene", "[]"],
+    );
+    refused(joint_posterior(json("[]")), &["joint query", "[]"]);
+    refused(joint_posterior(JsValue::TRUE), &["joint query", "true"]);
+    refused(
+        forward_density(1.0, 2.0, JsValue::from_f64(f64::NAN)),
+        &["params", "NaN"],
+    );
+    let long: Array = (0..500).map(|_| JsValue::from_f64(1.0)).collect();
+    let text = refused(DoorwayTrap::new(long.into()), &["scene", "..."]);
+    assert!(text.len() < 200, "a long value is cut short: {text}");
+    let mut session = LogMapSession::new(FLASER.repeat(2).into_bytes());
+    session.read_js(f64::INFINITY).unwrap();
+    refused(session.configure(json("[]")), &["settings"]);
+    refused(session.configure(JsValue::NULL), &["settings", "null"]);
+    refused(
+        session.configure(json(r#"{"clamp": "tight"}"#)),
+        &["settings.clamp"],
+    );
+    let mut w = InverseWorkbench::new(None).unwrap();
+    refused(
+        w.view(3.0, json("[0, 8, 50, 0.1, 9]")),
+        &["lattice", "[0,8"],
+    );
+    refused(
+        w.view(3.0, json(r#"{"minRange": 0, "maxRange": "far", "ranges": 50, "maxBearing": 0.1, "bearings": 9}"#)),
+        &["lattice.maxRange"],
+    );
+    // Enum-like values stay strings: a settings object may still name a
+    // model inside it.
+    let ok = MapWeaver::new(with(
+        &weaver_settings(),
+        "panes",
+        json(r#"[{"model": "learned"}, {"pose": "dead-reckoning"}]"#),
+    ));
+    assert!(ok.is_ok());
+    w.retrain(3.0).unwrap();
+}
+
+/// Inputs each within its own bound whose product would hold a widget for
+/// minutes are refused before any work, naming the factors and the limit.
+#[wasm_bindgen_test]
+fn work_past_the_widget_limits_is_refused_naming_the_fields_and_the_limit() {
+    refused(
+        DoorwayTrap::new(json(r#"{"resolution": 0.0015}"#)),
+        &["width x height", "3334 x 2667", "250000"],
+    );
+    refused(
+        DoorwayTrap::new(json(r#"{"sonar": {"sub_rays": 1024, "z_max": 1000}}"#)),
+        &["poses x bearings_deg x sonar.sub_rays", "5e7"],
+    );
+    assert!(DoorwayTrap::new(json(r#"{"resolution": 0.01}"#)).is_ok());
+    refused(
+        SensorFusion::new(
+            json(
+                r#"{"step": 0.00041, "sonar": {"count": 256, "sub_rays": 256}, "lidar": {"beams": 2048}}"#,
+            ),
+            JsValue::UNDEFINED,
+        ),
+        &["steps x sonar.count x sonar.sub_rays", "2000000"],
+    );
+    refused(
+        SensorFusion::new(json(r#"{"resolution": 0.01}"#), JsValue::UNDEFINED),
+        &["width x height", "250000"],
+    );
+    // 13 laps of one thin sonar: 1,053 steps, within every bound until the
+    // LiDAR asks for 2,048 beams on each.
+    let mut f = SensorFusion::new(
+        json(r#"{"laps": 13, "sonar": {"count": 1, "sub_rays": 1}}"#),
+        JsValue::UNDEFINED,
+    )
+    .unwrap();
+    let before = stringify(&f.readout().unwrap());
+    refused(
+        f.set_lidar_beams(2048.0),
+        &["steps x lidar.beams", "2000000"],
+    );
+    assert_eq!(stringify(&f.readout().unwrap()), before);
+    assert!(f.step(), "still steps");
+    refused(
+        MapWeaver::new(json(
+            r#"{"laps": 1, "training": {"triplets": 1000000, "epochs": 200}}"#,
+        )),
+        &["training.triplets x training.epochs", "5000000"],
+    );
+}
+
+/// Bytes and readings come as typed arrays (or, for readings, arrays of
+/// numbers): a string, a number or `undefined` is refused by name, where the
+/// glue's own copy read a string's characters as bytes and a number as none.
+#[wasm_bindgen_test]
+fn byte_parameters_refuse_what_is_not_bytes_by_name() {
+    let run = |readings: JsValue| run_cell_filter_js(0.7, 0.3, 0.5, 12.0, readings, true);
+    let t = run(json("[1, 1, 0]")).unwrap();
+    assert_eq!(Array::from(&get(&t, "steps")).length(), 3);
+    let t = run(js_sys::Uint8Array::from(&[1u8, 0][..]).into()).unwrap();
+    assert_eq!(Array::from(&get(&t, "steps")).length(), 2);
+    refused(run(json("[1, 256]")), &["readings[1]", "256"]);
+    refused(run(json("[1, -1]")), &["readings[1]", "-1"]);
+    refused(run(json(r#"[1, "1"]"#)), &["readings[1]", "\"1\""]);
+    refused(run(json("[0.5]")), &["readings[0]", "0.5"]);
+    for bad in [
+        JsValue::from_str("101"),
+        JsValue::from_f64(5.0),
+        JsValue::UNDEFINED,
+        JsValue::NULL,
+        Object::new().into(),
+    ] {
+        refused(run(bad), &["invalid readings", "Uint8Array"]);
+    }
+
+    let text = FLASER.as_bytes();
+    let buffer = js_sys::Uint8Array::from(text).buffer();
+    assert_eq!(
+        LaserLog::from_bytes_js(buffer.clone().into())
+            .unwrap()
+            .scan_count(),
+        1
+    );
+    assert_eq!(
+        LaserLog::from_bytes_js(js_sys::Uint8Array::from(text).into())
+            .unwrap()
+            .scan_count(),
+        1
+    );
+    for bad in [
+        JsValue::from_str(FLASER),
+        JsValue::from_f64(42.0),
+        JsValue::UNDEFINED,
+        json("[70, 76]"),
+    ] {
+        refused(
+            LaserLog::from_bytes_js(bad.clone()),
+            &["invalid bytes", "Uint8Array"],
+        );
+        refused(LogMapSession::new_js(bad), &["invalid bytes", "Uint8Array"]);
+    }
+    let mut s = LogMapSession::new_js(buffer.into()).unwrap();
+    assert_eq!(
+        get(&s.read_js(f64::INFINITY).unwrap(), "finished").as_bool(),
+        Some(true)
+    );
+}
