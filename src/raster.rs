@@ -63,6 +63,9 @@ impl Walk {
     /// `None` when the segment misses the grid (or is not finite).
     #[inline]
     pub fn new(width: usize, height: usize, a: (f64, f64), b: (f64, f64)) -> Option<Self> {
+        if width == 0 || height == 0 {
+            return None; // a grid without cells has nothing to visit
+        }
         let (w, h) = (width as f64, height as f64);
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         if !(a.0.is_finite() && a.1.is_finite() && dx.is_finite() && dy.is_finite()) {

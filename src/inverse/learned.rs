@@ -769,7 +769,8 @@ pub fn mean_free_evidence<M: InverseModel + ?Sized>(model: &M, z: f64, margin: f
             "a reading longer than the margin in front of it",
         ));
     }
-    let n = (end / 0.01).ceil().max(1.0) as usize;
+    // One sample per centimetre, at most 100,000 (a 1 km reading).
+    let n = (end / 0.01).ceil().clamp(1.0, 100_000.0) as usize;
     let sum: f64 = (0..n)
         .map(|i| model.evidence((i as f64 + 0.5) * end / n as f64, 0.0, z) as f64)
         .sum();

@@ -44,6 +44,10 @@ use crate::sim::World;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
+/// The most SGD updates (`triplets x epochs`) one training may take: about
+/// 26 times the default 24,000 x 8.
+pub const MAX_UPDATES: u64 = 5_000_000;
+
 /// Everything that defines a training run.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -124,6 +128,17 @@ impl TrainingConfig {
         }
         if !(1..=200).contains(&self.epochs) {
             return Err(invalid("epochs", self.epochs, "between 1 and 200 epochs"));
+        }
+        // Each bound alone still allows 2e8 SGD updates (a minute in a
+        // page); cap their product at about 26 times the default
+        // 24,000 x 8, a couple of seconds as wasm.
+        let updates = self.triplets as u64 * self.epochs as u64;
+        if updates > MAX_UPDATES {
+            return Err(invalid(
+                "triplets x epochs",
+                format!("{} x {} = {updates}", self.triplets, self.epochs),
+                "at most 5000000 updates: fewer triplets or epochs",
+            ));
         }
         error::positive("learning_rate", self.learning_rate)?;
         if self.learning_rate > 10.0 {
@@ -724,4 +739,29 @@ fn log_loss(s: f64, occupied: bool) -> f64 {
 #[inline]
 fn sigmoid(s: f64) -> f64 {
     1.0 / (1.0 + (-s).exp())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn training_work_is_capped_by_the_product_of_triplets_and_epochs() {
+        let ok = TrainingConfig {
+            triplets: 625_000,
+            epochs: 8,
+            ..TrainingConfig::default()
+        };
+        assert!(ok.validate().is_ok(), "exactly the cap is allowed");
+        let big = TrainingConfig {
+            triplets: 1_000_000,
+            epochs: 200,
+            ..TrainingConfig::default()
+        };
+        let e = big.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("triplets x epochs") && e.contains("200000000"),
+            "{e}"
+        );
+    }
 }

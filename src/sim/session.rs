@@ -41,7 +41,7 @@ pub const MAX_STRENGTH: f64 = 10.0;
 /// about 26 times the default 24,000 x 8, a couple of seconds of fitting as
 /// wasm. The training's own bounds (a million triplets, 200 epochs) are
 /// each fine alone, but together they would hold the widget for a minute.
-pub const MAX_TRAINING_UPDATES: u64 = 5_000_000;
+pub const MAX_TRAINING_UPDATES: u64 = crate::inverse::training::MAX_UPDATES;
 /// How many recent frame times the "ms per frame" readout is the median of.
 const FRAME_WINDOW: usize = 31;
 
@@ -148,7 +148,8 @@ impl WeaverSettings {
         for (k, p) in self.panes.iter().enumerate() {
             validate_pane(k, p)?;
         }
-        self.training.validate()?;
+        // Checked before the training's own rules so that the message
+        // names the fields as this settings object spells them.
         let updates = self.training.triplets as u64 * self.training.epochs as u64;
         if updates > MAX_TRAINING_UPDATES {
             return Err(invalid(
@@ -160,6 +161,7 @@ impl WeaverSettings {
                 "at most 5000000 updates: fewer triplets or epochs",
             ));
         }
+        self.training.validate()?;
         self.scene.validate()?;
         let readings = self
             .laps

@@ -289,7 +289,15 @@ test('bad values of the workbench’s and the real-log mode’s attributes are r
   assert.match(await weaverBox.textContent(), messages.log, 'the bad log is still reported');
   assert.doesNotMatch(await weaverBox.textContent(), /log-resolution/);
   await weaver.evaluate((el) => el.setAttribute('log', 'aces-corrected.log.gz'));
-  await p.waitForFunction(() => document.querySelector('.map-weaver-log')?.dataset.state === 'done', null, { timeout: 30_000 });
+  // The panel may still read "done" from the resolution change for a moment
+  // after the log is named: wait for the log's own finished status, polled
+  // from here (the page's CSP forbids evaluating code strings).
+  let finished = false;
+  for (const until = Date.now() + 30_000; !finished && Date.now() < until;) {
+    finished = await weaver.evaluate((w) => /440 of 440 scans/.test(w.querySelector('.map-weaver-log-status')?.textContent ?? '')
+      && w.querySelector('.map-weaver-log')?.dataset.state === 'done');
+    if (!finished) await p.waitForTimeout(100);
+  }
   assert.match(await weaver.locator('.map-weaver-log-status').textContent(), /440 of 440 scans, .* at 0\.1 m/);
   assert.equal(await weaverBox.count(), 0);
   assert.equal(await weaver.locator('.map-weaver-log select[name=dataset]').inputValue(), 'aces-corrected.log.gz', 'the menu shows the log');
