@@ -367,28 +367,49 @@ impl LogOddsGrid {
     /// `p` in between, and cells still exactly at the prior mid-gray whatever
     /// the prior is, because "unknown" is a state of its own.
     pub fn render_rgba(&self, out: &mut [u8]) -> Result<()> {
-        let (w, h) = (self.geometry.width, self.geometry.height);
-        if out.len() != w * h * 4 {
-            return Err(OccError::LengthMismatch {
-                field: "pixel buffer".into(),
-                expected: w * h * 4,
-                found: out.len(),
-            });
-        }
-        for (row_out, iy) in (0..h).rev().enumerate() {
-            let src = &self.log_odds[iy * w..(iy + 1) * w];
-            let dst = &mut out[row_out * w * 4..(row_out + 1) * w * 4];
-            for (px, &l) in dst.chunks_exact_mut(4).zip(src) {
-                let g = if l == self.l0 {
-                    128
-                } else {
-                    (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
-                };
-                px.copy_from_slice(&[g, g, g, 255]);
+        render_gray_rgba(&self.geometry, &self.log_odds, out, |l| {
+            if l == self.l0 {
+                128
+            } else {
+                (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
             }
-        }
-        Ok(())
+        })
     }
+}
+
+/// Writes one gray level per cell (`gray(cell)`) into RGBA pixels, north up:
+/// the top pixel row is the grid's last row. Every map drawn by the core
+/// goes through here, so all of them share one orientation.
+pub fn render_gray_rgba<T: Copy>(
+    geometry: &GridGeometry,
+    cells: &[T],
+    out: &mut [u8],
+    gray: impl Fn(T) -> u8,
+) -> Result<()> {
+    let (w, h) = (geometry.width(), geometry.height());
+    if cells.len() != w * h {
+        return Err(OccError::LengthMismatch {
+            field: "cells".into(),
+            expected: w * h,
+            found: cells.len(),
+        });
+    }
+    if out.len() != w * h * 4 {
+        return Err(OccError::LengthMismatch {
+            field: "pixel buffer".into(),
+            expected: w * h * 4,
+            found: out.len(),
+        });
+    }
+    for (row_out, iy) in (0..h).rev().enumerate() {
+        let src = &cells[iy * w..(iy + 1) * w];
+        let dst = &mut out[row_out * w * 4..(row_out + 1) * w * 4];
+        for (px, &c) in dst.chunks_exact_mut(4).zip(src) {
+            let g = gray(c);
+            px.copy_from_slice(&[g, g, g, 255]);
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -607,23 +607,12 @@ impl MapSearch {
     /// Draws the binary map into RGBA pixels, north up: occupied black,
     /// free white (the MAP map keeps no uncertainty to draw).
     pub fn render_rgba(&self, out: &mut [u8]) -> Result<()> {
-        let (w, h) = (self.geometry.width(), self.geometry.height());
-        if out.len() != w * h * 4 {
-            return Err(OccError::LengthMismatch {
-                field: "pixel buffer".into(),
-                expected: w * h * 4,
-                found: out.len(),
-            });
-        }
-        for (row_out, iy) in (0..h).rev().enumerate() {
-            let src = &self.occupied[iy * w..(iy + 1) * w];
-            let dst = &mut out[row_out * w * 4..(row_out + 1) * w * 4];
-            for (px, &o) in dst.chunks_exact_mut(4).zip(src) {
-                let g = if o { 0 } else { 255 };
-                px.copy_from_slice(&[g, g, g, 255]);
-            }
-        }
-        Ok(())
+        crate::grid::render_gray_rgba(
+            &self.geometry,
+            &self.occupied,
+            out,
+            |o| if o { 0 } else { 255 },
+        )
     }
 }
 
