@@ -2,7 +2,10 @@
 //! MAP search of Table 9.3 on the doorway scene, stepped by the widget, and
 //! the exact joint posterior of the two-cell table (SPEC §6, §7).
 
-use super::{budget_from_js, object_from_js, string_from_js, to_js, Pixels};
+use super::{
+    budget_from_js, map_pair_to_js, object_from_js, object_or_default, string_from_js, to_js,
+    Pixels,
+};
 use crate::export;
 use crate::grid::LogOddsGrid;
 use crate::joint::{JointPosterior, JointQuery};
@@ -31,11 +34,7 @@ impl DoorwayTrap {
     /// overriding any of its fields (`{ seed: 3 }`).
     #[wasm_bindgen(constructor)]
     pub fn new(scene: JsValue) -> Result<DoorwayTrap, JsError> {
-        let scene: DoorwayScene = if scene.is_undefined() || scene.is_null() {
-            DoorwayScene::standard()
-        } else {
-            object_from_js("scene", scene)?
-        };
+        let scene: DoorwayScene = object_or_default("scene", scene, DoorwayScene::standard)?;
         Ok(DoorwayTrap {
             sweep: DoorwaySweep::new(&scene)?,
             search: doorway::map_search(&scene)?,
@@ -233,15 +232,7 @@ impl DoorwayTrap {
                 )))
             }
         };
-        let out = js_sys::Object::new();
-        let set = |key: &str, value: JsValue| {
-            js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
-                .map(|_| ())
-                .map_err(|_| JsError::new("cannot build the export object"))
-        };
-        set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
-        set("yaml", JsValue::from_str(&pair.yaml))?;
-        Ok(out.into())
+        map_pair_to_js(&pair)
     }
 }
 

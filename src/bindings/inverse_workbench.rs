@@ -4,7 +4,7 @@
 //! and their log odds along its axis for one reading, and retrains the
 //! learned model with another seed; it draws what it gets.
 
-use super::{object_from_js, to_js};
+use super::{object_from_js, object_or_default, to_js};
 use crate::forward::{BeamModel, BeamModelParams};
 use crate::inverse::learned::{mean_free_evidence, side_by_side, BeamLattice};
 use crate::inverse::training::{self, TrainingConfig};
@@ -205,11 +205,7 @@ impl InverseWorkbench {
 /// `z_max` the point mass.
 #[wasm_bindgen(js_name = forwardDensity)]
 pub fn forward_density(z: f64, z_star: f64, params: JsValue) -> Result<f64, JsError> {
-    let params: BeamModelParams = if params.is_undefined() || params.is_null() {
-        BeamModelParams::CHAPTER
-    } else {
-        object_from_js("params", params)?
-    };
+    let params: BeamModelParams = object_or_default("params", params, || BeamModelParams::CHAPTER)?;
     let model = BeamModel::new(params)?;
     crate::error::non_negative("z", z)?;
     crate::error::finite("z_star", z_star)?;

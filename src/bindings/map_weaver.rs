@@ -3,8 +3,8 @@
 //! ([`crate::sim::weaver_workloads`]) for the wasm run under Node.
 
 use super::{
-    budget_from_js, coordinate_from_js, from_js, index_from_js, object_from_js, string_from_js,
-    to_js,
+    budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, object_or_default,
+    string_from_js, to_js,
 };
 use crate::export;
 use crate::inverse::training::{self, TrainingConfig};
@@ -23,11 +23,8 @@ impl MapWeaver {
     /// `{ seed: 3, person: false, laps: 1, panes: [{...}, {...}] }`.
     #[wasm_bindgen(constructor)]
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
-        let settings: WeaverSettings = if settings.is_undefined() || settings.is_null() {
-            WeaverSettings::default()
-        } else {
-            object_from_js("settings", settings)?
-        };
+        let settings: WeaverSettings =
+            object_or_default("settings", settings, WeaverSettings::default)?;
         Ok(MapWeaver(Weaver::new(settings)?))
     }
 
@@ -201,15 +198,7 @@ impl MapWeaver {
         let pane = pane_from_js(pane)?;
         let side = if pane == 0 { "left" } else { "right" };
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
-        let out = js_sys::Object::new();
-        let set = |key: &str, value: JsValue| {
-            js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
-                .map(|_| ())
-                .map_err(|_| JsError::new("cannot build the export object"))
-        };
-        set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
-        set("yaml", JsValue::from_str(&pair.yaml))?;
-        Ok(out.into())
+        map_pair_to_js(&pair)
     }
 }
 

@@ -201,3 +201,30 @@ impl Pixels {
         self.0.as_ptr()
     }
 }
+
+/// A ROS `map_server` pair for JavaScript: `{ pgm: Uint8Array, yaml: string }`.
+pub(crate) fn map_pair_to_js(pair: &crate::export::MapServerPair) -> Result<JsValue, JsError> {
+    let out = js_sys::Object::new();
+    let set = |key: &str, value: JsValue| {
+        js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
+            .map(|_| ())
+            .map_err(|_| JsError::new("cannot build the export object"))
+    };
+    set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
+    set("yaml", JsValue::from_str(&pair.yaml))?;
+    Ok(out.into())
+}
+
+/// Optional settings: `undefined` or `null` take `default()`, anything else
+/// must be an object of named settings (see [`object_from_js`]).
+pub(crate) fn object_or_default<T: serde::de::DeserializeOwned>(
+    what: &str,
+    value: JsValue,
+    default: impl FnOnce() -> T,
+) -> Result<T, JsError> {
+    if value.is_undefined() || value.is_null() {
+        Ok(default())
+    } else {
+        object_from_js(what, value)
+    }
+}

@@ -4,8 +4,8 @@
 //! every widget's "Export map" button uses ([`zip_map_pair`]).
 
 use super::{
-    budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, object_from_js,
-    string_from_js, to_js, Pixels,
+    budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
+    object_from_js, string_from_js, to_js, Pixels,
 };
 use crate::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
 use crate::export;
@@ -329,7 +329,7 @@ impl LogMapSession {
     pub fn export_map(&self, name: Option<String>) -> Result<JsValue, JsError> {
         let stem = export::file_stem(name.as_deref().unwrap_or(""));
         let pair = export::map_server_pair(self.built()?.grid(), &format!("{stem}.pgm"));
-        pair_to_js(&pair.pgm, &pair.yaml)
+        map_pair_to_js(&pair)
     }
 
     fn built(&self) -> Result<&LogMapBuild, JsError> {
@@ -343,19 +343,6 @@ impl LogMapSession {
             .as_mut()
             .ok_or_else(|| JsError::new("the log has not been read yet"))
     }
-}
-
-/// `{ pgm: Uint8Array, yaml: string }` for JavaScript.
-fn pair_to_js(pgm: &[u8], yaml: &str) -> Result<JsValue, JsError> {
-    let out = js_sys::Object::new();
-    let set = |key: &str, value: JsValue| {
-        js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
-            .map(|_| ())
-            .map_err(|_| JsError::new("cannot build the export object"))
-    };
-    set("pgm", js_sys::Uint8Array::from(pgm).into())?;
-    set("yaml", JsValue::from_str(yaml))?;
-    Ok(out.into())
 }
 
 /// Packs an exported pair into one zip download for `downloadMapPair`

@@ -2,7 +2,7 @@
 //! sensor, max fusion (eq. 9.9) against summation. The widget steps the
 //! core, draws the four maps from wasm memory and reads small readouts.
 
-use super::{object_from_js, string_from_js, to_js, Pixels};
+use super::{map_pair_to_js, object_or_default, string_from_js, to_js, Pixels};
 use crate::export;
 use crate::fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
@@ -27,16 +27,8 @@ impl SensorFusion {
     /// (`{ sonar_p_occ: 0.75 }`).
     #[wasm_bindgen(constructor)]
     pub fn new(scene: JsValue, models: JsValue) -> Result<SensorFusion, JsError> {
-        let scene: TableScene = if scene.is_undefined() || scene.is_null() {
-            TableScene::default()
-        } else {
-            object_from_js("scene", scene)?
-        };
-        let models: FusionModels = if models.is_undefined() || models.is_null() {
-            FusionModels::default()
-        } else {
-            object_from_js("models", models)?
-        };
+        let scene: TableScene = object_or_default("scene", scene, TableScene::default)?;
+        let models: FusionModels = object_or_default("models", models, FusionModels::default)?;
         Ok(SensorFusion {
             fusion: TableFusion::with_models(&scene, models)?,
             pixels: Default::default(),
@@ -113,15 +105,7 @@ impl SensorFusion {
         let k = map_index(&which)?;
         let name = format!("table-{}.pgm", MAPS[k]);
         let pair = export::map_server_pair(map_of(&self.fusion, k), &name);
-        let out = js_sys::Object::new();
-        let set = |key: &str, value: JsValue| {
-            js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
-                .map(|_| ())
-                .map_err(|_| JsError::new("cannot build the export object"))
-        };
-        set("pgm", js_sys::Uint8Array::from(pair.pgm.as_slice()).into())?;
-        set("yaml", JsValue::from_str(&pair.yaml))?;
-        Ok(out.into())
+        map_pair_to_js(&pair)
     }
 }
 

@@ -35,7 +35,7 @@ pub const MAX_READINGS: usize = 4096;
 /// size a sweep step takes about 12 ms and a whole climb a few tenths of a
 /// second natively, where a grid at the 16.7-million-cell limit of
 /// [`GridGeometry`] would hold the widget for minutes.
-pub const MAX_SCENE_CELLS: usize = 250_000;
+pub const MAX_SCENE_CELLS: usize = super::MAX_WIDGET_SCENE_CELLS;
 
 /// The sonar: cone, range, and how its readings are generated.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -149,18 +149,7 @@ impl DoorwayScene {
             self.max_y,
             self.resolution,
         )?;
-        if g.len() > MAX_SCENE_CELLS {
-            return Err(invalid(
-                "width x height",
-                format!(
-                    "{} x {} cells at resolution {}",
-                    g.width(),
-                    g.height(),
-                    error::show(self.resolution)
-                ),
-                "at most 250000 cells: a coarser resolution or a smaller room",
-            ));
-        }
+        super::check_scene_cells(&g)?;
         if self.poses.is_empty() {
             return Err(invalid("poses", "[]", "at least one pose"));
         }

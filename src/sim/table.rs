@@ -45,7 +45,7 @@ pub const MAX_SUB_RAYS: usize = 256;
 ///
 /// Cells of the map: about 20 times the chapter's (its room at 1.2 cm).
 /// Every step sweeps every cell twice (Table 9.1 for the sonar's cone).
-pub const MAX_SCENE_CELLS: usize = 250_000;
+pub const MAX_SCENE_CELLS: usize = super::MAX_WIDGET_SCENE_CELLS;
 /// Sonar sub-rays cast over the run (steps x sonars x sub-rays): about 60
 /// times the chapter's 32,400.
 pub const MAX_SONAR_RAYS: usize = 2_000_000;
@@ -233,18 +233,7 @@ impl TableScene {
     /// Checks everything [`TableScene::build`] relies on.
     pub fn validate(&self) -> Result<()> {
         let g = self.geometry()?;
-        if g.len() > MAX_SCENE_CELLS {
-            return Err(invalid(
-                "width x height",
-                format!(
-                    "{} x {} cells at resolution {}",
-                    g.width(),
-                    g.height(),
-                    error::show(self.resolution)
-                ),
-                "at most 250000 cells: a coarser resolution or a smaller room",
-            ));
-        }
+        super::check_scene_cells(&g)?;
         error::positive("wall", self.wall)?;
         let [rw, rh] = self.room;
         if 2.0 * self.wall >= rw.min(rh) {
