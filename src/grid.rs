@@ -310,7 +310,7 @@ impl LogOddsGrid {
     /// One step of the cell's binary Bayes filter (Table 9.1, line 4):
     /// `l <- clamp(l + evidence)`, where `evidence` is the inverse model's
     /// log odds already net of its `l0`. The caller has validated `evidence`.
-    #[inline]
+    #[inline(always)]
     pub fn apply(&mut self, i: usize, evidence: f32) {
         let c = self.clamp;
         let l = &mut self.log_odds[i];

@@ -152,20 +152,15 @@ impl RayMapper {
         let count = scratch.count;
         let mask = self.pending.len() - 1;
         let pending = &mut self.pending[..=mask];
-        let mut apply = |i: u32| {
-            let slot = &mut pending[i as usize & mask];
-            grid.apply(i as usize, *slot);
-            *slot = UNTOUCHED;
-        };
         let mut chunks = self.touched[..count].chunks_exact(4);
         for c in &mut chunks {
-            apply(c[0]);
-            apply(c[1]);
-            apply(c[2]);
-            apply(c[3]);
+            apply_pending(grid, pending, mask, c[0]);
+            apply_pending(grid, pending, mask, c[1]);
+            apply_pending(grid, pending, mask, c[2]);
+            apply_pending(grid, pending, mask, c[3]);
         }
         for &i in chunks.remainder() {
-            apply(i);
+            apply_pending(grid, pending, mask, i);
         }
         ScanStats {
             cells_visited: visits,
@@ -189,6 +184,15 @@ impl RayMapper {
                 .extend(bearings.iter().map(|b| b.sin_cos()));
         }
     }
+}
+
+/// Applies the evidence cell `i` gathered in this scan and puts its slot
+/// back to [`UNTOUCHED`].
+#[inline(always)]
+fn apply_pending(grid: &mut LogOddsGrid, pending: &mut [f32], mask: usize, i: u32) {
+    let slot = &mut pending[i as usize & mask];
+    grid.apply(i as usize, *slot);
+    *slot = UNTOUCHED;
 }
 
 /// A model's evidence is finite by contract. Should one return NaN, it is

@@ -190,7 +190,7 @@ struct Axis {
 impl Axis {
     /// Axis of `a + t d` clipped to `t in [t0, t1]`, on a grid `cells`
     /// wide.
-    #[inline]
+    #[inline(always)]
     fn new(a: f64, d: f64, t0: f64, t1: f64, cells: usize) -> Self {
         let last = cells as i64 - 1;
         let first = floor_cell(a + t0 * d, last);
