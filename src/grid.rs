@@ -312,9 +312,18 @@ impl LogOddsGrid {
     /// log odds already net of its `l0`. The caller has validated `evidence`.
     #[inline(always)]
     pub fn apply(&mut self, i: usize, evidence: f32) {
+        // Comparisons rather than f32::clamp, which re-checks its bounds
+        // on every call (the clamp is positive by construction).
         let c = self.clamp;
         let l = &mut self.log_odds[i];
-        *l = (*l + evidence).clamp(-c, c);
+        let v = *l + evidence;
+        *l = if v > c {
+            c
+        } else if v < -c {
+            -c
+        } else {
+            v
+        };
         self.updates[i] += 1;
     }
 

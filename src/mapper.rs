@@ -11,14 +11,16 @@
 //!   The walk carries each cell's index and range along the beam from cell
 //!   to cell; when the model states its evidence along the beam as a step
 //!   function of range ([`crate::inverse::AxisProfile`], as Table 9.2 can),
-//!   a cell's verdict is two comparisons of that range.
+//!   a cell's verdict is two comparisons of that range. When every beam of
+//!   the scan shares the same two values, a verdict is one of three codes
+//!   and is gathered in a byte per cell; otherwise as a float per cell.
 //! * [`sweep_scan`] — Table 9.1 as printed: every cell of the map is visited,
 //!   the beam nearest in bearing is found, and the inverse model decides.
 //!   This is what a wide cone (a sonar) needs: its cone covers cells that no
 //!   beam's raster passes through.
 
 use crate::grid::LogOddsGrid;
-use crate::inverse::InverseModel;
+use crate::inverse::{AxisProfile, InverseModel};
 use crate::raster::{Cursor, Walk};
 use crate::scan::{wrap_angle, Scan};
 
@@ -38,18 +40,21 @@ pub struct ScanStats {
 const UNTOUCHED: f32 = f32::NEG_INFINITY;
 
 /// The ray-traversal mapper, with its per-scan scratch space (kept between
-/// scans so that integrating a scan allocates nothing).
+/// scans so that integrating a scan allocates nothing). Every per-cell
+/// slot is clear again between scans: the update pass clears the slots it
+/// applies.
 #[derive(Debug, Default, Clone)]
 pub struct RayMapper {
+    /// Per cell, the verdict code of the current scan (step-profile path).
+    codes: Vec<u8>,
     /// Per cell, the evidence the current scan has gathered for it (log
-    /// odds net of `l0`), or [`UNTOUCHED`]. Every cell is back at
-    /// [`UNTOUCHED`] between scans: the update pass resets the cells it
-    /// applies, so no map-sized clearing is ever needed.
+    /// odds net of `l0`), or [`UNTOUCHED`] (general path).
     pending: Vec<f32>,
-    /// The cells touched in the current scan, in first-touch order (the
-    /// first `ScanStats::cells_updated` entries). A cell enters at most
-    /// once per scan, so a buffer as long as the map never overflows.
+    /// The cells touched in the current scan, in first-touch order.
     touched: Vec<u32>,
+    /// The current scan's reach and axis profile per beam (step-profile
+    /// path; `None` for a beam with nothing to walk).
+    profiles: Vec<Option<(f64, AxisProfile)>>,
     /// `(sin, cos)` of each bearing of the last scan, and those bearings:
     /// a scanner's bearings rarely change from scan to scan, so a beam's
     /// direction costs four products instead of two library calls (which
@@ -75,93 +80,143 @@ impl RayMapper {
         model: &M,
         scan: &Scan,
     ) -> ScanStats {
-        let geometry = *grid.geometry();
-        // Both buffers are a power of two long (cells past the map stay
-        // untouched), so that `index & mask` is visibly in range and the
-        // hot loop carries no bounds checks; see `Scratch`.
-        let len = geometry.len().next_power_of_two();
+        self.cache_bearing_trig(scan.bearings());
+        let frame = BeamFrame::new(grid, scan);
+        match self.step_profiles(model, scan.ranges()) {
+            Some(bands) => self.integrate_step_profiles(grid, &frame, bands),
+            None => self.integrate_general(grid, model, scan, &frame),
+        }
+    }
+
+    /// Fills `profiles` with each beam's reach and axis profile, and
+    /// returns the scan's free and occupied evidence when every beam states
+    /// its evidence as a step function with those same two values, occupied
+    /// above free (Table 9.2 and the like). `None` sends the scan down the
+    /// general path.
+    fn step_profiles<M: InverseModel + ?Sized>(
+        &mut self,
+        model: &M,
+        ranges: &[f64],
+    ) -> Option<Bands> {
+        self.profiles.clear();
+        let mut bands: Option<Bands> = None;
+        for &z in ranges {
+            let reach = model.reach(z);
+            if !(reach > 0.0) {
+                self.profiles.push(None);
+                continue;
+            }
+            let p = model.axis_profile(z)?;
+            let these = Bands {
+                free: p.free,
+                occupied: p.occupied,
+            };
+            // A band whose evidence is zero carries no information and must
+            // not count as an update: the general path leaves such cells out.
+            if !(these.free != 0.0 && these.occupied != 0.0 && these.occupied > these.free) {
+                return None;
+            }
+            match bands {
+                None => bands = Some(these),
+                Some(b) if b.same(these) => {}
+                Some(_) => return None,
+            }
+            self.profiles.push(Some((reach, p)));
+        }
+        // A scan without a beam to walk has no evidence to apply.
+        Some(bands.unwrap_or(Bands {
+            free: -1.0,
+            occupied: 1.0,
+        }))
+    }
+
+    /// A scan whose beams share one free and one occupied value
+    /// ([`Self::step_profiles`]): a cell's verdict is then one of three
+    /// codes (untouched, free, occupied), kept in a byte per cell, and
+    /// "occupied wins" is "keep the larger code". A map of bytes is a
+    /// quarter of a map of floats, and stays in cache.
+    fn integrate_step_profiles(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        frame: &BeamFrame,
+        bands: Bands,
+    ) -> ScanStats {
+        // Power-of-two lengths, indexed with `& mask`: see `Sink`.
+        let len = grid.geometry().len().next_power_of_two();
+        if self.codes.len() != len {
+            self.codes = vec![Code::Untouched as u8; len];
+        }
+        ensure_len(&mut self.touched, len);
+        let mut gathered = Codes {
+            codes: &mut self.codes,
+            touched: &mut self.touched,
+            mask: len - 1,
+            count: 0,
+            bands,
+        };
+        let mut visits = 0;
+        for (profile, &trig) in self.profiles.iter().zip(&self.bearing_trig) {
+            let Some((reach, p)) = *profile else { continue };
+            let Some((walk, at)) = frame.beam(trig, reach) else {
+                continue;
+            };
+            let n;
+            (n, gathered) = trace(walk, at, StepCodes(p), gathered);
+            visits += n;
+        }
+
+        let count = gathered.count;
+        settle(gathered, grid);
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: count,
+        }
+    }
+
+    /// The general path: each cell's evidence is gathered as a float (the
+    /// larger wins per cell), then every touched cell is updated once.
+    fn integrate_general<M: InverseModel + ?Sized>(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        model: &M,
+        scan: &Scan,
+        frame: &BeamFrame,
+    ) -> ScanStats {
+        let len = grid.geometry().len().next_power_of_two();
         if self.pending.len() != len {
             self.pending = vec![UNTOUCHED; len];
-            self.touched = vec![0; len];
         }
-        self.cache_bearing_trig(scan.bearings());
-
-        let pose = scan.pose();
-        let (su, sv) = geometry.world_to_grid(pose.x, pose.y);
-        let res = geometry.resolution();
-        let (w, h) = (geometry.width(), geometry.height());
-        // Beam direction theta + bearing by the angle-addition formulas
-        // (within a few ulps of sin_cos of the sum).
-        let (sin_t, cos_t) = pose.theta.sin_cos();
-        let mut scratch = Scratch::new(&mut self.pending, &mut self.touched);
+        ensure_len(&mut self.touched, len);
+        let mut gathered = Pending {
+            pending: &mut self.pending,
+            touched: &mut self.touched,
+            mask: len - 1,
+            count: 0,
+        };
         let mut visits = 0;
-        for (&z, &(sin_b, cos_b)) in scan.ranges().iter().zip(&self.bearing_trig) {
+        for (&z, &trig) in scan.ranges().iter().zip(&self.bearing_trig) {
             let reach = model.reach(z);
             if !(reach > 0.0) {
                 continue;
             }
-            let s = sin_t * cos_b + cos_t * sin_b;
-            let c = cos_t * cos_b - sin_t * sin_b;
-            let end = (su + reach * c / res, sv + reach * s / res);
-            let Some(walk) = Walk::new(w, h, (su, sv), end) else {
+            let Some((walk, at)) = frame.beam(trig, reach) else {
                 continue;
             };
-            // Per cell the walk needs the cell's index and the range of its
-            // centre along the beam axis (metres); both change by a fixed
-            // amount per step on each axis, so they are carried along. The
-            // steps point along the beam, so both range steps are >= 0.
-            let (ix, iy) = walk.start;
-            let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
-            let at = BeamState {
-                index: iy * w + ix,
-                range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
-                index_step: (walk.step.0 as isize, walk.step.1 as isize * w as isize),
-                range_step: (step_x * res * c, step_y * res * s),
-            };
-            visits += match model.axis_profile(z) {
-                // Table 9.2 and the like: two comparisons per cell. (A band
-                // whose evidence is zero carries no information and must not
-                // count as an update: such a profile takes the general path.)
+            let n;
+            (n, gathered) = match model.axis_profile(z) {
+                // Two comparisons per cell. (A band whose evidence is zero
+                // carries no information and must not count as an update:
+                // such a profile takes the per-cell branch.)
                 Some(p) if p.free != 0.0 && p.occupied != 0.0 => {
-                    let (free_until, occupied_until) = (p.free_until, p.occupied_until);
-                    let (free, occupied) = (p.free, p.occupied);
-                    let verdict = move |r: f64, i: usize, scratch: &mut Scratch| {
-                        if r <= free_until {
-                            scratch.record(i, free);
-                        } else if r <= occupied_until {
-                            scratch.record(i, occupied);
-                        }
-                    };
-                    trace(walk, at, verdict, &mut scratch)
+                    trace(walk, at, StepEvidence(p), gathered)
                 }
-                _ => {
-                    let verdict = |r: f64, i: usize, scratch: &mut Scratch| {
-                        let e = sanitize(model.evidence(r, 0.0, z));
-                        if e != 0.0 {
-                            scratch.record(i, e);
-                        }
-                    };
-                    trace(walk, at, verdict, &mut scratch)
-                }
+                _ => trace(walk, at, ModelEvidence { model, z }, gathered),
             };
+            visits += n;
         }
 
-        // Table 9.1, line 4, once per touched cell. Four cells per loop
-        // turn: under Node the loop's own bookkeeping (a stack check and a
-        // counter per turn) is a sizeable share of this short body.
-        let count = scratch.count;
-        let mask = self.pending.len() - 1;
-        let pending = &mut self.pending[..=mask];
-        let mut chunks = self.touched[..count].chunks_exact(4);
-        for c in &mut chunks {
-            apply_pending(grid, pending, mask, c[0]);
-            apply_pending(grid, pending, mask, c[1]);
-            apply_pending(grid, pending, mask, c[2]);
-            apply_pending(grid, pending, mask, c[3]);
-        }
-        for &i in chunks.remainder() {
-            apply_pending(grid, pending, mask, i);
-        }
+        let count = gathered.count;
+        settle(gathered, grid);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -186,13 +241,11 @@ impl RayMapper {
     }
 }
 
-/// Applies the evidence cell `i` gathered in this scan and puts its slot
-/// back to [`UNTOUCHED`].
-#[inline(always)]
-fn apply_pending(grid: &mut LogOddsGrid, pending: &mut [f32], mask: usize, i: u32) {
-    let slot = &mut pending[i as usize & mask];
-    grid.apply(i as usize, *slot);
-    *slot = UNTOUCHED;
+/// Makes `buffer` `len` long (its contents are scratch).
+fn ensure_len(buffer: &mut Vec<u32>, len: usize) {
+    if buffer.len() != len {
+        *buffer = vec![0; len];
+    }
 }
 
 /// A model's evidence is finite by contract. Should one return NaN, it is
@@ -210,6 +263,81 @@ fn sanitize(e: f32) -> f32 {
     }
 }
 
+/// The free and occupied evidence (net of `l0`) shared by every beam of a
+/// scan on the step-profile path.
+#[derive(Debug, Clone, Copy)]
+struct Bands {
+    free: f32,
+    occupied: f32,
+}
+
+impl Bands {
+    fn same(self, other: Bands) -> bool {
+        self.free.to_bits() == other.free.to_bits()
+            && self.occupied.to_bits() == other.occupied.to_bits()
+    }
+}
+
+/// What every beam of a scan shares: the sensor in grid coordinates, the
+/// grid's size and resolution, and the heading.
+struct BeamFrame {
+    su: f64,
+    sv: f64,
+    res: f64,
+    width: usize,
+    height: usize,
+    sin_t: f64,
+    cos_t: f64,
+}
+
+impl BeamFrame {
+    fn new(grid: &LogOddsGrid, scan: &Scan) -> Self {
+        let g = grid.geometry();
+        let pose = scan.pose();
+        let (su, sv) = g.world_to_grid(pose.x, pose.y);
+        let (sin_t, cos_t) = pose.theta.sin_cos();
+        Self {
+            su,
+            sv,
+            res: g.resolution(),
+            width: g.width(),
+            height: g.height(),
+            sin_t,
+            cos_t,
+        }
+    }
+
+    /// The walk along the beam of bearing `(sin, cos)` from the sensor out
+    /// to range `reach` (metres), and the state at its first cell; `None`
+    /// when the beam misses the map.
+    #[inline]
+    fn beam(&self, (sin_b, cos_b): (f64, f64), reach: f64) -> Option<(Walk, BeamState)> {
+        let (su, sv, res) = (self.su, self.sv, self.res);
+        // Beam direction theta + bearing by the angle-addition formulas
+        // (within a few ulps of sin_cos of the sum).
+        let s = self.sin_t * cos_b + self.cos_t * sin_b;
+        let c = self.cos_t * cos_b - self.sin_t * sin_b;
+        let end = (su + reach * c / res, sv + reach * s / res);
+        let walk = Walk::new(self.width, self.height, (su, sv), end)?;
+        // Per cell the walk needs the cell's index and the range of its
+        // centre along the beam axis (metres); both change by a fixed
+        // amount per step on each axis, so they are carried along. The
+        // steps point along the beam, so both range steps are >= 0.
+        let (ix, iy) = walk.start;
+        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
+        let at = BeamState {
+            index: iy * self.width + ix,
+            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
+            index_step: (
+                walk.step.0 as isize,
+                walk.step.1 as isize * self.width as isize,
+            ),
+            range_step: (step_x * res * c, step_y * res * s),
+        };
+        Some((walk, at))
+    }
+}
+
 /// Where a beam's walk stands: the cell's row-major index and the range of
 /// its centre along the beam axis (metres), with their change per step on
 /// each axis. Incremental, as Amanatides & Woo carry their `tMax`.
@@ -220,38 +348,125 @@ struct BeamState {
     range_step: (f64, f64),
 }
 
-/// The per-scan gathering of verdicts: at most one per cell, occupied
-/// winning over free.
+/// A cell's verdict on the step-profile path, "occupied wins" being "the
+/// larger code wins".
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Code {
+    Untouched = 0,
+    Free = 1,
+    Occupied = 2,
+}
+
+/// Where a scan's verdicts are gathered, at most one per cell: a value per
+/// cell, and the list of cells touched so far, in first-touch order (a cell
+/// enters at most once per scan, so a list as long as the map never
+/// overflows).
 ///
 /// Both buffers are `mask + 1` long, a power of two, and are indexed with
 /// `& mask`: the compiler then sees every index in range and drops the
 /// bounds checks from the per-cell loop. The mask never changes an index:
-/// the walk stays inside the map, and `count` stays below the number of
-/// cells (each cell enters `touched` at most once per scan).
-struct Scratch<'a> {
+/// the walk stays inside the map, and the count below the number of cells.
+trait Gather: Sized {
+    /// The same gathering with its buffers resliced to exactly `mask + 1`
+    /// entries, done inside the walk's function so that the compiler knows
+    /// the length there.
+    fn narrowed(self) -> Self;
+    /// Cells touched so far.
+    fn count(&self) -> usize;
+    /// Applies the gathered evidence of the `k`-th touched cell to `grid`
+    /// and clears its slot for the next scan.
+    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize);
+}
+
+/// Table 9.1, line 4, once per touched cell; every slot is clear again
+/// afterwards, so no map-sized clearing is ever needed. Four cells per loop
+/// turn: under Node the loop's own bookkeeping (a stack check and a
+/// counter per turn) is a sizeable share of this short body.
+#[inline(always)]
+fn settle<G: Gather>(gathered: G, grid: &mut LogOddsGrid) {
+    let mut gathered = gathered.narrowed();
+    let n = gathered.count();
+    let mut k = 0;
+    while k + 4 <= n {
+        gathered.settle_one(grid, k);
+        gathered.settle_one(grid, k + 1);
+        gathered.settle_one(grid, k + 2);
+        gathered.settle_one(grid, k + 3);
+        k += 4;
+    }
+    while k < n {
+        gathered.settle_one(grid, k);
+        k += 1;
+    }
+}
+
+/// Verdicts as codes, for a scan whose beams share one free and one
+/// occupied value (`bands`).
+struct Codes<'a> {
+    codes: &'a mut [u8],
+    touched: &'a mut [u32],
+    mask: usize,
+    count: usize,
+    bands: Bands,
+}
+
+impl Codes<'_> {
+    /// Records verdict `code` for cell `i`.
+    #[inline(always)]
+    fn record(&mut self, i: usize, code: Code) {
+        let slot = &mut self.codes[i & self.mask];
+        let old = *slot;
+        if code as u8 > old {
+            *slot = code as u8;
+            if old == Code::Untouched as u8 {
+                self.touched[self.count & self.mask] = i as u32;
+                self.count += 1;
+            }
+        }
+    }
+}
+
+impl Gather for Codes<'_> {
+    #[inline(always)]
+    fn narrowed(self) -> Self {
+        let mask = self.mask;
+        Self {
+            codes: &mut self.codes[..=mask],
+            touched: &mut self.touched[..=mask],
+            ..self
+        }
+    }
+    #[inline(always)]
+    fn count(&self) -> usize {
+        self.count
+    }
+    #[inline(always)]
+    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize) {
+        let i = self.touched[k & self.mask] as usize;
+        let code = &mut self.codes[i & self.mask];
+        let e = if *code == Code::Occupied as u8 {
+            self.bands.occupied
+        } else {
+            self.bands.free
+        };
+        grid.apply(i, e);
+        *code = Code::Untouched as u8;
+    }
+}
+
+/// Verdicts as log odds (net of `l0`), for any model.
+struct Pending<'a> {
     pending: &'a mut [f32],
     touched: &'a mut [u32],
     mask: usize,
     count: usize,
 }
 
-impl<'a> Scratch<'a> {
-    /// `pending` and `touched` have the same power-of-two length.
-    fn new(pending: &'a mut [f32], touched: &'a mut [u32]) -> Self {
-        debug_assert!(pending.len().is_power_of_two() && touched.len() == pending.len());
-        let mask = pending.len() - 1;
-        Self {
-            pending,
-            touched,
-            mask,
-            count: 0,
-        }
-    }
-
+impl Pending<'_> {
     /// Records verdict `e` for cell `i`.
     #[inline(always)]
     fn record(&mut self, i: usize, e: f32) {
-        debug_assert!(i <= self.mask && self.count <= self.mask);
         let slot = &mut self.pending[i & self.mask];
         let old = *slot;
         // Occupied (positive) wins over free; between two free verdicts the
@@ -268,46 +483,111 @@ impl<'a> Scratch<'a> {
     }
 }
 
-/// Walks one beam, gathering the verdict for each cell into `scratch`;
-/// returns the number of visits. Kept out of line so that the walk's whole
-/// state fits in registers.
+impl Gather for Pending<'_> {
+    #[inline(always)]
+    fn narrowed(self) -> Self {
+        let mask = self.mask;
+        Self {
+            pending: &mut self.pending[..=mask],
+            touched: &mut self.touched[..=mask],
+            ..self
+        }
+    }
+    #[inline(always)]
+    fn count(&self) -> usize {
+        self.count
+    }
+    #[inline(always)]
+    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize) {
+        let i = self.touched[k & self.mask] as usize;
+        let slot = &mut self.pending[i & self.mask];
+        grid.apply(i, *slot);
+        *slot = UNTOUCHED;
+    }
+}
+
+/// A beam's verdict on the cell under the cursor, from the range of the
+/// cell's centre along the beam axis. (Methods rather than closures: they
+/// must be inlined into the walk, which calls them from several places.)
+trait Verdict<G> {
+    fn visit(&self, r: f64, i: usize, gathered: &mut G);
+}
+
+/// A step profile, as codes: free up to `free_until`, then occupied.
+struct StepCodes(AxisProfile);
+
+impl Verdict<Codes<'_>> for StepCodes {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
+        if r <= self.0.free_until {
+            gathered.record(i, Code::Free);
+        } else if r <= self.0.occupied_until {
+            gathered.record(i, Code::Occupied);
+        }
+    }
+}
+
+/// A step profile, as log odds.
+struct StepEvidence(AxisProfile);
+
+impl Verdict<Pending<'_>> for StepEvidence {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Pending) {
+        if r <= self.0.free_until {
+            gathered.record(i, self.0.free);
+        } else if r <= self.0.occupied_until {
+            gathered.record(i, self.0.occupied);
+        }
+    }
+}
+
+/// Any model, asked per cell.
+struct ModelEvidence<'m, M: ?Sized> {
+    model: &'m M,
+    z: f64,
+}
+
+impl<M: InverseModel + ?Sized> Verdict<Pending<'_>> for ModelEvidence<'_, M> {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Pending) {
+        let e = sanitize(self.model.evidence(r, 0.0, self.z));
+        if e != 0.0 {
+            gathered.record(i, e);
+        }
+    }
+}
+
+/// Walks one beam, handing each cell's verdict to `gathered`; returns the
+/// number of visits and the gathering. Kept out of line so that the walk's
+/// whole state fits in registers.
 #[inline(never)]
-fn trace<V: Fn(f64, usize, &mut Scratch)>(
+fn trace<G: Gather, V: Verdict<G>>(
     walk: Walk,
     at: BeamState,
     verdict: V,
-    scratch: &mut Scratch,
-) -> usize {
-    // Reslicing to exactly `mask + 1` entries is what lets the compiler
-    // see `i & mask` in range.
-    let mask = scratch.mask;
+    gathered: G,
+) -> (usize, G) {
     let mut cursor = BeamCursor {
         at,
-        scratch: Scratch {
-            pending: &mut scratch.pending[..=mask],
-            touched: &mut scratch.touched[..=mask],
-            mask,
-            count: scratch.count,
-        },
+        gathered: gathered.narrowed(),
         verdict,
     };
     let visits = walk.run(&mut cursor);
-    scratch.count = cursor.scratch.count;
-    visits
+    (visits, cursor.gathered)
 }
 
-/// The mapper's [`Cursor`]: evidence for the cell under it from `verdict`
-/// (a function of the range along the axis), gathered into the scratch.
-struct BeamCursor<'a, V> {
+/// The mapper's [`Cursor`]: the verdict on the cell under it, gathered.
+struct BeamCursor<G, V> {
     at: BeamState,
-    scratch: Scratch<'a>,
+    gathered: G,
     verdict: V,
 }
 
-impl<V: Fn(f64, usize, &mut Scratch)> Cursor for BeamCursor<'_, V> {
+impl<G, V: Verdict<G>> Cursor for BeamCursor<G, V> {
     #[inline(always)]
     fn visit(&mut self) {
-        (self.verdict)(self.at.range, self.at.index, &mut self.scratch);
+        self.verdict
+            .visit(self.at.range, self.at.index, &mut self.gathered);
     }
     #[inline(always)]
     fn step_x(&mut self) {
@@ -424,7 +704,11 @@ mod tests {
     /// The traversal mapper written plainly on top of `supercover`: the
     /// range of each cell computed afresh, the verdicts of a scan gathered
     /// in a map, occupied (the larger) winning, then one update per cell.
-    fn reference_integrate(grid: &mut LogOddsGrid, model: &HandCrafted, scan: &Scan) -> ScanStats {
+    fn reference_integrate<M: InverseModel>(
+        grid: &mut LogOddsGrid,
+        model: &M,
+        scan: &Scan,
+    ) -> ScanStats {
         let g = *grid.geometry();
         let pose = scan.pose();
         let (su, sv) = g.world_to_grid(pose.x, pose.y);
@@ -527,6 +811,60 @@ mod tests {
             }
             assert_eq!(fast, plain, "profile path vs reference");
             assert_eq!(fast, per_cell, "profile path vs per-cell evidence");
+        }
+    }
+
+    /// Table 9.2 with its evidence scaled by a factor that depends on the
+    /// reading: every beam is a step profile, but their values differ, so
+    /// the mapper must gather floats (occupied still winning, and between
+    /// two verdicts the larger).
+    struct ScaledByReading(HandCrafted);
+
+    impl ScaledByReading {
+        fn scale(z: f64) -> f32 {
+            1.0 + (z * 4.0).floor().rem_euclid(3.0) as f32 * 0.5
+        }
+    }
+
+    impl InverseModel for ScaledByReading {
+        fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+            self.0.evidence(r, phi, z) * Self::scale(z)
+        }
+        fn reach(&self, z: f64) -> f64 {
+            self.0.reach(z)
+        }
+        fn half_width(&self) -> f64 {
+            self.0.half_width()
+        }
+        fn z_max(&self) -> f64 {
+            self.0.z_max()
+        }
+        fn l0(&self) -> f32 {
+            self.0.l0()
+        }
+        fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
+            let p = self.0.axis_profile(z)?;
+            Some(AxisProfile {
+                free: p.free * Self::scale(z),
+                occupied: p.occupied * Self::scale(z),
+                ..p
+            })
+        }
+    }
+
+    #[test]
+    fn beams_with_different_step_values_build_the_reference_map() {
+        let mut rng = StdRng::seed_from_u64(6);
+        for _ in 0..40 {
+            let model = ScaledByReading(random_model(&mut rng));
+            let (mut fast, mut plain) = (map(), map());
+            let mut mapper = RayMapper::new();
+            for _ in 0..6 {
+                let scan = random_scan(&mut rng);
+                let stats = mapper.integrate(&mut fast, &model, &scan);
+                assert_eq!(stats, reference_integrate(&mut plain, &model, &scan));
+            }
+            assert_eq!(fast, plain);
         }
     }
 

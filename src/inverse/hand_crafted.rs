@@ -208,8 +208,8 @@ fn shorter(a: f64, b: f64) -> f64 {
 fn float_edge(
     guess: f64,
     inside: impl Fn(f64) -> bool,
-    outward: fn(f64) -> f64,
-    inward: fn(f64) -> f64,
+    outward: impl Fn(f64) -> f64,
+    inward: impl Fn(f64) -> f64,
 ) -> Option<f64> {
     const MAX_STEPS: usize = 16;
     let mut r = guess;
