@@ -141,19 +141,13 @@ impl RayMapper {
         frame: &BeamFrame,
         bands: Bands,
     ) -> ScanStats {
-        // Power-of-two lengths, indexed with `& mask`: see `Sink`.
+        // Power-of-two lengths, indexed with `& mask`: see `Gathered`.
         let len = grid.geometry().len().next_power_of_two();
         if self.codes.len() != len {
             self.codes = vec![Code::Untouched as u8; len];
         }
         ensure_len(&mut self.touched, len);
-        let mut gathered = Codes {
-            codes: &mut self.codes,
-            touched: &mut self.touched,
-            mask: len - 1,
-            count: 0,
-            bands,
-        };
+        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
         let mut visits = 0;
         for (profile, &trig) in self.profiles.iter().zip(&self.bearing_trig) {
             let Some((reach, p)) = *profile else { continue };
@@ -166,7 +160,7 @@ impl RayMapper {
         }
 
         let count = gathered.count;
-        settle(gathered, grid);
+        gathered.settle(grid, bands);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -187,12 +181,7 @@ impl RayMapper {
             self.pending = vec![UNTOUCHED; len];
         }
         ensure_len(&mut self.touched, len);
-        let mut gathered = Pending {
-            pending: &mut self.pending,
-            touched: &mut self.touched,
-            mask: len - 1,
-            count: 0,
-        };
+        let mut gathered = Pending::new(&mut self.pending, &mut self.touched);
         let mut visits = 0;
         for (&z, &trig) in scan.ranges().iter().zip(&self.bearing_trig) {
             let reach = model.reach(z);
@@ -216,7 +205,14 @@ impl RayMapper {
         }
 
         let count = gathered.count;
-        settle(gathered, grid);
+        // (The floats are the evidence: no bands to look them up in.)
+        gathered.settle(
+            grid,
+            Bands {
+                free: 0.0,
+                occupied: 0.0,
+            },
+        );
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -358,153 +354,133 @@ enum Code {
     Occupied = 2,
 }
 
-/// Where a scan's verdicts are gathered, at most one per cell: a value per
+/// A per-cell verdict as gathered: the larger wins, and `UNTOUCHED` is
+/// below every verdict.
+trait Slot: Copy + PartialOrd {
+    const UNTOUCHED: Self;
+    /// The log odds this verdict stands for, given the scan's `bands`.
+    fn evidence(self, bands: Bands) -> f32;
+}
+
+/// A [`Code`] (step-profile path).
+impl Slot for u8 {
+    const UNTOUCHED: u8 = Code::Untouched as u8;
+    #[inline(always)]
+    fn evidence(self, bands: Bands) -> f32 {
+        if self == Code::Occupied as u8 {
+            bands.occupied
+        } else {
+            bands.free
+        }
+    }
+}
+
+/// Log odds net of `l0` (general path). Occupied (positive) wins over
+/// free; between two free verdicts the weaker one stands.
+impl Slot for f32 {
+    const UNTOUCHED: f32 = UNTOUCHED;
+    #[inline(always)]
+    fn evidence(self, _: Bands) -> f32 {
+        self
+    }
+}
+
+/// Where a scan's verdicts are gathered, at most one per cell: a slot per
 /// cell, and the list of cells touched so far, in first-touch order (a cell
 /// enters at most once per scan, so a list as long as the map never
-/// overflows).
+/// overflows). "The larger wins" is symmetric, so beam order does not
+/// matter.
 ///
 /// Both buffers are `mask + 1` long, a power of two, and are indexed with
 /// `& mask`: the compiler then sees every index in range and drops the
 /// bounds checks from the per-cell loop. The mask never changes an index:
 /// the walk stays inside the map, and the count below the number of cells.
-trait Gather: Sized {
-    /// The same gathering with its buffers resliced to exactly `mask + 1`
-    /// entries, done inside the walk's function so that the compiler knows
-    /// the length there.
-    fn narrowed(self) -> Self;
-    /// Cells touched so far.
-    fn count(&self) -> usize;
-    /// Applies the gathered evidence of the `k`-th touched cell to `grid`
-    /// and clears its slot for the next scan.
-    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize);
+struct Gathered<'a, T> {
+    slots: &'a mut [T],
+    touched: &'a mut [u32],
+    mask: usize,
+    count: usize,
 }
 
-/// Table 9.1, line 4, once per touched cell; every slot is clear again
-/// afterwards, so no map-sized clearing is ever needed. Four cells per loop
-/// turn: under Node the loop's own bookkeeping (a stack check and a
-/// counter per turn) is a sizeable share of this short body.
-#[inline(always)]
-fn settle<G: Gather>(gathered: G, grid: &mut LogOddsGrid) {
-    let mut gathered = gathered.narrowed();
-    let n = gathered.count();
-    let mut k = 0;
-    while k + 4 <= n {
-        gathered.settle_one(grid, k);
-        gathered.settle_one(grid, k + 1);
-        gathered.settle_one(grid, k + 2);
-        gathered.settle_one(grid, k + 3);
-        k += 4;
+impl<'a, T: Slot> Gathered<'a, T> {
+    /// `slots` and `touched` have the same power-of-two length.
+    fn new(slots: &'a mut [T], touched: &'a mut [u32]) -> Self {
+        debug_assert!(slots.len().is_power_of_two() && touched.len() == slots.len());
+        let mask = slots.len() - 1;
+        Self {
+            slots,
+            touched,
+            mask,
+            count: 0,
+        }
     }
-    while k < n {
-        gathered.settle_one(grid, k);
-        k += 1;
+
+    /// The same gathering with its buffers resliced to exactly `mask + 1`
+    /// entries, done inside the function that loops, so that the compiler
+    /// knows the length there.
+    #[inline(always)]
+    fn narrowed(self) -> Self {
+        let mask = self.mask;
+        Self {
+            slots: &mut self.slots[..=mask],
+            touched: &mut self.touched[..=mask],
+            ..self
+        }
+    }
+
+    /// Records verdict `v` for cell `i`.
+    #[inline(always)]
+    fn record(&mut self, i: usize, v: T) {
+        let slot = &mut self.slots[i & self.mask];
+        let old = *slot;
+        if v > old {
+            *slot = v;
+            if old == T::UNTOUCHED {
+                self.touched[self.count & self.mask] = i as u32;
+                self.count += 1;
+            }
+        }
+    }
+
+    /// Applies the gathered evidence of the `k`-th touched cell to `grid`
+    /// and clears its slot for the next scan.
+    #[inline(always)]
+    fn settle_one(&mut self, grid: &mut LogOddsGrid, bands: Bands, k: usize) {
+        let i = self.touched[k & self.mask] as usize;
+        let slot = &mut self.slots[i & self.mask];
+        grid.apply(i, slot.evidence(bands));
+        *slot = T::UNTOUCHED;
+    }
+
+    /// Table 9.1, line 4, once per touched cell; every slot is clear again
+    /// afterwards, so no map-sized clearing is ever needed. Four cells per
+    /// loop turn: under Node the loop's own bookkeeping (a stack check and
+    /// a counter per turn) is a sizeable share of this short body.
+    #[inline(always)]
+    fn settle(self, grid: &mut LogOddsGrid, bands: Bands) {
+        let mut gathered = self.narrowed();
+        let n = gathered.count;
+        let mut k = 0;
+        while k + 4 <= n {
+            gathered.settle_one(grid, bands, k);
+            gathered.settle_one(grid, bands, k + 1);
+            gathered.settle_one(grid, bands, k + 2);
+            gathered.settle_one(grid, bands, k + 3);
+            k += 4;
+        }
+        while k < n {
+            gathered.settle_one(grid, bands, k);
+            k += 1;
+        }
     }
 }
 
 /// Verdicts as codes, for a scan whose beams share one free and one
-/// occupied value (`bands`).
-struct Codes<'a> {
-    codes: &'a mut [u8],
-    touched: &'a mut [u32],
-    mask: usize,
-    count: usize,
-    bands: Bands,
-}
-
-impl Codes<'_> {
-    /// Records verdict `code` for cell `i`.
-    #[inline(always)]
-    fn record(&mut self, i: usize, code: Code) {
-        let slot = &mut self.codes[i & self.mask];
-        let old = *slot;
-        if code as u8 > old {
-            *slot = code as u8;
-            if old == Code::Untouched as u8 {
-                self.touched[self.count & self.mask] = i as u32;
-                self.count += 1;
-            }
-        }
-    }
-}
-
-impl Gather for Codes<'_> {
-    #[inline(always)]
-    fn narrowed(self) -> Self {
-        let mask = self.mask;
-        Self {
-            codes: &mut self.codes[..=mask],
-            touched: &mut self.touched[..=mask],
-            ..self
-        }
-    }
-    #[inline(always)]
-    fn count(&self) -> usize {
-        self.count
-    }
-    #[inline(always)]
-    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize) {
-        let i = self.touched[k & self.mask] as usize;
-        let code = &mut self.codes[i & self.mask];
-        let e = if *code == Code::Occupied as u8 {
-            self.bands.occupied
-        } else {
-            self.bands.free
-        };
-        grid.apply(i, e);
-        *code = Code::Untouched as u8;
-    }
-}
+/// occupied value.
+type Codes<'a> = Gathered<'a, u8>;
 
 /// Verdicts as log odds (net of `l0`), for any model.
-struct Pending<'a> {
-    pending: &'a mut [f32],
-    touched: &'a mut [u32],
-    mask: usize,
-    count: usize,
-}
-
-impl Pending<'_> {
-    /// Records verdict `e` for cell `i`.
-    #[inline(always)]
-    fn record(&mut self, i: usize, e: f32) {
-        let slot = &mut self.pending[i & self.mask];
-        let old = *slot;
-        // Occupied (positive) wins over free; between two free verdicts the
-        // weaker one stands. The rule is symmetric, so beam order does not
-        // matter. A new cell holds UNTOUCHED, below every verdict.
-        if e > old {
-            *slot = e;
-            // (Only the mark is below the most negative finite float.)
-            if old < f32::MIN {
-                self.touched[self.count & self.mask] = i as u32;
-                self.count += 1;
-            }
-        }
-    }
-}
-
-impl Gather for Pending<'_> {
-    #[inline(always)]
-    fn narrowed(self) -> Self {
-        let mask = self.mask;
-        Self {
-            pending: &mut self.pending[..=mask],
-            touched: &mut self.touched[..=mask],
-            ..self
-        }
-    }
-    #[inline(always)]
-    fn count(&self) -> usize {
-        self.count
-    }
-    #[inline(always)]
-    fn settle_one(&mut self, grid: &mut LogOddsGrid, k: usize) {
-        let i = self.touched[k & self.mask] as usize;
-        let slot = &mut self.pending[i & self.mask];
-        grid.apply(i, *slot);
-        *slot = UNTOUCHED;
-    }
-}
+type Pending<'a> = Gathered<'a, f32>;
 
 /// A beam's verdict on the cell under the cursor, from the range of the
 /// cell's centre along the beam axis. (Methods rather than closures: they
@@ -520,9 +496,9 @@ impl Verdict<Codes<'_>> for StepCodes {
     #[inline(always)]
     fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
         if r <= self.0.free_until {
-            gathered.record(i, Code::Free);
+            gathered.record(i, Code::Free as u8);
         } else if r <= self.0.occupied_until {
-            gathered.record(i, Code::Occupied);
+            gathered.record(i, Code::Occupied as u8);
         }
     }
 }
@@ -561,12 +537,12 @@ impl<M: InverseModel + ?Sized> Verdict<Pending<'_>> for ModelEvidence<'_, M> {
 /// number of visits and the gathering. Kept out of line so that the walk's
 /// whole state fits in registers.
 #[inline(never)]
-fn trace<G: Gather, V: Verdict<G>>(
+fn trace<'a, T: Slot, V: Verdict<Gathered<'a, T>>>(
     walk: Walk,
     at: BeamState,
     verdict: V,
-    gathered: G,
-) -> (usize, G) {
+    gathered: Gathered<'a, T>,
+) -> (usize, Gathered<'a, T>) {
     let mut cursor = BeamCursor {
         at,
         gathered: gathered.narrowed(),
