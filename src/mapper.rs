@@ -141,8 +141,7 @@ impl RayMapper {
         frame: &BeamFrame,
         bands: Bands,
     ) -> ScanStats {
-        // Power-of-two lengths, indexed with `& mask`: see `Gathered`.
-        let len = grid.geometry().len().next_power_of_two();
+        let len = Gathered::<u8>::len_for(grid.geometry().len());
         if self.codes.len() != len {
             self.codes = vec![Code::Untouched as u8; len];
         }
@@ -176,7 +175,7 @@ impl RayMapper {
         scan: &Scan,
         frame: &BeamFrame,
     ) -> ScanStats {
-        let len = grid.geometry().len().next_power_of_two();
+        let len = Gathered::<f32>::len_for(grid.geometry().len());
         if self.pending.len() != len {
             self.pending = vec![UNTOUCHED; len];
         }
@@ -344,8 +343,9 @@ struct BeamState {
     range_step: (f64, f64),
 }
 
-/// A cell's verdict on the step-profile path, "occupied wins" being "the
-/// larger code wins".
+/// A cell's verdicts on the step-profile path, as flags: a cell that any
+/// beam found occupied has the occupied flag, and "occupied wins" is
+/// reading that flag first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 enum Code {
@@ -362,12 +362,12 @@ trait Slot: Copy + PartialOrd {
     fn evidence(self, bands: Bands) -> f32;
 }
 
-/// A [`Code`] (step-profile path).
+/// [`Code`] flags (step-profile path).
 impl Slot for u8 {
     const UNTOUCHED: u8 = Code::Untouched as u8;
     #[inline(always)]
     fn evidence(self, bands: Bands) -> f32 {
-        if self == Code::Occupied as u8 {
+        if self & Code::Occupied as u8 != 0 {
             bands.occupied
         } else {
             bands.free
@@ -428,20 +428,6 @@ impl<'a, T: Slot> Gathered<'a, T> {
         }
     }
 
-    /// Records verdict `v` for cell `i`.
-    #[inline(always)]
-    fn record(&mut self, i: usize, v: T) {
-        let slot = &mut self.slots[i & self.mask];
-        let old = *slot;
-        if v > old {
-            *slot = v;
-            if old == T::UNTOUCHED {
-                self.touched[self.count & self.mask] = i as u32;
-                self.count += 1;
-            }
-        }
-    }
-
     /// Applies the gathered evidence of the `k`-th touched cell to `grid`
     /// and clears its slot for the next scan.
     #[inline(always)]
@@ -475,12 +461,53 @@ impl<'a, T: Slot> Gathered<'a, T> {
     }
 }
 
+impl<T> Gathered<'_, T> {
+    /// The length of the buffers for a map of `cells` cells: a power of
+    /// two, and more than `cells`, so that the touched list always has a
+    /// spare entry past its end (see [`Codes::record`]).
+    fn len_for(cells: usize) -> usize {
+        (cells + 1).next_power_of_two()
+    }
+}
+
 /// Verdicts as codes, for a scan whose beams share one free and one
 /// occupied value.
 type Codes<'a> = Gathered<'a, u8>;
 
+impl Codes<'_> {
+    /// Records verdict `v` for cell `i`, without a branch: the flag is or-ed
+    /// in, and the cell is written past the end of the touched list, which
+    /// only grows when the cell was untouched. Whether a beam's next cell is
+    /// new to the scan follows no pattern a branch predictor can learn
+    /// where beams start to fan apart.
+    #[inline(always)]
+    fn record(&mut self, i: usize, v: Code) {
+        let slot = &mut self.slots[i & self.mask];
+        let old = *slot;
+        *slot = old | v as u8;
+        self.touched[self.count & self.mask] = i as u32;
+        self.count += (old == Code::Untouched as u8) as usize;
+    }
+}
+
 /// Verdicts as log odds (net of `l0`), for any model.
 type Pending<'a> = Gathered<'a, f32>;
+
+impl Pending<'_> {
+    /// Records verdict `v` for cell `i`: the larger stands.
+    #[inline(always)]
+    fn record(&mut self, i: usize, v: f32) {
+        let slot = &mut self.slots[i & self.mask];
+        let old = *slot;
+        if v > old {
+            *slot = v;
+            if old == UNTOUCHED {
+                self.touched[self.count & self.mask] = i as u32;
+                self.count += 1;
+            }
+        }
+    }
+}
 
 /// A beam's verdict on the cell under the cursor, from the range of the
 /// cell's centre along the beam axis. (Methods rather than closures: they
@@ -496,9 +523,9 @@ impl Verdict<Codes<'_>> for StepCodes {
     #[inline(always)]
     fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
         if r <= self.0.free_until {
-            gathered.record(i, Code::Free as u8);
+            gathered.record(i, Code::Free);
         } else if r <= self.0.occupied_until {
-            gathered.record(i, Code::Occupied as u8);
+            gathered.record(i, Code::Occupied);
         }
     }
 }
