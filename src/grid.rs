@@ -239,6 +239,57 @@ impl FilterSettings {
     }
 }
 
+/// The cells of a [`LogOddsGrid`], borrowed for a run of updates.
+pub struct CellsMut<'a> {
+    log_odds: &'a mut [f32],
+    updates: &'a mut [u32],
+    clamp: f32,
+}
+
+impl CellsMut<'_> {
+    /// [`LogOddsGrid::apply`].
+    #[inline(always)]
+    pub fn apply(&mut self, i: usize, evidence: f32) {
+        // Comparisons rather than f32::clamp, which re-checks its bounds
+        // on every call (the clamp is positive by construction).
+        let c = self.clamp;
+        let l = &mut self.log_odds[i];
+        let v = *l + evidence;
+        *l = if v > c {
+            c
+        } else if v < -c {
+            -c
+        } else {
+            v
+        };
+        self.updates[i] += 1;
+    }
+
+    /// [`LogOddsGrid::apply`] for evidence known to be `>= 0`: only the
+    /// upper clamp can bind (the log odds are within the clamp already).
+    #[inline(always)]
+    pub fn raise(&mut self, i: usize, evidence: f32) {
+        debug_assert!(evidence >= 0.0);
+        let c = self.clamp;
+        let l = &mut self.log_odds[i];
+        let v = *l + evidence;
+        *l = if v > c { c } else { v };
+        self.updates[i] += 1;
+    }
+
+    /// [`LogOddsGrid::apply`] for evidence known to be `<= 0`: only the
+    /// lower clamp can bind.
+    #[inline(always)]
+    pub fn lower(&mut self, i: usize, evidence: f32) {
+        debug_assert!(evidence <= 0.0);
+        let c = -self.clamp;
+        let l = &mut self.log_odds[i];
+        let v = *l + evidence;
+        *l = if v < c { c } else { v };
+        self.updates[i] += 1;
+    }
+}
+
 /// The occupancy grid map: log odds per cell, and how often each cell was
 /// updated (for the reader's hover readout).
 #[derive(Debug, Clone, PartialEq)]
@@ -312,19 +363,19 @@ impl LogOddsGrid {
     /// log odds already net of its `l0`. The caller has validated `evidence`.
     #[inline(always)]
     pub fn apply(&mut self, i: usize, evidence: f32) {
-        // Comparisons rather than f32::clamp, which re-checks its bounds
-        // on every call (the clamp is positive by construction).
-        let c = self.clamp;
-        let l = &mut self.log_odds[i];
-        let v = *l + evidence;
-        *l = if v > c {
-            c
-        } else if v < -c {
-            -c
-        } else {
-            v
-        };
-        self.updates[i] += 1;
+        self.cells_mut().apply(i, evidence);
+    }
+
+    /// The cells, for a caller that updates many of them in a row.
+    pub fn cells_mut(&mut self) -> CellsMut<'_> {
+        let n = self.log_odds.len();
+        CellsMut {
+            log_odds: &mut self.log_odds,
+            // The same length as the log odds, and the compiler sees it: a
+            // cell's index is then checked once for both.
+            updates: &mut self.updates[..n],
+            clamp: self.clamp,
+        }
     }
 
     /// Puts every cell back to the prior.

@@ -19,7 +19,7 @@
 //!   This is what a wide cone (a sonar) needs: its cone covers cells that no
 //!   beam's raster passes through.
 
-use crate::grid::LogOddsGrid;
+use crate::grid::{CellsMut, LogOddsGrid};
 use crate::inverse::{AxisProfile, InverseModel};
 use crate::raster::{Cursor, Walk};
 use crate::scan::{wrap_angle, Scan};
@@ -90,8 +90,8 @@ impl RayMapper {
 
     /// Fills `profiles` with each beam's reach and axis profile, and
     /// returns the scan's free and occupied evidence when every beam states
-    /// its evidence as a step function with those same two values, occupied
-    /// above free (Table 9.2 and the like). `None` sends the scan down the
+    /// its evidence as a step function with those same two values, free
+    /// negative and occupied positive (Table 9.2 and the like). `None` sends the scan down the
     /// general path.
     fn step_profiles<M: InverseModel + ?Sized>(
         &mut self,
@@ -112,8 +112,10 @@ impl RayMapper {
                 occupied: p.occupied,
             };
             // A band whose evidence is zero carries no information and must
-            // not count as an update: the general path leaves such cells out.
-            if !(these.free != 0.0 && these.occupied != 0.0 && these.occupied > these.free) {
+            // not count as an update: the general path leaves such cells
+            // out. Free lowers the log odds and occupied raises them, so
+            // each needs only one side of the clamp.
+            if !(these.free < 0.0 && these.occupied > 0.0) {
                 return None;
             }
             match bands {
@@ -279,6 +281,8 @@ struct BeamFrame {
     su: f64,
     sv: f64,
     res: f64,
+    /// `1 / res`: cells per metre.
+    per_metre: f64,
     width: usize,
     height: usize,
     sin_t: f64,
@@ -295,6 +299,7 @@ impl BeamFrame {
             su,
             sv,
             res: g.resolution(),
+            per_metre: 1.0 / g.resolution(),
             width: g.width(),
             height: g.height(),
             sin_t,
@@ -312,7 +317,8 @@ impl BeamFrame {
         // (within a few ulps of sin_cos of the sum).
         let s = self.sin_t * cos_b + self.cos_t * sin_b;
         let c = self.cos_t * cos_b - self.sin_t * sin_b;
-        let end = (su + reach * c / res, sv + reach * s / res);
+        let cells = reach * self.per_metre;
+        let end = (su + cells * c, sv + cells * s);
         let walk = Walk::new(self.width, self.height, (su, sv), end)?;
         // Per cell the walk needs the cell's index and the range of its
         // centre along the beam axis (metres); both change by a fixed
@@ -358,19 +364,22 @@ enum Code {
 /// below every verdict.
 trait Slot: Copy + PartialOrd {
     const UNTOUCHED: Self;
-    /// The log odds this verdict stands for, given the scan's `bands`.
-    fn evidence(self, bands: Bands) -> f32;
+    /// Applies the evidence this verdict stands for (given the scan's
+    /// `bands`) to cell `i` of `grid`.
+    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands);
 }
 
 /// [`Code`] flags (step-profile path).
 impl Slot for u8 {
     const UNTOUCHED: u8 = Code::Untouched as u8;
+    /// (The bands' signs are known, see [`RayMapper::step_profiles`], so
+    /// each update needs one side of the clamp only.)
     #[inline(always)]
-    fn evidence(self, bands: Bands) -> f32 {
+    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands) {
         if self & Code::Occupied as u8 != 0 {
-            bands.occupied
+            cells.raise(i, bands.occupied)
         } else {
-            bands.free
+            cells.lower(i, bands.free)
         }
     }
 }
@@ -380,8 +389,8 @@ impl Slot for u8 {
 impl Slot for f32 {
     const UNTOUCHED: f32 = UNTOUCHED;
     #[inline(always)]
-    fn evidence(self, _: Bands) -> f32 {
-        self
+    fn apply(self, cells: &mut CellsMut, i: usize, _: Bands) {
+        cells.apply(i, self);
     }
 }
 
@@ -428,35 +437,43 @@ impl<'a, T: Slot> Gathered<'a, T> {
         }
     }
 
-    /// Applies the gathered evidence of the `k`-th touched cell to `grid`
-    /// and clears its slot for the next scan.
-    #[inline(always)]
-    fn settle_one(&mut self, grid: &mut LogOddsGrid, bands: Bands, k: usize) {
-        let i = self.touched[k & self.mask] as usize;
-        let slot = &mut self.slots[i & self.mask];
-        grid.apply(i, slot.evidence(bands));
-        *slot = T::UNTOUCHED;
-    }
-
     /// Table 9.1, line 4, once per touched cell; every slot is clear again
     /// afterwards, so no map-sized clearing is ever needed. Four cells per
     /// loop turn: under Node the loop's own bookkeeping (a stack check and
     /// a counter per turn) is a sizeable share of this short body.
     #[inline(always)]
     fn settle(self, grid: &mut LogOddsGrid, bands: Bands) {
-        let mut gathered = self.narrowed();
-        let n = gathered.count;
-        let mut k = 0;
-        while k + 4 <= n {
-            gathered.settle_one(grid, bands, k);
-            gathered.settle_one(grid, bands, k + 1);
-            gathered.settle_one(grid, bands, k + 2);
-            gathered.settle_one(grid, bands, k + 3);
-            k += 4;
+        let Self {
+            slots,
+            touched,
+            mask,
+            count,
+        } = self.narrowed();
+        let cells = &mut grid.cells_mut();
+        // (A function rather than a closure: at opt-level "s" a closure
+        // called from several places stays a call.)
+        #[inline(always)]
+        fn settle_one<T: Slot>(
+            slots: &mut [T],
+            mask: usize,
+            cells: &mut CellsMut,
+            bands: Bands,
+            i: u32,
+        ) {
+            let i = i as usize;
+            let slot = &mut slots[i & mask];
+            slot.apply(cells, i, bands);
+            *slot = T::UNTOUCHED;
         }
-        while k < n {
-            gathered.settle_one(grid, bands, k);
-            k += 1;
+        let mut fours = touched[..count].chunks_exact(4);
+        for four in &mut fours {
+            settle_one(slots, mask, cells, bands, four[0]);
+            settle_one(slots, mask, cells, bands, four[1]);
+            settle_one(slots, mask, cells, bands, four[2]);
+            settle_one(slots, mask, cells, bands, four[3]);
+        }
+        for &i in fours.remainder() {
+            settle_one(slots, mask, cells, bands, i);
         }
     }
 }

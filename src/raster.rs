@@ -72,9 +72,19 @@ impl Walk {
             return None;
         }
 
-        // Liang–Barsky clip of a + t d, t in [0, 1], to [0, w] x [0, h].
+        // One division per axis: the clip's ratios and the walk's crossings
+        // are all multiples of 1/d (a division costs several products).
+        let (inv_x, inv_y) = (1.0 / dx, 1.0 / dy);
+
+        // Liang–Barsky clip of a + t d, t in [0, 1], to [0, w] x [0, h]:
+        // each border `p t <= q`, with `1/p` alongside.
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for (p, q) in [(-dx, a.0), (dx, w - a.0), (-dy, a.1), (dy, h - a.1)] {
+        for (p, q, inv_p) in [
+            (-dx, a.0, -inv_x),
+            (dx, w - a.0, inv_x),
+            (-dy, a.1, -inv_y),
+            (dy, h - a.1, inv_y),
+        ] {
             if p == 0.0 {
                 if q < 0.0 {
                     return None; // parallel to this border and outside it
@@ -82,9 +92,9 @@ impl Walk {
             } else if p < 0.0 {
                 // Entering through this border. From a start on its inner
                 // side (q >= 0, the usual case) the ratio is <= 0 and
-                // cannot move t0: skip the division.
+                // cannot move t0: skip it.
                 if q < 0.0 {
-                    let r = q / p;
+                    let r = q * inv_p;
                     if r > t0 {
                         t0 = r;
                     }
@@ -92,7 +102,7 @@ impl Walk {
             } else {
                 // Leaving through this border. (Comparisons rather than
                 // f64::min: `r` is never NaN, and in wasm that is a call.)
-                let r = q / p;
+                let r = q * inv_p;
                 if r < t1 {
                     t1 = r;
                 }
@@ -102,8 +112,8 @@ impl Walk {
             return None;
         }
 
-        let x = Axis::new(a.0, dx, t0, t1, width);
-        let y = Axis::new(a.1, dy, t0, t1, height);
+        let x = Axis::new(a.0, dx, inv_x, t0, t1, width);
+        let y = Axis::new(a.1, dy, inv_y, t0, t1, height);
         Some(Self {
             start: (x.first, y.first),
             step: (x.step, y.step),
@@ -189,9 +199,9 @@ struct Axis {
 
 impl Axis {
     /// Axis of `a + t d` clipped to `t in [t0, t1]`, on a grid `cells`
-    /// wide.
+    /// wide; `inv` is `1 / d`.
     #[inline(always)]
-    fn new(a: f64, d: f64, t0: f64, t1: f64, cells: usize) -> Self {
+    fn new(a: f64, d: f64, inv: f64, t0: f64, t1: f64, cells: usize) -> Self {
         let last = cells as i64 - 1;
         let first = floor_cell(a + t0 * d, last);
         if d == 0.0 {
@@ -212,8 +222,6 @@ impl Axis {
         } else {
             (-1i8, below_cell(end, last), first)
         };
-        // One division per axis: the crossings are multiples of 1/d.
-        let inv = 1.0 / d;
         Self {
             first: first as usize,
             step,

@@ -125,8 +125,10 @@ impl InverseModel for HandCrafted {
         if r > shorter(p.z_max, z + half_alpha) || phi.abs() > 0.5 * p.beta {
             return 0.0;
         }
-        // Line 2: at the reading (and only for a real return).
-        if z < p.z_max && (r - z).abs() < half_alpha {
+        // Line 2: at the reading (and only for a real return). |r - z| <
+        // alpha/2 is tested as z - alpha/2 < r < z + alpha/2: the band's
+        // edges are then two floats, which `axis_profile` states exactly.
+        if z < p.z_max && r > z - half_alpha && r < z + half_alpha {
             return self.occ;
         }
         // Line 3: in front of the reading.
@@ -171,19 +173,15 @@ impl InverseModel for HandCrafted {
                 occupied: self.occ,
             });
         }
-        // Line 2 holds on an interval of ranges around z (the rounded
-        // `|r - z|` grows monotonically away from z). Its ends are
-        // `z -+ alpha/2` to within an ulp or two; step to the exact ones.
+        // Line 2 holds on the open interval between the two edges `evidence`
+        // compares with. Below it r < z, so line 3 gives free; above it
+        // r > z, so nothing. Line 1 cuts the band at the reach (which is
+        // >= z).
         let half_alpha = 0.5 * p.alpha;
-        let near = |r: f64| (r - z).abs() < half_alpha;
-        let lo = float_edge(z - half_alpha, near, f64::next_down, f64::next_up)?;
-        let hi = float_edge(z + half_alpha, near, f64::next_up, f64::next_down)?;
-        // Below the band r < z, so line 3 gives free; above it r > z, so
-        // nothing. Line 1 cuts the band at the reach (which is >= z).
         Some(AxisProfile {
-            free_until: lo.next_down(),
+            free_until: z - half_alpha,
             free: self.free,
-            occupied_until: shorter(hi, reach),
+            occupied_until: shorter((z + half_alpha).next_down(), reach),
             occupied: self.occ,
         })
     }
@@ -199,33 +197,6 @@ fn shorter(a: f64, b: f64) -> f64 {
     } else {
         a
     }
-}
-
-/// The outermost float (moving with `outward`) at which `inside` still
-/// holds, starting from a guess within a few ulps of it; `inside` holds on
-/// an interval and `inward` points into it. `None` if the guess is too far
-/// off (the caller then falls back to per-cell evaluation).
-fn float_edge(
-    guess: f64,
-    inside: impl Fn(f64) -> bool,
-    outward: impl Fn(f64) -> f64,
-    inward: impl Fn(f64) -> f64,
-) -> Option<f64> {
-    const MAX_STEPS: usize = 16;
-    let mut r = guess;
-    for _ in 0..MAX_STEPS {
-        if inside(r) {
-            for _ in 0..MAX_STEPS {
-                if !inside(outward(r)) {
-                    return Some(r);
-                }
-                r = outward(r);
-            }
-            return None;
-        }
-        r = inward(r);
-    }
-    None
 }
 
 #[cfg(test)]
