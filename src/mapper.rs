@@ -578,9 +578,10 @@ impl<M: InverseModel + ?Sized> Verdict<Pending<'_>> for ModelEvidence<'_, M> {
 }
 
 /// Walks one beam, handing each cell's verdict to `gathered`; returns the
-/// number of visits and the gathering. Kept out of line so that the walk's
-/// whole state fits in registers.
-#[inline(never)]
+/// number of visits and the gathering. (Inlined into the loop over the
+/// beams: under Node a call per beam, its arguments passed through memory,
+/// cost more than the registers the loop gives up.)
+#[inline(always)]
 fn trace<'a, T: Slot, V: Verdict<Gathered<'a, T>>>(
     walk: Walk,
     at: BeamState,
