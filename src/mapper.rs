@@ -222,12 +222,14 @@ impl RayMapper {
 
     /// Makes `bearing_trig` hold `(sin, cos)` of `bearings`.
     fn cache_bearing_trig(&mut self, bearings: &[f64]) {
+        // Every bearing compared, no early exit: a loop without branches
+        // (the bearings almost always all match).
         let same = self.bearings.len() == bearings.len()
             && self
                 .bearings
                 .iter()
                 .zip(bearings)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
+                .fold(true, |same, (a, b)| same & (a.to_bits() == b.to_bits()));
         if !same {
             self.bearings.clear();
             self.bearings.extend_from_slice(bearings);
