@@ -12,8 +12,9 @@
 //!   to cell; when the model states its evidence along the beam as a step
 //!   function of range ([`crate::inverse::AxisProfile`], as Table 9.2 can),
 //!   a cell's verdict is two comparisons of that range. When every beam of
-//!   the scan shares the same two values, a verdict is one of three codes
-//!   and is gathered in a byte per cell; otherwise as a float per cell.
+//!   the scan shares the same two values (free below zero, occupied above),
+//!   the verdicts are gathered as flags in a byte per cell; otherwise as a
+//!   float per cell.
 //! * [`sweep_scan`] — Table 9.1 as printed: every cell of the map is visited,
 //!   the beam nearest in bearing is found, and the inverse model decides.
 //!   This is what a wide cone (a sonar) needs: its cone covers cells that no
@@ -133,10 +134,10 @@ impl RayMapper {
     }
 
     /// A scan whose beams share one free and one occupied value
-    /// ([`Self::step_profiles`]): a cell's verdict is then one of three
-    /// codes (untouched, free, occupied), kept in a byte per cell, and
-    /// "occupied wins" is "keep the larger code". A map of bytes is a
-    /// quarter of a map of floats, and stays in cache.
+    /// ([`Self::step_profiles`]): a cell's verdicts are then two flags
+    /// (free, occupied) in a byte per cell, and "occupied wins" is reading
+    /// the occupied flag first. A map of bytes is a quarter of a map of
+    /// floats, and stays in cache.
     fn integrate_step_profiles(
         &mut self,
         grid: &mut LogOddsGrid,
@@ -362,9 +363,9 @@ enum Code {
     Occupied = 2,
 }
 
-/// A per-cell verdict as gathered: the larger wins, and `UNTOUCHED` is
-/// below every verdict.
-trait Slot: Copy + PartialOrd {
+/// A cell's verdicts as gathered in one scan; `UNTOUCHED` until a beam
+/// gives evidence.
+trait Slot: Copy {
     const UNTOUCHED: Self;
     /// Applies the evidence this verdict stands for (given the scan's
     /// `bands`) to cell `i` of `grid`.
@@ -398,9 +399,9 @@ impl Slot for f32 {
 
 /// Where a scan's verdicts are gathered, at most one per cell: a slot per
 /// cell, and the list of cells touched so far, in first-touch order (a cell
-/// enters at most once per scan, so a list as long as the map never
-/// overflows). "The larger wins" is symmetric, so beam order does not
-/// matter.
+/// enters at most once per scan, so a list longer than the map never
+/// overflows). Merging verdicts (flags or-ed, the larger float kept) is
+/// symmetric, so beam order does not matter.
 ///
 /// Both buffers are `mask + 1` long, a power of two, and are indexed with
 /// `& mask`: the compiler then sees every index in range and drops the
