@@ -960,9 +960,12 @@ mod tests {
 
     #[test]
     fn nearest_beam_wraps_around_pi() {
-        let beams = [(-3.1, 1.0), (0.0, 2.0), (3.1, 3.0)];
-        assert_eq!(nearest_beam(&beams, 3.14).1, 3.0);
-        assert_eq!(nearest_beam(&beams, -3.14).1, 1.0);
+        let beams = [(-3.1, 1.0), (0.0, 2.0), (3.0, 3.0)];
+        // 3.13 is 0.13 from the beam at 3.0 but 0.053 from the one at -3.1,
+        // across the wrap.
+        assert_eq!(nearest_beam(&beams, 3.13).1, 1.0);
+        assert_eq!(nearest_beam(&beams, 3.05).1, 3.0);
+        assert_eq!(nearest_beam(&beams, -3.13).1, 1.0);
         let (phi, z) = nearest_beam(&beams, 0.1);
         assert!((phi - 0.1).abs() < 1e-12 && z == 2.0);
     }

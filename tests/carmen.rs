@@ -357,6 +357,8 @@ fn a_robotlaser1_line_parses_with_its_own_angles_range_and_poses() {
     assert_eq!(r.message, LaserMessage::RobotLaser1);
     let scan = r.to_scan().unwrap();
     assert_eq!(scan.ranges(), &[1.0, 2.0, 5.6, 3.5, 0.5]);
+    // The log's own start angle and increment (not pi/3, though close).
+    #[allow(clippy::approx_constant)]
     let expected: Vec<f64> = (0..5).map(|i| -2.0943951 + i as f64 * 1.0471976).collect();
     for (b, e) in scan.bearings().iter().zip(&expected) {
         assert!((b - e).abs() < 1e-12, "{b} vs {e}");
