@@ -39,7 +39,7 @@
 use crate::error::{self, invalid, OccError, Result};
 use crate::forward::{BeamModel, BeamModelParams};
 use crate::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
-use crate::raster::supercover;
+use crate::raster::{entry_parameter, supercover};
 use crate::scan::Pose;
 
 /// No entry (a beam with no occupied cell).
@@ -631,24 +631,6 @@ fn prefix(i: usize, e: OccError) -> OccError {
     }
 }
 
-/// The range (metres) at which a ray from grid point `(su, sv)` along unit
-/// direction `(c, s)` enters cell `(ix, iy)`: the slab entry, the same
-/// arithmetic as [`crate::sim::World::cast`], so that a beam's `z*` here
-/// equals the cone cast of the same map bit for bit.
-fn entry_range(ix: usize, iy: usize, su: f64, sv: f64, c: f64, s: f64, res: f64) -> f64 {
-    let entry = |lo: f64, start: f64, d: f64| -> f64 {
-        if d == 0.0 {
-            f64::NEG_INFINITY
-        } else {
-            ((lo - start) / d).min((lo + 1.0 - start) / d)
-        }
-    };
-    let t_in = entry(ix as f64, su, c)
-        .max(entry(iy as f64, sv, s))
-        .max(0.0);
-    t_in * res
-}
-
 /// Rasters every beam's sub-rays on the empty map and tabulates the log
 /// likelihood of each possible expected range.
 fn build_incidence(
@@ -687,7 +669,9 @@ fn build_incidence(
             let (s, c) = (axis + f * settings.half_width).sin_cos();
             let end = (su + z_max * c / res, sv + z_max * s / res);
             supercover(w, h, (su, sv), end, |ix, iy| {
-                let r = entry_range(ix, iy, su, sv, c, s, res);
+                // The same entry as World::cast's, so that a beam's z*
+                // here equals the cone cast of the same map bit for bit.
+                let r = entry_parameter(ix, iy, (su, sv), (c, s)) * res;
                 // A cell entered at z_max or beyond leaves z* at z_max.
                 if r >= z_max {
                     return;

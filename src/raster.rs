@@ -282,6 +282,27 @@ pub fn supercover(
     walk.run(&mut cursor)
 }
 
+/// The parameter at which the ray `start + t (c, s)` (grid coordinates,
+/// `t >= 0`) enters cell `(ix, iy)`: the slab test's entry, 0 when it
+/// starts inside. Only the entry is needed for a cell [`supercover`]
+/// reports, since the ray touches it; an axis the ray is parallel to sets
+/// no bound.
+pub fn entry_parameter(ix: usize, iy: usize, start: (f64, f64), (c, s): (f64, f64)) -> f64 {
+    // (A function rather than a closure: at opt-level "s" a closure
+    // called twice stays a call.)
+    #[inline(always)]
+    fn slab_entry(lo: f64, start: f64, d: f64) -> f64 {
+        if d == 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            ((lo - start) / d).min((lo + 1.0 - start) / d)
+        }
+    }
+    slab_entry(ix as f64, start.0, c)
+        .max(slab_entry(iy as f64, start.1, s))
+        .max(0.0)
+}
+
 /// The cursor of [`supercover`]: the cell's coordinates.
 struct CellCursor<F> {
     x: usize,

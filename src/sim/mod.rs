@@ -8,7 +8,7 @@
 
 use crate::error::{self, Result};
 use crate::grid::GridGeometry;
-use crate::raster::supercover;
+use crate::raster::{entry_parameter, supercover};
 
 /// The most cells a scene stepped cell by cell in a widget may have (the
 /// doorway's sweep and MAP climb, the table's two sonar sweeps per step):
@@ -138,19 +138,7 @@ impl World {
             }
         });
         let Some((ix, iy)) = hit else { return z_max };
-        // Slab test: the ray parameter at which it enters that cell.
-        // The raster only reports cells the ray touches, so only the entry
-        // parameter is needed, per axis (none when the ray is parallel).
-        let entry = |lo: f64, start: f64, d: f64| -> f64 {
-            if d == 0.0 {
-                f64::NEG_INFINITY
-            } else {
-                ((lo - start) / d).min((lo + 1.0 - start) / d)
-            }
-        };
-        let t_in = entry(ix as f64, su, c)
-            .max(entry(iy as f64, sv, s))
-            .max(0.0);
+        let t_in = entry_parameter(ix, iy, (su, sv), (c, s));
         (t_in * res).min(z_max)
     }
 
