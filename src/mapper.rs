@@ -365,8 +365,10 @@ enum Code {
 
 /// A cell's verdicts as gathered in one scan; `UNTOUCHED` until a beam
 /// gives evidence.
-trait Slot: Copy {
+trait Slot: Copy + PartialEq {
     const UNTOUCHED: Self;
+    /// A cell's verdicts so far, `self`, merged with a beam's verdict `v`.
+    fn merge(self, v: Self) -> Self;
     /// Applies the evidence this verdict stands for (given the scan's
     /// `bands`) to cell `i` of `grid`.
     fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands);
@@ -375,6 +377,10 @@ trait Slot: Copy {
 /// [`Code`] flags (step-profile path).
 impl Slot for u8 {
     const UNTOUCHED: u8 = Code::Untouched as u8;
+    #[inline(always)]
+    fn merge(self, v: u8) -> u8 {
+        self | v
+    }
     /// (The bands' signs are known, see [`RayMapper::step_profiles`], so
     /// each update needs one side of the clamp only.)
     #[inline(always)]
@@ -391,6 +397,14 @@ impl Slot for u8 {
 /// free; between two free verdicts the weaker one stands.
 impl Slot for f32 {
     const UNTOUCHED: f32 = UNTOUCHED;
+    #[inline(always)]
+    fn merge(self, v: f32) -> f32 {
+        if v > self {
+            v
+        } else {
+            self
+        }
+    }
     #[inline(always)]
     fn apply(self, cells: &mut CellsMut, i: usize, _: Bands) {
         cells.apply(i, self);
@@ -440,6 +454,21 @@ impl<'a, T: Slot> Gathered<'a, T> {
         }
     }
 
+    /// Records verdict `v` for cell `i`, without a branch on whether the
+    /// cell is new to the scan: the cell is written past the end of the
+    /// touched list, which only grows when the cell was untouched. Where
+    /// beams start to fan apart, that follows no pattern a branch predictor
+    /// can learn.
+    #[inline(always)]
+    fn record(&mut self, i: usize, v: T) {
+        let slot = &mut self.slots[i & self.mask];
+        let old = *slot;
+        let new = old.merge(v);
+        *slot = new;
+        self.touched[self.count & self.mask] = i as u32;
+        self.count += (old == T::UNTOUCHED && new != T::UNTOUCHED) as usize;
+    }
+
     /// Table 9.1, line 4, once per touched cell; every slot is clear again
     /// afterwards, so no map-sized clearing is ever needed. Four cells per
     /// loop turn: under Node the loop's own bookkeeping (a stack check and
@@ -484,7 +513,7 @@ impl<'a, T: Slot> Gathered<'a, T> {
 impl<T> Gathered<'_, T> {
     /// The length of the buffers for a map of `cells` cells: a power of
     /// two, and more than `cells`, so that the touched list always has a
-    /// spare entry past its end (see [`Codes::record`]).
+    /// spare entry past its end (see [`Gathered::record`]).
     fn len_for(cells: usize) -> usize {
         (cells + 1).next_power_of_two()
     }
@@ -494,40 +523,8 @@ impl<T> Gathered<'_, T> {
 /// occupied value.
 type Codes<'a> = Gathered<'a, u8>;
 
-impl Codes<'_> {
-    /// Records verdict `v` for cell `i`, without a branch: the flag is or-ed
-    /// in, and the cell is written past the end of the touched list, which
-    /// only grows when the cell was untouched. Whether a beam's next cell is
-    /// new to the scan follows no pattern a branch predictor can learn
-    /// where beams start to fan apart.
-    #[inline(always)]
-    fn record(&mut self, i: usize, v: Code) {
-        let slot = &mut self.slots[i & self.mask];
-        let old = *slot;
-        *slot = old | v as u8;
-        self.touched[self.count & self.mask] = i as u32;
-        self.count += (old == Code::Untouched as u8) as usize;
-    }
-}
-
 /// Verdicts as log odds (net of `l0`), for any model.
 type Pending<'a> = Gathered<'a, f32>;
-
-impl Pending<'_> {
-    /// Records verdict `v` for cell `i`: the larger stands.
-    #[inline(always)]
-    fn record(&mut self, i: usize, v: f32) {
-        let slot = &mut self.slots[i & self.mask];
-        let old = *slot;
-        if v > old {
-            *slot = v;
-            if old == UNTOUCHED {
-                self.touched[self.count & self.mask] = i as u32;
-                self.count += 1;
-            }
-        }
-    }
-}
 
 /// A beam's verdict on the cell under the cursor, from the range of the
 /// cell's centre along the beam axis. (Methods rather than closures: they
@@ -543,9 +540,9 @@ impl Verdict<Codes<'_>> for StepCodes {
     #[inline(always)]
     fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
         if r <= self.0.free_until {
-            gathered.record(i, Code::Free);
+            gathered.record(i, Code::Free as u8);
         } else if r <= self.0.occupied_until {
-            gathered.record(i, Code::Occupied);
+            gathered.record(i, Code::Occupied as u8);
         }
     }
 }
