@@ -9,9 +9,9 @@
 // string of o/f letters, e.g. "oof"), forget-l0 ("on"/"off"), controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, ensureStyles, fixed } from './lib/ui.js';
-import { AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
-import { copyLinkControl, restoreFromUrl } from './lib/state.js';
+import { el, slider, button, toggle, showError, clearError, fixed } from './lib/ui.js';
+import { applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
+import { copyLinkControl, firstConnection } from './lib/state.js';
 
 const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] };
 // The l0 lesson: a prior of 0.2 and an inverse model whose two answers sit
@@ -59,12 +59,7 @@ class CellFilterElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (this.built) return;
-    // A link handed out by an instructor sets the attributes first.
-    restoreFromUrl(this, CellFilterElement.attributeSpec);
-    this.built = true;
-    ensureStyles();
-    this.attrs = new AttributeReader(this, CellFilterElement.attributeSpec);
+    if (!firstConnection(this, CellFilterElement.attributeSpec)) return;
     this.applyAttributes(Object.keys(FIELDS));
     this.build();
     applyControls(this, this.values.controls);

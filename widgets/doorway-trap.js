@@ -20,13 +20,13 @@ import { loadCore } from './lib/core.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
-  el, slider, button, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, frameLoop, prefersReducedMotion, fixed,
+  el, slider, button, showError, clearError, hiDpiCanvas, drawMap,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, showPlaying,
 } from './lib/ui.js';
 import {
-  AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
+  applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, restoreFromUrl } from './lib/state.js';
+import { copyLinkControl, firstConnection } from './lib/state.js';
 
 /** Sweep scans and MAP flips per second while playing. */
 const SCANS_PER_SECOND = 1.5;
@@ -103,12 +103,7 @@ class DoorwayTrapElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (this.built) return;
-    // A link handed out by an instructor sets the attributes first.
-    restoreFromUrl(this, DoorwayTrapElement.attributeSpec);
-    this.built = true;
-    ensureStyles();
-    this.attrs = new AttributeReader(this, DoorwayTrapElement.attributeSpec);
+    if (!firstConnection(this, DoorwayTrapElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.build();
     applyControls(this, this.values.controls);
@@ -415,8 +410,7 @@ class DoorwayTrapElement extends HTMLElement {
     if (which === 'map' && this.trap.mapState().converged) { this.trap.mapReset(); this.lastFlip = null; }
     this.playing[which] = true;
     const b = which === 'sweep' ? this.sweepPlay : this.mapPlay;
-    b.textContent = 'Pause';
-    b.setAttribute('aria-pressed', 'true');
+    showPlaying(b, true);
     b.setAttribute('aria-label', `Pause ${which === 'sweep' ? 'the sweep' : 'the MAP climb'}`);
     this.owed = this.owed || { sweep: 0, map: 0 };
     this.owed[which] = 1; // the first step at once
@@ -428,8 +422,7 @@ class DoorwayTrapElement extends HTMLElement {
     if (!this.playing[which]) return;
     this.playing[which] = false;
     const b = which === 'sweep' ? this.sweepPlay : this.mapPlay;
-    b.textContent = 'Play';
-    b.setAttribute('aria-pressed', 'false');
+    showPlaying(b, false);
     b.setAttribute('aria-label', `Play ${which === 'sweep' ? 'the sweep' : 'the MAP climb'}`);
     if (!this.playing.sweep && !this.playing.map) this.loop.stop();
   }

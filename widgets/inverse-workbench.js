@@ -15,9 +15,9 @@
 // reading, seed, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, ensureStyles, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
-import { AttributeReader, applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
-import { copyLinkControl, restoreFromUrl } from './lib/state.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
+import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
+import { copyLinkControl, firstConnection } from './lib/state.js';
 
 /** The sensor's maximum range, metres (the core's training sensor: z_max = 8 m). */
 const Z_MAX = 8;
@@ -54,12 +54,7 @@ class InverseWorkbenchElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (this.built) return;
-    // A link handed out by an instructor sets the attributes first.
-    restoreFromUrl(this, InverseWorkbenchElement.attributeSpec);
-    this.built = true;
-    ensureStyles();
-    this.attrs = new AttributeReader(this, InverseWorkbenchElement.attributeSpec);
+    if (!firstConnection(this, InverseWorkbenchElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.z = this.values.reading;
     this.seed = this.values.seed;

@@ -21,13 +21,13 @@ import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
-  el, slider, button, toggle, select, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId,
+  el, slider, button, toggle, select, showError, clearError, hiDpiCanvas, drawMap,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
 } from './lib/ui.js';
 import {
-  AttributeReader, applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
+  applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, restoreFromUrl } from './lib/state.js';
+import { copyLinkControl, firstConnection } from './lib/state.js';
 
 /** The simulated LiDAR's rate: one scan per 1/12 s at speed 1. */
 const SCANS_PER_SECOND = 12;
@@ -120,16 +120,12 @@ class MapWeaverElement extends HTMLElement {
     super();
     this.weaver = null;
     this.playing = false;
+    this.pace = pacer(SCANS_PER_SECOND, MAX_SCANS_PER_FRAME);
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
   async connectedCallback() {
-    if (this.built) return;
-    // A link handed out by an instructor sets the attributes first.
-    restoreFromUrl(this, MapWeaverElement.attributeSpec);
-    this.built = true;
-    ensureStyles();
-    this.attrs = new AttributeReader(this, MapWeaverElement.attributeSpec);
+    if (!firstConnection(this, MapWeaverElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.options = {
       speed: this.values.speed,
@@ -469,9 +465,8 @@ class MapWeaverElement extends HTMLElement {
     if (!this.weaver || this.playing) return;
     if (this.weaver.readout().done) this.weaver.reset();
     this.playing = true;
-    this.owed = 0;
-    this.playButton.textContent = 'Pause';
-    this.playButton.setAttribute('aria-pressed', 'true');
+    this.pace.reset();
+    showPlaying(this.playButton, true);
     this.status.setAttribute('aria-live', 'off');
     // The loop gets frames only while the widget is on screen.
     this.loop.start();
@@ -481,14 +476,10 @@ class MapWeaverElement extends HTMLElement {
   tick(dt) {
     if (!this.playing) return false;
     if (this.mode !== 'sim') return true;
-    this.owed += (dt / 1000) * SCANS_PER_SECOND * this.options.speed;
-    const n = Math.min(MAX_SCANS_PER_FRAME, Math.floor(this.owed));
-    if (n > 0) {
-      this.owed -= n;
-      if (!this.advance(n)) {
-        this.pause();
-        return false;
-      }
+    const n = this.pace.take(dt, this.options.speed);
+    if (n > 0 && !this.advance(n)) {
+      this.pause();
+      return false;
     }
     return true;
   }
@@ -497,8 +488,7 @@ class MapWeaverElement extends HTMLElement {
     this.loop?.stop();
     if (!this.playing) return;
     this.playing = false;
-    this.playButton.textContent = 'Play';
-    this.playButton.setAttribute('aria-pressed', 'false');
+    showPlaying(this.playButton, false);
     this.status.setAttribute('aria-live', 'polite');
     this.draw(true);
   }

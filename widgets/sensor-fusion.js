@@ -15,17 +15,19 @@ import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import { downloadMapPair } from './lib/export.js';
 import {
-  el, slider, button, showError, clearError, ensureStyles, hiDpiCanvas, drawMap,
-  whenVisible, frameLoop, prefersReducedMotion, fixed,
+  el, slider, button, showError, clearError, hiDpiCanvas, drawMap,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, pacer, showPlaying,
 } from './lib/ui.js';
-import { AttributeReader, applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
-import { copyLinkControl, restoreFromUrl } from './lib/state.js';
+import { applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
+import { copyLinkControl, firstConnection } from './lib/state.js';
 
 /** Beam counts the slider offers (an attribute may add another). */
 const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
 const DEFAULT_BEAMS = 360;
 /** Scans per second while playing. */
 const STEPS_PER_SECOND = 12;
+/** Never more steps per animation frame than this (a slow frame catches up later). */
+const MAX_STEPS_PER_FRAME = 4;
 /** Largest drawn map, CSS pixels. */
 const MAX_CSS_WIDTH = 440;
 const FOOTPRINT_COLOR = COLORS.series[3];
@@ -57,15 +59,11 @@ class SensorFusionElement extends HTMLElement {
     super();
     this.sim = null;
     this.playing = false;
+    this.pace = pacer(STEPS_PER_SECOND, MAX_STEPS_PER_FRAME);
   }
 
   async connectedCallback() {
-    if (this.built) return;
-    // A link handed out by an instructor sets the attributes first.
-    restoreFromUrl(this, SensorFusionElement.attributeSpec);
-    this.built = true;
-    ensureStyles();
-    this.attrs = new AttributeReader(this, SensorFusionElement.attributeSpec);
+    if (!firstConnection(this, SensorFusionElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.beams = this.values['lidar-beams'];
     this.build();
@@ -234,9 +232,8 @@ class SensorFusionElement extends HTMLElement {
     const r = this.sim.readout();
     if (r.step >= r.steps) this.sim.reset();
     this.playing = true;
-    this.playButton.textContent = 'Pause';
-    this.playButton.setAttribute('aria-pressed', 'true');
-    this.owed = 0;
+    showPlaying(this.playButton, true);
+    this.pace.reset();
     // The loop gets frames only while the widget is on screen.
     this.loop.start();
   }
@@ -244,14 +241,10 @@ class SensorFusionElement extends HTMLElement {
   /** One animation frame, `dt` ms after the previous one. */
   tick(dt) {
     if (!this.playing) return false;
-    this.owed += (dt / 1000) * STEPS_PER_SECOND;
-    const n = Math.min(4, Math.floor(this.owed));
-    if (n > 0) {
-      this.owed -= n;
-      if (!this.advance(n)) {
-        this.pause();
-        return false;
-      }
+    const n = this.pace.take(dt);
+    if (n > 0 && !this.advance(n)) {
+      this.pause();
+      return false;
     }
     return true;
   }
@@ -260,8 +253,7 @@ class SensorFusionElement extends HTMLElement {
     this.loop?.stop();
     if (!this.playing) return;
     this.playing = false;
-    this.playButton.textContent = 'Play';
-    this.playButton.setAttribute('aria-pressed', 'false');
+    showPlaying(this.playButton, false);
     this.announce();
   }
 

@@ -6,7 +6,8 @@
 // sets them as its attributes before it reads them. The key is the
 // element's id, or its tag name without "occgrid-" (with "-2", "-3", … for
 // further elements of the same tag), so several widgets share one URL.
-import { el, button } from './ui.js';
+import { el, button, ensureStyles } from './ui.js';
+import { AttributeReader } from './attributes.js';
 
 /** The widget's key in the URL: its id, else its tag (numbered when repeated). */
 export function widgetKey(host) {
@@ -43,6 +44,21 @@ export function restoreFromUrl(host, spec) {
       console.warn(`${host.localName}: ignored "${widgetKey(host)}.${name}" in the page URL: not an attribute name`);
     }
   }
+  return true;
+}
+
+/**
+ * A widget element's first connection: the attributes a shared link
+ * carries are set first, the stylesheet is loaded and `host.attrs` reads
+ * the attributes of `spec`. False when the element was built already
+ * (moving it in the document connects it again).
+ */
+export function firstConnection(host, spec) {
+  if (host.built) return false;
+  restoreFromUrl(host, spec);
+  host.built = true;
+  ensureStyles();
+  host.attrs = new AttributeReader(host, spec);
   return true;
 }
 

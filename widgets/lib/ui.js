@@ -238,6 +238,31 @@ export function frameLoop(element, step) {
   };
 }
 
+/** Shows a play button's state: "Pause" while playing, "Play" otherwise, and `aria-pressed` to match. */
+export function showPlaying(button, playing) {
+  button.textContent = playing ? 'Pause' : 'Play';
+  button.setAttribute('aria-pressed', String(playing));
+}
+
+/**
+ * Paces steps at `perSecond` over animation frames: `take(dt, speed)`
+ * returns the whole steps that `dt` ms owe at `speed` times the rate, at
+ * most `maxPerFrame` (the rest stays owed, so a slow frame catches up
+ * later); `reset()` forgets what is owed.
+ */
+export function pacer(perSecond, maxPerFrame) {
+  let owed = 0;
+  return {
+    reset() { owed = 0; },
+    take(dt, speed = 1) {
+      owed += (dt / 1000) * perSecond * speed;
+      const n = Math.min(maxPerFrame, Math.floor(owed));
+      owed -= n;
+      return n;
+    },
+  };
+}
+
 /** True when the reader asked for reduced motion: animations wait for "play". */
 export function prefersReducedMotion() {
   return window.matchMedia?.('(prefers-reduced-motion: reduce)').matches ?? false;
