@@ -19,10 +19,11 @@ use occgrid::inverse::training::{
     cross_entropy, fit, sample_triplets, seed_from_number, summarize, train, FitReport,
     TrainingConfig, TrainingSet,
 };
-use occgrid::inverse::{HandCrafted, HandCraftedParams, InverseModel};
+use occgrid::inverse::{HandCrafted, InverseModel};
 use occgrid::mapper::{sweep_scan, RayMapper};
 use occgrid::scan::{Pose, Scan};
 use occgrid::sim::apartment::{ApartmentScene, ApartmentSim};
+use occgrid::sim::session::WeaverSettings;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 use std::sync::OnceLock;
@@ -297,15 +298,7 @@ fn lap_brier(forward_readings: bool) -> [(f64, f64); 2] {
     let region = scene.cells_in(&g, &[scene.surveyed]);
     let bearings = sim.bearings().to_vec();
     // Map Weaver's hand-crafted model for this LiDAR.
-    let hand = HandCrafted::new(HandCraftedParams {
-        alpha: 0.10,
-        beta: 1f64.to_radians(),
-        z_max: 8.0,
-        l_occ: 0.85,
-        l_free: -0.40,
-        l0: 0.0,
-    })
-    .unwrap();
+    let hand = HandCrafted::new(WeaverSettings::default().hand_crafted).unwrap();
     let config = TrainingConfig::default();
     let sensor = BeamModel::new(config.sensor).unwrap();
     let shape = BeamShape::cone(config.half_width, config.sub_rays).unwrap();

@@ -180,16 +180,11 @@ fn wild_log_settings() -> impl Strategy<Value = LogMapSettings> {
 
 /// The names a refused map-build setting may carry: the page's own (the
 /// serde names), and "width x height" for a grid too large to hold.
-const SETTING_NAMES: [&str; 8] = [
-    "resolution",
-    "rangeCap",
-    "alpha",
-    "lOcc",
-    "lFree",
-    "clamp",
-    "margin",
-    "width x height",
-];
+fn setting_names() -> Vec<&'static str> {
+    let mut names = LogMapSettings::FIELDS.to_vec();
+    names.push("width x height");
+    names
+}
 
 proptest! {
     #![proptest_config(config(1024))]
@@ -404,7 +399,7 @@ proptest! {
         let mut build = match LogMapBuild::new(scans_read, first) {
             Ok(b) => b,
             Err(e) => {
-                assert_names_one_of(&e, &SETTING_NAMES);
+                assert_names_one_of(&e, &setting_names());
                 return Ok(());
             }
         };
@@ -429,7 +424,7 @@ proptest! {
                 prop_assert!(build.grid().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
             }
             Err(e) => {
-                assert_names_one_of(&e, &SETTING_NAMES);
+                assert_names_one_of(&e, &setting_names());
                 prop_assert!(state(&build) == before, "a refused configure changed the build");
             }
         }
