@@ -13,7 +13,14 @@ const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 /** Content-Security-Policy the page is written to work under. */
 export const CSP = "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; style-src 'self'; img-src 'self' data: blob:; connect-src 'self'";
 
-function mounts() {
+// sirv's dev mode looks each file up on disk per request. Without it sirv
+// lists the files once at startup and answers from that list, sizes and
+// dates included: a pkg/ rebuilt while the server runs would then be sent
+// with the old Content-Length (cut short or padded), and a pkg/ built after
+// the server started would not be served at all. Dev mode does not apply
+// `dotfiles: false`, so dotfiles are refused before sirv sees the request
+// (see `requestPath`).
+function mounts({ fixtures }) {
   const opts = { dev: true, etag: true, dotfiles: false };
   const list = [
     ['/widgets/', sirv(path.join(root, 'widgets'), opts)],
@@ -22,8 +29,8 @@ function mounts() {
   ];
   const datasets = path.resolve(root, '../shared/datasets');
   if (fs.existsSync(datasets)) list.push(['/datasets/', sirv(datasets, opts)]);
-  const tests = path.join(root, 'tests/browser/fixtures');
-  if (fs.existsSync(tests)) list.push(['/test-fixtures/', sirv(tests, opts)]);
+  // The browser tests' own pages; never part of the server readers run.
+  if (fixtures) list.push(['/test-fixtures/', sirv(path.join(root, 'tests/browser/fixtures'), opts)]);
   list.push(['/', sirv(path.join(root, 'www'), { ...opts, single: false })]);
   return list;
 }
@@ -44,32 +51,144 @@ function keepCompressed(res) {
   };
 }
 
-/** Creates (does not start) the server. */
-export function createServer() {
-  const list = mounts();
-  return http.createServer((req, res) => {
+/** A request the server refuses: the status and a line saying why. */
+class Refusal extends Error {
+  constructor(status, message) {
+    super(message);
+    this.status = status;
+  }
+}
+
+/**
+ * The decoded path segments of a request target, checked. The target is
+ * taken as the path it must be (`new URL` would read `//host:port/` as an
+ * authority and throw on a bad port). Refused: a target that is neither a
+ * path nor an http URL, an empty segment, bad percent-encoding, a NUL byte, and any segment starting with a
+ * dot, which covers `..` (also as `%2e%2e`), `.git` and every other
+ * dotfile or dot-directory at any depth.
+ */
+function requestPath(target) {
+  let raw;
+  if (target.startsWith('/')) raw = target.split(/[?#]/, 1)[0];
+  else {
+    // The absolute form (`GET http://host/path`), which HTTP/1.1 servers
+    // must accept; `new URL` is asked only here, and may refuse.
+    let url;
+    try {
+      url = new URL(target);
+    } catch {
+      throw new Refusal(400, 'Bad request target: neither a path nor a URL');
+    }
+    if (url.protocol !== 'http:' && url.protocol !== 'https:') throw new Refusal(400, 'Bad request target: not an http URL');
+    raw = url.pathname;
+  }
+  let decoded;
+  try {
+    decoded = decodeURIComponent(raw);
+  } catch {
+    throw new Refusal(400, 'Bad request target: malformed percent-encoding');
+  }
+  if (decoded.includes('\0')) throw new Refusal(400, 'Bad request target: NUL byte');
+  const segments = decoded.split('/').slice(1);
+  // `//x` is no file's path (and what `new URL` misreads as a host).
+  if (segments.slice(0, -1).includes('')) throw new Refusal(400, 'Bad request target: empty path segment');
+  if (segments.some((s) => s.startsWith('.'))) throw new Refusal(404, 'Not found');
+  return segments;
+}
+
+/**
+ * Makes the Range header safe to hand to sirv, which reads only
+ * `bytes=START-END` and passes the numbers to `fs.createReadStream`
+ * unchecked (a reversed or huge range throws there, after the status line
+ * went out). A single `bytes=START-END` range is kept, END capped at the
+ * largest safe integer (sirv caps it at the file's end itself); a reversed
+ * one is turned into a range starting past any file, for which sirv answers
+ * 416 with the file's size in Content-Range. Anything else (suffix ranges,
+ * several ranges, other units, garbage) is ignored, as HTTP allows: the
+ * whole file is sent.
+ */
+function normalizeRange(req) {
+  const range = req.headers.range;
+  if (range === undefined) return;
+  const m = /^bytes=(\d+)-(\d*)$/.exec(range.trim());
+  if (!m) {
+    delete req.headers.range;
+    return;
+  }
+  const max = Number.MAX_SAFE_INTEGER;
+  const start = Math.min(Number(m[1]), max);
+  if (m[2] === '') {
+    req.headers.range = `bytes=${start}-`;
+    return;
+  }
+  const end = Math.min(Number(m[2]), max);
+  req.headers.range = end < start ? `bytes=${max}-` : `bytes=${start}-${end}`;
+}
+
+function answer(res, status, message) {
+  if (res.headersSent) {
+    res.destroy();
+    return;
+  }
+  res.statusCode = status;
+  res.setHeader('Content-Type', 'text/plain; charset=utf-8');
+  res.end(`${message}\n`);
+}
+
+/**
+ * Creates (does not start) the server. `fixtures: true` also serves
+ * tests/browser/fixtures/ at /test-fixtures/ (the browser tests' pages).
+ */
+export function createServer({ fixtures = false } = {}) {
+  const list = mounts({ fixtures });
+  const handle = (req, res) => {
     res.setHeader('Access-Control-Allow-Origin', '*');
     res.setHeader('Cross-Origin-Resource-Policy', 'cross-origin');
     res.setHeader('Content-Security-Policy', CSP);
-    const url = new URL(req.url, 'http://localhost');
-    const mount = list.find(([prefix]) => url.pathname.startsWith(prefix));
-    const notFound = () => {
-      res.statusCode = 404;
-      res.setHeader('Content-Type', 'text/plain; charset=utf-8');
-      res.end(`Not found: ${url.pathname}\n`);
-    };
+    res.setHeader('X-Content-Type-Options', 'nosniff');
+    if (req.method !== 'GET' && req.method !== 'HEAD') {
+      res.setHeader('Allow', 'GET, HEAD');
+      throw new Refusal(405, `Method not allowed: ${req.method}`);
+    }
+    const segments = requestPath(req.url);
+    const pathname = '/' + segments.join('/');
+    const mount = list.find(([prefix]) => pathname.startsWith(prefix));
+    const notFound = () => answer(res, 404, `Not found: ${pathname}`);
     if (!mount) return notFound();
     const [prefix, handler] = mount;
-    if (url.pathname.endsWith('.gz')) keepCompressed(res);
-    // Hand the mounted handler a path relative to its own root.
-    req.url = '/' + req.url.slice(prefix.length);
+    normalizeRange(req);
+    if (pathname.endsWith('.gz')) keepCompressed(res);
+    // A file that vanishes or cannot be read between sirv's stat and its
+    // read (pkg/ being rebuilt, a socket or fifo in a served folder) makes
+    // the read stream sirv pipes into the response fail; without a
+    // listener that error would end the process.
+    res.on('pipe', (source) => source.on('error', () => res.destroy()));
+    // Hand the mounted handler the checked path relative to its own root,
+    // encoded again so that sirv's own decoding yields these same segments.
+    const inner = segments.slice(prefix.split('/').length - 2);
+    req.url = '/' + inner.map(encodeURIComponent).join('/');
     handler(req, res, notFound);
+  };
+  return http.createServer((req, res) => {
+    try {
+      handle(req, res);
+    } catch (e) {
+      if (e instanceof Refusal) answer(res, e.status, e.message);
+      else {
+        // The last resort: the request fails, the server carries on.
+        console.error(`serve: ${req.method} ${String(req.url).slice(0, 200)}: ${e && e.stack ? e.stack : e}`);
+        answer(res, 500, 'Internal server error');
+      }
+    }
   });
 }
 
-/** Starts the server on `port` (0 = any free port); resolves to the port. */
-export function listen(port) {
-  const server = createServer();
+/**
+ * Starts the server on `port` (0 = any free port) with `options` (those of
+ * `createServer`); resolves to `{ server, port }`.
+ */
+export function listen(port, options = {}) {
+  const server = createServer(options);
   return new Promise((resolve, reject) => {
     server.once('error', reject);
     server.listen(port, '127.0.0.1', () => resolve({ server, port: server.address().port }));

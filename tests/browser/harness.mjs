@@ -1,5 +1,6 @@
 // Opens pages of the chapter in Debian's Chromium (driven by playwright-core)
-// against the project's own server on a free loopback port, and collects
+// against the project's own server on a free loopback port (with the test
+// pages of fixtures/ at /test-fixtures/), and collects
 // every console error and uncaught page error.
 import fs from 'node:fs';
 import http from 'node:http';
@@ -20,7 +21,7 @@ let shared = null;
 async function startShared() {
   if (!shared) {
     shared = (async () => {
-      const { server, port } = await listen(0);
+      const { server, port } = await listen(0, { fixtures: true });
       const browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
       return { server, port, browser };
     })();
