@@ -3,7 +3,8 @@
 // (widgets/lib/attributes.js): the widget reports its current settings as
 // attribute values, they go into the query string under the widget's key
 // (`?map-weaver.seed=3&map-weaver.left-clamp=4`), and on load the widget
-// sets them as its attributes before it reads them. The key is the
+// sets them as its attributes before it reads them (only the attributes
+// the widget declares: never event handlers or `style`). The key is the
 // element's id, or its tag name without "occgrid-" (with "-2", "-3", … for
 // further elements of the same tag), so several widgets share one URL.
 import { el, button, ensureStyles } from './ui.js';
@@ -18,11 +19,14 @@ export function widgetKey(host) {
   return k > 0 ? `${base}-${k + 1}` : base;
 }
 
-/** The attribute values the page URL holds for `host`: `{ name: text }`. */
+/**
+ * The attribute values the page URL holds for `host`, as a Map from name
+ * to text (a Map, so that a name such as `__proto__` is just a name).
+ */
 export function urlState(host, search = location.search) {
   const prefix = `${widgetKey(host)}.`;
-  const out = {};
-  for (const [k, v] of new URLSearchParams(search)) if (k.startsWith(prefix)) out[k.slice(prefix.length)] = v;
+  const out = new Map();
+  for (const [k, v] of new URLSearchParams(search)) if (k.startsWith(prefix)) out.set(k.slice(prefix.length), v);
   return out;
 }
 
@@ -30,19 +34,26 @@ export function urlState(host, search = location.search) {
  * Sets `host`'s attributes from the page URL, if it holds any for this
  * widget: the URL then describes the whole state, so the attributes of
  * `spec` it leaves out go back to their defaults. Call once, before the
- * widget first reads its attributes. A name that cannot be an attribute
- * is reported in the console and skipped.
+ * widget first reads its attributes.
+ *
+ * Only the attributes the widget declares in `spec` are set. A link is
+ * text anyone can write, and a page without a Content-Security-Policy
+ * runs an `on*` attribute as script; `style`, `id` or `class` would let a
+ * link restyle or re-key the element. Any other name is skipped with a
+ * console warning naming it, not an error: a link made before an
+ * attribute was renamed still opens the page.
  */
 export function restoreFromUrl(host, spec) {
   const state = urlState(host);
-  if (!Object.keys(state).length) return false;
-  for (const name of Object.keys(spec)) if (!(name in state)) host.removeAttribute(name);
-  for (const [name, value] of Object.entries(state)) {
-    try {
-      host.setAttribute(name, value);
-    } catch {
-      console.warn(`${host.localName}: ignored "${widgetKey(host)}.${name}" in the page URL: not an attribute name`);
+  if (!state.size) return false;
+  const key = widgetKey(host);
+  for (const name of Object.keys(spec)) if (!state.has(name)) host.removeAttribute(name);
+  for (const [name, value] of state) {
+    if (!Object.hasOwn(spec, name)) {
+      console.warn(`${host.localName}: ignored "${key}.${name}" in the page URL: a link may set only this widget's attributes (${Object.keys(spec).join(', ')})`);
+      continue;
     }
+    host.setAttribute(name, value);
   }
   return true;
 }
