@@ -13,6 +13,12 @@ import { el, slider, button, toggle, showError, clearError, fixed } from './lib/
 import { applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 
+/**
+ * The chapter's worked example before the core has loaded (the attributes'
+ * defaults say the same). Once it has, the preset takes its readings from
+ * the core (`workedExample()`); the inverse model's two answers and the
+ * prior stay here, because the core gives them only as log odds.
+ */
 const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] };
 // The l0 lesson: a prior of 0.2 and an inverse model whose two answers sit
 // symmetrically around it in log odds (logit 0.37 and logit 0.10 are about
@@ -126,7 +132,7 @@ class CellFilterElement extends HTMLElement {
           button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
           button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' })),
         el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'presets', dataset: { controls: 'presets' } },
-          button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false }), { name: 'worked-example' }),
+          button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: this.workedReadings(), forget: false }), { name: 'worked-example' }),
           button('The l0 lesson', () => this.set({ ...L0_LESSON, readings: [...L0_LESSON.readings] }), { name: 'l0-lesson', title: 'prior 0.2, alternating readings, without subtracting l0' }))),
       el('div', { class: 'occgrid-controls' },
         el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'sliders' } }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root),
@@ -151,6 +157,17 @@ class CellFilterElement extends HTMLElement {
       series: [{ label: 'l', color: COLORS.series[0] }, { label: 'l0', color: COLORS.l0, dash: [6, 4], width: 1.5 }],
       height: 200,
     });
+  }
+
+  /** The worked example's readings (1 occupied, 0 free), from the core once it has loaded. */
+  workedReadings() {
+    if (!this.core) return [...WORKED_EXAMPLE.readings];
+    try {
+      return this.core.workedExample().steps.map((st) => (st.occupied ? 1 : 0));
+    } catch (e) {
+      showError(this, e);
+      return [...WORKED_EXAMPLE.readings];
+    }
   }
 
   syncControls() {

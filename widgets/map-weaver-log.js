@@ -15,8 +15,9 @@
 // now; `dispose()` frees the panel. Its control groups are marked
 // `data-controls`: log-source (file picker, dataset menu), log-settings
 // (resolution and the model's sliders) and export.
-import { el, slider, select, button, drawMap, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
-import { downloadMapPair } from './lib/export.js';
+import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
+import { arrowCell, exportMap, pointerCell } from './lib/pane.js';
+import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
 const DATASETS = [
@@ -42,6 +43,7 @@ const DRAW_EVERY_MS = 250;
 const READ_SHARE = 0.3;
 const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
 const ROBOT_COLOR = '#1a9850';
+const CURSOR_COLOR = '#2c7bb6';
 
 const count = (n) => Number(n).toLocaleString('en-US');
 const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.';
@@ -438,73 +440,46 @@ export class RealLogPanel {
       `${count(c.unknown)} unknown. Gray is unknown, white free, black occupied; the green line is the laser’s path. ${CURSOR_HINT}`);
   }
 
-  /** The laser's path up to the last integrated scan, and where it is now. */
-  drawPath(done) {
-    if (!this.path || done < 1) return;
-    const ctx = this.canvas.getContext('2d');
-    const { width } = this.geometry;
-    const unit = Math.max(1, width / 700);
-    ctx.save();
-    ctx.strokeStyle = PATH_COLOR;
-    ctx.lineWidth = unit;
-    ctx.lineJoin = 'round';
-    ctx.beginPath();
-    ctx.moveTo(this.path[0], this.path[1]);
-    for (let k = 1; k < done; k++) ctx.lineTo(this.path[2 * k], this.path[2 * k + 1]);
-    ctx.stroke();
-    const [x, y] = [this.path[2 * (done - 1)], this.path[2 * (done - 1) + 1]];
-    const theta = this.session.heading(done - 1);
-    ctx.fillStyle = ROBOT_COLOR;
-    ctx.strokeStyle = ROBOT_COLOR;
-    ctx.lineWidth = 1.5 * unit;
-    ctx.beginPath();
-    ctx.arc(x, y, 4 * unit, 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.beginPath();
-    ctx.moveTo(x, y);
-    ctx.lineTo(x + 10 * unit * Math.cos(theta), y - 10 * unit * Math.sin(theta));
-    ctx.stroke();
-    ctx.restore();
-  }
-
-  /** Draws the last rendered map (no core call), the path and the keyboard cursor. */
+  /**
+   * Draws the last rendered map (no core call), the laser's path up to the
+   * last integrated scan with the robot where it is now, and the keyboard
+   * cursor. The canvas is the map's own size: one canvas unit per cell,
+   * lines and marks scaled up on a large map so they stay visible.
+   */
   redraw() {
     if (!this.pixels) return;
     const { width, height } = this.geometry;
-    drawMap(this.canvas, this.memory, this.pixels, width, height);
-    this.drawPath(this.done);
+    drawMapImage(this.canvas, this.memory, this.pixels, width, height);
+    const ctx = this.canvas.getContext('2d');
+    const unit = Math.max(1, width / 700);
+    if (this.path && this.done >= 1) {
+      drawPath(ctx, 1, this.path, this.done, { color: PATH_COLOR, lineWidth: unit });
+      drawRobot(ctx, 1, robotInImageUnits(this.path, this.session, this.done - 1), {
+        color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
+      });
+    }
     if (this.cursor) {
-      const ctx = this.canvas.getContext('2d');
       const r = Math.max(2, width / 250);
-      ctx.save();
-      ctx.strokeStyle = '#2c7bb6';
-      ctx.lineWidth = Math.max(1, r / 2);
-      ctx.strokeRect(this.cursor.col + 0.5 - r, this.cursor.row + 0.5 - r, 2 * r, 2 * r);
-      ctx.restore();
+      outlineCell(ctx, 1, this.cursor, { color: CURSOR_COLOR, lineWidth: Math.max(1, r / 2), pad: r - 0.5 });
     }
   }
 
   hover(e) {
     if (!this.session || !this.geometry) return;
-    const rect = this.canvas.getBoundingClientRect();
-    const col = Math.floor(((e.clientX - rect.left) / rect.width) * this.geometry.width);
-    const row = Math.floor(((e.clientY - rect.top) / rect.height) * this.geometry.height);
+    const { col, row } = pointerCell(this.canvas, e, this.geometry.width, this.geometry.height);
     if (this.cursor) this.setCursor(null);
     this.readCell(col, row);
   }
 
   /** Arrow keys move a cursor over the map (with Shift, ten cells at a time). */
   moveCursor(e) {
-    const steps = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] }[e.key];
-    if (!steps || !this.geometry) return;
-    e.preventDefault();
+    if (!this.geometry) return;
     const { width, height } = this.geometry;
-    const k = e.shiftKey ? 10 : 1;
-    const c = this.cursor ?? { col: width >> 1, row: height >> 1 };
-    const col = Math.min(width - 1, Math.max(0, c.col + k * steps[0]));
-    const row = Math.min(height - 1, Math.max(0, c.row + k * steps[1]));
-    this.setCursor({ col, row });
-    this.readCell(col, row);
+    const to = arrowCell(e, this.cursor ?? { col: width >> 1, row: height >> 1 }, width, height, e.shiftKey ? 10 : 1);
+    if (!to) return;
+    e.preventDefault();
+    this.setCursor(to);
+    this.readCell(to.col, to.row);
   }
 
   setCursor(cursor) {
@@ -572,18 +547,24 @@ export class RealLogPanel {
     await this.buildToTarget(run);
   }
 
-  async exportMap() {
+  exportMap() {
     if (!this.session) return;
-    try {
-      const stem = mapStem(this.name);
-      await downloadMapPair(stem, this.session.exportMap(stem));
-    } catch (e) {
-      showError(this.root, e, 'export: ');
-    }
+    const stem = mapStem(this.name);
+    return exportMap(this.root, stem, () => this.session.exportMap(stem), 'export: ');
   }
 
   setState(state) {
     this.root.dataset.state = state;
     this.root.setAttribute('aria-busy', String(state === 'reading' || state === 'building'));
   }
+}
+
+/**
+ * The robot at scan `k`: its place from the path (image units already) and
+ * its heading from the session (radians counter-clockwise from east, the
+ * world's frame) as an image angle. Deleted once `LogMapSession` gives the
+ * heading in image units.
+ */
+function robotInImageUnits(path, session, k) {
+  return { x: path[2 * k], y: path[2 * k + 1], heading: -session.heading(k) };
 }

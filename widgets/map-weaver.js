@@ -19,17 +19,18 @@
 // log-alpha, log-l-occ, log-l-free, log-clamp.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { downloadMapPair } from './lib/export.js';
 import {
-  el, slider, button, toggle, select, showError, clearError, hiDpiCanvas, drawMap,
+  el, slider, button, toggle, select, showError, clearError,
   whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
+import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
+import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 
-/** The simulated LiDAR's rate: one scan per 1/12 s at speed 1. */
+/** Playback rate at speed 1: 12 scans per second. */
 const SCANS_PER_SECOND = 12;
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /** Never more scans per animation frame than this (a slow frame catches up later). */
@@ -175,7 +176,7 @@ class MapWeaverElement extends HTMLElement {
     } else if (name === 'person') this.setPerson(value);
     else if (name === 'mode') this.setMode(value);
     else if (name === 'map-width') {
-      for (const p of this.panes) p.cssW = 0;
+      resetPaneSizes(this.panes);
       this.layout();
     } else if (/^(left|right)-/.test(name)) {
       const k = name.startsWith('left') ? 0 : 1;
@@ -282,10 +283,7 @@ class MapWeaverElement extends HTMLElement {
     this.append(modes, this.simPanel, this.logPanel,
       copyLinkControl(this, MapWeaverElement.attributeSpec, () => this.linkState()));
 
-    if ('ResizeObserver' in window) {
-      this.resizer = new ResizeObserver(() => this.layout());
-      this.resizer.observe(this.querySelector('.map-weaver-panes'));
-    }
+    this.resizer = followResize(this.querySelector('.map-weaver-panes'), () => this.layout());
   }
 
   buildPane(side, k) {
@@ -314,10 +312,10 @@ class MapWeaverElement extends HTMLElement {
     const entropy = out('entropy');
     const brier = out('brier');
     const visited = out('visited');
-    const exportButton = button('Export map', () => this.exportMap(k), {
+    const save = exportButton({
       name: `export-${side}`, title: `Save the ${side} map as a ROS map_server PGM + YAML pair`,
+      spoken: side, onClick: () => this.exportMap(k),
     });
-    exportButton.setAttribute('aria-label', `Export map (${side})`); // spoken name starts with the visible text
     const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart', role: 'img', 'aria-label': `${side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds over time, no scans yet.` });
     const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
       el('figcaption', {}, title, ' ', note),
@@ -328,8 +326,8 @@ class MapWeaverElement extends HTMLElement {
         el('span', {}, 'Cells visited ', visited, ' per scan')),
       el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root),
       chartBox,
-      el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, exportButton));
-    const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox };
+      el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, save));
+    const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox, layers: this.paneLayers(k) };
     canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
     canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
     canvas.addEventListener('keydown', (e) => this.keyCursor(pane, e));
@@ -340,17 +338,31 @@ class MapWeaverElement extends HTMLElement {
     return pane;
   }
 
+  /**
+   * A pane's layers over its map: the beams from where the pane believes
+   * the robot is and their hits, the person, the tracked cells, the
+   * cursor, and the robot (with a ring where it truly is: the two differ
+   * under dead reckoning).
+   */
+  paneLayers(k) {
+    const layers = layerStack();
+    layers.add(({ ctx, s, o }) => drawBeams(ctx, s, [o.robot.x, o.robot.y], o.beams, { color: COLORS.evidence + 'b0', lineWidth: 0.8, count: o.hits.length }));
+    layers.add(({ ctx, s, o }) => drawHits(ctx, s, o.beams, o.hits, { color: COLORS.evidence, size: 3 }));
+    layers.add(({ ctx, s, o }) => o.person && outlineBox(ctx, s, o.person, { color: PERSON_COLOR, lineWidth: 2, fillAlpha: '55' }));
+    layers.add(({ ctx, s, o }) => o.tracked.forEach((cell, i) => outlineCell(ctx, s, cell, { color: TRACK_COLORS[i], lineWidth: 2, pad: 2 })));
+    layers.add(({ ctx, s }) => {
+      if (this.cursor && this.cursor.pane === k) outlineCell(ctx, s, this.cursor, { color: COLORS.l0, lineWidth: 2 });
+    });
+    layers.add(({ ctx, s, o }) => drawRobot(ctx, s, o.robot, {
+      color: ROBOT_COLOR, radius: 4, tick: o.robot.length * s, lineWidth: 2.5, truth: o.truth, ringRadius: 6, ringWidth: 1.5,
+    }));
+    return layers;
+  }
+
   /** Sizes the canvases to their panes (hi-DPI) and redraws. */
   layout() {
     if (!this.weaver) return;
-    const { width: w, height: h } = this.weaver;
-    const widest = this.values['map-width'];
-    for (const p of this.panes) {
-      const cssW = Math.max(120, Math.min(widest, Math.floor(p.root.clientWidth || 320)));
-      if (p.cssW === cssW) continue;
-      p.cssW = cssW;
-      p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
-    }
+    sizePanes(this.panes, this.weaver.width, this.weaver.height, this.values['map-width'], 320);
     this.draw(true);
   }
 
@@ -522,8 +534,8 @@ class MapWeaverElement extends HTMLElement {
       r.panes.forEach((pr, k) => {
         const p = this.panes[k];
         if (!p.ctx) return;
-        drawMap(p.canvas, this.memory, this.weaver.pixels(k), w, h);
-        this.overlay(p, this.weaver.overlay(k));
+        drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
+        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: overlayInImageUnits(this.weaver.overlay(k), this.tracked, h) });
         p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]}`;
         p.entropy.textContent = bits(pr.entropyBits);
         p.brier.textContent = fixed(pr.brier, 4);
@@ -559,7 +571,7 @@ class MapWeaverElement extends HTMLElement {
 
   drawCharts(r) {
     if (!this.entropyChart) return;
-    const t = (n) => Array.from({ length: n }, (_, i) => i / SCANS_PER_SECOND);
+    const t = chartTimes;
     const e0 = this.weaver.entropyCurve(0);
     const e1 = this.weaver.entropyCurve(1);
     this.entropyChart.setData(t(e0.length), Array.from(e0), Array.from(e1));
@@ -578,83 +590,21 @@ class MapWeaverElement extends HTMLElement {
     });
   }
 
-  /** Robot, beams, person, tracked cells and the cursor, in the map's own cells. */
-  overlay(p, o) {
-    const ctx = p.ctx;
-    const s = p.cssW / this.weaver.width;
-    const X = (u) => u * s;
-    ctx.save();
-    ctx.lineWidth = 0.8;
-    ctx.strokeStyle = COLORS.evidence + 'b0';
-    ctx.beginPath();
-    for (let i = 0; i < o.hits.length; i++) {
-      ctx.moveTo(X(o.robot[0]), X(o.robot[1]));
-      ctx.lineTo(X(o.beams[2 * i]), X(o.beams[2 * i + 1]));
-    }
-    ctx.stroke();
-    ctx.fillStyle = COLORS.evidence;
-    for (let i = 0; i < o.hits.length; i++) {
-      if (!o.hits[i]) continue;
-      ctx.fillRect(X(o.beams[2 * i]) - 1.5, X(o.beams[2 * i + 1]) - 1.5, 3, 3);
-    }
-    if (o.person) {
-      const [u0, v0, u1, v1] = o.person;
-      ctx.fillStyle = PERSON_COLOR + '55';
-      ctx.strokeStyle = PERSON_COLOR;
-      ctx.lineWidth = 2;
-      ctx.fillRect(X(u0), X(v0), X(u1) - X(u0), X(v1) - X(v0));
-      ctx.strokeRect(X(u0), X(v0), X(u1) - X(u0), X(v1) - X(v0));
-    }
-    this.tracked.forEach((t, i) => {
-      const row = this.weaver.height - 1 - t.iy;
-      ctx.strokeStyle = TRACK_COLORS[i];
-      ctx.lineWidth = 2;
-      ctx.strokeRect(X(t.ix) - 2, X(row) - 2, s + 4, s + 4);
-    });
-    if (this.cursor && this.cursor.pane === p.k) {
-      ctx.strokeStyle = COLORS.l0;
-      ctx.lineWidth = 2;
-      ctx.strokeRect(X(this.cursor.col), X(this.cursor.row), s, s);
-    }
-    // Where the robot truly is (differs under dead reckoning), then where
-    // this pane believes it is.
-    ctx.strokeStyle = ROBOT_COLOR;
-    ctx.lineWidth = 1.5;
-    ctx.beginPath();
-    ctx.arc(X(o.truth[0]), X(o.truth[1]), 6, 0, 2 * Math.PI);
-    ctx.stroke();
-    ctx.fillStyle = ROBOT_COLOR;
-    ctx.lineWidth = 2.5;
-    ctx.beginPath();
-    ctx.arc(X(o.robot[0]), X(o.robot[1]), 4, 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.beginPath();
-    ctx.moveTo(X(o.robot[0]), X(o.robot[1]));
-    ctx.lineTo(X(o.nose[0]), X(o.nose[1]));
-    ctx.stroke();
-    ctx.restore();
-  }
-
   // ---- hover and keyboard cursor ----------------------------------------
 
   pointAt(p, e) {
     if (!this.weaver) return;
-    const rect = p.canvas.getBoundingClientRect();
-    const col = Math.floor(((e.clientX - rect.left) / rect.width) * this.weaver.width);
-    const row = Math.floor(((e.clientY - rect.top) / rect.height) * this.weaver.height);
-    this.cursor = { pane: p.k, col, row };
+    this.cursor = { pane: p.k, ...pointerCell(p.canvas, e, this.weaver.width, this.weaver.height) };
     this.draw();
   }
 
   keyCursor(p, e) {
-    const moves = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] };
-    const m = moves[e.key];
-    if (!m || !this.weaver) return;
-    e.preventDefault();
+    if (!this.weaver) return;
     const c = this.cursor && this.cursor.pane === p.k ? this.cursor : { pane: p.k, col: 30, row: 35 };
-    const col = Math.max(0, Math.min(this.weaver.width - 1, c.col + m[0]));
-    const row = Math.max(0, Math.min(this.weaver.height - 1, c.row + m[1]));
-    this.cursor = { pane: p.k, col, row };
+    const to = arrowCell(e, c, this.weaver.width, this.weaver.height);
+    if (!to) return;
+    e.preventDefault();
+    this.cursor = { pane: p.k, ...to };
     this.draw();
   }
 
@@ -701,14 +651,38 @@ class MapWeaverElement extends HTMLElement {
   }
 
   /** Saves one pane's map as a ROS map_server pair (PGM + YAML, in one zip). */
-  async exportMap(k) {
-    if (!this.weaver) return;
-    try {
-      await downloadMapPair(`apartment-${SIDES[k]}`, this.weaver.exportMap(k));
-    } catch (e) {
-      showError(this, e);
-    }
+  exportMap(k) {
+    if (this.weaver) return exportMap(this, `apartment-${SIDES[k]}`, () => this.weaver.exportMap(k));
   }
+}
+
+/**
+ * The time of each of the first `n` scans, seconds, for the charts' x axis.
+ * It assumes 12 scans per second, which is wrong for a scene with another
+ * `scan_rate`; the one place to take the time from the core instead.
+ */
+function chartTimes(n) {
+  return Array.from({ length: n }, (_, i) => i / SCANS_PER_SECOND);
+}
+
+/**
+ * The core's overlay (already image units, but the heading as a nose
+ * point) and the tracked cells (grid cells, row 0 at the bottom) in image
+ * units (widgets/lib/layers.js). Deleted once `MapWeaver.overlay()` gives
+ * the heading as an image angle and `trackedCells()` their image cells.
+ */
+function overlayInImageUnits(o, tracked, imageH) {
+  const [x, y] = o.robot;
+  const dx = o.nose[0] - x;
+  const dy = o.nose[1] - y;
+  return {
+    robot: { x, y, heading: Math.atan2(dy, dx), length: Math.hypot(dx, dy) },
+    truth: { x: o.truth[0], y: o.truth[1] },
+    beams: o.beams,
+    hits: o.hits,
+    person: o.person,
+    tracked: tracked.map((t) => ({ col: t.ix, row: imageH - 1 - t.iy })),
+  };
 }
 
 if (!customElements.get('occgrid-map-weaver')) customElements.define('occgrid-map-weaver', MapWeaverElement);

@@ -13,11 +13,12 @@
 // lidar-beams, seed, scene, autoplay, scans, map-width, controls.
 import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
-import { downloadMapPair } from './lib/export.js';
 import {
-  el, slider, button, showError, clearError, hiDpiCanvas, drawMap,
+  el, slider, button, showError, clearError,
   whenVisible, frameLoop, prefersReducedMotion, fixed, pacer, showPlaying,
 } from './lib/ui.js';
+import { exportButton, exportMap, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
+import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
 import { applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 
@@ -92,7 +93,7 @@ class SensorFusionElement extends HTMLElement {
     if (key(this.values[name]) === key(before[name])) return;
     if (name === 'controls') applyControls(this, this.values.controls);
     else if (name === 'map-width') {
-      for (const p of this.panes) p.cssW = 0;
+      resetPaneSizes(this.panes);
       this.layout();
     } else if (!this.core) return;
     else if (['seed', 'scene', 'scans'].includes(name)) this.create();
@@ -127,15 +128,17 @@ class SensorFusionElement extends HTMLElement {
       const canvas = el('canvas', { class: 'occgrid-map sensor-fusion-map', role: 'img', 'aria-label': `${p.title}: not built yet.` });
       const note = el('span', { class: 'sensor-fusion-note' });
       const mean = el('output', { class: 'sensor-fusion-mean', 'aria-live': 'off' }, '–');
-      const exportButton = button('Export map', () => this.exportMap(p.key), { name: `export-${p.key}`, title: `Save the ${p.title.toLowerCase()} as a ROS map_server PGM + YAML pair` });
-      exportButton.setAttribute('aria-label', `Export map (${p.title.toLowerCase()})`); // spoken name starts with the visible text
+      const save = exportButton({
+        name: `export-${p.key}`, title: `Save the ${p.title.toLowerCase()} as a ROS map_server PGM + YAML pair`,
+        spoken: p.title.toLowerCase(), onClick: () => this.exportMap(p.key),
+      });
       const root = el('figure', { class: `sensor-fusion-pane sensor-fusion-${p.key}`, dataset: { map: p.key } },
         el('figcaption', {}, el('strong', {}, p.title), ' ', note),
         canvas,
         el('div', { class: 'sensor-fusion-foot' },
           el('span', {}, 'footprint mean occupancy ', mean),
-          el('span', { dataset: { controls: 'export' } }, exportButton)));
-      return { ...p, canvas, note, mean, root };
+          el('span', { dataset: { controls: 'export' } }, save)));
+      return { ...p, canvas, note, mean, root, layers: this.paneLayers(p.key) };
     });
     this.loop = frameLoop(this, (dt) => this.tick(dt));
     const playback = [
@@ -157,10 +160,25 @@ class SensorFusionElement extends HTMLElement {
         'Lower the beam count and the summed table comes back; the table never changed.'),
       copyLinkControl(this, SensorFusionElement.attributeSpec, () => this.linkState()),
     );
-    if ('ResizeObserver' in window) {
-      this.resizer = new ResizeObserver(() => this.layout());
-      this.resizer.observe(this.querySelector('.sensor-fusion-panes'));
+    this.resizer = followResize(this.querySelector('.sensor-fusion-panes'), () => this.layout());
+  }
+
+  /**
+   * A pane's layers over its map: the sonar pane the current cones, the
+   * LiDAR pane the current beams, every pane the table's footprint and
+   * the robot.
+   */
+  paneLayers(key) {
+    const layers = layerStack();
+    if (key === 'sonar') {
+      layers.add(({ ctx, s, view }) => drawCones(ctx, s, view.sonar, { color: COLORS.evidence, fillAlpha: '30', outline: 'arc', lineWidth: 1 }));
     }
+    if (key === 'lidar') {
+      layers.add(({ ctx, s, view }) => drawBeams(ctx, s, [view.robot.x, view.robot.y], view.lidar, { color: COLORS.evidence + '80', lineWidth: 0.75 }));
+    }
+    layers.add(({ ctx, s, view }) => outlineBox(ctx, s, view.footprint, { color: FOOTPRINT_COLOR, lineWidth: 1.5, dash: [5, 3] }));
+    layers.add(({ ctx, s, view }) => drawRobot(ctx, s, view.robot, { color: ROBOT_COLOR, radius: 4, tick: 10, lineWidth: 2 }));
+    return layers;
   }
 
   /** (Re)creates the experiment in the core from the attributes. */
@@ -216,14 +234,7 @@ class SensorFusionElement extends HTMLElement {
   /** Sizes the canvases to their panes (hi-DPI) and redraws. */
   layout() {
     if (!this.sim) return;
-    const { width: w, height: h } = this.sim;
-    const widest = this.values['map-width'];
-    for (const p of this.panes) {
-      const cssW = Math.max(120, Math.min(widest, Math.floor(p.root.clientWidth || 300)));
-      if (p.cssW === cssW) continue;
-      p.cssW = cssW;
-      p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * h) / w));
-    }
+    sizePanes(this.panes, this.sim.width, this.sim.height, this.values['map-width'], 300);
     this.draw();
   }
 
@@ -273,12 +284,12 @@ class SensorFusionElement extends HTMLElement {
     let r, view;
     try {
       r = this.sim.readout();
-      view = this.sim.sceneView();
       const { width: w, height: h } = this.sim;
+      view = sceneViewInImageUnits(this.sim.sceneView(), h);
       for (const p of this.panes) {
         if (!p.ctx) continue;
-        drawMap(p.canvas, this.memory, this.sim.render(p.key), w, h);
-        this.overlay(p, view, w, h);
+        drawMapImage(p.canvas, this.memory, this.sim.render(p.key), w, h);
+        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, view });
         p.note.textContent = `· ${p.describe(r)}`;
         const mean = r.footprint[p.key];
         p.mean.textContent = fixed(mean, 3);
@@ -314,68 +325,24 @@ class SensorFusionElement extends HTMLElement {
     if (this.reading) this.statusText(this.reading);
   }
 
-  /** Footprint, robot and the current scan, in the map's own cells. */
-  overlay(p, view, w, h) {
-    const ctx = p.ctx;
-    const s = p.cssW / w;
-    const X = (u) => u * s;
-    const Y = (v) => (h - v) * s;
-    const [u, v, theta] = view.robot;
-    ctx.save();
-    if (p.key === 'sonar' && view.sonar.length) {
-      ctx.fillStyle = COLORS.evidence + '30';
-      ctx.strokeStyle = COLORS.evidence;
-      ctx.lineWidth = 1;
-      for (const c of view.sonar) {
-        const r = c.range * s;
-        ctx.beginPath();
-        ctx.moveTo(X(u), Y(v));
-        ctx.arc(X(u), Y(v), r, -c.angle - view.sonarHalfWidth, -c.angle + view.sonarHalfWidth);
-        ctx.closePath();
-        ctx.fill();
-        ctx.beginPath();
-        ctx.arc(X(u), Y(v), r, -c.angle - view.sonarHalfWidth, -c.angle + view.sonarHalfWidth);
-        ctx.stroke();
-      }
-    }
-    if (p.key === 'lidar' && view.lidar.length) {
-      ctx.strokeStyle = COLORS.evidence + '80';
-      ctx.lineWidth = 0.75;
-      ctx.beginPath();
-      for (let i = 0; i + 1 < view.lidar.length; i += 2) {
-        ctx.moveTo(X(u), Y(v));
-        ctx.lineTo(X(view.lidar[i]), Y(view.lidar[i + 1]));
-      }
-      ctx.stroke();
-    }
-    const [u0, v0, u1, v1] = view.footprint;
-    ctx.setLineDash([5, 3]);
-    ctx.strokeStyle = FOOTPRINT_COLOR;
-    ctx.lineWidth = 1.5;
-    ctx.strokeRect(X(u0), Y(v1), X(u1) - X(u0), Y(v0) - Y(v1));
-    ctx.setLineDash([]);
-    ctx.fillStyle = ROBOT_COLOR;
-    ctx.strokeStyle = ROBOT_COLOR;
-    ctx.lineWidth = 2;
-    ctx.beginPath();
-    ctx.arc(X(u), Y(v), 4, 0, 2 * Math.PI);
-    ctx.fill();
-    ctx.beginPath();
-    ctx.moveTo(X(u), Y(v));
-    ctx.lineTo(X(u) + 10 * Math.cos(theta), Y(v) - 10 * Math.sin(theta));
-    ctx.stroke();
-    ctx.restore();
-  }
-
   /** Saves one map as a ROS map_server pair (PGM + YAML, in one zip). */
-  async exportMap(key) {
-    if (!this.sim) return;
-    try {
-      await downloadMapPair(`table-${key}`, this.sim.exportMap(key));
-    } catch (e) {
-      showError(this, e);
-    }
+  exportMap(key) {
+    if (this.sim) return exportMap(this, `table-${key}`, () => this.sim.exportMap(key));
   }
+}
+
+/**
+ * The core's scene view (grid cells: u east, v north; angles counter-
+ * clockwise from east) in image units (widgets/lib/layers.js). Deleted
+ * once `SensorFusion.sceneView()` answers in image units.
+ */
+function sceneViewInImageUnits(view, imageH) {
+  const [u, v, theta] = view.robot;
+  const robot = { x: u, y: imageH - v, heading: -theta };
+  const lidar = Float64Array.from(view.lidar, (c, i) => (i % 2 ? imageH - c : c));
+  const sonar = view.sonar.map((c) => ({ x: robot.x, y: robot.y, heading: -c.angle, halfWidth: view.sonarHalfWidth, range: c.range }));
+  const [u0, v0, u1, v1] = view.footprint;
+  return { robot, lidar, sonar, footprint: [u0, imageH - v1, u1, imageH - v0] };
 }
 
 if (!customElements.get('occgrid-sensor-fusion')) customElements.define('occgrid-sensor-fusion', SensorFusionElement);

@@ -165,7 +165,7 @@ test('the two-cell table shows the chapter’s numbers and follows a moved cell 
 
   // Drag B (now behind A at 2.5 m) in front of the echo, to about 1.2 m.
   const [from, to] = await w.evaluate((el) => {
-    const f = el.diagramFrame();
+    const f = el.twoCell.diagramFrame();
     const rect = el.querySelector('.doorway-trap-diagram').getBoundingClientRect();
     const k = rect.width / f.W;
     const at = (r, b) => { const [x, y] = f.toXY(r, b); return { x: rect.left + x * k, y: rect.top + y * k }; };

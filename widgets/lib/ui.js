@@ -1,6 +1,7 @@
 // Small building blocks shared by the widgets: labelled controls, hi-DPI
-// canvases, map drawing from wasm memory, error boxes, visibility and motion
-// preferences. Nothing here computes a model number.
+// canvases, error boxes, visibility, pacing and motion preferences (map
+// panes are widgets/lib/pane.js, their drawing widgets/lib/layers.js).
+// Nothing here computes a model number.
 
 const stylesheet = new URL('./occgrid.css', import.meta.url).href;
 
@@ -99,31 +100,6 @@ export function hiDpiCanvas(canvas, cssWidth, cssHeight) {
   const ctx = canvas.getContext('2d');
   ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
   return ctx;
-}
-
-const offscreen = new WeakMap();
-
-/**
- * Draws a `w x h` RGBA image that lives in wasm memory at `ptr` onto the
- * whole canvas, scaled with crisp pixels. The view is made on each call, so
- * it never outlives a growth of the wasm memory.
- */
-export function drawMap(canvas, memory, ptr, w, h) {
-  let off = offscreen.get(canvas);
-  if (!off || off.width !== w || off.height !== h) {
-    off = document.createElement('canvas');
-    off.width = w;
-    off.height = h;
-    offscreen.set(canvas, off);
-  }
-  const view = new Uint8ClampedArray(memory.buffer, ptr, w * h * 4);
-  off.getContext('2d').putImageData(new ImageData(view, w, h), 0, 0);
-  const ctx = canvas.getContext('2d');
-  ctx.save();
-  ctx.setTransform(1, 0, 0, 1, 0, 0);
-  ctx.imageSmoothingEnabled = false;
-  ctx.drawImage(off, 0, 0, canvas.width, canvas.height);
-  ctx.restore();
 }
 
 /** The box of `showError`; attribute problems have their own (widgets/lib/attributes.js). */
@@ -248,12 +224,13 @@ export function showPlaying(button, playing) {
  * Paces steps at `perSecond` over animation frames: `take(dt, speed)`
  * returns the whole steps that `dt` ms owe at `speed` times the rate, at
  * most `maxPerFrame` (the rest stays owed, so a slow frame catches up
- * later); `reset()` forgets what is owed.
+ * later); `reset(owed)` forgets what is owed, or owes `owed` steps (1:
+ * the first step comes with the next frame).
  */
 export function pacer(perSecond, maxPerFrame) {
   let owed = 0;
   return {
-    reset() { owed = 0; },
+    reset(initial = 0) { owed = initial; },
     take(dt, speed = 1) {
       owed += (dt / 1000) * perSecond * speed;
       const n = Math.min(maxPerFrame, Math.floor(owed));
