@@ -294,7 +294,7 @@ test('the doorway trap is driven by keyboard alone', async () => {
   }
 
   // The two-cell diagram: arrows move B; Space switches to A.
-  const cells = () => page.evaluate((s) => document.querySelector(s).query.cells.map((c) => ({ ...c })), W);
+  const cells = () => page.evaluate((s) => document.querySelector(s).twoCell.query.cells.map((c) => ({ ...c })), W);
   await tabTo(page, W, 'canvas.doorway-trap-diagram', 'Sonar cone');
   const c0 = await cells();
   await page.keyboard.press('ArrowRight');
