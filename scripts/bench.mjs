@@ -1,12 +1,26 @@
 // Prints one JSON object per line for every workload of BENCHMARKS.md:
 // first the native figures (cargo bench --bench native), then the same work
 // on the wasm build under Node (scripts/bench/*.mjs). An argument filters the
-// workloads by name.
+// workloads by name; a name that is a module of scripts/bench/ (e.g.
+// logs-browser) runs that module alone, with the options after it.
+import fs from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
 import { spawnSync } from 'node:child_process';
 import { loadCore, runModules, root } from './lib/load-core.mjs';
 
-const filter = process.argv.slice(2).find((a) => !a.startsWith('-'));
+const args = process.argv.slice(2);
+// The value of an option (--log PATH) is not a workload name.
+const filter = args.find((a, i) => !a.startsWith('-') && args[i - 1] !== '--log');
 const keep = (w) => !filter || String(w.workload).includes(filter);
+
+const own = filter && /^[\w-]+$/.test(filter) && path.join(root, 'scripts/bench', `${filter}.mjs`);
+if (own && fs.existsSync(own)) {
+  const { core } = await loadCore();
+  const rows = await (await import(pathToFileURL(own).href)).default(core, args);
+  for (const row of rows) console.log(JSON.stringify(row));
+  process.exit(process.exitCode ?? 0);
+}
 
 const native = spawnSync('cargo', ['bench', '--quiet', '--bench', 'native', '--', ...(filter ? [filter] : [])], {
   cwd: root,

@@ -1,0 +1,185 @@
+// W6 `logs-browser` (BENCHMARKS.md): a real log, file to finished map, in
+// the chapter page. Debian's headless Chromium opens the page served by the
+// project's server, switches Map Weaver to its real-log mode and gives the
+// log through the panel's file input, as a reader would, at the real-log
+// defaults and 5 cm. The clock runs from the file input's `change` event to
+// the first frame after the panel reports its map finished (the map is drawn
+// into the canvas before the panel says so). Median of 3 fresh page loads
+// per log; the longest main-thread task is the longest `longtask` entry seen
+// while the log was read and mapped in any of the runs (the worst case is
+// what a reader feels).
+//
+// `npm run bench -- logs-browser --log PATH [--log PATH ...]` maps the logs
+// given (anywhere on disk); with no `--log`, every `*.log.gz` of
+// ../shared/datasets/. A log the page refuses gives a line with the page's
+// message in "error" instead of figures, and the run goes on.
+import fs from 'node:fs';
+import path from 'node:path';
+import { root } from '../lib/load-core.mjs';
+import { median, round } from '../lib/stats.mjs';
+
+const WORKLOAD = 'logs-browser';
+const RUNS = 3;
+const RESOLUTION = 0.05;
+/** Longest a single load may take before the run counts as hung. */
+const LOAD_TIMEOUT_MS = 180_000;
+
+/** The `--log PATH` / `--log=PATH` values of `args`, in order. */
+export function logArgs(args) {
+  const logs = [];
+  for (let i = 0; i < args.length; i++) {
+    const a = args[i];
+    if (a === '--log') {
+      const value = args[i + 1];
+      if (value === undefined || value.startsWith('--')) throw new Error('bench logs-browser: --log needs a path (--log PATH)');
+      logs.push(value);
+      i++;
+    } else if (a.startsWith('--log=')) {
+      const value = a.slice('--log='.length);
+      if (!value) throw new Error('bench logs-browser: --log= needs a path (--log=PATH)');
+      logs.push(value);
+    }
+  }
+  return logs;
+}
+
+function defaultLogs() {
+  const dir = process.env.OCCGRID_DATASETS || path.join(root, '../shared/datasets');
+  if (!fs.existsSync(dir)) return [];
+  return fs.readdirSync(dir).filter((f) => f.endsWith('.log.gz')).sort().map((f) => path.join(dir, f));
+}
+
+/** Sets up the clock, the longtask observer and the finish signal in the page. */
+function instrument() {
+  const panel = document.querySelector('.map-weaver-log');
+  const w = { t0: null, tEnd: null, state: null, tasks: [] };
+  window.__logsBrowserBench = w;
+  new PerformanceObserver((list) => {
+    for (const e of list.getEntries()) w.tasks.push([e.startTime, e.duration]);
+  }).observe({ type: 'longtask', buffered: true });
+  // Capture phase on the document: this runs before the panel's own listener.
+  document.addEventListener('change', (e) => {
+    if (w.t0 === null && e.target instanceof HTMLInputElement && e.target.type === 'file') w.t0 = e.timeStamp || performance.now();
+  }, true);
+  const seen = new MutationObserver(() => {
+    const s = panel.dataset.state;
+    if (w.t0 === null || (s !== 'done' && s !== 'error')) return;
+    seen.disconnect();
+    // The map is in the canvas; the frame after the next animation frame
+    // callback is the one that puts it on screen.
+    requestAnimationFrame(() => {
+      const ch = new MessageChannel();
+      ch.port1.onmessage = () => {
+        w.tEnd = performance.now();
+        w.state = s;
+      };
+      ch.port2.postMessage(null);
+    });
+  });
+  seen.observe(panel, { attributes: true, attributeFilter: ['data-state'] });
+}
+
+/** What the page shows once the panel is done or has refused the log. */
+async function collect() {
+  const w = window.__logsBrowserBench;
+  const panel = document.querySelector('.map-weaver-log');
+  const { memory } = await (await import('/widgets/lib/core.js')).loadCore();
+  const status = panel.querySelector('.map-weaver-log-status')?.textContent ?? '';
+  const error = panel.querySelector(':scope > .occgrid-error')?.textContent ?? null;
+  const num = (re) => {
+    const m = re.exec(status);
+    return m ? Number(m[1].replace(/,/g, '')) : null;
+  };
+  const during = w.tasks.filter(([start, ms]) => start + ms > w.t0 && start < w.tEnd);
+  return {
+    state: w.state,
+    ms: w.tEnd - w.t0,
+    longest: during.length ? Math.max(...during.map(([, ms]) => ms)) : null,
+    memoryBytes: memory.buffer.byteLength,
+    scans: num(/of ([\d,]+) scans/),
+    beams: num(/([\d,]+) beams/),
+    cells: panel.dataset.cells ? Number(panel.dataset.cells) : null,
+    status,
+    error,
+  };
+}
+
+/** One load of `file` on a fresh page: the figures of `collect`. */
+async function oneRun(openPage, file) {
+  const { page, close } = await openPage('/');
+  try {
+    await page.locator('occgrid-map-weaver .map-weaver-mode label', { hasText: 'Real log' }).click();
+    const input = page.locator('.map-weaver-log input[type=file]');
+    await input.waitFor({ state: 'attached', timeout: 30_000 });
+    const resolution = page.locator('.map-weaver-log select[name=resolution]');
+    if ((await resolution.inputValue()) !== String(RESOLUTION)) {
+      throw new Error(`the panel starts at ${await resolution.inputValue()} m, not the ${RESOLUTION} m this workload is defined at`);
+    }
+    await page.evaluate(instrument);
+    await input.setInputFiles(file);
+    await page.waitForFunction(() => window.__logsBrowserBench.tEnd !== null, null, { timeout: LOAD_TIMEOUT_MS, polling: 100 });
+    // Long-task entries are delivered after the task, not during it.
+    await page.waitForTimeout(200);
+    return await page.evaluate(collect);
+  } finally {
+    await close();
+  }
+}
+
+async function measure(openPage, file) {
+  const name = path.basename(file);
+  const base = { workload: WORKLOAD, runtime: 'chromium', log: name };
+  if (!fs.existsSync(file)) return { ...base, resolution: RESOLUTION, error: `no such file: ${file}` };
+  if (!fs.statSync(file).isFile()) return { ...base, resolution: RESOLUTION, error: `not a file: ${file}` };
+  const runs = [];
+  for (let k = 0; k < RUNS; k++) {
+    const r = await oneRun(openPage, file);
+    if (r.state !== 'done') {
+      const scans = r.scans === null ? {} : { scans: r.scans };
+      return { ...base, ...scans, resolution: RESOLUTION, error: r.error || r.status || `the panel ended in state ${r.state}` };
+    }
+    runs.push(r);
+  }
+  const longest = runs.map((r) => r.longest).filter((x) => x !== null);
+  return {
+    ...base,
+    scans: runs[0].scans,
+    beams: runs[0].beams,
+    resolution: RESOLUTION,
+    file_to_map_ms: round(median(runs.map((r) => r.ms)), 1),
+    // null: no task in any run was long enough for the longtask API (50 ms).
+    longest_task_ms: longest.length ? round(Math.max(...longest), 1) : null,
+    wasm_memory_mb: round(Math.max(...runs.map((r) => r.memoryBytes)) / 2 ** 20, 1),
+    cells_allocated: runs[0].cells,
+  };
+}
+
+export default async function (core, args) {
+  const wanted = args.find((a, i) => !a.startsWith('-') && args[i - 1] !== '--log');
+  if (wanted && !WORKLOAD.includes(wanted)) return [];
+  if (!fs.existsSync('/usr/bin/chromium') && !process.env.CHROMIUM) return [];
+  let given;
+  try {
+    given = logArgs(args);
+  } catch (e) {
+    console.error(e.message);
+    process.exitCode = 2;
+    return [];
+  }
+  const files = given.length ? given.map((p) => path.resolve(p)) : defaultLogs();
+  if (files.length === 0) return [];
+  const { openPage, shutdown } = await import('../../tests/browser/harness.mjs');
+  const rows = [];
+  try {
+    for (const file of files) {
+      try {
+        rows.push(await measure(openPage, file));
+      } catch (e) {
+        rows.push({ workload: WORKLOAD, runtime: 'chromium', log: path.basename(file), resolution: RESOLUTION, error: `the benchmark could not run: ${e.message.split('\n')[0]}` });
+      }
+    }
+  } finally {
+    await shutdown();
+  }
+  return rows;
+}
