@@ -1,5 +1,6 @@
 // Loads the wasm core once per page, relative to this module, so a widget
-// imported from another origin finds its wasm next to it.
+// imported from another origin finds its wasm next to it. scripts/dist.mjs
+// rewrites the two pkg/ specifiers below to the core's content-hashed names.
 import init, * as core from '../../pkg/occgrid.js';
 
 let loading = null;

@@ -1,0 +1,326 @@
+// The static bundle (SPEC §13): `npm run dist` writes dist/ and `npm pack`
+// packs the same files; each is served by Python's http.server, a plain
+// static server that is not the project's, and opened in Chromium: the
+// chapter page, a course page placed beside the bundle (embedding each
+// widget with one script tag, under the CSP the README gives), and a
+// course page on another origin (with and without the
+// Access-Control-Allow-Origin header the README asks of such a host). Every
+// one of the five widgets draws from the core, with no console errors.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn, spawnSync } from 'node:child_process';
+import crypto from 'node:crypto';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { openPage, SCREENSHOTS, serveForeign, shutdown } from './harness.mjs';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const dist = path.join(root, 'dist');
+let tmp; // this file's scratch directory
+let tarball; // the packed package's path
+const servers = [];
+
+/** What each widget shows once it has drawn, as a course page embeds it. */
+const WIDGETS = {
+  'cell-filter': {
+    html: '<occgrid-cell-filter readings="ooff"></occgrid-cell-filter>',
+    numbers: (w) => [...w.querySelectorAll('.cell-filter-table tbody tr')].map((tr) => Number(tr.dataset.l)),
+    canvases: '.cell-filter-chart canvas',
+  },
+  'map-weaver': {
+    html: '<occgrid-map-weaver laps="1" scans="40" autoplay="off"></occgrid-map-weaver>',
+    numbers: (w) => (Number(w.dataset.scans) > 0
+      ? [...w.querySelectorAll('.map-weaver-pane')].map((p) => Number.parseFloat(p.dataset.entropy)) : []),
+    canvases: 'canvas.map-weaver-map',
+  },
+  'inverse-workbench': {
+    html: '<occgrid-inverse-workbench reading="3"></occgrid-inverse-workbench>',
+    numbers: (w) => (w.dataset.state === 'ready'
+      ? [...w.querySelectorAll('.inverse-workbench-free, .inverse-workbench-l0')].map((o) => Number.parseFloat(o.textContent)) : []),
+    canvases: 'canvas.inverse-workbench-image',
+  },
+  'sensor-fusion': {
+    html: '<occgrid-sensor-fusion scans="20" autoplay="off"></occgrid-sensor-fusion>',
+    numbers: (w) => [...w.querySelectorAll('.sensor-fusion-mean')].map((o) => Number.parseFloat(o.dataset.value)),
+    canvases: 'canvas.sensor-fusion-map',
+  },
+  'doorway-trap': {
+    html: '<occgrid-doorway-trap scans="3" flips="2" autoplay="off"></occgrid-doorway-trap>',
+    numbers: (w) => (w.dataset.objective === undefined ? []
+      : [w.dataset.objective, w.dataset.scan, w.dataset.doorCells, w.dataset.mapInDoorway].map(Number.parseFloat)),
+    canvases: 'canvas.doorway-trap-canvas, canvas.doorway-trap-diagram',
+  },
+};
+
+/** The CSP the README gives a course page that loads the widgets from `host`. */
+const courseCsp = (host) => [
+  "default-src 'none'",
+  `script-src ${host} 'wasm-unsafe-eval'`,
+  `style-src ${host}`,
+  `connect-src ${host}`,
+].join('; ');
+
+/** An instructor's page: a heading, the five elements, one script tag each from `base`. */
+function coursePage(base, csp) {
+  const meta = csp ? `\n  <meta http-equiv="Content-Security-Policy" content="${csp}">` : '';
+  return `<!doctype html>
+<html lang="en">
+<head>
+  <meta charset="utf-8">${meta}
+  <title>Week 9: occupancy grids</title>
+</head>
+<body>
+  <h1>Week 9: occupancy grids</h1>
+${Object.entries(WIDGETS).map(([name, w]) => `  <section>
+    <script type="module" src="${base}widgets/${name}.js"></script>
+    ${w.html}
+  </section>`).join('\n')}
+</body>
+</html>
+`;
+}
+
+/**
+ * Starts Python's http.server on `dir` on a free loopback port (optionally
+ * sending Access-Control-Allow-Origin: * and Cross-Origin-Resource-Policy:
+ * cross-origin on every response) and resolves to its origin. Stopped in
+ * `after`.
+ */
+function python(dir, { cors = false, corp = false } = {}) {
+  const args = cors || corp
+    ? ['-u', '-c', [
+      'import functools, http.server, sys',
+      'class H(http.server.SimpleHTTPRequestHandler):',
+      '    def end_headers(self):',
+      ...(cors ? ["        self.send_header('Access-Control-Allow-Origin', '*')"] : []),
+      ...(corp ? ["        self.send_header('Cross-Origin-Resource-Policy', 'cross-origin')"] : []),
+      '        super().end_headers()',
+      's = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(H, directory=sys.argv[1]))',
+      'print("Serving HTTP on 127.0.0.1 port %d" % s.server_address[1], flush=True)',
+      's.serve_forever()',
+    ].join('\n'), dir]
+    : ['-u', '-m', 'http.server', '0', '--bind', '127.0.0.1', '--directory', dir];
+  const child = spawn('python3', args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  servers.push(child);
+  return new Promise((resolve, reject) => {
+    let out = '';
+    const seen = (chunk) => {
+      out += chunk;
+      const m = /Serving HTTP on \S+ port (\d+)/.exec(out);
+      if (m) resolve(`http://127.0.0.1:${m[1]}`);
+    };
+    child.stdout.on('data', seen);
+    child.stderr.on('data', (c) => { out += c; });
+    child.once('error', reject);
+    child.once('exit', (code) => reject(new Error(`python3 http.server exited (${code}): ${out}`)));
+  });
+}
+
+/** Distinct colours of each canvas matching `selector` (a blank canvas has one). */
+const colours = (widget, selector) => widget.evaluate((w, sel) => [...w.querySelectorAll(sel)].map((c) => {
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  const seen = new Set();
+  for (let i = 0; i < d.length; i += 4 * 5) seen.add((d[i] << 24) | (d[i + 1] << 16) | (d[i + 2] << 8) | d[i + 3]);
+  return seen.size;
+}), selector);
+
+/**
+ * Opens `url` and checks that all five widgets draw: numbers from the core
+ * in their readouts, pictures on their canvases, no console error. Returns
+ * the URLs the page requested.
+ */
+async function checkFive(url, shot) {
+  const { page: p, errors, close } = await openPage(url, { viewport: { width: 1100, height: 900 } });
+  try {
+    for (const [name, spec] of Object.entries(WIDGETS)) {
+      const w = p.locator(`occgrid-${name}`);
+      assert.equal(await w.count(), 1, `${url} has one occgrid-${name}`);
+      await w.scrollIntoViewIfNeeded();
+      // Polled (a course page's CSP rightly forbids evaluating code strings);
+      // the deadline only stops a hang.
+      let numbers = [];
+      for (const until = Date.now() + 60_000; Date.now() < until; await p.waitForTimeout(100)) {
+        numbers = await w.evaluate(spec.numbers);
+        if (numbers.length >= 2 && numbers.every(Number.isFinite)) break;
+      }
+      assert.ok(numbers.length >= 2 && numbers.every(Number.isFinite), `occgrid-${name} shows numbers from the core: ${numbers}`);
+      const c = await colours(w, spec.canvases);
+      assert.ok(c.length >= 1 && c.every((n) => n > 2), `occgrid-${name} canvases hold pictures: ${c}`);
+      // The widget's own stylesheet applies (found beside the module).
+      assert.equal(await w.evaluate((el) => getComputedStyle(el).borderTopStyle), 'solid', `occgrid-${name} is styled`);
+    }
+    fs.mkdirSync(SCREENSHOTS, { recursive: true });
+    await p.screenshot({ path: path.join(SCREENSHOTS, `${shot}.png`), fullPage: true });
+    assert.deepEqual(errors, [], `${url}: no console errors`);
+    return await p.evaluate(() => performance.getEntriesByType('resource').map((e) => e.name));
+  } finally {
+    await close();
+  }
+}
+
+/** The hashed core files a bundle directory holds, checked against its manifest and loader. */
+function checkBundle(dir) {
+  const manifest = JSON.parse(fs.readFileSync(path.join(dir, 'occgrid-bundle.json'), 'utf8'));
+  const pkg = fs.readdirSync(path.join(dir, 'pkg'));
+  const wasm = pkg.filter((f) => f.endsWith('.wasm'));
+  assert.equal(wasm.length, 1, `one wasm file: ${pkg}`);
+  assert.equal(`pkg/${wasm[0]}`, manifest.wasm);
+  // The name carries the content's hash: another core is another URL.
+  const bytes = fs.readFileSync(path.join(dir, manifest.wasm));
+  const hash = /^occgrid_bg\.([0-9a-f]{16})\.wasm$/.exec(wasm[0])?.[1];
+  assert.ok(hash, `hashed wasm name: ${wasm[0]}`);
+  assert.equal(crypto.createHash('sha256').update(bytes).digest('hex').slice(0, 16), hash);
+  assert.ok(WebAssembly.validate(bytes), 'the wasm is a valid module');
+  const glue = fs.readFileSync(path.join(dir, manifest.glue));
+  assert.ok(manifest.glue.endsWith(`.${crypto.createHash('sha256').update(glue).digest('hex').slice(0, 16)}.js`), manifest.glue);
+  const loader = fs.readFileSync(path.join(dir, 'widgets/lib/core.js'), 'utf8');
+  assert.ok(loader.includes(`'../../${manifest.wasm}'`) && loader.includes(`'../../${manifest.glue}'`), 'the loader names the hashed files');
+  assert.ok(!loader.includes('occgrid_bg.wasm') && !loader.includes("'../../pkg/occgrid.js'"), 'and no unhashed one');
+  // What the widgets import, at the place they import it from.
+  for (const f of ['index.html', 'chapter.css', 'widgets/map-weaver.js', 'widgets/lib/occgrid.css', 'vendor/uplot/uPlot.esm.js', 'vendor/uplot/uPlot.min.css']) {
+    assert.ok(fs.existsSync(path.join(dir, f)), `${f} is in the bundle`);
+  }
+  for (const f of manifest.files) assert.ok(fs.existsSync(path.join(dir, f)), `${f} listed and present`);
+  // Relative URLs only: nothing in the page or the widgets starts at a host's root.
+  for (const f of manifest.files.filter((x) => /\.(html|css)$/.test(x) || x.startsWith('widgets/'))) {
+    const text = fs.readFileSync(path.join(dir, f), 'utf8');
+    assert.doesNotMatch(text, /\b(?:src|href)\s*=\s*["']\/|\bfrom\s*['"]\/|import\(\s*['"]\/|url\(\s*['"]?\//, `${f} uses relative URLs`);
+  }
+  return manifest;
+}
+
+/** A course page beside a copy of `bundle`: DIR/occgrid/ and DIR/course.html. */
+function besides(bundle, name) {
+  const site = path.join(tmp, name);
+  fs.cpSync(bundle, path.join(site, 'occgrid'), { recursive: true });
+  fs.writeFileSync(path.join(site, 'course.html'), coursePage('occgrid/', courseCsp("'self'")));
+  return site;
+}
+
+before(() => {
+  tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'occgrid-dist-'));
+  const run = spawnSync('npm', ['run', '--silent', 'dist'], { cwd: root, encoding: 'utf8' });
+  assert.equal(run.status, 0, `npm run dist: ${run.stdout}${run.stderr}`);
+  const pack = spawnSync('npm', ['pack', '--json', '--pack-destination', tmp], { cwd: root, encoding: 'utf8' });
+  assert.equal(pack.status, 0, `npm pack: ${pack.stderr}`);
+  // prepack's own output goes to stdout ahead of the JSON.
+  const info = JSON.parse(pack.stdout.slice(pack.stdout.indexOf('[')))[0];
+  tarball = path.join(tmp, info.filename);
+  const unpacked = path.join(tmp, 'unpacked');
+  fs.mkdirSync(unpacked);
+  const tar = spawnSync('tar', ['-xzf', tarball, '-C', unpacked], { encoding: 'utf8' });
+  assert.equal(tar.status, 0, tar.stderr);
+});
+
+after(async () => {
+  await shutdown();
+  for (const child of servers) child.kill();
+  if (tmp) fs.rmSync(tmp, { recursive: true, force: true });
+});
+
+test('npm run dist writes a self-contained bundle whose core is named by its content', () => {
+  const manifest = checkBundle(dist);
+  assert.ok(!fs.existsSync(path.join(dist, 'pkg/.gitignore')), 'no .gitignore from wasm-pack hides the core');
+  // The wasm is the one pkg/ holds, only renamed.
+  assert.ok(fs.readFileSync(path.join(dist, manifest.wasm)).equals(fs.readFileSync(path.join(root, 'pkg/occgrid_bg.wasm'))));
+});
+
+test('npm pack carries the same files as dist/, built wasm included', () => {
+  const packed = path.join(tmp, 'unpacked/package/dist');
+  const a = checkBundle(dist);
+  const b = checkBundle(packed);
+  assert.deepEqual(b, a, 'same manifest');
+  for (const f of a.files) {
+    assert.ok(fs.readFileSync(path.join(packed, f)).equals(fs.readFileSync(path.join(dist, f))), `${f} is the same file`);
+  }
+  const size = fs.statSync(tarball).size;
+  console.log(`# ${path.basename(tarball)}: ${(size / 1024).toFixed(0)} KiB packed; core ${a.wasm}`);
+  assert.ok(size > fs.statSync(path.join(dist, a.wasm)).size / 4, 'the tarball holds the wasm');
+});
+
+test('the chapter page served from dist/ by python3 -m http.server: all five widgets draw, the hashed core is what loads', async () => {
+  const manifest = checkBundle(dist);
+  const origin = await python(dist);
+  const requested = await checkFive(`${origin}/index.html`, 'dist-chapter');
+  assert.ok(requested.includes(`${origin}/${manifest.wasm}`), `the page fetched ${manifest.wasm}: ${requested.join(', ')}`);
+  assert.ok(requested.includes(`${origin}/${manifest.glue}`), `and ${manifest.glue}`);
+  assert.deepEqual(requested.filter((u) => /\/pkg\/occgrid(_bg)?\.(js|wasm)$/.test(u)), [], 'no unhashed core file');
+});
+
+test('a course page beside the bundle embeds all five widgets with one script tag each, under the README’s CSP', async () => {
+  const origin = await python(besides(dist, 'site'));
+  await checkFive(`${origin}/course.html`, 'dist-course');
+});
+
+test('the same from the unpacked npm pack tarball: the chapter page and a course page beside it', async () => {
+  const packed = path.join(tmp, 'unpacked/package/dist');
+  await checkFive(`${await python(packed)}/index.html`, 'pack-chapter');
+  await checkFive(`${await python(besides(packed, 'site-pack'))}/course.html`, 'pack-course');
+});
+
+test('a course page on another origin: works when the bundle’s host sends Access-Control-Allow-Origin, fails without', async () => {
+  const host = await python(dist, { cors: true });
+  const foreign = await serveForeign({ '/course.html': coursePage(`${host}/`, courseCsp(host)) });
+  try {
+    await checkFive(`${foreign.origin}/course.html`, 'dist-cross-origin');
+  } finally {
+    await foreign.close();
+  }
+  // A plain static host without the header: the browser refuses the module.
+  const plain = await python(dist);
+  const bare = await serveForeign({ '/course.html': coursePage(`${plain}/`, courseCsp(plain)) });
+  try {
+    const { page: p, errors, close } = await openPage(`${bare.origin}/course.html`);
+    await p.waitForLoadState('networkidle');
+    assert.equal(await p.evaluate(() => customElements.get('occgrid-cell-filter')), undefined, 'no widget defined');
+    assert.ok(errors.some((e) => /CORS|Access-Control-Allow-Origin/.test(e)), `a CORS error: ${errors.join(' | ')}`);
+    await close();
+  } finally {
+    await bare.close();
+  }
+});
+
+test('a cross-origin isolated course page: the stylesheets need Cross-Origin-Resource-Policy as well', async () => {
+  const coep = { 'Cross-Origin-Embedder-Policy': 'require-corp' };
+  const both = await python(dist, { cors: true, corp: true });
+  const isolated = await serveForeign({ '/course.html': coursePage(`${both}/`, courseCsp(both)) }, { headers: coep });
+  try {
+    await checkFive(`${isolated.origin}/course.html`, 'dist-isolated');
+  } finally {
+    await isolated.close();
+  }
+  // With the CORS header alone the modules and the wasm load, the stylesheets (linked without CORS) do not.
+  const cors = await python(dist, { cors: true });
+  const bare = await serveForeign({ '/course.html': coursePage(`${cors}/`, courseCsp(cors)) }, { headers: coep });
+  try {
+    const { page: p, errors, close } = await openPage(`${bare.origin}/course.html`);
+    await p.waitForLoadState('networkidle');
+    assert.ok(errors.some((e) => /request failed: .*\/widgets\/lib\/occgrid\.css/.test(e)), `the stylesheet is refused: ${errors.join(' | ')}`);
+    assert.notEqual(await p.locator('occgrid-cell-filter').evaluate((el) => getComputedStyle(el).borderTopStyle), 'solid', 'so the widget is unstyled');
+    await close();
+  } finally {
+    await bare.close();
+  }
+});
+
+test('npm run dist refuses bad arguments and never replaces a directory it did not write', () => {
+  const other = path.join(tmp, 'notes');
+  fs.mkdirSync(other);
+  fs.writeFileSync(path.join(other, 'keep.txt'), 'mine');
+  const r = spawnSync('node', ['scripts/dist.mjs', '--out', other], { cwd: root, encoding: 'utf8' });
+  assert.equal(r.status, 1);
+  assert.match(r.stderr, /is a non-empty directory that holds no occgrid-bundle\.json; not replacing it/);
+  assert.equal(fs.readFileSync(path.join(other, 'keep.txt'), 'utf8'), 'mine');
+  assert.deepEqual(fs.readdirSync(tmp).filter((f) => f.startsWith('notes.partial')), [], 'no partial bundle left behind');
+  const bad = spawnSync('node', ['scripts/dist.mjs', '--outt', other], { cwd: root, encoding: 'utf8' });
+  assert.equal(bad.status, 1);
+  assert.match(bad.stderr, /unknown argument: "--outt"/);
+  const empty = spawnSync('node', ['scripts/dist.mjs', '--out'], { cwd: root, encoding: 'utf8' });
+  assert.equal(empty.status, 1);
+  assert.match(empty.stderr, /--out needs a directory/);
+  const self = spawnSync('node', ['scripts/dist.mjs', '--out', root], { cwd: root, encoding: 'utf8' });
+  assert.equal(self.status, 1);
+  assert.match(self.stderr, /would contain the project itself/);
+});
