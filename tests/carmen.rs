@@ -2,7 +2,7 @@
 //! The CARMEN reader on the two real logs, on damaged and mixed files, on
 //! `ROBOTLASER1` lines, and the chunked map build it feeds.
 
-use occgrid::carmen::{
+use occgrid::io::carmen::{
     parse_bytes, LaserMessage, LaserScans, LogLoader, LogMapBuild, LogMapSettings, LogReader,
     MAX_LINE_BYTES,
 };

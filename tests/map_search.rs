@@ -4,13 +4,14 @@
 //! gains are the gains a brute-force search would compute, and it keeps the
 //! door open where the literal Table 9.1 sweep closes it.
 
-use occgrid::forward::{BeamModel, BeamModelParams};
-use occgrid::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
-use occgrid::map_search::{ConeBeam, MapSearch, MapSearchSettings, MIN_GAIN};
-use occgrid::mapper::sweep_scan;
-use occgrid::scan::Pose;
-use occgrid::sim::doorway::DoorwayScene;
-use occgrid::sim::{Rect, World};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{logit, FilterSettings, LogOddsGrid};
+use occgrid::mapping::map_search::{ConeBeam, MapSearch, MapSearchSettings, MIN_GAIN};
+use occgrid::mapping::sweep::sweep_scan;
+use occgrid::scenes::doorway::DoorwayScene;
+use occgrid::sensors::beam_model::{BeamModel, BeamModelParams};
+use occgrid::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 

@@ -13,17 +13,20 @@
 
 mod properties_support;
 
-use occgrid::fusion::{FusionModels, TableFusion};
-use occgrid::grid::{GridGeometry, LogOddsGrid};
+use occgrid::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::LogOddsGrid;
 use occgrid::inverse::learned::{FeatureFrame, FEATURES};
 use occgrid::inverse::LearnedInverse;
-use occgrid::scan::Pose;
-use occgrid::sim::apartment::{ApartmentScene, ApartmentSim};
-use occgrid::sim::doorway::{self, DoorwayScene, DoorwaySweep};
-use occgrid::sim::robot::{LapPath, LidarParams, OdometryParams, WalkerParams};
-use occgrid::sim::session::{ModelKind, PoseSource, Weaver, WeaverSettings};
-use occgrid::sim::table::TableScene;
-use occgrid::sim::{Rect, World};
+use occgrid::mapping::fusion::{FusionModels, TableFusion};
+use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
+use occgrid::scenes::doorway::{self, DoorwayScene, DoorwaySweep};
+use occgrid::scenes::paths::{LapPath, WalkerParams};
+use occgrid::scenes::table::TableScene;
+use occgrid::sensors::lidar::LidarParams;
+use occgrid::sensors::odometry::OdometryParams;
+use occgrid::world::{Rect, World};
 use properties_support::*;
 use proptest::prelude::*;
 use rand::rngs::StdRng;

@@ -6,11 +6,11 @@ use super::{
     budget_from_js, map_pair_to_js, object_from_js, object_or_default, string_from_js, to_js,
     Pixels,
 };
-use crate::export;
 use crate::grid::LogOddsGrid;
-use crate::joint::{JointPosterior, JointQuery};
-use crate::map_search::MapSearch;
-use crate::sim::doorway::{self, DoorwayScene, DoorwaySweep};
+use crate::io::map_server as export;
+use crate::mapping::joint::{JointPosterior, JointQuery};
+use crate::mapping::map_search::MapSearch;
+use crate::scenes::doorway::{self, DoorwayScene, DoorwaySweep};
 use wasm_bindgen::prelude::*;
 
 /// Saturation of the exported MAP map, log odds: far past both YAML
@@ -135,7 +135,7 @@ impl DoorwayTrap {
     pub fn map_state(&self) -> Result<JsValue, JsError> {
         #[derive(serde::Serialize)]
         struct State<'a> {
-            flips: &'a [crate::map_search::Flip],
+            flips: &'a [crate::mapping::map_search::Flip],
             history: &'a [f64],
             objective: f64,
             converged: bool,

@@ -196,14 +196,16 @@ impl Pixels {
     pub(crate) fn render(&mut self, grid: &crate::grid::LogOddsGrid) -> *const u8 {
         let n = grid.geometry().len() * 4;
         self.0.resize(n, 0);
-        grid.render_rgba(&mut self.0)
+        crate::render::gray::render_grid_rgba(grid, &mut self.0)
             .expect("the buffer was just sized to the grid");
         self.0.as_ptr()
     }
 }
 
 /// A ROS `map_server` pair for JavaScript: `{ pgm: Uint8Array, yaml: string }`.
-pub(crate) fn map_pair_to_js(pair: &crate::export::MapServerPair) -> Result<JsValue, JsError> {
+pub(crate) fn map_pair_to_js(
+    pair: &crate::io::map_server::MapServerPair,
+) -> Result<JsValue, JsError> {
     let out = js_sys::Object::new();
     let set = |key: &str, value: JsValue| {
         js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)

@@ -7,9 +7,9 @@ use super::{
     budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
     object_from_js, string_from_js, to_js, Pixels,
 };
-use crate::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
-use crate::export;
-use crate::workloads;
+use crate::bench::intel as workloads;
+use crate::io::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
+use crate::io::map_server as export;
 use std::io::Cursor;
 use wasm_bindgen::prelude::*;
 

@@ -88,9 +88,11 @@
 
 use super::InverseModel;
 use crate::error::{self, invalid, Result};
-use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
-use crate::mapper::sweep_scan;
-use crate::scan::{Pose, Scan};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::mapping::sweep::sweep_scan;
+use crate::sensors::Scan;
 
 /// Number of features.
 pub const FEATURES: usize = 15;

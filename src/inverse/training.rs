@@ -38,9 +38,9 @@ use super::learned::{
 };
 use super::HandCraftedParams;
 use crate::error::{self, invalid, Result};
-use crate::forward::{expected_range_along, BeamModel, BeamModelParams, BeamShape};
-use crate::grid::GridGeometry;
-use crate::sim::World;
+use crate::geometry::GridGeometry;
+use crate::sensors::beam_model::{expected_range_along, BeamModel, BeamModelParams, BeamShape};
+use crate::world::World;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 

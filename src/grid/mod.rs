@@ -6,14 +6,14 @@
 //! evidence *net of the prior* `l0`, because the inverse model returns a
 //! posterior and the prior must be counted once, not once per scan.
 //!
-//! [`GridGeometry`] is the map's limits (size, resolution, where cell (0, 0)
-//! lies in the world), [`LogOddsGrid`] the filter itself.
+//! The map's limits are [`GridGeometry`] (geometry layer); [`LogOddsGrid`]
+//! is the filter itself, with the map-wide scores a widget reads (entropy,
+//! Brier score) and, in [`stats`], the state counts of an exported map.
 
 use crate::error::{self, invalid, OccError, Result};
+use crate::geometry::GridGeometry;
 
-/// The largest map the core accepts, in cells (4096 x 4096). Larger grids
-/// would not fit a browser tab's memory with their render buffers.
-pub const MAX_CELLS: usize = 1 << 24;
+pub mod stats;
 
 /// Log odds of a probability, `ln(p / (1 - p))`.
 pub fn logit(p: f64) -> f64 {
@@ -35,163 +35,6 @@ pub fn probability(l: f64) -> f64 {
 pub fn binary_entropy_bits(p: f64) -> f64 {
     let term = |q: f64| if q > 0.0 { -q * q.log2() } else { 0.0 };
     term(p) + term(1.0 - p)
-}
-
-/// Where the map lies in the world: `width x height` square cells of
-/// `resolution` metres, cell (0, 0)'s lower-left corner at `origin`.
-/// Rows are stored bottom to top (y grows north), each row west to east.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct GridGeometry {
-    width: usize,
-    height: usize,
-    resolution: f64,
-    origin: [f64; 2],
-}
-
-impl GridGeometry {
-    pub fn new(
-        width: usize,
-        height: usize,
-        resolution: f64,
-        origin_x: f64,
-        origin_y: f64,
-    ) -> Result<Self> {
-        if width == 0 {
-            return Err(invalid("width", width, "at least 1 cell"));
-        }
-        if height == 0 {
-            return Err(invalid("height", height, "at least 1 cell"));
-        }
-        match width.checked_mul(height) {
-            Some(n) if n <= MAX_CELLS => {}
-            _ => {
-                return Err(invalid(
-                    "width x height",
-                    format!("{width} x {height}"),
-                    "at most 16777216 cells",
-                ))
-            }
-        }
-        error::positive("resolution", resolution)?;
-        error::finite("origin_x", origin_x)?;
-        error::finite("origin_y", origin_y)?;
-        // The far corner must be finite too, or world<->cell arithmetic
-        // produces infinities.
-        error::finite(
-            "origin_x + width * resolution",
-            origin_x + width as f64 * resolution,
-        )?;
-        error::finite(
-            "origin_y + height * resolution",
-            origin_y + height as f64 * resolution,
-        )?;
-        Ok(Self {
-            width,
-            height,
-            resolution,
-            origin: [origin_x, origin_y],
-        })
-    }
-
-    /// A grid covering the box `[min_x, max_x) x [min_y, max_y)` in metres.
-    pub fn covering(
-        min_x: f64,
-        min_y: f64,
-        max_x: f64,
-        max_y: f64,
-        resolution: f64,
-    ) -> Result<Self> {
-        error::positive("resolution", resolution)?;
-        for (field, v) in [
-            ("min_x", min_x),
-            ("min_y", min_y),
-            ("max_x", max_x),
-            ("max_y", max_y),
-        ] {
-            error::finite(field, v)?;
-        }
-        if max_x <= min_x {
-            return Err(invalid("max_x", max_x, "greater than min_x"));
-        }
-        if max_y <= min_y {
-            return Err(invalid("max_y", max_y, "greater than min_y"));
-        }
-        let w = ((max_x - min_x) / resolution).ceil();
-        let h = ((max_y - min_y) / resolution).ceil();
-        if w * h > MAX_CELLS as f64 {
-            return Err(invalid(
-                "width x height",
-                format!("{w} x {h}"),
-                "at most 16777216 cells",
-            ));
-        }
-        Self::new(w as usize, h as usize, resolution, min_x, min_y)
-    }
-
-    pub fn width(&self) -> usize {
-        self.width
-    }
-    pub fn height(&self) -> usize {
-        self.height
-    }
-    pub fn len(&self) -> usize {
-        self.width * self.height
-    }
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// Metres per cell.
-    pub fn resolution(&self) -> f64 {
-        self.resolution
-    }
-    /// World position (metres) of cell (0, 0)'s lower-left corner.
-    pub fn origin(&self) -> [f64; 2] {
-        self.origin
-    }
-
-    /// Row-major index of cell `(ix, iy)`; the caller guarantees it is inside.
-    #[inline]
-    pub fn index(&self, ix: usize, iy: usize) -> usize {
-        iy * self.width + ix
-    }
-
-    /// The cell of index `i` as `(ix, iy)`.
-    #[inline]
-    pub fn cell_of_index(&self, i: usize) -> (usize, usize) {
-        (i % self.width, i / self.width)
-    }
-
-    /// The cell containing world point `(x, y)`, or `None` when the point is
-    /// outside the map (never clamped to the border: a beam endpoint outside
-    /// the map is not evidence about the border cell).
-    pub fn world_to_cell(&self, x: f64, y: f64) -> Option<(usize, usize)> {
-        let u = (x - self.origin[0]) / self.resolution;
-        let v = (y - self.origin[1]) / self.resolution;
-        if !(u >= 0.0 && v >= 0.0) {
-            return None; // also rejects NaN
-        }
-        let (ix, iy) = (u.floor() as usize, v.floor() as usize);
-        (ix < self.width && iy < self.height).then_some((ix, iy))
-    }
-
-    /// World position of the centre of cell `(ix, iy)`, in metres.
-    #[inline]
-    pub fn cell_center(&self, ix: usize, iy: usize) -> (f64, f64) {
-        (
-            self.origin[0] + (ix as f64 + 0.5) * self.resolution,
-            self.origin[1] + (iy as f64 + 0.5) * self.resolution,
-        )
-    }
-
-    /// World point to continuous grid coordinates (cell units, cell (i, j)
-    /// spans `[i, i+1) x [j, j+1)`).
-    #[inline]
-    pub fn world_to_grid(&self, x: f64, y: f64) -> (f64, f64) {
-        (
-            (x - self.origin[0]) / self.resolution,
-            (y - self.origin[1]) / self.resolution,
-        )
-    }
 }
 
 /// Settings of a log-odds map: its prior and its saturation.
@@ -421,78 +264,12 @@ impl LogOddsGrid {
             }
         }
     }
-
-    /// Draws the map into RGBA pixels, north up (the top pixel row is the
-    /// grid's last row): white free, black occupied, a linear gray ramp on
-    /// `p` in between, and cells still exactly at the prior mid-gray whatever
-    /// the prior is, because "unknown" is a state of its own.
-    pub fn render_rgba(&self, out: &mut [u8]) -> Result<()> {
-        render_gray_rgba(&self.geometry, &self.log_odds, out, |l| {
-            if l == self.l0 {
-                128
-            } else {
-                (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
-            }
-        })
-    }
-}
-
-/// Writes one gray level per cell (`gray(cell)`) into RGBA pixels, north up:
-/// the top pixel row is the grid's last row. Every map drawn by the core
-/// goes through here, so all of them share one orientation.
-pub fn render_gray_rgba<T: Copy>(
-    geometry: &GridGeometry,
-    cells: &[T],
-    out: &mut [u8],
-    gray: impl Fn(T) -> u8,
-) -> Result<()> {
-    let (w, h) = (geometry.width(), geometry.height());
-    if cells.len() != w * h {
-        return Err(OccError::LengthMismatch {
-            field: "cells".into(),
-            expected: w * h,
-            found: cells.len(),
-        });
-    }
-    if out.len() != w * h * 4 {
-        return Err(OccError::LengthMismatch {
-            field: "pixel buffer".into(),
-            expected: w * h * 4,
-            found: out.len(),
-        });
-    }
-    for (row_out, iy) in (0..h).rev().enumerate() {
-        let src = &cells[iy * w..(iy + 1) * w];
-        let dst = &mut out[row_out * w * 4..(row_out + 1) * w * 4];
-        for (px, &c) in dst.chunks_exact_mut(4).zip(src) {
-            let g = gray(c);
-            px.copy_from_slice(&[g, g, g, 255]);
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use approx::assert_abs_diff_eq;
-
-    fn geometry() -> GridGeometry {
-        GridGeometry::new(4, 3, 0.5, -1.0, 2.0).unwrap()
-    }
-
-    #[test]
-    fn world_to_cell_says_outside_instead_of_clamping() {
-        let g = geometry();
-        assert_eq!(g.world_to_cell(-1.0, 2.0), Some((0, 0)));
-        assert_eq!(g.world_to_cell(0.99, 3.49), Some((3, 2)));
-        assert_eq!(g.world_to_cell(1.0, 2.2), None, "east border is outside");
-        assert_eq!(g.world_to_cell(-1.01, 2.2), None);
-        assert_eq!(g.world_to_cell(0.0, 3.5), None, "north border is outside");
-        assert_eq!(g.world_to_cell(f64::NAN, 2.2), None);
-        let (x, y) = g.cell_center(3, 2);
-        assert_eq!(g.world_to_cell(x, y), Some((3, 2)));
-    }
 
     #[test]
     fn probability_is_stable_for_extreme_log_odds() {
@@ -506,25 +283,5 @@ mod tests {
         assert_eq!(binary_entropy_bits(0.5), 1.0);
         assert_eq!(binary_entropy_bits(0.0), 0.0);
         assert_eq!(binary_entropy_bits(1.0), 0.0);
-    }
-
-    #[test]
-    fn render_puts_north_up_and_unknown_mid_gray() {
-        let mut m = LogOddsGrid::new(
-            geometry(),
-            FilterSettings {
-                prior: 0.2,
-                clamp: 5.0,
-            },
-        )
-        .unwrap();
-        m.apply(0, 10.0); // south-west cell: occupied, clamped at 5
-        let mut px = vec![0u8; 4 * 3 * 4];
-        m.render_rgba(&mut px).unwrap();
-        let bottom_left = (2 * 4) * 4;
-        assert!(px[bottom_left] <= 2, "occupied is black");
-        assert_eq!(px[0], 128, "unknown is mid-gray even with prior 0.2");
-        assert_eq!(m.update_counts()[0], 1);
-        assert!(m.render_rgba(&mut [0u8; 3]).is_err());
     }
 }

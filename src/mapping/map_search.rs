@@ -14,7 +14,7 @@
 //! smear: a short sonar reading is explained by *one* occupied cell, not by
 //! an arc of them. This is the module behind the right half of the
 //! doorway-trap widget; its input is a set of cone readings (from
-//! [`crate::sim::doorway`] or any other scene) and its output a sparse binary
+//! [`crate::world::doorway`] or any other scene) and its output a sparse binary
 //! map with the history of how it was found.
 //!
 //! The search starts all-free and flips, one at a time, the cell whose flip
@@ -28,7 +28,7 @@
 //!   are exactly those its sub-ray rasters cross, each at the smallest range
 //!   at which a sub-ray enters it. The expected range `z*` of a beam is then
 //!   the range of its first occupied cell in that list (or `z_max`), which
-//!   is what [`crate::sim::World::cast_cone`] returns for the same sub-rays.
+//!   is what [`crate::world::World::cast_cone`] returns for the same sub-rays.
 //!   Since every possible `z*` is one of the list's ranges, the beam's log
 //!   likelihood for each is tabulated once too.
 //! * **Gains**, kept for every cell and updated incrementally. A flip of
@@ -37,10 +37,11 @@
 //!   those beams' cells are recomputed.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::forward::{BeamModel, BeamModelParams};
-use crate::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
-use crate::raster::{entry_parameter, supercover};
-use crate::scan::Pose;
+use crate::geometry::raster::{entry_parameter, supercover};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::{logit, FilterSettings, LogOddsGrid};
+use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 
 /// No entry (a beam with no occupied cell).
 const NONE: u32 = u32::MAX;
@@ -607,12 +608,13 @@ impl MapSearch {
     /// Draws the binary map into RGBA pixels, north up: occupied black,
     /// free white (the MAP map keeps no uncertainty to draw).
     pub fn render_rgba(&self, out: &mut [u8]) -> Result<()> {
-        crate::grid::render_gray_rgba(
-            &self.geometry,
-            &self.occupied,
-            out,
-            |o| if o { 0 } else { 255 },
-        )
+        crate::render::gray::render_gray_rgba(&self.geometry, &self.occupied, out, |o| {
+            if o {
+                0
+            } else {
+                255
+            }
+        })
     }
 }
 

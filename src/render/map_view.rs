@@ -17,7 +17,8 @@
 //!   threshold inside it, so drawing a cell is one comparison.
 
 use crate::error::{invalid, OccError, Result};
-use crate::grid::{binary_entropy_bits, probability, GridGeometry, LogOddsGrid};
+use crate::geometry::GridGeometry;
+use crate::grid::{binary_entropy_bits, probability, LogOddsGrid};
 use std::sync::OnceLock;
 
 /// The grid's gray level for log odds `l` (grid.rs, `render_rgba`): a
@@ -371,7 +372,7 @@ mod tests {
             view.sync(&grid);
         }
         let mut px = vec![0; g.len() * 4];
-        grid.render_rgba(&mut px).unwrap();
+        crate::render::gray::render_grid_rgba(&grid, &mut px).unwrap();
         assert_eq!(view.rgba(), &px[..]);
         assert!((view.entropy_bits() - grid.entropy_bits()).abs() < 1e-5);
         let b = grid.brier_score(&truth, Some(&[0, 1, 2])).unwrap();

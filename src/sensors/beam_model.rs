@@ -14,8 +14,9 @@
 //! model, simulated scans). Sampling is seeded by the caller's `StdRng`.
 
 use crate::error::{self, invalid, Result};
-use crate::scan::{Pose, Scan};
-use crate::sim::World;
+use crate::geometry::Pose;
+use crate::sensors::Scan;
+use crate::world::World;
 use rand::Rng;
 
 /// The mixture's parameters (eq. 6.12 and the text around Table 6.1).

@@ -7,40 +7,8 @@
 //! seeded.
 
 use crate::error::{self, Result};
-use crate::grid::GridGeometry;
-use crate::raster::{entry_parameter, supercover};
-
-/// The most cells a scene stepped cell by cell in a widget may have (the
-/// doorway's sweep and MAP climb, the table's two sonar sweeps per step):
-/// about 100 and 20 times the chapter's scenes, still a fraction of a
-/// second per step natively.
-pub const MAX_WIDGET_SCENE_CELLS: usize = 250_000;
-
-/// Refuses a scene grid larger than [`MAX_WIDGET_SCENE_CELLS`], naming its
-/// size and resolution.
-pub(crate) fn check_scene_cells(g: &GridGeometry) -> Result<()> {
-    if g.len() > MAX_WIDGET_SCENE_CELLS {
-        return Err(error::invalid(
-            "width x height",
-            format!(
-                "{} x {} cells at resolution {}",
-                g.width(),
-                g.height(),
-                error::show(g.resolution())
-            ),
-            "at most 250000 cells: a coarser resolution or a smaller room",
-        ));
-    }
-    Ok(())
-}
-
-pub mod apartment;
-pub mod doorway;
-pub mod robot;
-pub mod session;
-pub mod table;
-pub mod view;
-pub mod weaver_workloads;
+use crate::geometry::raster::{entry_parameter, supercover};
+use crate::geometry::GridGeometry;
 
 /// An axis-aligned box in world coordinates, metres.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -18,7 +18,7 @@
 //! mapper), updated by one addition per step instead of being recomputed.
 //!
 //! Coordinates are continuous grid coordinates (cell `(i, j)` spans
-//! `[i, i+1) x [j, j+1)`), see [`crate::grid::GridGeometry::world_to_grid`].
+//! `[i, i+1) x [j, j+1)`), see [`crate::geometry::GridGeometry::world_to_grid`].
 
 /// Crossings closer than this (in units of the segment's parameter) count
 /// as one corner crossing.

@@ -19,15 +19,17 @@
 //! turning them mid-lap would expect: a lower clamp pulls saturated cells in
 //! at once, a new strength weighs the scans still to come.
 
-use super::apartment::{ApartmentScene, ApartmentSim, SimScan};
-use super::view::MapView;
-use super::Rect;
 use crate::error::{self, invalid, Result};
-use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
-use crate::mapper::{RayMapper, ScanStats};
-use crate::scan::{Pose, Scan};
+use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::render::map_view::MapView;
+use crate::scenes::apartment::{ApartmentScene, ApartmentSim, SimScan};
+use crate::sensors::Scan;
+use crate::world::Rect;
 
 /// At most this many laps per run: every scan is kept for rebuilding a
 /// pane, and a run must not grow without bound in a forgotten tab.
@@ -829,7 +831,7 @@ mod tests {
         for k in 0..2 {
             let grid = w.grid(k).unwrap();
             let mut px = vec![0u8; grid.geometry().len() * 4];
-            grid.render_rgba(&mut px).unwrap();
+            crate::render::gray::render_grid_rgba(grid, &mut px).unwrap();
             assert_eq!(w.view(k).unwrap().rgba(), &px[..], "pane {k}");
             // The view scores from a table (view.rs): within 1e-6 bits per
             // cell of the exact sum.

@@ -7,15 +7,16 @@
 //! Both replay one lap of the apartment simulated in advance (seed 1, the
 //! person walking, oracle poses), so that simulation is not timed.
 
-use super::apartment::ApartmentScene;
-use super::apartment::ApartmentSim;
-use super::session::{Scaled, WeaverSettings};
-use super::view::MapView;
+use crate::apps::map_weaver::{Scaled, WeaverSettings};
 use crate::error::{invalid, Result};
-use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use crate::geometry::GridGeometry;
+use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, LearnedInverse};
-use crate::mapper::{sweep_scan, RayMapper, ScanStats};
-use crate::scan::Scan;
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::render::map_view::MapView;
+use crate::scenes::apartment::{ApartmentScene, ApartmentSim};
+use crate::sensors::Scan;
 
 /// The seed of the lap both workloads replay.
 pub const LAP_SEED: u64 = 1;

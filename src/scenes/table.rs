@@ -18,10 +18,11 @@
 //! sonar reading bit-identical: the fusion tests rely on that to change one
 //! thing at a time.
 
-use super::{Rect, World};
 use crate::error::{self, invalid, Result};
-use crate::grid::GridGeometry;
-use crate::scan::{Pose, Scan};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::sensors::Scan;
+use crate::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};

@@ -7,7 +7,7 @@
 //! validated and turned by [`ApartmentSim::new`] into a ground-truth
 //! [`World`] and a seeded stream of [`SimScan`]s: the true pose, the
 //! dead-reckoned pose and the LiDAR's ranges for every scan. The mapping
-//! session ([`super::session`]) feeds those scans to the maps, and scores
+//! session ([`crate::apps::map_weaver`]) feeds those scans to the maps, and scores
 //! the maps against the same ground truth.
 //!
 //! The floor plan, north up:
@@ -32,11 +32,13 @@
 //! every pose of the lap and stay unknown. The closet opens into the
 //! bedroom's far half, so no beam ever reaches it.
 
-use super::robot::{LapPath, LidarParams, OdometryParams, WalkerParams};
-use super::{Rect, World};
+use super::paths::{LapPath, WalkerParams};
 use crate::error::{self, invalid, Result};
-use crate::grid::GridGeometry;
-use crate::scan::Pose;
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::sensors::lidar::LidarParams;
+use crate::sensors::odometry::OdometryParams;
+use crate::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 

@@ -7,7 +7,7 @@
 //! factored map cannot hold. For `k <= 16` chosen cells inside one sonar cone
 //! (every other cell free) it enumerates all `2^k` configurations, weighs each
 //! by its prior times the forward model's likelihood of the readings
-//! (Table 6.1, [`crate::forward::BeamModel`]), and normalises. It sits beside
+//! (Table 6.1, [`crate::sensors::beam_model::BeamModel`]), and normalises. It sits beside
 //! the mappers, not in them: the doorway-trap widget and the numbers script
 //! ask it for the table, the marginals, and the true versus factored
 //! probability of any configuration.
@@ -17,7 +17,7 @@
 //! order `(m_A m_B)` = index 0, 1, 2, 3.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::forward::{BeamModel, BeamModelParams};
+use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 
 /// The most cells a query may enumerate: `2^16 = 65,536` configurations.
 pub const MAX_CELLS: usize = 16;

@@ -7,21 +7,24 @@
 //! returns the jamb's range, and Table 9.2 paints the whole arc at that
 //! range occupied — across the doorway. The same readings drive both halves
 //! of the doorway-trap widget: the literal Table 9.1 sweep
-//! ([`crate::mapper::sweep_scan`]) and the MAP search of Table 9.3
+//! ([`crate::mapping::sweep::sweep_scan`]) and the MAP search of Table 9.3
 //! ([`crate::map_search`]).
 //!
 //! The scene is data (serde): walls, poses, sonar bearings, noise and seed.
 //! Readings are the exact cone cast of [`World::cast_cone`] plus seeded
 //! Gaussian noise, so the same scene gives the same readings bit for bit.
 
-use super::{Rect, World};
 use crate::error::{self, invalid, Result};
-use crate::forward::BeamModelParams;
-use crate::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::map_search::{self as search, ConeBeam, MapSearch, MapSearchSettings};
-use crate::mapper::{sweep_scan, ScanStats};
-use crate::scan::{Pose, Scan};
+use crate::mapping::map_search::{self as search, ConeBeam, MapSearch, MapSearchSettings};
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::ScanStats;
+use crate::sensors::beam_model::BeamModelParams;
+use crate::sensors::Scan;
+use crate::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 

@@ -59,10 +59,12 @@
 //! per scan: about 0.8 kB per 180-beam scan, less than the line's text.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid, MAX_CELLS};
+use crate::geometry::Pose;
+use crate::geometry::{GridGeometry, MAX_CELLS};
+use crate::grid::{logit, FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapper::RayMapper;
-use crate::scan::{Pose, Scan};
+use crate::mapping::traversal::RayMapper;
+use crate::sensors::Scan;
 use std::io::{self, BufRead, BufReader, Chain, Cursor, Read};
 
 /// The longest line the reader accepts, in bytes (a 10,000-beam

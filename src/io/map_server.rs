@@ -368,7 +368,8 @@ pub fn read_pgm(bytes: &[u8]) -> Result<Pgm> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::{FilterSettings, GridGeometry};
+    use crate::geometry::GridGeometry;
+    use crate::grid::FilterSettings;
 
     #[test]
     fn yaml_numbers_keep_a_decimal_point_and_round_trip() {

@@ -1,44 +1,11 @@
-//! A simulated robot: where it drives, what its LiDAR reads, what its wheels
-//! report.
+//! Where things move in a scene: the robot's lap ([`LapPath`], a closed
+//! loop of waypoints driven at constant speed, turning in place at each
+//! corner) and a person walking back and forth ([`WalkerParams`]).
 //!
-//! Three small pieces that a scene (the apartment of [`super::apartment`])
-//! combines into a stream of scans:
-//!
-//! * [`LapPath`] — a closed loop of waypoints driven at constant speed,
-//!   turning in place at each corner; the true pose at any time.
-//! * [`LidarParams`] — a planar range finder with evenly spaced beams and
-//!   Gaussian range noise; its exact ranges come from [`World::cast`].
-//! * [`OdometryParams`] — the odometry motion model of Probabilistic
-//!   Robotics Table 5.6 (rotate, translate, rotate, each with noise that
-//!   grows with the motion), plus the systematic errors real wheels have
-//!   (a heading drift per metre, a turn scale error). Integrating those
-//!   noisy increments from the start pose gives the dead-reckoned poses a
-//!   map is built at when the pose oracle is off.
-//!
-//! Everything is plain serde data; every random number comes from a seeded
-//! [`StdRng`], drawn in a fixed order, so a seed fixes every reading.
+//! Plain serde data; the true pose at any time is a pure function of it.
 
-use super::World;
 use crate::error::{self, invalid, Result};
-use crate::scan::{wrap_angle, Pose};
-use rand::rngs::StdRng;
-use rand::Rng;
-use std::f64::consts::TAU;
-
-/// Upper bound on a LiDAR's beam count (an instructor's attribute can set
-/// it; more beams than this would not make a better picture, only a slower
-/// one).
-pub const MAX_BEAMS: usize = 4096;
-
-/// One standard normal sample by the Box–Muller transform, from two uniform
-/// draws (the second value of the pair is discarded, so every call consumes
-/// exactly two numbers and streams stay aligned whatever is sampled).
-pub fn standard_normal(rng: &mut StdRng) -> f64 {
-    // `random` is in [0, 1); 1 - u is in (0, 1], so the logarithm is finite.
-    let u1 = 1.0 - rng.random::<f64>();
-    let u2 = rng.random::<f64>();
-    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
-}
+use crate::geometry::{wrap_angle, Pose};
 
 /// A closed lap through `waypoints` (metres): the robot starts on the first
 /// waypoint facing the second, drives each leg at `speed` (m/s), turns in
@@ -199,128 +166,6 @@ fn leg_pose(leg: &Leg, f: f64) -> Pose {
     }
 }
 
-/// A planar LiDAR: `beams` beams spread evenly over a full turn starting at
-/// `first_bearing` (radians from the heading), range `z_max` metres, and
-/// Gaussian range noise of standard deviation `sigma` metres on every
-/// return. A beam that meets nothing within `z_max` reads exactly `z_max`
-/// (a no-return, which Table 9.2 treats as free space and no obstacle).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct LidarParams {
-    pub beams: usize,
-    pub z_max: f64,
-    pub sigma: f64,
-    pub first_bearing: f64,
-}
-
-impl LidarParams {
-    pub fn validate(&self) -> Result<()> {
-        if self.beams == 0 || self.beams > MAX_BEAMS {
-            return Err(invalid("lidar.beams", self.beams, "1 to 4096 beams"));
-        }
-        error::positive("lidar.z_max", self.z_max)?;
-        error::non_negative("lidar.sigma", self.sigma)?;
-        error::finite("lidar.first_bearing", self.first_bearing)?;
-        Ok(())
-    }
-
-    /// Bearing of every beam, radians relative to the heading.
-    pub fn bearings(&self) -> Vec<f64> {
-        let step = TAU / self.beams as f64;
-        (0..self.beams)
-            .map(|i| self.first_bearing + i as f64 * step)
-            .collect()
-    }
-
-    /// One noisy scan of `world` from `pose`, written into `ranges` (resized
-    /// to the beam count). Exactly one normal sample is drawn per beam, hit
-    /// or no hit, so the noise of beam `i` at scan `k` does not depend on
-    /// what the other beams saw (a person stepping into one beam changes
-    /// that beam only).
-    pub fn scan_into(&self, world: &World, pose: &Pose, rng: &mut StdRng, ranges: &mut Vec<f64>) {
-        ranges.clear();
-        let step = TAU / self.beams as f64;
-        for i in 0..self.beams {
-            let bearing = self.first_bearing + i as f64 * step;
-            let exact = world.cast(pose.x, pose.y, pose.theta + bearing, self.z_max);
-            let noise = self.sigma * standard_normal(rng);
-            let z = if exact >= self.z_max {
-                self.z_max
-            } else {
-                // Noise cannot turn a return into a no-return or a negative
-                // range: a real sensor reports neither for a wall it sees.
-                (exact + noise).clamp(0.0, self.z_max * (1.0 - 1e-9))
-            };
-            ranges.push(z);
-        }
-    }
-}
-
-/// Odometry noise. `alpha` are the four coefficients of Table 5.6, used as
-/// standard deviations: rotation noise per radian turned (`alpha[0]`) and
-/// per metre driven (`alpha[1]`), translation noise per metre driven
-/// (`alpha[2]`) and per radian turned (`alpha[3]`). On top of that random
-/// noise, two systematic errors that do not average out and make a map
-/// built by dead reckoning bend: `heading_drift` radians of heading error
-/// per metre driven (unequal wheel diameters) and `turn_scale` (the
-/// fraction by which every turn is over-reported: a wrong wheel base).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct OdometryParams {
-    pub alpha: [f64; 4],
-    pub heading_drift: f64,
-    pub turn_scale: f64,
-}
-
-impl OdometryParams {
-    pub fn validate(&self) -> Result<()> {
-        for (i, &a) in self.alpha.iter().enumerate() {
-            error::non_negative(&format!("odometry.alpha[{i}]"), a)?;
-        }
-        error::finite("odometry.heading_drift", self.heading_drift)?;
-        error::finite("odometry.turn_scale", self.turn_scale)?;
-        if self.turn_scale.abs() >= 1.0 {
-            return Err(invalid(
-                "odometry.turn_scale",
-                self.turn_scale,
-                "a fraction between -1 and 1",
-            ));
-        }
-        Ok(())
-    }
-
-    /// Advances the dead-reckoned pose `estimate` by what the wheels report
-    /// for the true motion from `from` to `to`: the motion is split into
-    /// rotate, translate, rotate (Table 5.6, lines 2–4), each part is
-    /// corrupted (lines 5–7, plus the systematic errors) and the result is
-    /// composed onto the estimate (lines 8–10). Draws exactly three normal
-    /// samples.
-    pub fn dead_reckon(&self, estimate: &Pose, from: &Pose, to: &Pose, rng: &mut StdRng) -> Pose {
-        let (dx, dy) = (to.x - from.x, to.y - from.y);
-        let trans = dx.hypot(dy);
-        // A turn in place has no direction of travel: all of it is rot2.
-        let rot1 = if trans > 1e-9 {
-            wrap_angle(dy.atan2(dx) - from.theta)
-        } else {
-            0.0
-        };
-        let rot2 = wrap_angle(to.theta - from.theta - rot1);
-        let [a1, a2, a3, a4] = self.alpha;
-        let n1 = standard_normal(rng);
-        let n2 = standard_normal(rng);
-        let n3 = standard_normal(rng);
-        let rot1_hat = rot1 * (1.0 + self.turn_scale) + (a1 * rot1.abs() + a2 * trans) * n1;
-        let trans_hat = trans + (a3 * trans + a4 * (rot1.abs() + rot2.abs())) * n2;
-        let rot2_hat = rot2 * (1.0 + self.turn_scale)
-            + self.heading_drift * trans
-            + (a1 * rot2.abs() + a2 * trans) * n3;
-        let heading = estimate.theta + rot1_hat;
-        Pose {
-            x: estimate.x + trans_hat * heading.cos(),
-            y: estimate.y + trans_hat * heading.sin(),
-            theta: wrap_angle(heading + rot2_hat),
-        }
-    }
-}
-
 /// A person walking back and forth along a straight line: a square of side
 /// `size` metres whose centre runs from `from` to `to` (metres) at `speed`,
 /// stands still for `pause` seconds, walks back, stands again, and so on.
@@ -387,18 +232,18 @@ impl WalkerParams {
     }
 
     /// The person's footprint `t` seconds after the start.
-    pub fn footprint_at(&self, t: f64) -> super::Rect {
+    pub fn footprint_at(&self, t: f64) -> crate::world::Rect {
         let [cx, cy] = self.center_at(t);
         let h = 0.5 * self.size;
-        super::Rect::new(cx - h, cy - h, cx + h, cy + h)
+        crate::world::Rect::new(cx - h, cy - h, cx + h, cy + h)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::GridGeometry;
-    use crate::sim::Rect;
+    use crate::sensors::odometry::OdometryParams;
+    use rand::rngs::StdRng;
     use rand::SeedableRng;
     use std::f64::consts::PI;
 
@@ -454,46 +299,6 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("waypoints[2].y"));
-    }
-
-    #[test]
-    fn box_muller_has_unit_variance_and_zero_mean() {
-        let mut rng = StdRng::seed_from_u64(3);
-        let n = 20_000;
-        let xs: Vec<f64> = (0..n).map(|_| standard_normal(&mut rng)).collect();
-        let mean = xs.iter().sum::<f64>() / n as f64;
-        let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n as f64;
-        assert!(mean.abs() < 0.03, "{mean}");
-        assert!((var - 1.0).abs() < 0.05, "{var}");
-    }
-
-    #[test]
-    fn noiseless_lidar_reads_exact_ranges_and_no_returns() {
-        let g = GridGeometry::new(40, 40, 0.1, 0.0, 0.0).unwrap();
-        let world = World::from_boxes(g, &[Rect::new(3.0, 0.0, 3.1, 4.0)]);
-        let lidar = LidarParams {
-            beams: 4,
-            z_max: 2.5,
-            sigma: 0.0,
-            first_bearing: 0.0,
-        };
-        let mut rng = StdRng::seed_from_u64(1);
-        let mut z = Vec::new();
-        lidar.scan_into(
-            &world,
-            &Pose::new(1.05, 2.05, 0.0).unwrap(),
-            &mut rng,
-            &mut z,
-        );
-        assert!((z[0] - 1.95).abs() < 1e-9, "east wall: {z:?}");
-        assert_eq!(z[1], 2.5, "north: nothing within range");
-        assert_eq!(z[2], 2.5);
-        let bad = LidarParams { beams: 0, ..lidar };
-        assert!(bad
-            .validate()
-            .unwrap_err()
-            .to_string()
-            .contains("lidar.beams"));
     }
 
     #[test]

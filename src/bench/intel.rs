@@ -1,10 +1,11 @@
 //! The benchmark workloads of BENCHMARKS.md, defined once so that the native
 //! benchmark and the wasm build under Node do exactly the same work.
 
-use crate::carmen::CarmenLog;
-use crate::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
+use crate::geometry::GridGeometry;
+use crate::grid::{logit, FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapper::{RayMapper, ScanStats};
+use crate::io::carmen::CarmenLog;
+use crate::mapping::traversal::{RayMapper, ScanStats};
 
 /// W1 `intel-full`: the map's limits (5 cm, origin (-25 m, -30 m),
 /// 1000 x 900 cells).

@@ -2,7 +2,7 @@
 //! (Probabilistic Robotics §9.2, eq. 9.9), against the naive single grid.
 //!
 //! Two sensors that look at different horizontal slices of the world answer
-//! two different questions. In the table scene ([`crate::sim::table`]) a
+//! two different questions. In the table scene ([`crate::world::table`]) a
 //! sonar at table height reports the top; a LiDAR at shin height reports
 //! four thin legs and free floor between them. Both are right. Adding both
 //! streams into one log-odds grid treats them as independent readings of
@@ -29,11 +29,12 @@
 //! reads the table footprint's mean occupancy under each rule.
 
 use crate::error::{self, invalid, OccError, Result};
+use crate::geometry::Pose;
 use crate::grid::{logit, probability, FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapper::{sweep_scan, RayMapper};
-use crate::scan::Pose;
-use crate::sim::table::{TableRun, TableScene};
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::RayMapper;
+use crate::scenes::table::{TableRun, TableScene};
 
 /// Eq. 9.9 per cell: `p_i = max_k p_i^(k)` over maps of the same limits.
 pub fn max_fused_probabilities(maps: &[&LogOddsGrid]) -> Result<Vec<f64>> {
@@ -559,7 +560,7 @@ impl TableFusion {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::GridGeometry;
+    use crate::geometry::GridGeometry;
 
     fn map(l: &[f32]) -> LogOddsGrid {
         let g = GridGeometry::new(l.len(), 1, 0.1, 0.0, 0.0).unwrap();

@@ -1,0 +1,5 @@
+//! One plain-Rust session per widget: every number a reader sees, answered
+//! in image units (pixels of the drawn map, x right, y down), so that the
+//! JavaScript only draws. The bindings wrap each session in one newtype.
+
+pub mod map_weaver;
