@@ -2,9 +2,10 @@
 //! The ROS `map_server` pair: the YAML and PGM follow the format exactly,
 //! and the PGM read back matches the map cell by cell.
 
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{probability, FilterSettings, LogOddsGrid};
-use occgrid::io::carmen::{LaserScans, LogMapBuild, LogMapSettings};
+use occgrid::io::carmen::LaserScans;
 use occgrid::io::map_server::{map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH};
 
 fn datasets() -> std::path::PathBuf {

@@ -14,14 +14,15 @@ use occgrid::geometry::GridGeometry;
 use occgrid::geometry::Pose;
 use occgrid::grid::{logit, FilterSettings, LogOddsGrid};
 use occgrid::inverse::learned::{
-    axis_log_odds, prior_drift, BeamLattice, LearnedInverse, BEHIND_BAND, BEYOND, BIAS, FEATURES,
-    NEGLIGIBLE, SPLINE_END,
+    LearnedInverse, BEHIND_BAND, BEYOND, BIAS, FEATURES, NEGLIGIBLE, SPLINE_END,
 };
+use occgrid::inverse::probes::{axis_log_odds, BeamLattice};
 use occgrid::inverse::training::{
     cross_entropy, fit, sample_triplets, seed_from_number, summarize, train, FitReport,
     TrainingConfig, TrainingSet,
 };
 use occgrid::inverse::{HandCrafted, InverseModel};
+use occgrid::mapping::drift::prior_drift;
 use occgrid::mapping::sweep::sweep_scan;
 use occgrid::mapping::traversal::RayMapper;
 use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};

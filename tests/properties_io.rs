@@ -11,11 +11,10 @@
 
 mod properties_support;
 
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
-use occgrid::io::carmen::{
-    flaser_angle_increment, parse_bytes, LogLoader, LogMapBuild, LogMapSettings, LogReader,
-};
+use occgrid::io::carmen::{flaser_angle_increment, parse_bytes, LogLoader, LogReader};
 use occgrid::io::map_server::{file_stem, map_server_pair, read_pgm, trinary_gray, zip_pair};
 use occgrid::OccError;
 use properties_support::*;

@@ -14,12 +14,13 @@ mod properties_support;
 use occgrid::geometry::GridGeometry;
 use occgrid::geometry::Pose;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
-use occgrid::inverse::learned::{
-    axis_log_odds, evidence_field, mean_free_evidence, prior_drift, side_by_side, BeamLattice,
-    FeatureFrame, FEATURES,
+use occgrid::inverse::learned::{FeatureFrame, FEATURES};
+use occgrid::inverse::probes::{
+    axis_log_odds, evidence_field, mean_free_evidence, side_by_side, BeamLattice,
 };
 use occgrid::inverse::training::{self, seed_from_number, TrainingConfig};
 use occgrid::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
+use occgrid::mapping::drift::prior_drift;
 use occgrid::mapping::fusion::{
     max_fuse_into, max_fused_probabilities, mean_over, mean_probability,
 };

@@ -123,16 +123,7 @@ impl Default for WeaverSettings {
                     ..PaneSettings::default()
                 },
             ],
-            hand_crafted: HandCraftedParams {
-                alpha: 0.10,
-                // Only the literal sweep looks at the opening angle; one
-                // degree is a LiDAR beam's.
-                beta: 1f64.to_radians(),
-                z_max: 8.0,
-                l_occ: 0.85,
-                l_free: -0.40,
-                l0: 0.0,
-            },
+            hand_crafted: HandCraftedParams::laser(8.0),
             training: TrainingConfig::default(),
             laps: 3,
             scene: ApartmentScene::default(),

@@ -3,3 +3,4 @@
 //! JavaScript only draws. The bindings wrap each session in one newtype.
 
 pub mod map_weaver;
+pub mod real_log;

@@ -13,6 +13,7 @@ pub mod cell_filter;
 pub mod doorway_trap;
 pub mod inverse_workbench;
 pub mod map_weaver;
+pub mod plain;
 pub mod real_log;
 pub mod sensor_fusion;
 
@@ -39,8 +40,9 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
     what: &str,
     value: JsValue,
 ) -> Result<T, JsError> {
-    let deserializer = serde_wasm_bindgen::Deserializer::from(value);
-    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+    let value = plain::plain_copy(&value)
+        .map_err(|reason| JsError::new(&format!("invalid {what}: {reason}")))?;
+    serde_path_to_error::deserialize(plain::Strict(value)).map_err(|e| {
         // The library's message already reads "Error: ..." (it is a JS
         // error's text); keep only the reason.
         let text = e.inner().to_string();

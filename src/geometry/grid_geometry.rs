@@ -145,6 +145,29 @@ impl GridGeometry {
         (ix < self.width && iy < self.height).then_some((ix, iy))
     }
 
+    /// World point to image units: `u` columns from the left edge, `v` rows
+    /// from the top edge of the north-up image the renderers draw (row 0 is
+    /// the grid's last row), one unit per cell. Every overlay a widget draws
+    /// over a map comes through here, so JavaScript never flips an axis.
+    pub fn world_to_image(&self, x: f64, y: f64) -> [f64; 2] {
+        let (u, v) = self.world_to_grid(x, y);
+        [u, self.height as f64 - v]
+    }
+
+    /// A world box `[min_x, min_y, max_x, max_y]` in image units,
+    /// `[u0, v0, u1, v1]` with `u0 <= u1` and `v0 <= v1`.
+    pub fn box_to_image(&self, min_x: f64, min_y: f64, max_x: f64, max_y: f64) -> [f64; 4] {
+        let [u0, v1] = self.world_to_image(min_x, min_y);
+        let [u1, v0] = self.world_to_image(max_x, max_y);
+        [u0, v0, u1, v1]
+    }
+
+    /// The cell `(ix, iy)` under image pixel `(col, row)` of the north-up
+    /// image, or `None` outside the map.
+    pub fn image_pixel_to_cell(&self, col: usize, row: usize) -> Option<(usize, usize)> {
+        (col < self.width && row < self.height).then(|| (col, self.height - 1 - row))
+    }
+
     /// World position of the centre of cell `(ix, iy)`, in metres.
     #[inline]
     pub fn cell_center(&self, ix: usize, iy: usize) -> (f64, f64) {

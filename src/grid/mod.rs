@@ -13,6 +13,7 @@
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::GridGeometry;
 
+pub mod readout;
 pub mod stats;
 
 /// Log odds of a probability, `ln(p / (1 - p))`.

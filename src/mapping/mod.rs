@@ -4,6 +4,7 @@
 //! grid per sensor (eq. 9.9), and a single cell's filter.
 
 pub mod cell_filter;
+pub mod drift;
 pub mod fusion;
 pub mod joint;
 pub mod map_search;

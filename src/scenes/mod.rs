@@ -9,6 +9,7 @@ use crate::geometry::GridGeometry;
 
 pub mod apartment;
 pub mod doorway;
+pub mod floor_plans;
 pub mod paths;
 pub mod table;
 
