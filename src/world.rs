@@ -7,7 +7,7 @@
 //! seeded.
 
 use crate::error::{self, Result};
-use crate::geometry::raster::{entry_parameter, supercover};
+use crate::geometry::raster::{entry_parameter, first_cell};
 use crate::geometry::GridGeometry;
 
 /// An axis-aligned box in world coordinates, metres.
@@ -91,19 +91,23 @@ impl World {
     /// within `z_max` (leaving the map counts as no return). A start inside
     /// an occupied cell reads 0.
     pub fn cast(&self, x: f64, y: f64, angle: f64, z_max: f64) -> f64 {
+        let (s, c) = angle.sin_cos();
+        self.cast_along(x, y, (c, s), z_max)
+    }
+
+    /// [`Self::cast`] along the unit vector `dir` instead of an angle:
+    /// callers that draw directions without angles (the training sampler)
+    /// save the trigonometry, which is slow in wasm. The walk is the
+    /// supercover raster's, corners included, and stops at the first
+    /// occupied cell: in a cluttered room most rays end within a few metres.
+    pub fn cast_along(&self, x: f64, y: f64, (c, s): (f64, f64), z_max: f64) -> f64 {
         let g = &self.geometry;
         let res = g.resolution();
         let (su, sv) = g.world_to_grid(x, y);
-        let (s, c) = angle.sin_cos();
         let end = (su + z_max * c / res, sv + z_max * s / res);
-        let mut hit = None;
-        // The raster visits cells in order; stop at the first occupied one.
-        // (`supercover` has no early exit, but the first hit is all we keep
-        // and the walk is bounded by z_max.)
-        supercover(g.width(), g.height(), (su, sv), end, |ix, iy| {
-            if hit.is_none() && self.occupied[iy * g.width() + ix] {
-                hit = Some((ix, iy));
-            }
+        let width = g.width();
+        let hit = first_cell(width, g.height(), (su, sv), end, |ix, iy| {
+            self.occupied[iy * width + ix]
         });
         let Some((ix, iy)) = hit else { return z_max };
         let t_in = entry_parameter(ix, iy, (su, sv), (c, s));

@@ -28,8 +28,16 @@ const CORNER_EPS: f64 = 1e-9;
 /// the first cell and then only tells it to move to an edge neighbour and
 /// to visit the cell it stands on; every move stays inside the grid.
 pub trait Cursor {
+    /// Whether the walk may end early: a cursor that sets it is asked
+    /// [`Cursor::done`] after every visit (the mapper's cursors leave it
+    /// false, so their walk has no such test at all).
+    const STOPS: bool = false;
     /// The cursor's cell is on the segment.
     fn visit(&mut self);
+    /// With [`Cursor::STOPS`]: the walk ends here.
+    fn done(&self) -> bool {
+        false
+    }
     /// Move one cell along x, in the segment's x direction.
     fn step_x(&mut self);
     /// Move one cell along y, in the segment's y direction.
@@ -142,6 +150,9 @@ impl Walk {
         if n_x != 0 && n_y != 0 {
             loop {
                 cursor.visit();
+                if C::STOPS && cursor.done() {
+                    return visits;
+                }
                 if gap < -CORNER_EPS {
                     cursor.step_x();
                     gap += d_x;
@@ -161,9 +172,15 @@ impl Walk {
                     // one at the top of the loop.
                     cursor.step_x();
                     cursor.visit();
+                    if C::STOPS && cursor.done() {
+                        return visits;
+                    }
                     cursor.unstep_x();
                     cursor.step_y();
                     cursor.visit();
+                    if C::STOPS && cursor.done() {
+                        return visits;
+                    }
                     cursor.step_x();
                     visits += 1;
                     gap += d_x - d_y;
@@ -177,10 +194,16 @@ impl Walk {
         }
         for _ in 0..n_x {
             cursor.visit();
+            if C::STOPS && cursor.done() {
+                return visits;
+            }
             cursor.step_x();
         }
         for _ in 0..n_y {
             cursor.visit();
+            if C::STOPS && cursor.done() {
+                return visits;
+            }
             cursor.step_y();
         }
         cursor.visit();
@@ -280,6 +303,65 @@ pub fn supercover(
         visit,
     };
     walk.run(&mut cursor)
+}
+
+/// The first cell, in order from `a` to `b`, for which `hit(ix, iy)` holds
+/// among the cells [`supercover`] would visit; the walk stops there.
+#[inline]
+pub fn first_cell(
+    width: usize,
+    height: usize,
+    a: (f64, f64),
+    b: (f64, f64),
+    hit: impl FnMut(usize, usize) -> bool,
+) -> Option<(usize, usize)> {
+    let walk = Walk::new(width, height, a, b)?;
+    let mut cursor = FirstHit {
+        x: walk.start.0,
+        y: walk.start.1,
+        step_x: walk.step.0 as isize,
+        step_y: walk.step.1 as isize,
+        hit,
+        found: None,
+    };
+    walk.run(&mut cursor);
+    cursor.found
+}
+
+/// The cursor of [`first_cell`]: the cell's coordinates and the first hit.
+struct FirstHit<F> {
+    x: usize,
+    y: usize,
+    step_x: isize,
+    step_y: isize,
+    hit: F,
+    found: Option<(usize, usize)>,
+}
+
+impl<F: FnMut(usize, usize) -> bool> Cursor for FirstHit<F> {
+    const STOPS: bool = true;
+    #[inline(always)]
+    fn visit(&mut self) {
+        if (self.hit)(self.x, self.y) {
+            self.found = Some((self.x, self.y));
+        }
+    }
+    #[inline(always)]
+    fn done(&self) -> bool {
+        self.found.is_some()
+    }
+    #[inline(always)]
+    fn step_x(&mut self) {
+        self.x = self.x.wrapping_add_signed(self.step_x);
+    }
+    #[inline(always)]
+    fn step_y(&mut self) {
+        self.y = self.y.wrapping_add_signed(self.step_y);
+    }
+    #[inline(always)]
+    fn unstep_x(&mut self) {
+        self.x = self.x.wrapping_add_signed(-self.step_x);
+    }
 }
 
 /// The parameter at which the ray `start + t (c, s)` (grid coordinates,

@@ -23,10 +23,11 @@ use crate::mapping::map_search::{self as search, ConeBeam, MapSearch, MapSearchS
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
 use crate::sensors::beam_model::BeamModelParams;
+use crate::sensors::noise::standard_normal;
 use crate::sensors::Scan;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 
 /// The most readings a scene may ask for (poses x sonars): the widget sweeps
 /// and climbs on them interactively.
@@ -272,7 +273,7 @@ impl DoorwayScene {
                 )?;
                 // Draw the noise even for a no-return, so that every reading
                 // keeps its own draw whatever the others saw.
-                let noise = self.sonar.noise_sigma * gaussian(&mut rng);
+                let noise = self.sonar.noise_sigma * standard_normal(&mut rng);
                 let range = if truth >= z_max {
                     z_max
                 } else {
@@ -541,14 +542,6 @@ impl DoorwaySweep {
 /// The right half of the widget: the MAP search over the scene's readings.
 pub fn map_search(scene: &DoorwayScene) -> Result<MapSearch> {
     MapSearch::new(scene.geometry()?, scene.beams()?, scene.search_settings())
-}
-
-/// One standard normal draw (Box–Muller). `1 - u` keeps the logarithm's
-/// argument in (0, 1].
-fn gaussian(rng: &mut StdRng) -> f64 {
-    let u: f64 = rng.random::<f64>();
-    let v: f64 = rng.random::<f64>();
-    (-2.0 * (1.0 - u).ln()).sqrt() * (std::f64::consts::TAU * v).cos()
 }
 
 #[cfg(test)]

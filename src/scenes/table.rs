@@ -21,10 +21,11 @@
 use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
+use crate::sensors::noise::standard_normal;
 use crate::sensors::Scan;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use std::f64::consts::{PI, TAU};
 
 /// Side of a table leg's square cross-section, metres (SPEC §8: "four 6 cm
@@ -538,20 +539,12 @@ impl TableScene {
 /// its noise sample is still drawn so that every beam consumes the same
 /// random numbers whatever the world holds.
 fn noisy(z: f64, z_max: f64, sigma: f64, rng: &mut StdRng) -> f64 {
-    let n = gaussian(rng);
+    let n = standard_normal(rng);
     if z >= z_max {
         z_max
     } else {
         (z + sigma * n).clamp(0.0, z_max)
     }
-}
-
-/// A standard normal sample by the Box–Muller transform.
-fn gaussian(rng: &mut StdRng) -> f64 {
-    // 1 - u lies in (0, 1], so the logarithm is finite.
-    let u1 = 1.0 - rng.random::<f64>();
-    let u2 = rng.random::<f64>();
-    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
 }
 
 /// A built table scene: ground truth per slice and every scan of the run.

@@ -13,6 +13,7 @@
 //! draws one (generative mode: the training data of the learned inverse
 //! model, simulated scans). Sampling is seeded by the caller's `StdRng`.
 
+use super::noise::standard_normal;
 use crate::error::{self, invalid, Result};
 use crate::geometry::Pose;
 use crate::sensors::Scan;
@@ -289,14 +290,6 @@ impl BeamModel {
     }
 }
 
-/// One standard normal draw by the Box–Muller transform. `1 - u` lies in
-/// `(0, 1]`, so the logarithm is finite.
-pub fn standard_normal<R: Rng + ?Sized>(rng: &mut R) -> f64 {
-    let u1 = 1.0 - rng.random::<f64>();
-    let u2 = rng.random::<f64>();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
-
 /// How wide a beam is when its expected range is sought: a thin ray, or a
 /// cone of half-angle `half_width` (radians) probed by `sub_rays` rays
 /// spread evenly across it, edges included (SPEC §4, the same spread as
@@ -404,96 +397,16 @@ pub fn expected_range_along(
     z_max: f64,
 ) -> f64 {
     if shape.sub_rays <= 1 {
-        return cast_ray(world, x, y, axis, z_max);
+        return world.cast_along(x, y, axis, z_max);
     }
     let rotate = |(c, s): (f64, f64), (rc, rs): (f64, f64)| (c * rc - s * rs, c * rs + s * rc);
     let mut dir = rotate(axis, shape.first);
     let mut nearest = z_max;
     for _ in 0..shape.sub_rays {
-        nearest = nearest.min(cast_ray(world, x, y, dir, nearest));
+        nearest = nearest.min(world.cast_along(x, y, dir, nearest));
         dir = rotate(dir, shape.step);
     }
     nearest
-}
-
-/// Range from `(x, y)` along the unit vector `dir` to the boundary of the
-/// first occupied cell, or `z_max`. The same answer as [`World::cast`]
-/// (the same supercover walk, corners included, and the same entry-point
-/// slab test), but the walk stops at the first occupied cell instead of
-/// rastering out to `z_max`: in a cluttered room most rays stop within a
-/// few metres. A start outside the map is left to `World::cast`, which
-/// clips the ray to the border first.
-fn cast_ray(world: &World, x: f64, y: f64, dir: (f64, f64), z_max: f64) -> f64 {
-    let g = world.geometry();
-    let res = g.resolution();
-    let (w, h) = (g.width() as i64, g.height() as i64);
-    let (su, sv) = g.world_to_grid(x, y);
-    let (mut ix, mut iy) = (su.floor() as i64, sv.floor() as i64);
-    let inside = |ix: i64, iy: i64| ix >= 0 && iy >= 0 && ix < w && iy < h;
-    if !inside(ix, iy) {
-        return world.cast(x, y, dir.1.atan2(dir.0), z_max);
-    }
-    let occupied = world.occupied();
-    let is_occupied = |ix: i64, iy: i64| occupied.get((iy * w + ix) as usize) == Some(&true);
-    let (c, s) = dir;
-    // Ray parameter in cell units: the point at parameter t is
-    // (su, sv) + t (c, s), and t_end is z_max.
-    let t_end = z_max / res;
-    let (step_x, step_y) = (if c > 0.0 { 1 } else { -1 }, if s > 0.0 { 1 } else { -1 });
-    let first_crossing = |i: i64, step: i64, a: f64, d: f64| -> (f64, f64) {
-        if d == 0.0 {
-            return (f64::INFINITY, f64::INFINITY);
-        }
-        let boundary = if step > 0 { i + 1 } else { i } as f64;
-        ((boundary - a) / d, 1.0 / d.abs())
-    };
-    let (mut t_max_x, t_delta_x) = first_crossing(ix, step_x, su, c);
-    let (mut t_max_y, t_delta_y) = first_crossing(iy, step_y, sv, s);
-    // The raster's corner tolerance, 1e-9 of the segment, in cell units.
-    let corner_eps = 1e-9 * t_end;
-    let entry = |ix: i64, iy: i64| -> f64 {
-        let slab = |lo: f64, start: f64, d: f64| -> f64 {
-            if d == 0.0 {
-                f64::NEG_INFINITY
-            } else {
-                ((lo - start) / d).min((lo + 1.0 - start) / d)
-            }
-        };
-        let t_in = slab(ix as f64, su, c).max(slab(iy as f64, sv, s)).max(0.0);
-        (t_in * res).min(z_max)
-    };
-    // Every pass moves at least one step in a fixed direction, so the walk
-    // leaves the map after at most width + height passes.
-    loop {
-        if is_occupied(ix, iy) {
-            return entry(ix, iy);
-        }
-        let t_next = t_max_x.min(t_max_y);
-        if t_next > t_end {
-            return z_max;
-        }
-        if (t_max_x - t_max_y).abs() <= corner_eps {
-            // Through a corner: both side cells count, as in the raster.
-            for (cx, cy) in [(ix + step_x, iy), (ix, iy + step_y)] {
-                if inside(cx, cy) && is_occupied(cx, cy) {
-                    return entry(cx, cy);
-                }
-            }
-            ix += step_x;
-            iy += step_y;
-            t_max_x += t_delta_x;
-            t_max_y += t_delta_y;
-        } else if t_max_x < t_max_y {
-            ix += step_x;
-            t_max_x += t_delta_x;
-        } else {
-            iy += step_y;
-            t_max_y += t_delta_y;
-        }
-        if !inside(ix, iy) {
-            return z_max;
-        }
-    }
 }
 
 /// Standard normal cumulative distribution.

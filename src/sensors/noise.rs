@@ -1,19 +1,22 @@
-//! Gaussian noise, drawn one way everywhere: `rand_distr`'s standard normal
-//! from the caller's seeded generator, so a seed fixes every reading.
+//! Gaussian noise, drawn one way everywhere, from the caller's seeded
+//! generator, so that a seed fixes every reading.
+//!
+//! The Box–Muller transform takes exactly two uniforms per draw, whatever
+//! the value, so streams stay aligned whatever is sampled. (A ziggurat
+//! sampler such as `rand_distr`'s `StandardNormal` takes a varying number,
+//! which re-draws everything after the first noisy reading: the learned
+//! model's training set among it.)
 
 use rand::Rng;
-use rand_distr::{Distribution, StandardNormal};
+use std::f64::consts::TAU;
 
-/// One standard normal draw from `rng`.
+/// One standard normal draw from `rng` (Box–Muller; `1 - u` lies in
+/// `(0, 1]`, so the logarithm is finite).
 #[inline]
 pub fn standard_normal<R: Rng + ?Sized>(rng: &mut R) -> f64 {
-    StandardNormal.sample(rng)
-}
-
-/// A draw from `N(mean, sigma^2)`; `sigma = 0` gives `mean` exactly.
-#[inline]
-pub fn normal<R: Rng + ?Sized>(rng: &mut R, mean: f64, sigma: f64) -> f64 {
-    mean + sigma * standard_normal(rng)
+    let u1 = 1.0 - rng.random::<f64>();
+    let u2 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
 }
 
 #[cfg(test)]
