@@ -14,12 +14,12 @@
 mod properties_support;
 
 use occgrid::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use occgrid::apps::sensor_fusion::{FusionModels, TableFusion};
 use occgrid::geometry::GridGeometry;
 use occgrid::geometry::Pose;
 use occgrid::grid::LogOddsGrid;
 use occgrid::inverse::learned::{FeatureFrame, FEATURES};
 use occgrid::inverse::LearnedInverse;
-use occgrid::mapping::fusion::{FusionModels, TableFusion};
 use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
 use occgrid::scenes::doorway::{self, DoorwayScene, DoorwaySweep};
 use occgrid::scenes::paths::{LapPath, WalkerParams};

@@ -547,6 +547,20 @@ impl Weaver {
         Ok(&self.pane(pane)?.view)
     }
     /// Entropy (bits) after each scan, from the empty map on.
+    /// Seconds of driving that `scans` scans take at the scene's scan rate:
+    /// the readout's time and the charts' x axis, both from here.
+    pub fn seconds_after(&self, scans: usize) -> f64 {
+        scans as f64 / self.settings.scene.scan_rate
+    }
+
+    /// The x axis of the curves: the time of each point, seconds (point 0
+    /// is the empty map, point `i` the map after `i` scans).
+    pub fn curve_times(&self) -> Vec<f64> {
+        (0..=self.history.len())
+            .map(|i| self.seconds_after(i))
+            .collect()
+    }
+
     pub fn entropy_curve(&self, pane: usize) -> Result<&[f64]> {
         Ok(&self.pane(pane)?.entropy_curve)
     }
@@ -727,7 +741,7 @@ impl Weaver {
             scans_per_lap: self.scans_per_lap,
             laps: self.settings.laps,
             lap: (scans.saturating_sub(1) / self.scans_per_lap + 1).min(self.settings.laps),
-            time: self.history.last().map_or(0.0, |s| s.time),
+            time: self.seconds_after(scans),
             done: self.done(),
             person: self.sim.person(),
             frame_ms: self.frame_ms(),
@@ -927,5 +941,21 @@ mod tests {
         assert!(o.nose[0] > o.robot[0], "facing east");
         assert_eq!((o.beams.len(), o.hits.len()), (120, 60));
         assert!(o.person.is_some());
+    }
+
+    /// The readout's "s of driving" and the charts' time axis come from the
+    /// scene's scan rate (a chart that assumed 12 scans per second put the
+    /// 12th scan of a 6 Hz scene at 1 s, the readout at 2 s).
+    #[test]
+    fn readout_time_and_curve_times_follow_the_scene_scan_rate() {
+        let mut s = WeaverSettings::default();
+        s.scene.scan_rate = 6.0;
+        let mut w = weaver(s);
+        w.advance(12).unwrap();
+        let times = w.curve_times();
+        assert_eq!(times.len(), w.entropy_curve(0).unwrap().len());
+        assert_eq!(times[0], 0.0);
+        assert_eq!(*times.last().unwrap(), 2.0);
+        assert_eq!(w.readout().time, 2.0);
     }
 }

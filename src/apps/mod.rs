@@ -4,3 +4,4 @@
 
 pub mod map_weaver;
 pub mod real_log;
+pub mod sensor_fusion;

@@ -62,6 +62,13 @@ impl MapWeaver {
         to_js(&self.0.readout())
     }
 
+    /// The time of each point of the curves, seconds (the empty map, then
+    /// after each scan), at the scene's scan rate.
+    #[wasm_bindgen(js_name = curveTimes)]
+    pub fn curve_times(&self) -> Vec<f64> {
+        self.0.curve_times()
+    }
+
     /// Entropy (bits) after each scan, from the empty map on.
     #[wasm_bindgen(js_name = entropyCurve)]
     pub fn entropy_curve(&self, pane: f64) -> Result<Vec<f64>, JsError> {

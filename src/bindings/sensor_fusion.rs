@@ -3,9 +3,9 @@
 //! core, draws the four maps from wasm memory and reads small readouts.
 
 use super::{map_pair_to_js, object_or_default, string_from_js, to_js, Pixels};
+use crate::apps::sensor_fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
 use crate::io::map_server as export;
-use crate::mapping::fusion::{FusionModels, TableFusion};
 use crate::scenes::table::TableScene;
 use wasm_bindgen::prelude::*;
 
