@@ -25,10 +25,11 @@ use occgrid::mapping::fusion::{
     max_fuse_into, max_fused_probabilities, mean_over, mean_probability,
 };
 use occgrid::mapping::joint::{ConeCell, JointPosterior, JointQuery};
-use occgrid::mapping::map_search::{ConeBeam, MapSearch, MapSearchSettings, MIN_GAIN};
+use occgrid::mapping::map_search::{MapSearch, MapSearchSettings, MIN_GAIN};
 use occgrid::sensors::beam_model::{
     erf, expected_range, normal_cdf, BeamModel, BeamModelParams, BeamShape,
 };
+use occgrid::sensors::scan::ConeBeam;
 use occgrid::world::{Rect, World};
 use properties_support::*;
 use proptest::prelude::*;
@@ -325,7 +326,7 @@ proptest! {
             Err(e) => assert_names(&e, "clamp"),
         }
         let mut px = vec![1u8; 4 * g.len() + 1];
-        let e = search.render_rgba(&mut px).unwrap_err();
+        let e = occgrid::render::gray::render_binary_rgba(search.geometry(), search.occupied(), &mut px).unwrap_err();
         assert_names(&e, "pixel buffer");
         prop_assert!(px.iter().all(|&b| b == 1));
     }

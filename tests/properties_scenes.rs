@@ -13,6 +13,7 @@
 
 mod properties_support;
 
+use occgrid::apps::doorway_trap::DoorwaySweep;
 use occgrid::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
 use occgrid::apps::sensor_fusion::{FusionModels, TableFusion};
 use occgrid::geometry::GridGeometry;
@@ -21,7 +22,7 @@ use occgrid::grid::LogOddsGrid;
 use occgrid::inverse::learned::{FeatureFrame, FEATURES};
 use occgrid::inverse::LearnedInverse;
 use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
-use occgrid::scenes::doorway::{self, DoorwayScene, DoorwaySweep};
+use occgrid::scenes::doorway::DoorwayScene;
 use occgrid::scenes::paths::{LapPath, WalkerParams};
 use occgrid::scenes::table::TableScene;
 use occgrid::sensors::lidar::LidarParams;
@@ -400,19 +401,19 @@ proptest! {
         let m = &mutations[k % mutations.len()];
         let mut scene = DoorwayScene::standard();
         (m.apply)(&mut scene, v);
-        let built = DoorwaySweep::new(&scene).and_then(|sweep| Ok((sweep, doorway::map_search(&scene)?)));
+        let built = DoorwaySweep::new(&scene).and_then(|sweep| Ok((sweep, occgrid::apps::doorway_trap::map_search(&scene)?)));
         match built {
             Ok((mut sweep, mut search)) => {
                 while sweep.step().is_some() {}
                 search.run(20);
                 assert_sane(sweep.grid());
                 prop_assert!(search.objective().is_finite());
-                let report = scene.door_report(sweep.grid(), search.occupied()).unwrap();
+                let report = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), search.occupied()).unwrap();
                 prop_assert!(report.sweep_closed <= report.door_cells);
                 let view = scene.view().unwrap();
                 prop_assert_eq!(view.beams.len(), scene.poses.len() * scene.bearings_deg.len());
                 let wrong = vec![true; search.occupied().len() + 1];
-                let e = scene.door_report(sweep.grid(), &wrong).unwrap_err();
+                let e = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), &wrong).unwrap_err();
                 assert_names(&e, "map");
             }
             Err(e) => {

@@ -37,11 +37,12 @@
 //!   those beams' cells are recomputed.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::geometry::raster::{entry_parameter, supercover};
+use crate::geometry::raster::{entry_parameter, raster_work, supercover, MAX_RASTER_WORK};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
 use crate::grid::{logit, FilterSettings, LogOddsGrid};
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
+use crate::sensors::scan::ConeBeam;
 
 /// No entry (a beam with no occupied cell).
 const NONE: u32 = u32::MAX;
@@ -53,31 +54,6 @@ pub const MIN_GAIN: f64 = 1e-9;
 /// A density the model calls (numerically) impossible is floored here before
 /// its logarithm, so that every objective stays finite and comparable.
 const MIN_DENSITY: f64 = 1e-300;
-
-/// The most raster steps the incidence cache may take (beams x sub-rays x
-/// cells per sub-ray): bounds memory and time for any input. At the limit
-/// the cache takes about half a second and 30 MB natively; the doorway
-/// scene needs about 1/1000 of it.
-pub const MAX_RASTER_WORK: f64 = 5e7;
-
-/// The raster steps the incidence cache takes for `beams` cones of
-/// `sub_rays` sub-rays each reaching `z_max` metres over cells of
-/// `resolution` metres: a sub-ray crosses at most about
-/// `2 z_max / resolution + 4` cells. A scene checks this before it casts
-/// its readings, so that too large a request is refused before any work.
-pub fn raster_work(beams: usize, sub_rays: usize, z_max: f64, resolution: f64) -> f64 {
-    let steps_per_ray = 2.0 * z_max / resolution + 4.0;
-    beams as f64 * sub_rays as f64 * steps_per_ray
-}
-
-/// One range reading of a cone sensor: the sensor's pose, the cone axis's
-/// bearing relative to the heading (radians), and the reading (metres).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ConeBeam {
-    pub pose: Pose,
-    pub bearing: f64,
-    pub range: f64,
-}
 
 /// How the search sees the world: the cone's geometry, the forward model and
 /// the prior.
@@ -603,18 +579,6 @@ impl MapSearch {
             }
         }
         Ok(grid)
-    }
-
-    /// Draws the binary map into RGBA pixels, north up: occupied black,
-    /// free white (the MAP map keeps no uncertainty to draw).
-    pub fn render_rgba(&self, out: &mut [u8]) -> Result<()> {
-        crate::render::gray::render_gray_rgba(&self.geometry, &self.occupied, out, |o| {
-            if o {
-                0
-            } else {
-                255
-            }
-        })
     }
 }
 

@@ -40,6 +40,16 @@ pub fn render_grid_rgba(grid: &LogOddsGrid, out: &mut [u8]) -> Result<()> {
     })
 }
 
+/// Draws a binary map (the MAP search's, Table 9.3) into RGBA pixels, north
+/// up: occupied black, free white.
+pub fn render_binary_rgba(
+    geometry: &GridGeometry,
+    occupied: &[bool],
+    out: &mut [u8],
+) -> Result<()> {
+    render_gray_rgba(geometry, occupied, out, |o| if o { 0 } else { 255 })
+}
+
 /// Writes one gray level per cell (`gray(cell)`) into RGBA pixels, north up:
 /// the top pixel row is the grid's last row. Every map drawn by the core
 /// goes through here, so all of them share one orientation.

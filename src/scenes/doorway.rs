@@ -15,15 +15,11 @@
 //! Gaussian noise, so the same scene gives the same readings bit for bit.
 
 use crate::error::{self, invalid, Result};
+use crate::geometry::raster::{raster_work, MAX_RASTER_WORK};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
-use crate::grid::{FilterSettings, LogOddsGrid};
-use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapping::map_search::{self as search, ConeBeam, MapSearch, MapSearchSettings};
-use crate::mapping::sweep::sweep_scan;
-use crate::mapping::traversal::ScanStats;
-use crate::sensors::beam_model::BeamModelParams;
 use crate::sensors::noise::standard_normal;
+use crate::sensors::scan::ConeBeam;
 use crate::sensors::Scan;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
@@ -199,13 +195,13 @@ impl DoorwayScene {
         // The MAP search's own limit, checked here before the readings are
         // cast (casting them is the same order of work): the search would
         // refuse the scene only after the sweep had cast it.
-        let work = search::raster_work(
+        let work = raster_work(
             readings,
             self.sonar.sub_rays,
             self.sonar.z_max,
             self.resolution,
         );
-        if !(work <= search::MAX_RASTER_WORK) {
+        if !(work <= MAX_RASTER_WORK) {
             return Err(invalid(
                 "poses x bearings_deg x sonar.sub_rays",
                 format!(
@@ -217,17 +213,6 @@ impl DoorwayScene {
             ));
         }
         error::open_probability("prior", self.prior)?;
-        // The swept grid saturates at the default clamp: a prior whose log
-        // odds lie beyond it is refused here, under its own name, rather
-        // than as a clamp the scene does not have.
-        let clamp = FilterSettings::default().clamp;
-        if crate::grid::logit(self.prior).abs() > clamp {
-            return Err(invalid(
-                "prior",
-                self.prior,
-                "a prior whose log odds lie within the grid's clamp of 12 (about 6e-6 to 0.999994)",
-            ));
-        }
         Ok(())
     }
 
@@ -305,33 +290,6 @@ impl DoorwayScene {
             .collect()
     }
 
-    /// Table 9.2 for this sonar: the full 22° cone, `alpha` one cell, and
-    /// the chapter's 0.7 / 0.3 inverse model against the scene's prior.
-    pub fn inverse_model(&self) -> Result<HandCrafted> {
-        HandCrafted::new(HandCraftedParams::from_probabilities(
-            0.7,
-            0.3,
-            self.prior,
-            2.0 * self.resolution,
-            self.sonar.beta_deg.to_radians(),
-            self.sonar.z_max,
-        )?)
-    }
-
-    /// The MAP search's view of the sonar: the same cone and sub-rays, the
-    /// chapter's forward model at this sonar's `z_max`.
-    pub fn search_settings(&self) -> MapSearchSettings {
-        MapSearchSettings {
-            prior: self.prior,
-            half_width: self.half_width(),
-            sub_rays: self.sonar.sub_rays,
-            model: BeamModelParams {
-                z_max: self.sonar.z_max,
-                ..BeamModelParams::CHAPTER
-            },
-        }
-    }
-
     /// Cells whose centres lie inside `rect`, as `(ix, iy)` columns: for
     /// each column of the rectangle, the cell indices in it.
     pub fn cells_in(&self, rect: &Rect) -> Result<Vec<Vec<usize>>> {
@@ -353,22 +311,6 @@ impl DoorwayScene {
     }
 }
 
-/// What the widget reports about the door, computed here so the page only
-/// prints it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct DoorReport {
-    /// Cells of the doorway (the gap in the wall).
-    pub door_cells: usize,
-    /// Doorway cells the swept grid believes occupied (`p > 0.5`): all of
-    /// them means the sweep has closed the door.
-    pub sweep_closed: usize,
-    /// Occupied MAP cells in the passage from the door to the far wall.
-    pub map_in_doorway: usize,
-    /// Occupied MAP cells on the far wall behind the door.
-    pub map_on_far_wall: usize,
-}
-
 impl DoorwayScene {
     /// The passage: the door's columns from the wall to the far wall.
     pub fn passage(&self) -> Rect {
@@ -378,32 +320,6 @@ impl DoorwayScene {
             self.door.max_x,
             self.far_wall.min_y,
         )
-    }
-
-    /// Counts what the door report says for a swept grid and a MAP map of
-    /// this scene's geometry.
-    pub fn door_report(&self, swept: &LogOddsGrid, map: &[bool]) -> Result<DoorReport> {
-        let n = self.geometry()?.len();
-        if swept.geometry().len() != n || map.len() != n {
-            return Err(crate::error::OccError::LengthMismatch {
-                field: "map".into(),
-                expected: n,
-                found: map.len().min(swept.geometry().len()),
-            });
-        }
-        let flat = |r: &Rect| -> Result<Vec<usize>> {
-            Ok(self.cells_in(r)?.into_iter().flatten().collect())
-        };
-        let door = flat(&self.door)?;
-        Ok(DoorReport {
-            door_cells: door.len(),
-            sweep_closed: door
-                .iter()
-                .filter(|&&i| swept.probability_at(i) > 0.5)
-                .count(),
-            map_in_doorway: flat(&self.passage())?.iter().filter(|&&i| map[i]).count(),
-            map_on_far_wall: flat(&self.far_wall)?.iter().filter(|&&i| map[i]).count(),
-        })
     }
 
     /// The scene in the map's own cells (`u` east, `v` north, cell `(i, j)`
@@ -484,66 +400,6 @@ pub struct DoorwayView {
     pub beams: Vec<BeamView>,
 }
 
-/// The left half of the widget: Table 9.1 swept literally over every cell,
-/// one stop's scan at a time, with the scene's 22° Table 9.2 model.
-#[derive(Debug, Clone)]
-pub struct DoorwaySweep {
-    grid: LogOddsGrid,
-    model: HandCrafted,
-    scans: Vec<Scan>,
-    done: usize,
-}
-
-impl DoorwaySweep {
-    pub fn new(scene: &DoorwayScene) -> Result<Self> {
-        // Check the whole scene first, so that every error names the
-        // scene's own field (the model and grid below would name theirs).
-        scene.validate()?;
-        let grid = LogOddsGrid::new(
-            scene.geometry()?,
-            FilterSettings {
-                prior: scene.prior,
-                ..FilterSettings::default()
-            },
-        )?;
-        Ok(Self {
-            grid,
-            model: scene.inverse_model()?,
-            scans: scene.scans()?,
-            done: 0,
-        })
-    }
-
-    /// Sweeps the next scan over the map; `None` once every scan is in.
-    pub fn step(&mut self) -> Option<ScanStats> {
-        let scan = self.scans.get(self.done)?;
-        let stats = sweep_scan(&mut self.grid, &self.model, scan);
-        self.done += 1;
-        Some(stats)
-    }
-
-    pub fn reset(&mut self) {
-        self.grid.reset();
-        self.done = 0;
-    }
-
-    pub fn grid(&self) -> &LogOddsGrid {
-        &self.grid
-    }
-    /// Scans swept so far.
-    pub fn scans_done(&self) -> usize {
-        self.done
-    }
-    pub fn scan_count(&self) -> usize {
-        self.scans.len()
-    }
-}
-
-/// The right half of the widget: the MAP search over the scene's readings.
-pub fn map_search(scene: &DoorwayScene) -> Result<MapSearch> {
-    MapSearch::new(scene.geometry()?, scene.beams()?, scene.search_settings())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -587,43 +443,5 @@ mod tests {
             e.contains("poses x bearings_deg") && e.contains("7000"),
             "{e}"
         );
-    }
-
-    #[test]
-    fn scenes_too_large_to_step_interactively_are_refused_before_any_work() {
-        // 1.5 mm cells: 8.9 million of them, accepted by the grid itself.
-        let s = DoorwayScene {
-            resolution: 0.0015,
-            ..DoorwayScene::standard()
-        };
-        let e = s.validate().unwrap_err().to_string();
-        assert!(
-            e.contains("width x height") && e.contains("3334 x 2667") && e.contains("250000"),
-            "{e}"
-        );
-        assert!(DoorwaySweep::new(&s).is_err() && map_search(&s).is_err());
-        // The chapter's room at 1 cm (200,000 cells) is fine.
-        let fine = DoorwayScene {
-            resolution: 0.01,
-            ..DoorwayScene::standard()
-        };
-        fine.validate().unwrap();
-        // 4,096 readings of 1,024 sub-rays at 1 cm: the MAP search's
-        // raster limit, refused by the scene before the sweep casts them.
-        let mut s = fine.clone();
-        s.poses = (0..64)
-            .map(|k| Pose {
-                x: 1.0 + 0.04 * k as f64,
-                ..s.poses[0]
-            })
-            .collect();
-        s.bearings_deg = (0..64).map(|k| -60.0 + 2.0 * k as f64).collect();
-        s.sonar.sub_rays = 1024;
-        let e = s.validate().unwrap_err().to_string();
-        assert!(
-            e.contains("poses x bearings_deg x sonar.sub_rays") && e.contains("5e7"),
-            "{e}"
-        );
-        assert!(DoorwaySweep::new(&s).is_err());
     }
 }

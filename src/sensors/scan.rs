@@ -1,4 +1,5 @@
-//! Range scans: what a mapper consumes.
+//! Range scans, what a mapper consumes, and single cone readings, what the
+//! MAP search (Table 9.3) consumes.
 //!
 //! A [`Scan`] is one sweep of a range sensor taken at one pose: a range and a
 //! bearing per beam. It is validated once, when built, so that the mappers
@@ -88,6 +89,15 @@ impl Scan {
             ..self.clone()
         })
     }
+}
+
+/// One range reading of a cone sensor: the sensor's pose, the cone axis's
+/// bearing relative to the heading (radians), and the reading (metres).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ConeBeam {
+    pub pose: Pose,
+    pub bearing: f64,
+    pub range: f64,
 }
 
 #[cfg(test)]
