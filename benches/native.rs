@@ -3,8 +3,8 @@
 //! `cargo bench --bench native`; the datasets folder defaults to
 //! `../shared/datasets` and can be set with OCCGRID_DATASETS.
 
-use occgrid::carmen;
-use occgrid::workloads;
+use occgrid::bench::intel as workloads;
+use occgrid::io::carmen;
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -58,8 +58,8 @@ fn intel_full() {
 /// scans, and one lap integrated into the sonar, LiDAR, summed and
 /// max-fused maps (two 12,000-cell sweeps and two ray traversals per scan).
 fn table_fusion() {
-    use occgrid::fusion::TableFusion;
-    use occgrid::sim::table::TableScene;
+    use occgrid::mapping::fusion::TableFusion;
+    use occgrid::scenes::table::TableScene;
     let scene = TableScene::default();
     let (mut build, mut lap, mut per_step) = (Vec::new(), Vec::new(), Vec::new());
     let mut steps = 0;
@@ -89,8 +89,8 @@ fn table_fusion() {
 /// and the learned map, both views redrawn and rescored) and one
 /// `integrate_scan` call, medians over `runs()` laps (src/sim/weaver_workloads.rs).
 fn apartment_frame() {
+    use occgrid::bench::apartment::ApartmentFrame;
     use occgrid::inverse::training::{train, TrainingConfig};
-    use occgrid::sim::weaver_workloads::ApartmentFrame;
     let (learned, _, _) = train(&TrainingConfig::default()).expect("the default training runs");
     let mut w = ApartmentFrame::new(learned).expect("the apartment builds");
     let n = w.scans();
@@ -119,7 +119,7 @@ fn apartment_frame() {
 /// W3 `all-cells-vs-traversal`: the W2 lap by ray traversal and by the
 /// literal sweep over every cell, at 0.10 m and 0.05 m, medians per scan.
 fn all_cells_vs_traversal() {
-    use occgrid::sim::weaver_workloads::AllCellsVsTraversal;
+    use occgrid::bench::apartment::AllCellsVsTraversal;
     for resolution in [0.1, 0.05] {
         let mut w = AllCellsVsTraversal::new(resolution).expect("the apartment builds");
         let n = w.scans();
@@ -172,7 +172,7 @@ fn intel_real_log() {
 /// One flip step and the climb to convergence from the all-free start are
 /// timed apart; building the incidence cache is `setup_ms`.
 fn doorway_map() {
-    use occgrid::sim::doorway::{self, DoorwayScene};
+    use occgrid::scenes::doorway::{self, DoorwayScene};
     let scene = DoorwayScene::standard();
     let (mut setup, mut converge, mut step) = (Vec::new(), Vec::new(), Vec::new());
     let mut search = doorway::map_search(&scene).expect("the chapter's scene is valid");

@@ -26,6 +26,9 @@ pub enum OccError {
     },
     /// A line of an input file could not be read.
     Parse { line: usize, reason: String },
+    /// A call that the session's state does not allow yet (or any more),
+    /// said in words: "the log has not been read yet".
+    State(String),
 }
 
 impl fmt::Display for OccError {
@@ -45,6 +48,7 @@ impl fmt::Display for OccError {
                 "invalid {field}: length {found} does not match the expected {expected}"
             ),
             OccError::Parse { line, reason } => write!(f, "line {line}: {reason}"),
+            OccError::State(what) => f.write_str(what),
         }
     }
 }

@@ -1,41 +1,36 @@
 //! occgrid — occupancy grid mapping after Thrun, Burgard & Fox,
 //! *Probabilistic Robotics*, chapter 9.
 //!
-//! The crate is a pure Rust core, one module per idea, and a thin bindings
-//! layer for the chapter's widgets:
+//! The folders follow a scan from the sensor to the pixel; each layer uses
+//! only the layers above it in this list (`tests/layers.rs` checks it):
 //!
-//! * [`grid`] — the log-odds map (Table 9.1's state), entropy, Brier score.
-//! * [`cell_filter`] — one cell's filter, the chapter's worked example.
-//! * [`scan`] — poses and range scans.
-//! * [`raster`] — the supercover ray raster.
-//! * [`inverse`] — inverse sensor models (Table 9.2) behind one trait.
-//! * [`mapper`] — Table 9.1 by ray traversal and as a literal sweep.
-//! * [`forward`] — the forward beam model `p(z | x, m)` (Table 6.1).
-//! * [`joint`] — exact joint posteriors over a few cells (the independence trap).
-//! * [`map_search`] — MAP occupancy mapping by hill climbing (Table 9.3).
-//! * [`fusion`] — one grid per sensor, fused by eq. 9.9.
-//! * [`sim`] — simulated scenes, robots and sensors.
-//! * [`carmen`] — reading CARMEN laser logs.
-//! * [`export`] — ROS `map_server` PGM + YAML.
-//! * [`workloads`] — the benchmark workloads, shared by native and wasm runs.
+//! * [`error`] — `OccError`, the validators, strict settings objects.
+//! * [`geometry`] — poses, the grid's limits (world ↔ cell), the supercover raster.
+//! * [`world`] — ground truth as a binary grid, and the one ray caster.
+//! * [`sensors`] — scans, LiDAR, odometry (Table 5.6), noise, the beam model (Table 6.1).
+//! * [`scenes`] — the apartment, the doorway, the table, training floor plans.
+//! * [`grid`] — the log-odds map (Table 9.1's state), entropy, Brier score, counts.
+//! * [`inverse`] — inverse sensor models: Table 9.2 and the learned one (§9.3).
+//! * [`mapping`] — traversal, the literal sweep, MAP search (Table 9.3), joint, fusion (eq. 9.9).
+//! * [`render`] — the gray ramp and the incremental map view.
+//! * [`io`] — CARMEN logs in, ROS `map_server` maps out.
+//! * [`apps`] — one session per widget: what each widget shows, in image units.
+//! * [`bench`] — the workloads of BENCHMARKS.md.
 //!
-//! `bindings` (wasm only) wraps these for JavaScript and holds no algorithm.
+//! `bindings` (wasm only) wraps the sessions for JavaScript and holds no algorithm.
 
-pub mod carmen;
-pub mod cell_filter;
+pub mod apps;
+pub mod bench;
 pub mod error;
-pub mod export;
-pub mod forward;
-pub mod fusion;
+pub mod geometry;
 pub mod grid;
 pub mod inverse;
-pub mod joint;
-pub mod map_search;
-pub mod mapper;
-pub mod raster;
-pub mod scan;
-pub mod sim;
-pub mod workloads;
+pub mod io;
+pub mod mapping;
+pub mod render;
+pub mod scenes;
+pub mod sensors;
+pub mod world;
 
 #[cfg(target_arch = "wasm32")]
 pub mod bindings;

@@ -2,14 +2,15 @@
 //! Map Weaver's claims about the simulated apartment (SPEC §9, §10.1),
 //! checked on whole laps with fixed seeds.
 
+use occgrid::apps::map_weaver::{PoseSource, Weaver, WeaverSettings};
+use occgrid::geometry::Pose;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
 use occgrid::inverse::training::{self, TrainingConfig};
 use occgrid::inverse::{HandCrafted, LearnedInverse};
-use occgrid::mapper::RayMapper;
-use occgrid::scan::{Pose, Scan};
-use occgrid::sim::apartment::ApartmentScene;
-use occgrid::sim::session::{PoseSource, Weaver, WeaverSettings};
-use occgrid::sim::Rect;
+use occgrid::mapping::traversal::RayMapper;
+use occgrid::scenes::apartment::ApartmentScene;
+use occgrid::sensors::Scan;
+use occgrid::world::Rect;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 use std::sync::OnceLock;
@@ -27,7 +28,7 @@ fn settings(seed: u64, person: bool) -> WeaverSettings {
     s.seed = seed;
     s.person = person;
     for p in &mut s.panes {
-        p.model = occgrid::sim::session::ModelKind::HandCrafted;
+        p.model = occgrid::apps::map_weaver::ModelKind::HandCrafted;
         p.pose = PoseSource::Oracle;
     }
     s
@@ -254,7 +255,7 @@ fn ghost_fade_scans(clamp: f64, strength: f64) -> (f32, usize) {
     let bearings = scene.lidar.bearings();
     let mut rng = StdRng::seed_from_u64(11);
     let mut ranges = Vec::new();
-    let mut scan = |world: &occgrid::sim::World, grid: &mut LogOddsGrid| {
+    let mut scan = |world: &occgrid::world::World, grid: &mut LogOddsGrid| {
         scene.lidar.scan_into(world, &pose, &mut rng, &mut ranges);
         let s = Scan::new(pose, ranges.clone(), bearings.clone()).unwrap();
         mapper.integrate(grid, &model, &s);

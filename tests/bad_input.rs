@@ -2,11 +2,13 @@
 //! SPEC §12 for the foundation: every bad input is an error that names the
 //! field and the value, and the map is left exactly as it was.
 
-use occgrid::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{FilterSettings, LogOddsGrid};
 use occgrid::inverse::HandCrafted;
 use occgrid::inverse::HandCraftedParams;
-use occgrid::mapper::RayMapper;
-use occgrid::scan::{Pose, Scan};
+use occgrid::mapping::traversal::RayMapper;
+use occgrid::sensors::Scan;
 
 fn says(result: Result<impl std::fmt::Debug, occgrid::OccError>, words: &[&str]) {
     let text = result.expect_err("must be rejected").to_string();
@@ -187,6 +189,9 @@ fn a_rejected_update_leaves_the_map_exactly_as_it_was() {
         m.brier_score(&[true; 400], Some(&[400])),
         &["region", "400"],
     );
-    says(m.render_rgba(&mut [0u8; 7]), &["pixel buffer"]);
+    says(
+        occgrid::render::gray::render_grid_rgba(&m, &mut [0u8; 7]),
+        &["pixel buffer"],
+    );
     assert_eq!(m, before, "the map is untouched by every rejected call");
 }

@@ -2,9 +2,9 @@
 //! The CARMEN reader on the two real logs, on damaged and mixed files, on
 //! `ROBOTLASER1` lines, and the chunked map build it feeds.
 
-use occgrid::carmen::{
-    parse_bytes, LaserMessage, LaserScans, LogLoader, LogMapBuild, LogMapSettings, LogReader,
-    MAX_LINE_BYTES,
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::io::carmen::{
+    parse_bytes, LaserMessage, LaserScans, LogLoader, LogReader, MAX_LINE_BYTES,
 };
 use occgrid::OccError;
 use rand::{Rng, SeedableRng};

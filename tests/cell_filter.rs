@@ -2,8 +2,9 @@
 //! The chapter's single-cell numbers and the bookkeeping of the prior.
 
 use approx::assert_abs_diff_eq;
-use occgrid::cell_filter::{self, CellFilterParams};
-use occgrid::grid::{binary_entropy_bits, logit, FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::geometry::GridGeometry;
+use occgrid::grid::{binary_entropy_bits, logit, FilterSettings, LogOddsGrid};
+use occgrid::mapping::cell_filter::{self, CellFilterParams};
 
 #[test]
 fn worked_example_matches_the_chapter_to_four_decimals() {

@@ -2,9 +2,11 @@
 //! The ROS `map_server` pair: the YAML and PGM follow the format exactly,
 //! and the PGM read back matches the map cell by cell.
 
-use occgrid::carmen::{LaserScans, LogMapBuild, LogMapSettings};
-use occgrid::export::{map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH};
-use occgrid::grid::{probability, FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::geometry::GridGeometry;
+use occgrid::grid::{probability, FilterSettings, LogOddsGrid};
+use occgrid::io::carmen::LaserScans;
+use occgrid::io::map_server::{map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH};
 
 fn datasets() -> std::path::PathBuf {
     std::env::var_os("OCCGRID_DATASETS")
@@ -217,7 +219,7 @@ fn unzip(zip: &[u8]) -> Vec<(String, Vec<u8>)> {
 #[test]
 fn the_zip_holds_the_pgm_and_a_yaml_that_names_it() {
     let pair = map_server_pair(&small_map(), "whatever.pgm");
-    let (file, zip) = occgrid::export::zip_pair(&pair, "intel lab/map");
+    let (file, zip) = occgrid::io::map_server::zip_pair(&pair, "intel lab/map");
     assert_eq!(file, "intel_lab_map.zip");
     let files = unzip(&zip);
     assert_eq!(files.len(), 2);
@@ -231,10 +233,13 @@ fn the_zip_holds_the_pgm_and_a_yaml_that_names_it() {
             .replace("image: whatever.pgm", "image: intel_lab_map.pgm")
     );
     // Deterministic: the same map gives the same bytes.
-    assert_eq!(occgrid::export::zip_pair(&pair, "intel lab/map").1, zip);
-    assert_eq!(occgrid::export::zip_pair(&pair, "").0, "map.zip");
     assert_eq!(
-        occgrid::export::zip_pair(&pair, "../..").0,
+        occgrid::io::map_server::zip_pair(&pair, "intel lab/map").1,
+        zip
+    );
+    assert_eq!(occgrid::io::map_server::zip_pair(&pair, "").0, "map.zip");
+    assert_eq!(
+        occgrid::io::map_server::zip_pair(&pair, "../..").0,
         "_...zip",
         "no path"
     );

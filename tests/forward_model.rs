@@ -3,10 +3,10 @@
 //! density's normalisation, the generative mode against the density, and
 //! the expected range `z*` in a ground-truth world.
 
-use occgrid::forward::{expected_range, BeamModel, BeamModelParams, BeamShape};
-use occgrid::grid::GridGeometry;
-use occgrid::scan::Pose;
-use occgrid::sim::{Rect, World};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::sensors::beam_model::{expected_range, BeamModel, BeamModelParams, BeamShape};
+use occgrid::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 

@@ -3,9 +3,10 @@
 //! eq. 9.9): the required regression, the beam-count experiment, and the
 //! max rule's defining property.
 
-use occgrid::fusion::{max_fused_probabilities, FusionModels, TableFusion};
+use occgrid::apps::sensor_fusion::{FusionModels, TableFusion};
 use occgrid::grid::LogOddsGrid;
-use occgrid::sim::table::TableScene;
+use occgrid::mapping::fusion::max_fused_probabilities;
+use occgrid::scenes::table::TableScene;
 
 /// The default scene (seed 7, 360-beam LiDAR, 16-sonar ring), one full lap.
 fn finished(scene: &TableScene) -> TableFusion {

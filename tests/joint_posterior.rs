@@ -2,8 +2,8 @@
 //! The independence trap (SPEC §6): exact joint posteriors over a few cells
 //! in one sonar cone against what a factored map believes.
 
-use occgrid::forward::BeamModelParams;
-use occgrid::joint::{ConeCell, JointPosterior, JointQuery};
+use occgrid::mapping::joint::{ConeCell, JointPosterior, JointQuery};
+use occgrid::sensors::beam_model::BeamModelParams;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 

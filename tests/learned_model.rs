@@ -9,21 +9,25 @@
 //! the ground truth beside the hand-crafted model's, in Map Weaver too,
 //! without the band behind every wall a prior of deep blocks paints.
 
-use occgrid::forward::{BeamModel, BeamShape};
-use occgrid::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::apps::map_weaver::WeaverSettings;
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{logit, FilterSettings, LogOddsGrid};
 use occgrid::inverse::learned::{
-    axis_log_odds, prior_drift, BeamLattice, LearnedInverse, BEHIND_BAND, BEYOND, BIAS, FEATURES,
-    NEGLIGIBLE, SPLINE_END,
+    LearnedInverse, BEHIND_BAND, BEYOND, BIAS, FEATURES, NEGLIGIBLE, SPLINE_END,
 };
+use occgrid::inverse::probes::{axis_log_odds, BeamLattice};
 use occgrid::inverse::training::{
     cross_entropy, fit, sample_triplets, seed_from_number, summarize, train, FitReport,
     TrainingConfig, TrainingSet,
 };
 use occgrid::inverse::{HandCrafted, InverseModel};
-use occgrid::mapper::{sweep_scan, RayMapper};
-use occgrid::scan::{Pose, Scan};
-use occgrid::sim::apartment::{ApartmentScene, ApartmentSim};
-use occgrid::sim::session::WeaverSettings;
+use occgrid::mapping::drift::prior_drift;
+use occgrid::mapping::sweep::sweep_scan;
+use occgrid::mapping::traversal::RayMapper;
+use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
+use occgrid::sensors::beam_model::{BeamModel, BeamShape};
+use occgrid::sensors::Scan;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 use std::sync::OnceLock;
@@ -400,8 +404,8 @@ fn the_occupied_band_ends_a_few_decimetres_past_the_reading() {
 
 /// Map Weaver as shipped (the apartment, seed 1, the person walking, the
 /// hand-crafted pane beside the learned one) with the default training.
-fn weaver_after(laps: usize) -> occgrid::sim::session::Weaver {
-    use occgrid::sim::session::{ModelKind, Weaver, WeaverSettings};
+fn weaver_after(laps: usize) -> occgrid::apps::map_weaver::Weaver {
+    use occgrid::apps::map_weaver::{ModelKind, Weaver, WeaverSettings};
     let settings = WeaverSettings::default();
     assert_eq!(settings.training, TrainingConfig::default());
     assert_eq!(settings.panes[0].model, ModelKind::HandCrafted);
@@ -512,7 +516,7 @@ fn bad_configurations_are_errors_that_name_the_field() {
         ),
         (
             TrainingConfig {
-                sensor: occgrid::forward::BeamModelParams {
+                sensor: occgrid::sensors::beam_model::BeamModelParams {
                     z_hit: 0.5,
                     ..d.sensor
                 },

@@ -4,13 +4,15 @@
 //! gains are the gains a brute-force search would compute, and it keeps the
 //! door open where the literal Table 9.1 sweep closes it.
 
-use occgrid::forward::{BeamModel, BeamModelParams};
-use occgrid::grid::{logit, FilterSettings, GridGeometry, LogOddsGrid};
-use occgrid::map_search::{ConeBeam, MapSearch, MapSearchSettings, MIN_GAIN};
-use occgrid::mapper::sweep_scan;
-use occgrid::scan::Pose;
-use occgrid::sim::doorway::DoorwayScene;
-use occgrid::sim::{Rect, World};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{logit, FilterSettings, LogOddsGrid};
+use occgrid::mapping::map_search::{MapSearch, MapSearchSettings, MIN_GAIN};
+use occgrid::mapping::sweep::sweep_scan;
+use occgrid::scenes::doorway::DoorwayScene;
+use occgrid::sensors::beam_model::{BeamModel, BeamModelParams};
+use occgrid::sensors::scan::ConeBeam;
+use occgrid::world::{Rect, World};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -19,7 +21,7 @@ fn doorway_search() -> (DoorwayScene, MapSearch) {
     let search = MapSearch::new(
         scene.geometry().unwrap(),
         scene.beams().unwrap(),
-        scene.search_settings(),
+        occgrid::apps::doorway_trap::search_settings(&scene),
     )
     .unwrap();
     (scene, search)
@@ -175,7 +177,7 @@ fn literal_sweep_closes_the_doorway_while_map_leaves_it_open_and_marks_the_far_w
         },
     )
     .unwrap();
-    let model = scene.inverse_model().unwrap();
+    let model = occgrid::apps::doorway_trap::inverse_model(&scene).unwrap();
     for scan in scene.scans().unwrap() {
         sweep_scan(&mut grid, &model, &scan);
     }

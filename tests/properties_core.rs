@@ -13,15 +13,16 @@
 
 mod properties_support;
 
-use occgrid::cell_filter::{self, CellFilterParams};
-use occgrid::grid::{
-    binary_entropy_bits, logit, probability, FilterSettings, GridGeometry, LogOddsGrid, MAX_CELLS,
-};
+use occgrid::geometry::raster::supercover;
+use occgrid::geometry::{wrap_angle, Pose};
+use occgrid::geometry::{GridGeometry, MAX_CELLS};
+use occgrid::grid::{binary_entropy_bits, logit, probability, FilterSettings, LogOddsGrid};
 use occgrid::inverse::{HandCrafted, HandCraftedParams, InverseModel};
-use occgrid::mapper::{sweep_scan, RayMapper};
-use occgrid::raster::supercover;
-use occgrid::scan::{wrap_angle, Pose, Scan};
-use occgrid::sim::view::{cell_look, gray_level, MapView};
+use occgrid::mapping::cell_filter::{self, CellFilterParams};
+use occgrid::mapping::sweep::sweep_scan;
+use occgrid::mapping::traversal::RayMapper;
+use occgrid::render::map_view::{cell_look, gray_level, MapView};
+use occgrid::sensors::Scan;
 use properties_support::*;
 use proptest::prelude::*;
 
@@ -282,7 +283,7 @@ proptest! {
         let m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
         let n = (g.len() as isize * 4 + delta).max(0) as usize;
         let mut px = vec![7u8; n];
-        match m.render_rgba(&mut px) {
+        match occgrid::render::gray::render_grid_rgba(&m, &mut px) {
             Ok(()) => prop_assert!(px.chunks_exact(4).all(|p| p == [128, 128, 128, 255])),
             Err(e) => {
                 assert_names(&e, "pixel buffer");

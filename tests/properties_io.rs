@@ -11,11 +11,11 @@
 
 mod properties_support;
 
-use occgrid::carmen::{
-    flaser_angle_increment, parse_bytes, LogLoader, LogMapBuild, LogMapSettings, LogReader,
-};
-use occgrid::export::{file_stem, map_server_pair, read_pgm, trinary_gray, zip_pair};
-use occgrid::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::geometry::GridGeometry;
+use occgrid::grid::{FilterSettings, LogOddsGrid};
+use occgrid::io::carmen::{flaser_angle_increment, parse_bytes, LogLoader, LogReader};
+use occgrid::io::map_server::{file_stem, map_server_pair, read_pgm, trinary_gray, zip_pair};
 use occgrid::OccError;
 use properties_support::*;
 use proptest::prelude::*;
@@ -147,7 +147,7 @@ fn apply(line: &str, d: &Damage) -> Vec<u8> {
 
 /// A scan the reader let through must be finite throughout.
 #[track_caller]
-fn assert_finite_scans(log: &occgrid::carmen::CarmenLog) {
+fn assert_finite_scans(log: &occgrid::io::carmen::CarmenLog) {
     for s in &log.scans {
         let p = s.pose();
         assert!(
@@ -302,7 +302,7 @@ proptest! {
     ) {
         let lasers = laser_lines();
         let text: String = lasers[..scans].iter().map(|s| s.as_str()).collect();
-        let read = occgrid::carmen::LaserScans::read(text.as_bytes()).unwrap();
+        let read = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
         prop_assert_eq!(read.len(), scans);
         let inside = k < scans;
         prop_assert_eq!(read.scan(k).is_some(), inside);
@@ -474,7 +474,7 @@ proptest! {
 fn an_absurd_map_resolution_is_refused_under_its_own_name() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = occgrid::carmen::LaserScans::read(text.as_bytes()).unwrap();
+    let scans = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
     for resolution in [f64::MAX, 1e300] {
         let settings = LogMapSettings {
             resolution,
@@ -503,7 +503,7 @@ fn an_absurd_map_resolution_is_refused_under_its_own_name() {
 fn map_build_model_errors_carry_the_pages_field_names() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = occgrid::carmen::LaserScans::read(text.as_bytes()).unwrap();
+    let scans = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
     let cases = [
         (
             LogMapSettings {

@@ -11,19 +11,26 @@
 
 mod properties_support;
 
-use occgrid::forward::{erf, expected_range, normal_cdf, BeamModel, BeamModelParams, BeamShape};
-use occgrid::fusion::{max_fuse_into, max_fused_probabilities, mean_over, mean_probability};
-use occgrid::grid::{FilterSettings, GridGeometry, LogOddsGrid};
-use occgrid::inverse::learned::{
-    axis_log_odds, evidence_field, mean_free_evidence, prior_drift, side_by_side, BeamLattice,
-    FeatureFrame, FEATURES,
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{FilterSettings, LogOddsGrid};
+use occgrid::inverse::learned::{FeatureFrame, FEATURES};
+use occgrid::inverse::probes::{
+    axis_log_odds, evidence_field, mean_free_evidence, side_by_side, BeamLattice,
 };
 use occgrid::inverse::training::{self, seed_from_number, TrainingConfig};
 use occgrid::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
-use occgrid::joint::{ConeCell, JointPosterior, JointQuery};
-use occgrid::map_search::{ConeBeam, MapSearch, MapSearchSettings, MIN_GAIN};
-use occgrid::scan::Pose;
-use occgrid::sim::{Rect, World};
+use occgrid::mapping::drift::prior_drift;
+use occgrid::mapping::fusion::{
+    max_fuse_into, max_fused_probabilities, mean_over, mean_probability,
+};
+use occgrid::mapping::joint::{ConeCell, JointPosterior, JointQuery};
+use occgrid::mapping::map_search::{MapSearch, MapSearchSettings, MIN_GAIN};
+use occgrid::sensors::beam_model::{
+    erf, expected_range, normal_cdf, BeamModel, BeamModelParams, BeamShape,
+};
+use occgrid::sensors::scan::ConeBeam;
+use occgrid::world::{Rect, World};
 use properties_support::*;
 use proptest::prelude::*;
 use rand::rngs::StdRng;
@@ -319,7 +326,7 @@ proptest! {
             Err(e) => assert_names(&e, "clamp"),
         }
         let mut px = vec![1u8; 4 * g.len() + 1];
-        let e = search.render_rgba(&mut px).unwrap_err();
+        let e = occgrid::render::gray::render_binary_rgba(search.geometry(), search.occupied(), &mut px).unwrap_err();
         assert_names(&e, "pixel buffer");
         prop_assert!(px.iter().all(|&b| b == 1));
     }

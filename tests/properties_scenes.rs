@@ -13,17 +13,21 @@
 
 mod properties_support;
 
-use occgrid::fusion::{FusionModels, TableFusion};
-use occgrid::grid::{GridGeometry, LogOddsGrid};
+use occgrid::apps::doorway_trap::DoorwaySweep;
+use occgrid::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use occgrid::apps::sensor_fusion::{FusionModels, TableFusion};
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::LogOddsGrid;
 use occgrid::inverse::learned::{FeatureFrame, FEATURES};
 use occgrid::inverse::LearnedInverse;
-use occgrid::scan::Pose;
-use occgrid::sim::apartment::{ApartmentScene, ApartmentSim};
-use occgrid::sim::doorway::{self, DoorwayScene, DoorwaySweep};
-use occgrid::sim::robot::{LapPath, LidarParams, OdometryParams, WalkerParams};
-use occgrid::sim::session::{ModelKind, PoseSource, Weaver, WeaverSettings};
-use occgrid::sim::table::TableScene;
-use occgrid::sim::{Rect, World};
+use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
+use occgrid::scenes::doorway::DoorwayScene;
+use occgrid::scenes::paths::{LapPath, WalkerParams};
+use occgrid::scenes::table::TableScene;
+use occgrid::sensors::lidar::LidarParams;
+use occgrid::sensors::odometry::OdometryParams;
+use occgrid::world::{Rect, World};
 use properties_support::*;
 use proptest::prelude::*;
 use rand::rngs::StdRng;
@@ -397,19 +401,19 @@ proptest! {
         let m = &mutations[k % mutations.len()];
         let mut scene = DoorwayScene::standard();
         (m.apply)(&mut scene, v);
-        let built = DoorwaySweep::new(&scene).and_then(|sweep| Ok((sweep, doorway::map_search(&scene)?)));
+        let built = DoorwaySweep::new(&scene).and_then(|sweep| Ok((sweep, occgrid::apps::doorway_trap::map_search(&scene)?)));
         match built {
             Ok((mut sweep, mut search)) => {
                 while sweep.step().is_some() {}
                 search.run(20);
                 assert_sane(sweep.grid());
                 prop_assert!(search.objective().is_finite());
-                let report = scene.door_report(sweep.grid(), search.occupied()).unwrap();
+                let report = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), search.occupied()).unwrap();
                 prop_assert!(report.sweep_closed <= report.door_cells);
                 let view = scene.view().unwrap();
                 prop_assert_eq!(view.beams.len(), scene.poses.len() * scene.bearings_deg.len());
                 let wrong = vec![true; search.occupied().len() + 1];
-                let e = scene.door_report(sweep.grid(), &wrong).unwrap_err();
+                let e = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), &wrong).unwrap_err();
                 assert_names(&e, "map");
             }
             Err(e) => {

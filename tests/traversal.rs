@@ -2,12 +2,15 @@
 //! The ray-traversal mapper and the literal sweep of Table 9.1: the raster's
 //! guarantees, clipping, and where the two mappers agree and differ.
 
-use occgrid::grid::{FilterSettings, GridGeometry, LogOddsGrid};
+use occgrid::geometry::raster::supercover;
+use occgrid::geometry::GridGeometry;
+use occgrid::geometry::Pose;
+use occgrid::grid::{FilterSettings, LogOddsGrid};
 use occgrid::inverse::{HandCrafted, HandCraftedParams};
-use occgrid::mapper::{sweep_scan, RayMapper};
-use occgrid::raster::supercover;
-use occgrid::scan::{Pose, Scan};
-use occgrid::sim::{Rect, World};
+use occgrid::mapping::sweep::sweep_scan;
+use occgrid::mapping::traversal::RayMapper;
+use occgrid::sensors::Scan;
+use occgrid::world::{Rect, World};
 use rand::{Rng, SeedableRng};
 use std::collections::HashSet;
 use std::f64::consts::PI;

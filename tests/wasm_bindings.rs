@@ -113,3 +113,41 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
         "{msg}"
     );
 }
+
+/// A misspelt field of a scene or settings object is an error naming it,
+/// at any depth, for every widget (a scene that silently dropped it would
+/// run with the default the reader tried to change).
+#[wasm_bindgen_test]
+fn misspelt_scene_and_settings_fields_are_errors_naming_them() {
+    use occgrid::bindings::map_weaver::MapWeaver;
+    use occgrid::bindings::sensor_fusion::SensorFusion;
+    let parse = |json: &str| js_sys::JSON::parse(json).unwrap();
+    let msg = js_error_message(
+        DoorwayTrap::new(parse(r#"{"prior": 0.5, "sonr": {}}"#))
+            .err()
+            .unwrap(),
+    );
+    assert!(msg.contains("sonr"), "{msg}");
+    let msg = js_error_message(
+        SensorFusion::new(
+            parse(r#"{"lidar": {"beams": 60, "beems": 2}}"#),
+            JsValue::UNDEFINED,
+        )
+        .err()
+        .unwrap(),
+    );
+    assert!(msg.contains("beems") && msg.contains("lidar"), "{msg}");
+    let msg = js_error_message(
+        MapWeaver::new(parse(r#"{"scene": {"scan_rat": 6}}"#))
+            .err()
+            .unwrap(),
+    );
+    assert!(msg.contains("scan_rat") && msg.contains("scene"), "{msg}");
+    let mut session = LogMapSession::new(Vec::new());
+    let msg = js_error_message(
+        session
+            .configure(parse(r#"{"resolutoin": 0.1}"#))
+            .unwrap_err(),
+    );
+    assert!(msg.contains("resolutoin"), "{msg}");
+}

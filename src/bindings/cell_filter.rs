@@ -1,7 +1,7 @@
 //! Bindings of `<occgrid-cell-filter>`: one cell's filter.
 
 use super::to_js;
-use crate::cell_filter::{self, CellFilterParams};
+use crate::mapping::cell_filter::{self, CellFilterParams};
 use wasm_bindgen::prelude::*;
 
 /// Runs one cell's filter over `readings` (a `Uint8Array` or an array of

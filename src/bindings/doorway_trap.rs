@@ -6,11 +6,12 @@ use super::{
     budget_from_js, map_pair_to_js, object_from_js, object_or_default, string_from_js, to_js,
     Pixels,
 };
-use crate::export;
+use crate::apps::doorway_trap::DoorwaySweep;
 use crate::grid::LogOddsGrid;
-use crate::joint::{JointPosterior, JointQuery};
-use crate::map_search::MapSearch;
-use crate::sim::doorway::{self, DoorwayScene, DoorwaySweep};
+use crate::io::map_server as export;
+use crate::mapping::joint::{JointPosterior, JointQuery};
+use crate::mapping::map_search::MapSearch;
+use crate::scenes::doorway::DoorwayScene;
 use wasm_bindgen::prelude::*;
 
 /// Saturation of the exported MAP map, log odds: far past both YAML
@@ -37,7 +38,7 @@ impl DoorwayTrap {
         let scene: DoorwayScene = object_or_default("scene", scene, DoorwayScene::standard)?;
         Ok(DoorwayTrap {
             sweep: DoorwaySweep::new(&scene)?,
-            search: doorway::map_search(&scene)?,
+            search: crate::apps::doorway_trap::map_search(&scene)?,
             scene,
             sweep_pixels: Pixels::default(),
             map_pixels: Vec::new(),
@@ -125,7 +126,11 @@ impl DoorwayTrap {
     pub fn map_render(&mut self) -> Result<usize, JsError> {
         let n = self.search.geometry().len() * 4;
         self.map_pixels.resize(n, 0);
-        self.search.render_rgba(&mut self.map_pixels)?;
+        crate::render::gray::render_binary_rgba(
+            self.search.geometry(),
+            self.search.occupied(),
+            &mut self.map_pixels,
+        )?;
         Ok(self.map_pixels.as_ptr() as usize)
     }
 
@@ -135,7 +140,7 @@ impl DoorwayTrap {
     pub fn map_state(&self) -> Result<JsValue, JsError> {
         #[derive(serde::Serialize)]
         struct State<'a> {
-            flips: &'a [crate::map_search::Flip],
+            flips: &'a [crate::mapping::map_search::Flip],
             history: &'a [f64],
             objective: f64,
             converged: bool,
@@ -157,14 +162,16 @@ impl DoorwayTrap {
     /// `{ doorCells, sweepClosed, mapInDoorway, mapOnFarWall, scansDone,
     /// scans }`.
     pub fn report(&self) -> Result<JsValue, JsError> {
-        let r = self
-            .scene
-            .door_report(self.sweep.grid(), self.search.occupied())?;
+        let r = crate::apps::doorway_trap::door_report(
+            &self.scene,
+            self.sweep.grid(),
+            self.search.occupied(),
+        )?;
         #[derive(serde::Serialize)]
         #[serde(rename_all = "camelCase")]
         struct Report {
             #[serde(flatten)]
-            door: doorway::DoorReport,
+            door: crate::apps::doorway_trap::DoorReport,
             scans_done: usize,
             scans: usize,
         }

@@ -5,10 +5,10 @@
 //! learned model with another seed; it draws what it gets.
 
 use super::{object_from_js, object_or_default, to_js};
-use crate::forward::{BeamModel, BeamModelParams};
-use crate::inverse::learned::{mean_free_evidence, side_by_side, BeamLattice};
+use crate::inverse::probes::{mean_free_evidence, side_by_side, BeamLattice};
 use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, InverseModel, LearnedInverse};
+use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen]

@@ -1,15 +1,15 @@
 //! Bindings of `<occgrid-map-weaver>`: the apartment lap feeding two maps
-//! ([`crate::sim::session::Weaver`]), and the W2/W3 benchmark workloads
-//! ([`crate::sim::weaver_workloads`]) for the wasm run under Node.
+//! ([`crate::apps::map_weaver::Weaver`]), and the W2/W3 benchmark workloads
+//! ([`crate::world::weaver_workloads`]) for the wasm run under Node.
 
 use super::{
     budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, object_or_default,
     string_from_js, to_js,
 };
-use crate::export;
+use crate::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use crate::bench::apartment::{AllCellsVsTraversal, ApartmentFrame};
 use crate::inverse::training::{self, TrainingConfig};
-use crate::sim::session::{ModelKind, PoseSource, Weaver, WeaverSettings};
-use crate::sim::weaver_workloads::{AllCellsVsTraversal, ApartmentFrame};
+use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// A Map Weaver run held in wasm memory.
@@ -60,6 +60,13 @@ impl MapWeaver {
     /// `{ scans, scansPerLap, lap, time, done, person, frameMs, panes: [...] }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
         to_js(&self.0.readout())
+    }
+
+    /// The time of each point of the curves, seconds (the empty map, then
+    /// after each scan), at the scene's scan rate.
+    #[wasm_bindgen(js_name = curveTimes)]
+    pub fn curve_times(&self) -> Vec<f64> {
+        self.0.curve_times()
     }
 
     /// Entropy (bits) after each scan, from the empty map on.

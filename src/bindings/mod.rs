@@ -13,6 +13,7 @@ pub mod cell_filter;
 pub mod doorway_trap;
 pub mod inverse_workbench;
 pub mod map_weaver;
+pub mod plain;
 pub mod real_log;
 pub mod sensor_fusion;
 
@@ -39,8 +40,9 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
     what: &str,
     value: JsValue,
 ) -> Result<T, JsError> {
-    let deserializer = serde_wasm_bindgen::Deserializer::from(value);
-    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+    let value = plain::plain_copy(&value)
+        .map_err(|reason| JsError::new(&format!("invalid {what}: {reason}")))?;
+    serde_path_to_error::deserialize(plain::Strict(value)).map_err(|e| {
         // The library's message already reads "Error: ..." (it is a JS
         // error's text); keep only the reason.
         let text = e.inner().to_string();
@@ -196,14 +198,16 @@ impl Pixels {
     pub(crate) fn render(&mut self, grid: &crate::grid::LogOddsGrid) -> *const u8 {
         let n = grid.geometry().len() * 4;
         self.0.resize(n, 0);
-        grid.render_rgba(&mut self.0)
+        crate::render::gray::render_grid_rgba(grid, &mut self.0)
             .expect("the buffer was just sized to the grid");
         self.0.as_ptr()
     }
 }
 
 /// A ROS `map_server` pair for JavaScript: `{ pgm: Uint8Array, yaml: string }`.
-pub(crate) fn map_pair_to_js(pair: &crate::export::MapServerPair) -> Result<JsValue, JsError> {
+pub(crate) fn map_pair_to_js(
+    pair: &crate::io::map_server::MapServerPair,
+) -> Result<JsValue, JsError> {
     let out = js_sys::Object::new();
     let set = |key: &str, value: JsValue| {
         js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)

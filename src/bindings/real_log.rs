@@ -7,10 +7,10 @@ use super::{
     budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
     object_from_js, string_from_js, to_js, Pixels,
 };
-use crate::carmen::{self, CarmenLog, LaserScans, LogLoader, LogMapBuild, LogMapSettings};
-use crate::export;
-use crate::workloads;
-use std::io::Cursor;
+use crate::apps::real_log::{LogMapSettings, RealLogSession};
+use crate::bench::intel as workloads;
+use crate::io::carmen::{self, CarmenLog};
+use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// What a log's bytes may come as.
@@ -50,48 +50,11 @@ impl LaserLog {
     }
 }
 
-/// A log being read and mapped, step by step:
-///
-/// 1. `new LogMapSession(bytes)` takes the file (gzip or plain);
-/// 2. `read(n)` reads up to `n` more laser lines per call, until
-///    `finished` (then the map is set up with the current settings);
-/// 3. `buildChunk(n)` integrates up to `n` more scans per call;
-/// 4. `seek(k)` scrubs to `k` scans (then `buildChunk` again), and
-///    `configure(settings)` restarts the build with new settings.
+/// A log being read and mapped step by step: [`RealLogSession`].
 #[wasm_bindgen]
 pub struct LogMapSession {
-    /// The reader over the file's bytes, dropped (with the bytes) once the
-    /// whole log is read.
-    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
-    /// Scans read whose map the current settings cannot make (a grid too
-    /// large): kept until `configure` brings settings that fit.
-    pending: Option<LaserScans>,
-    /// How the read ended, once it has.
-    read_summary: Option<carmen::LoadProgress>,
-    bytes_total: usize,
-    settings: LogMapSettings,
-    build: Option<LogMapBuild>,
+    session: RealLogSession,
     pixels: Pixels,
-}
-
-#[derive(serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-struct ReadReport {
-    #[serde(flatten)]
-    progress: carmen::LoadProgress,
-    bytes_total: usize,
-}
-
-#[derive(serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-struct GeometryReport {
-    width: usize,
-    height: usize,
-    /// Metres per cell.
-    resolution: f64,
-    /// World position of the map's lower-left corner, metres.
-    origin_x: f64,
-    origin_y: f64,
 }
 
 #[wasm_bindgen]
@@ -112,87 +75,38 @@ impl LogMapSession {
 
     /// Reads up to `maxScans` more laser lines (a whole number; `Infinity`
     /// for the rest of the log) and returns `{ lines, scans, beams,
-    /// bytesRead, bytesTotal, finished }`. When the log is finished the map
-    /// is set up; a malformed line is an error naming its line number, and
-    /// so is a log without laser lines. If the settings make too large a
-    /// grid for this log, that is an error too, and the scans wait
-    /// (`awaitingSettings`) for a `configure` that fits.
+    /// bytesRead, bytesTotal, finished }` ([`RealLogSession::read`]).
     #[wasm_bindgen(js_name = read)]
     pub fn read_js(&mut self, max_scans: f64) -> Result<JsValue, JsError> {
         self.read(budget_from_js("maxScans", max_scans)?)
     }
 
     /// New settings (a partial object: missing fields keep the defaults;
-    /// unknown fields are errors). Restarts the build towards the same scan
-    /// count; returns the map's geometry, or `null` while the log is still
-    /// being read. On error nothing changes.
+    /// unknown fields are errors). Returns the map's geometry, or `null`
+    /// while the log is still being read. On error nothing changes.
     pub fn configure(&mut self, settings: JsValue) -> Result<JsValue, JsError> {
-        // serde-wasm-bindgen reads only the fields it knows, so a misspelt
-        // one would pass unnoticed: name it instead.
-        if settings.is_object() {
-            let object: &js_sys::Object = settings.unchecked_ref();
-            for key in js_sys::Object::keys(object).iter() {
-                let key = key.as_string().unwrap_or_default();
-                if !LogMapSettings::FIELDS.contains(&key.as_str()) {
-                    return Err(JsError::new(&format!(
-                        "invalid settings: unknown field \"{key}\" (expected {})",
-                        LogMapSettings::FIELDS.join(", ")
-                    )));
-                }
-            }
-        }
         let settings: LogMapSettings = object_from_js("settings", settings)?;
-        settings.validate()?;
-        if let Some(build) = self.build.as_mut() {
-            build.configure(settings)?;
-        } else if let Some(scans) = self.pending.take() {
-            if let Err(e) = LogMapBuild::check(&scans, &settings) {
-                self.pending = Some(scans);
-                return Err(e.into());
-            }
-            self.build = Some(LogMapBuild::new(scans, settings)?);
-        }
-        self.settings = settings;
-        self.geometry()
+        to_js(&self.session.configure(settings)?)
     }
 
-    /// `{ lines, scans, beams, bytesRead, bytesTotal, finished }` of the
-    /// finished read (also when setting up the map failed), or `null`.
+    /// The finished read's report (also when setting up the map failed),
+    /// or `null`.
     #[wasm_bindgen(js_name = readSummary)]
     pub fn read_summary(&self) -> Result<JsValue, JsError> {
-        match self.read_summary {
-            None => Ok(JsValue::NULL),
-            Some(progress) => to_js(&ReadReport {
-                progress,
-                bytes_total: self.bytes_total,
-            }),
-        }
+        to_js(&self.session.read_summary())
     }
 
     /// True when the whole log has been read but the settings made too large
     /// a grid for it: `configure` with settings that fit builds the map.
     #[wasm_bindgen(getter, js_name = awaitingSettings)]
     pub fn awaiting_settings(&self) -> bool {
-        self.pending.is_some()
+        self.session.awaiting_settings()
     }
 
     /// `{ width, height, resolution, originX, originY }` of the map, or
     /// `null` before the log is read.
     pub fn geometry(&self) -> Result<JsValue, JsError> {
-        match &self.build {
-            None => Ok(JsValue::NULL),
-            Some(b) => {
-                let g = b.grid().geometry();
-                let [origin_x, origin_y] = g.origin();
-                to_js(&GeometryReport {
-                    width: g.width(),
-                    height: g.height(),
-                    resolution: g.resolution(),
-                    origin_x,
-                    origin_y,
-                })
-            }
-        }
+        to_js(&self.session.geometry())
     }
 
     /// Integrates up to `maxScans` more scans (a whole number; `Infinity`
@@ -205,62 +119,50 @@ impl LogMapSession {
 
     /// The build's progress without doing any work.
     pub fn progress(&self) -> Result<JsValue, JsError> {
-        to_js(&self.built()?.progress())
+        to_js(&self.session.build()?.progress())
     }
 
     /// Scrubs to `scans` integrated scans; `buildChunk` then does the work
     /// (going back restarts from the first scan).
     pub fn seek(&mut self, scans: f64) -> Result<(), JsError> {
-        let scans = index_from_js("scan", scans)?;
-        Ok(self.built_mut()?.seek(scans)?)
+        Ok(self.session.seek(index_from_js("scan", scans)?)?)
     }
 
     /// Renders the map (north up, white free, black occupied, mid-gray
     /// unknown) and returns the address of its `width * height * 4` RGBA
     /// bytes in wasm memory.
     pub fn render(&mut self) -> Result<usize, JsError> {
-        let build = self
-            .build
-            .as_ref()
-            .ok_or_else(|| JsError::new("the log has not been read yet"))?;
+        let build = self.session.build()?;
         Ok(self.pixels.render(build.grid()) as usize)
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top; whole
-    /// numbers): `{ ix, iy, x, y, l, p, updates }`, or `null` outside the
-    /// map.
+    /// numbers): `{ ix, iy, x, y, l, p, updates, unknown }`, or `null`
+    /// outside the map.
     #[wasm_bindgen(js_name = cellAt)]
     pub fn cell_at(&self, col: f64, row: f64) -> Result<JsValue, JsError> {
         let (col, row) = (
             coordinate_from_js("col", col)?,
             coordinate_from_js("row", row)?,
         );
-        match self.built()?.readout_at_pixel(col, row) {
-            Some(r) => to_js(&r),
-            None => Ok(JsValue::NULL),
-        }
+        to_js(&self.session.build()?.readout_at_pixel(col, row))
     }
 
     /// `{ occupied, free, unknown, cells }` now (p > 0.65, p < 0.35,
     /// exactly the prior).
     pub fn counts(&self) -> Result<JsValue, JsError> {
-        to_js(&self.built()?.counts())
+        to_js(&self.session.build()?.counts())
     }
 
     /// The laser positions of all scans in image pixels, `[x0, y0, ...]`.
     #[wasm_bindgen(js_name = pathPixels)]
     pub fn path_pixels(&self) -> Result<Vec<f32>, JsError> {
-        Ok(self.built()?.path_in_pixels())
+        Ok(self.session.build()?.path_in_pixels())
     }
 
     /// The heading of scan `k`'s laser, radians counter-clockwise from east.
     pub fn heading(&self, k: f64) -> Result<f64, JsError> {
-        let k = index_from_js("scan", k)?;
-        self.built()?
-            .scans()
-            .pose(k)
-            .map(|p| p.theta)
-            .ok_or_else(|| JsError::new(&format!("invalid scan: {k} (expected a scan of the log)")))
+        Ok(self.session.heading(index_from_js("scan", k)?)?)
     }
 
     /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the
@@ -287,61 +189,24 @@ impl LogMapSession {
     /// [`Self::new_js`] for Rust callers.
     pub fn new(bytes: Vec<u8>) -> LogMapSession {
         LogMapSession {
-            bytes_total: bytes.len(),
-            loader: Some(LogLoader::new(Cursor::new(bytes))),
-            pending: None,
-            read_summary: None,
-            settings: LogMapSettings::default(),
-            build: None,
+            session: RealLogSession::new(bytes),
             pixels: Pixels::default(),
         }
     }
 
     /// [`Self::read_js`] for Rust callers, with the budget already a count.
     pub fn read(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        let Some(loader) = self.loader.as_mut() else {
-            return Err(JsError::new("the log has been read already"));
-        };
-        let progress = loader.read(max_scans)?;
-        if progress.finished {
-            self.read_summary = Some(progress);
-            if let Some(loader) = self.loader.take() {
-                let scans = loader.into_scans();
-                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
-                    self.pending = Some(scans);
-                    return Err(e.into());
-                }
-                self.build = Some(LogMapBuild::new(scans, self.settings)?);
-            }
-        }
-        to_js(&ReadReport {
-            progress,
-            bytes_total: self.bytes_total,
-        })
+        to_js(&self.session.read(max_scans)?)
     }
 
     /// [`Self::build_chunk_js`] for Rust callers.
     pub fn build_chunk(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        to_js(&self.built_mut()?.advance(max_scans))
+        to_js(&self.session.build_chunk(max_scans)?)
     }
 
     /// [`Self::export_map_js`] for Rust callers.
     pub fn export_map(&self, name: Option<String>) -> Result<JsValue, JsError> {
-        let stem = export::file_stem(name.as_deref().unwrap_or(""));
-        let pair = export::map_server_pair(self.built()?.grid(), &format!("{stem}.pgm"));
-        map_pair_to_js(&pair)
-    }
-
-    fn built(&self) -> Result<&LogMapBuild, JsError> {
-        self.build
-            .as_ref()
-            .ok_or_else(|| JsError::new("the log has not been read yet"))
-    }
-
-    fn built_mut(&mut self) -> Result<&mut LogMapBuild, JsError> {
-        self.build
-            .as_mut()
-            .ok_or_else(|| JsError::new("the log has not been read yet"))
+        map_pair_to_js(&self.session.export_map(name.as_deref())?)
     }
 }
 

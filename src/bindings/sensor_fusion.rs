@@ -3,10 +3,10 @@
 //! core, draws the four maps from wasm memory and reads small readouts.
 
 use super::{map_pair_to_js, object_or_default, string_from_js, to_js, Pixels};
-use crate::export;
-use crate::fusion::{FusionModels, TableFusion};
+use crate::apps::sensor_fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
-use crate::sim::table::TableScene;
+use crate::io::map_server as export;
+use crate::scenes::table::TableScene;
 use wasm_bindgen::prelude::*;
 
 /// The table-scene fusion experiment held in wasm memory.

@@ -23,6 +23,22 @@ pub struct HandCraftedParams {
 }
 
 impl HandCraftedParams {
+    /// Table 9.2 for a laser range finder, the values of BENCHMARKS.md W1
+    /// (and the real-log defaults): `alpha` = 10 cm, `l_occ = +0.85`,
+    /// `l_free = -0.40`, `l0 = 0`, out to `z_max` metres. A laser beam is
+    /// thin: the ray mapper passes `phi = 0`, and only the literal sweep
+    /// looks at the opening angle, one degree, a scan's beam spacing.
+    pub fn laser(z_max: f64) -> Self {
+        Self {
+            alpha: 0.10,
+            beta: 1f64.to_radians(),
+            z_max,
+            l_occ: 0.85,
+            l_free: -0.40,
+            l0: 0.0,
+        }
+    }
+
     /// Table 9.2 with `l_occ = logit(p_occ)`, `l_free = logit(p_free)` and
     /// `l0 = logit(prior)`.
     pub fn from_probabilities(

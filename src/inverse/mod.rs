@@ -7,6 +7,7 @@
 
 mod hand_crafted;
 pub mod learned;
+pub mod probes;
 pub mod training;
 
 pub use hand_crafted::{HandCrafted, HandCraftedParams};

@@ -1,0 +1,198 @@
+//! The doorway-trap session (SPEC §6, §7; Table 9.1 against Table 9.3): the
+//! doorway scene swept literally with a 22° sonar (the sweep closes the door
+//! with a one-cell wall) beside the MAP search over the same readings, and
+//! the door report the widget prints.
+
+use crate::error::{invalid, Result};
+use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::inverse::{HandCrafted, HandCraftedParams};
+use crate::mapping::map_search::{MapSearch, MapSearchSettings};
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::ScanStats;
+use crate::scenes::doorway::DoorwayScene;
+use crate::sensors::beam_model::BeamModelParams;
+use crate::sensors::Scan;
+use crate::world::Rect;
+
+/// Table 9.2 for this sonar: the full 22° cone, `alpha` one cell, and
+/// the chapter's 0.7 / 0.3 inverse model against the scene's prior.
+pub fn inverse_model(scene: &DoorwayScene) -> Result<HandCrafted> {
+    HandCrafted::new(HandCraftedParams::from_probabilities(
+        0.7,
+        0.3,
+        scene.prior,
+        2.0 * scene.resolution,
+        scene.sonar.beta_deg.to_radians(),
+        scene.sonar.z_max,
+    )?)
+}
+
+/// The MAP search's view of the sonar: the same cone and sub-rays, the
+/// chapter's forward model at this sonar's `z_max`.
+pub fn search_settings(scene: &DoorwayScene) -> MapSearchSettings {
+    MapSearchSettings {
+        prior: scene.prior,
+        half_width: scene.half_width(),
+        sub_rays: scene.sonar.sub_rays,
+        model: BeamModelParams {
+            z_max: scene.sonar.z_max,
+            ..BeamModelParams::CHAPTER
+        },
+    }
+}
+
+/// What the widget reports about the door, computed here so the page only
+/// prints it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DoorReport {
+    /// Cells of the doorway (the gap in the wall).
+    pub door_cells: usize,
+    /// Doorway cells the swept grid believes occupied (`p > 0.5`): all of
+    /// them means the sweep has closed the door.
+    pub sweep_closed: usize,
+    /// Occupied MAP cells in the passage from the door to the far wall.
+    pub map_in_doorway: usize,
+    /// Occupied MAP cells on the far wall behind the door.
+    pub map_on_far_wall: usize,
+}
+
+/// Counts what the door report says for a swept grid and a MAP map of
+/// this scene's geometry.
+pub fn door_report(scene: &DoorwayScene, swept: &LogOddsGrid, map: &[bool]) -> Result<DoorReport> {
+    let n = scene.geometry()?.len();
+    if swept.geometry().len() != n || map.len() != n {
+        return Err(crate::error::OccError::LengthMismatch {
+            field: "map".into(),
+            expected: n,
+            found: map.len().min(swept.geometry().len()),
+        });
+    }
+    let flat =
+        |r: &Rect| -> Result<Vec<usize>> { Ok(scene.cells_in(r)?.into_iter().flatten().collect()) };
+    let door = flat(&scene.door)?;
+    Ok(DoorReport {
+        door_cells: door.len(),
+        sweep_closed: door
+            .iter()
+            .filter(|&&i| swept.probability_at(i) > 0.5)
+            .count(),
+        map_in_doorway: flat(&scene.passage())?.iter().filter(|&&i| map[i]).count(),
+        map_on_far_wall: flat(&scene.far_wall)?.iter().filter(|&&i| map[i]).count(),
+    })
+}
+
+/// The left half of the widget: Table 9.1 swept literally over every cell,
+/// one stop's scan at a time, with the scene's 22° Table 9.2 model.
+#[derive(Debug, Clone)]
+pub struct DoorwaySweep {
+    grid: LogOddsGrid,
+    model: HandCrafted,
+    scans: Vec<Scan>,
+    done: usize,
+}
+
+impl DoorwaySweep {
+    pub fn new(scene: &DoorwayScene) -> Result<Self> {
+        // Check the whole scene first, so that every error names the
+        // scene's own field (the model and grid below would name theirs).
+        scene.validate()?;
+        // The swept grid saturates at the default clamp: a prior whose log
+        // odds lie beyond it is refused here, under its own name, rather
+        // than as a clamp the scene does not have.
+        let clamp = FilterSettings::default().clamp;
+        if crate::grid::logit(scene.prior).abs() > clamp {
+            return Err(invalid(
+                "prior",
+                scene.prior,
+                "a prior whose log odds lie within the grid's clamp of 12 (about 6e-6 to 0.999994)",
+            ));
+        }
+        let grid = LogOddsGrid::new(
+            scene.geometry()?,
+            FilterSettings {
+                prior: scene.prior,
+                ..FilterSettings::default()
+            },
+        )?;
+        Ok(Self {
+            grid,
+            model: inverse_model(scene)?,
+            scans: scene.scans()?,
+            done: 0,
+        })
+    }
+
+    /// Sweeps the next scan over the map; `None` once every scan is in.
+    pub fn step(&mut self) -> Option<ScanStats> {
+        let scan = self.scans.get(self.done)?;
+        let stats = sweep_scan(&mut self.grid, &self.model, scan);
+        self.done += 1;
+        Some(stats)
+    }
+
+    pub fn reset(&mut self) {
+        self.grid.reset();
+        self.done = 0;
+    }
+
+    pub fn grid(&self) -> &LogOddsGrid {
+        &self.grid
+    }
+    /// Scans swept so far.
+    pub fn scans_done(&self) -> usize {
+        self.done
+    }
+    pub fn scan_count(&self) -> usize {
+        self.scans.len()
+    }
+}
+
+/// The right half of the widget: the MAP search over the scene's readings.
+pub fn map_search(scene: &DoorwayScene) -> Result<MapSearch> {
+    MapSearch::new(scene.geometry()?, scene.beams()?, search_settings(scene))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Pose;
+
+    #[test]
+    fn scenes_too_large_to_step_interactively_are_refused_before_any_work() {
+        // 1.5 mm cells: 8.9 million of them, accepted by the grid itself.
+        let s = DoorwayScene {
+            resolution: 0.0015,
+            ..DoorwayScene::standard()
+        };
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("width x height") && e.contains("3334 x 2667") && e.contains("250000"),
+            "{e}"
+        );
+        assert!(DoorwaySweep::new(&s).is_err() && map_search(&s).is_err());
+        // The chapter's room at 1 cm (200,000 cells) is fine.
+        let fine = DoorwayScene {
+            resolution: 0.01,
+            ..DoorwayScene::standard()
+        };
+        fine.validate().unwrap();
+        // 4,096 readings of 1,024 sub-rays at 1 cm: the MAP search's
+        // raster limit, refused by the scene before the sweep casts them.
+        let mut s = fine.clone();
+        s.poses = (0..64)
+            .map(|k| Pose {
+                x: 1.0 + 0.04 * k as f64,
+                ..s.poses[0]
+            })
+            .collect();
+        s.bearings_deg = (0..64).map(|k| -60.0 + 2.0 * k as f64).collect();
+        s.sonar.sub_rays = 1024;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("poses x bearings_deg x sonar.sub_rays") && e.contains("5e7"),
+            "{e}"
+        );
+        assert!(DoorwaySweep::new(&s).is_err());
+    }
+}

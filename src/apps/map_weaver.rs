@@ -1,0 +1,961 @@
+//! Map Weaver's state: one simulated lap feeding two maps side by side.
+//!
+//! This is the core behind `<occgrid-map-weaver>` (SPEC §10.1), kept out of
+//! the bindings so that it is tested natively. Data flow per scan:
+//!
+//! 1. [`ApartmentSim`] produces the next [`SimScan`] (true pose,
+//!    dead-reckoned pose, LiDAR ranges).
+//! 2. Each of the two panes turns it into a [`Scan`] at the pose its
+//!    settings ask for (the oracle's or dead reckoning's) and integrates it
+//!    with its own inverse model, evidence strength and clamp
+//!    ([`RayMapper`], Table 9.1 by ray traversal).
+//! 3. Each pane's [`MapView`] brings its pixels, its entropy and its Brier
+//!    score up to date by looking only at the cells whose log odds changed,
+//!    so a frame costs what the scan touched, not the map.
+//!
+//! Every scan is kept, so that switching a pane's model or pose source
+//! rebuilds that pane over the same scans (the two panes stay comparable).
+//! The clamp and strength sliders act on the run as it goes, as a reader
+//! turning them mid-lap would expect: a lower clamp pulls saturated cells in
+//! at once, a new strength weighs the scans still to come.
+
+use crate::error::{self, invalid, Result};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::inverse::training::{self, TrainingConfig};
+use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
+use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::render::map_view::MapView;
+use crate::scenes::apartment::{ApartmentScene, ApartmentSim, SimScan};
+use crate::sensors::Scan;
+use crate::world::Rect;
+
+/// At most this many laps per run: every scan is kept for rebuilding a
+/// pane, and a run must not grow without bound in a forgotten tab.
+pub const MAX_LAPS: usize = 20;
+/// The most range readings a run may keep (laps x scans x beams): every
+/// scan is kept for rebuilding a pane, 8 bytes a reading.
+pub const MAX_READINGS: usize = 10_000_000;
+/// The strongest evidence the strength slider may ask for.
+pub const MAX_STRENGTH: f64 = 10.0;
+/// The most SGD updates (triplets x epochs) a run's training may ask for:
+/// about 26 times the default 24,000 x 8, a couple of seconds of fitting as
+/// wasm. The training's own bounds (a million triplets, 200 epochs) are
+/// each fine alone, but together they would hold the widget for a minute.
+pub const MAX_TRAINING_UPDATES: u64 = crate::inverse::training::MAX_UPDATES;
+/// How many recent frame times the "ms per frame" readout is the median of.
+const FRAME_WINDOW: usize = 31;
+
+/// Which inverse sensor model a pane maps with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// Table 9.2.
+    HandCrafted,
+    /// The model learned from simulated data (§9.3).
+    Learned,
+}
+
+/// Where a pane takes the robot's pose from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PoseSource {
+    /// The true pose: what mapping with known poses assumes.
+    Oracle,
+    /// The start pose plus the noisy odometry increments.
+    DeadReckoning,
+}
+
+/// One pane's knobs.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct PaneSettings {
+    pub model: ModelKind,
+    pub pose: PoseSource,
+    /// Saturation `|l| <= clamp`, log odds.
+    pub clamp: f64,
+    /// Factor on the model's evidence (1 = as designed or learned).
+    pub strength: f64,
+}
+
+impl Default for PaneSettings {
+    fn default() -> Self {
+        Self {
+            model: ModelKind::HandCrafted,
+            pose: PoseSource::Oracle,
+            clamp: FilterSettings::default().clamp,
+            strength: 1.0,
+        }
+    }
+}
+
+/// Everything a Map Weaver run is built from. Defaults: the chapter's
+/// apartment, seed 1, the person walking, both panes on the oracle with
+/// the hand-crafted model on the left and the learned one on the right.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, rename_all = "camelCase")]
+pub struct WeaverSettings {
+    pub seed: u64,
+    pub person: bool,
+    pub panes: [PaneSettings; 2],
+    /// Table 9.2 at strength 1. The default is a thin LiDAR beam whose
+    /// obstacle band `alpha` is one cell (0.10 m): a wider band paints the
+    /// free cell in front of every wall occupied too.
+    pub hand_crafted: HandCraftedParams,
+    /// How the learned model is trained (once per run, when a pane first
+    /// needs it; the default matches this LiDAR).
+    pub training: TrainingConfig,
+    /// The run stops after this many laps.
+    pub laps: usize,
+    pub scene: ApartmentScene,
+}
+
+impl Default for WeaverSettings {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            person: true,
+            panes: [
+                PaneSettings::default(),
+                PaneSettings {
+                    model: default_right_model(),
+                    ..PaneSettings::default()
+                },
+            ],
+            hand_crafted: HandCraftedParams::laser(8.0),
+            training: TrainingConfig::default(),
+            laps: 3,
+            scene: ApartmentScene::default(),
+        }
+    }
+}
+
+impl WeaverSettings {
+    /// Checks every knob, naming the first one that is wrong.
+    pub fn validate(&self) -> Result<()> {
+        if self.laps == 0 || self.laps > MAX_LAPS {
+            return Err(invalid("laps", self.laps, "1 to 20 laps"));
+        }
+        self.hand_crafted.validate()?;
+        for (k, p) in self.panes.iter().enumerate() {
+            validate_pane(k, p)?;
+        }
+        // Checked before the training's own rules so that the message
+        // names the fields as this settings object spells them.
+        let updates = self.training.triplets as u64 * self.training.epochs as u64;
+        if updates > MAX_TRAINING_UPDATES {
+            return Err(invalid(
+                "training.triplets x training.epochs",
+                format!(
+                    "{} x {} = {updates}",
+                    self.training.triplets, self.training.epochs
+                ),
+                "at most 5000000 updates: fewer triplets or epochs",
+            ));
+        }
+        self.training.validate()?;
+        self.scene.validate()?;
+        let readings = self
+            .laps
+            .saturating_mul(self.scene.scans_per_lap())
+            .saturating_mul(self.scene.lidar.beams);
+        if readings > MAX_READINGS {
+            return Err(invalid(
+                "laps",
+                self.laps,
+                "few enough laps that laps x scans per lap x beams stays within 10000000 readings",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The right pane's model by default: the learned one, so the two models
+/// meet the same scans side by side.
+fn default_right_model() -> ModelKind {
+    ModelKind::Learned
+}
+
+fn validate_pane(k: usize, p: &PaneSettings) -> Result<()> {
+    // The pane's grid (prior 0.5) must accept the clamp; say so under the
+    // pane's own name.
+    FilterSettings {
+        prior: 0.5,
+        clamp: p.clamp,
+    }
+    .validate()
+    .map_err(|e| pane_clamp_error(k, e))?;
+    check_strength(k, p.strength)
+}
+
+/// A grid's clamp error, renamed to pane `k`'s field.
+fn pane_clamp_error(k: usize, e: crate::OccError) -> crate::OccError {
+    match e {
+        crate::OccError::InvalidParameter {
+            value, expected, ..
+        } => crate::OccError::InvalidParameter {
+            field: format!("panes[{k}].clamp"),
+            value,
+            expected,
+        },
+        other => other,
+    }
+}
+
+fn check_strength(k: usize, s: f64) -> Result<()> {
+    error::non_negative(&format!("panes[{k}].strength"), s)?;
+    if s > MAX_STRENGTH {
+        return Err(invalid(
+            &format!("panes[{k}].strength"),
+            s,
+            "a factor of at most 10",
+        ));
+    }
+    Ok(())
+}
+
+/// An inverse model whose evidence is scaled by a constant: the evidence
+/// strength slider for a model that has no `l_occ` / `l_free` to scale.
+#[derive(Debug, Clone)]
+pub struct Scaled<M> {
+    pub model: M,
+    pub factor: f32,
+}
+
+impl<M: InverseModel> InverseModel for Scaled<M> {
+    #[inline]
+    fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+        self.factor * self.model.evidence(r, phi, z)
+    }
+    #[inline]
+    fn reach(&self, z: f64) -> f64 {
+        self.model.reach(z)
+    }
+    fn half_width(&self) -> f64 {
+        self.model.half_width()
+    }
+    fn z_max(&self) -> f64 {
+        self.model.z_max()
+    }
+    fn l0(&self) -> f32 {
+        self.model.l0()
+    }
+}
+
+/// A pane's inverse model, with the strength applied. An enum rather than
+/// a trait object so that the traversal's inner loop is monomorphic.
+#[derive(Debug, Clone)]
+enum PaneModel {
+    HandCrafted(HandCrafted),
+    Learned(Scaled<LearnedInverse>),
+}
+
+impl PaneModel {
+    fn build(
+        kind: ModelKind,
+        base: &HandCraftedParams,
+        learned: &LearnedInverse,
+        strength: f64,
+    ) -> Result<Self> {
+        Ok(match kind {
+            ModelKind::HandCrafted => {
+                Self::HandCrafted(HandCrafted::with_strength(*base, strength)?)
+            }
+            ModelKind::Learned => Self::Learned(Scaled {
+                model: learned.clone(),
+                factor: strength as f32,
+            }),
+        })
+    }
+
+    fn integrate(&self, mapper: &mut RayMapper, grid: &mut LogOddsGrid, scan: &Scan) -> ScanStats {
+        match self {
+            Self::HandCrafted(m) => mapper.integrate(grid, m, scan),
+            Self::Learned(m) => mapper.integrate(grid, m, scan),
+        }
+    }
+
+    fn l0(&self) -> f32 {
+        match self {
+            Self::HandCrafted(m) => m.l0(),
+            Self::Learned(m) => m.l0(),
+        }
+    }
+}
+
+/// One map and everything the widget shows about it.
+#[derive(Debug, Clone)]
+struct Pane {
+    settings: PaneSettings,
+    model: PaneModel,
+    grid: LogOddsGrid,
+    mapper: RayMapper,
+    view: MapView,
+    /// Entropy (bits) after each scan; entry 0 is the empty map.
+    entropy_curve: Vec<f64>,
+    /// Brier score over the surveyed region after each scan; entry 0 is
+    /// the empty map.
+    brier_curve: Vec<f64>,
+    /// The tracked cells' log odds after each scan; entry 0 is the empty
+    /// map.
+    tracked: Vec<[f32; 3]>,
+    last: ScanStats,
+    /// The pose the last scan was integrated at.
+    pose: Pose,
+}
+
+/// The readout of one pane (plain numbers for the page).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct PaneReadout {
+    pub model: ModelKind,
+    pub pose: PoseSource,
+    pub clamp: f64,
+    pub strength: f64,
+    /// The map's prior, log odds (the chart's reference line).
+    pub l0: f32,
+    /// The model's own prior, log odds.
+    pub model_l0: f32,
+    pub entropy_bits: f64,
+    /// Brier score over the surveyed rooms.
+    pub brier: f64,
+    /// Brier score over the whole map.
+    pub brier_all: f64,
+    pub cells_visited: usize,
+    pub cells_updated: usize,
+    /// The tracked cells' current log odds.
+    pub tracked: [f32; 3],
+}
+
+/// The readout of the whole widget.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Readout {
+    /// Scans integrated so far.
+    pub scans: usize,
+    pub scans_per_lap: usize,
+    /// Laps in the run.
+    pub laps: usize,
+    /// The lap under way, from 1.
+    pub lap: usize,
+    /// Simulated seconds since the start.
+    pub time: f64,
+    /// True once the run's laps are done.
+    pub done: bool,
+    pub person: bool,
+    /// Median milliseconds per frame over the last frames, if any were
+    /// timed.
+    pub frame_ms: Option<f64>,
+    pub panes: [PaneReadout; 2],
+}
+
+/// One cell as the hover readout shows it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct CellInfo {
+    pub ix: usize,
+    pub iy: usize,
+    /// The cell's centre, metres.
+    pub x: f64,
+    pub y: f64,
+    pub l: f32,
+    pub p: f64,
+    pub updates: u32,
+    /// Ground truth.
+    pub occupied: bool,
+    /// Still exactly at the prior.
+    pub unknown: bool,
+}
+
+/// What is drawn over a pane's map, in the map image's own units: `u`
+/// columns from the left edge, `v` rows from the top edge (north up), one
+/// unit per cell.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Overlay {
+    /// The robot where this pane believes it is: `[u, v]`.
+    pub robot: [f64; 2],
+    /// A point 0.3 m ahead of the robot, for its heading tick.
+    pub nose: [f64; 2],
+    /// The robot's true position, `[u, v]` (differs under dead reckoning).
+    pub truth: [f64; 2],
+    /// Beam end points, `[u0, v0, u1, v1, ...]`, at the pane's pose.
+    pub beams: Vec<f64>,
+    /// Per beam: did it return (false: a no-return drawn to `z_max`).
+    pub hits: Vec<bool>,
+    /// The person's footprint, `[u_min, v_min, u_max, v_max]`, if present.
+    pub person: Option<[f64; 4]>,
+}
+
+/// One simulated scan as a mapper's [`Scan`], at the true pose, and at the
+/// dead-reckoned pose when a pane asks for it (validated once, whichever
+/// panes use it).
+struct PoseScans {
+    oracle: Scan,
+    odometry: Pose,
+    dead_reckoning: std::cell::OnceCell<Scan>,
+}
+
+impl PoseScans {
+    fn new(scan: &SimScan, bearings: &[f64]) -> Result<Self> {
+        Ok(Self {
+            oracle: Scan::new(scan.truth, scan.ranges.clone(), bearings.to_vec())?,
+            odometry: scan.odometry,
+            dead_reckoning: std::cell::OnceCell::new(),
+        })
+    }
+
+    fn at(&self, pose: PoseSource) -> Result<&Scan> {
+        match pose {
+            PoseSource::Oracle => Ok(&self.oracle),
+            PoseSource::DeadReckoning => {
+                if let Some(s) = self.dead_reckoning.get() {
+                    return Ok(s);
+                }
+                let s = self.oracle.with_pose(self.odometry)?;
+                Ok(self.dead_reckoning.get_or_init(|| s))
+            }
+        }
+    }
+}
+
+/// A Map Weaver run.
+#[derive(Debug, Clone)]
+pub struct Weaver {
+    settings: WeaverSettings,
+    geometry: GridGeometry,
+    sim: ApartmentSim,
+    tracked_cells: [usize; 3],
+    scans_per_lap: usize,
+    /// The learned model, trained once per run and kept across resets.
+    learned: LearnedInverse,
+    history: Vec<SimScan>,
+    panes: [Pane; 2],
+    frame_ms: Vec<f64>,
+}
+
+impl Weaver {
+    /// Validates `settings`, trains the learned model and starts a run at
+    /// scan 0.
+    pub fn new(settings: WeaverSettings) -> Result<Self> {
+        // Reject bad settings before spending time on training.
+        settings.validate()?;
+        let (learned, _, _) = training::train(&settings.training)?;
+        Self::with_learned(settings, learned)
+    }
+
+    /// Like [`Weaver::new`] with an already trained model (a page that
+    /// trained one for another widget, or a test that trains once).
+    pub fn with_learned(settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
+        settings.validate()?;
+        let sim = ApartmentSim::new(settings.scene.clone(), settings.seed, settings.person)?;
+        let geometry = *sim.ground_truth().geometry();
+        let tracked_cells = settings.scene.tracked_cells()?;
+        let region = settings
+            .scene
+            .cells_in(&geometry, &[settings.scene.surveyed]);
+        let truth = sim.ground_truth().occupied().to_vec();
+        let start = settings.scene.path.pose_at(0.0);
+        let make_pane = |p: &PaneSettings| -> Result<Pane> {
+            let grid = LogOddsGrid::new(
+                geometry,
+                FilterSettings {
+                    prior: 0.5,
+                    clamp: p.clamp,
+                },
+            )?;
+            let mut view = MapView::new(&geometry, &truth, &region)?;
+            view.sync(&grid);
+            let model = PaneModel::build(p.model, &settings.hand_crafted, &learned, p.strength)?;
+            let first = tracked_cells.map(|i| grid.log_odds()[i]);
+            Ok(Pane {
+                settings: *p,
+                model,
+                entropy_curve: vec![view.entropy_bits()],
+                brier_curve: vec![view.brier_region()],
+                tracked: vec![first],
+                grid,
+                mapper: RayMapper::new(),
+                view,
+                last: ScanStats::default(),
+                pose: start,
+            })
+        };
+        let panes = [
+            make_pane(&settings.panes[0])?,
+            make_pane(&settings.panes[1])?,
+        ];
+        Ok(Self {
+            scans_per_lap: settings.scene.scans_per_lap(),
+            learned,
+            geometry,
+            sim,
+            tracked_cells,
+            history: Vec::new(),
+            panes,
+            frame_ms: Vec::new(),
+            settings,
+        })
+    }
+
+    /// Starts the run again from scan 0 with the current settings (the
+    /// person toggle and every pane's knobs as they are now).
+    pub fn reset(&mut self) -> Result<()> {
+        let mut settings = self.settings.clone();
+        settings.person = self.sim.person();
+        *self = Self::with_learned(settings, self.learned.clone())?;
+        Ok(())
+    }
+
+    pub fn settings(&self) -> &WeaverSettings {
+        &self.settings
+    }
+    /// The learned model both panes use when set to it.
+    pub fn learned(&self) -> &LearnedInverse {
+        &self.learned
+    }
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+    pub fn scans_per_lap(&self) -> usize {
+        self.scans_per_lap
+    }
+    /// Scans integrated so far.
+    pub fn scans(&self) -> usize {
+        self.history.len()
+    }
+    /// True once the run's laps are done.
+    pub fn done(&self) -> bool {
+        self.history.len() >= self.settings.laps.saturating_mul(self.scans_per_lap)
+    }
+    /// Every scan so far.
+    pub fn history(&self) -> &[SimScan] {
+        &self.history
+    }
+    pub fn ground_truth(&self) -> &[bool] {
+        self.sim.ground_truth().occupied()
+    }
+    /// The three tracked cells (indices), in the scene's order.
+    pub fn tracked_cells(&self) -> [usize; 3] {
+        self.tracked_cells
+    }
+    pub fn grid(&self, pane: usize) -> Result<&LogOddsGrid> {
+        Ok(&self.pane(pane)?.grid)
+    }
+    pub fn view(&self, pane: usize) -> Result<&MapView> {
+        Ok(&self.pane(pane)?.view)
+    }
+    /// Entropy (bits) after each scan, from the empty map on.
+    /// Seconds of driving that `scans` scans take at the scene's scan rate:
+    /// the readout's time and the charts' x axis, both from here.
+    pub fn seconds_after(&self, scans: usize) -> f64 {
+        scans as f64 / self.settings.scene.scan_rate
+    }
+
+    /// The x axis of the curves: the time of each point, seconds (point 0
+    /// is the empty map, point `i` the map after `i` scans).
+    pub fn curve_times(&self) -> Vec<f64> {
+        (0..=self.history.len())
+            .map(|i| self.seconds_after(i))
+            .collect()
+    }
+
+    pub fn entropy_curve(&self, pane: usize) -> Result<&[f64]> {
+        Ok(&self.pane(pane)?.entropy_curve)
+    }
+    /// Brier score (surveyed rooms) after each scan, from the empty map on.
+    pub fn brier_curve(&self, pane: usize) -> Result<&[f64]> {
+        Ok(&self.pane(pane)?.brier_curve)
+    }
+    /// The tracked cells' log odds after each scan, from the empty map on.
+    pub fn tracked_history(&self, pane: usize) -> Result<&[[f32; 3]]> {
+        Ok(&self.pane(pane)?.tracked)
+    }
+
+    fn pane(&self, pane: usize) -> Result<&Pane> {
+        self.panes
+            .get(pane)
+            .ok_or_else(|| invalid("pane", pane, "0 (left) or 1 (right)"))
+    }
+    fn pane_mut(&mut self, pane: usize) -> Result<&mut Pane> {
+        self.panes
+            .get_mut(pane)
+            .ok_or_else(|| invalid("pane", pane, "0 (left) or 1 (right)"))
+    }
+
+    /// Simulates and integrates up to `n` scans (fewer when the run ends);
+    /// returns how many were taken.
+    pub fn advance(&mut self, n: usize) -> Result<usize> {
+        let mut taken = 0;
+        while taken < n && !self.done() {
+            let scan = self.sim.next_scan();
+            let scans = PoseScans::new(&scan, self.sim.bearings())?;
+            for pane in &mut self.panes {
+                Self::integrate(pane, &scans, self.tracked_cells)?;
+            }
+            self.history.push(scan);
+            taken += 1;
+        }
+        Ok(taken)
+    }
+
+    /// Integrates one scan into `pane` at the pose the pane's settings ask
+    /// for, then updates its view and its curves.
+    fn integrate(pane: &mut Pane, scans: &PoseScans, tracked: [usize; 3]) -> Result<()> {
+        let s = scans.at(pane.settings.pose)?;
+        pane.last = pane.model.integrate(&mut pane.mapper, &mut pane.grid, s);
+        pane.pose = s.pose();
+        pane.view.sync(&pane.grid);
+        pane.entropy_curve.push(pane.view.entropy_bits());
+        pane.brier_curve.push(pane.view.brier_region());
+        pane.tracked.push(tracked.map(|i| pane.grid.log_odds()[i]));
+        Ok(())
+    }
+
+    /// Rebuilds `pane` from the empty map over every scan so far, with its
+    /// current settings.
+    fn rebuild(&mut self, pane: usize) -> Result<()> {
+        let bearings = self.sim.bearings().to_vec();
+        let tracked = self.tracked_cells;
+        let history = std::mem::take(&mut self.history);
+        let result = (|| {
+            let p = self.pane_mut(pane)?;
+            p.grid.reset();
+            // Start the sums from zero, as a new pane does, so a rebuilt
+            // pane is bit for bit the pane that had these settings all along.
+            p.view.clear();
+            p.view.sync(&p.grid);
+            p.entropy_curve.truncate(1);
+            p.brier_curve.truncate(1);
+            p.tracked.truncate(1);
+            p.last = ScanStats::default();
+            for scan in &history {
+                Self::integrate(p, &PoseScans::new(scan, &bearings)?, tracked)?;
+            }
+            Ok(())
+        })();
+        self.history = history;
+        result
+    }
+
+    /// Switches a pane's inverse model and rebuilds it over the scans so
+    /// far.
+    pub fn set_model(&mut self, pane: usize, model: ModelKind) -> Result<()> {
+        let base = self.settings.hand_crafted;
+        let learned = self.learned.clone();
+        let p = self.pane_mut(pane)?;
+        if p.settings.model == model {
+            return Ok(());
+        }
+        p.model = PaneModel::build(model, &base, &learned, p.settings.strength)?;
+        p.settings.model = model;
+        self.settings.panes[pane].model = model;
+        self.rebuild(pane)
+    }
+
+    /// Switches a pane between the pose oracle and dead reckoning and
+    /// rebuilds it over the scans so far.
+    pub fn set_pose_source(&mut self, pane: usize, pose: PoseSource) -> Result<()> {
+        let p = self.pane_mut(pane)?;
+        if p.settings.pose == pose {
+            return Ok(());
+        }
+        p.settings.pose = pose;
+        self.settings.panes[pane].pose = pose;
+        self.rebuild(pane)
+    }
+
+    /// Changes a pane's clamp now: cells beyond it are pulled in at once,
+    /// later scans saturate at it.
+    pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<()> {
+        let p = self.pane_mut(pane)?;
+        p.grid
+            .set_clamp(clamp)
+            .map_err(|e| pane_clamp_error(pane, e))?;
+        p.settings.clamp = clamp;
+        p.view.sync(&p.grid);
+        self.settings.panes[pane].clamp = clamp;
+        Ok(())
+    }
+
+    /// Changes a pane's evidence strength from the next scan on.
+    pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<()> {
+        check_strength(pane, strength)?;
+        let base = self.settings.hand_crafted;
+        let learned = self.learned.clone();
+        let p = self.pane_mut(pane)?;
+        p.model = PaneModel::build(p.settings.model, &base, &learned, strength)?;
+        p.settings.strength = strength;
+        self.settings.panes[pane].strength = strength;
+        Ok(())
+    }
+
+    /// Puts the person into the corridor or takes them out, from the next
+    /// scan on.
+    pub fn set_person(&mut self, on: bool) {
+        self.sim.set_person(on);
+        self.settings.person = on;
+    }
+
+    /// Records how long the page took for one frame (milliseconds, measured
+    /// around the core's calls), for the "ms per frame" readout.
+    pub fn record_frame_ms(&mut self, ms: f64) {
+        if !ms.is_finite() || ms < 0.0 {
+            return;
+        }
+        if self.frame_ms.len() == FRAME_WINDOW {
+            self.frame_ms.remove(0);
+        }
+        self.frame_ms.push(ms);
+    }
+
+    /// Median of the recent frame times, milliseconds.
+    pub fn frame_ms(&self) -> Option<f64> {
+        if self.frame_ms.is_empty() {
+            return None;
+        }
+        let mut v = self.frame_ms.clone();
+        v.sort_by(f64::total_cmp);
+        Some(v[v.len() / 2])
+    }
+
+    pub fn readout(&self) -> Readout {
+        let scans = self.history.len();
+        let pane = |p: &Pane| PaneReadout {
+            model: p.settings.model,
+            pose: p.settings.pose,
+            clamp: p.settings.clamp,
+            strength: p.settings.strength,
+            l0: p.grid.l0(),
+            model_l0: p.model.l0(),
+            entropy_bits: p.view.entropy_bits(),
+            brier: p.view.brier_region(),
+            brier_all: p.view.brier_all(),
+            cells_visited: p.last.cells_visited,
+            cells_updated: p.last.cells_updated,
+            tracked: self.tracked_cells.map(|i| p.grid.log_odds()[i]),
+        };
+        Readout {
+            scans,
+            scans_per_lap: self.scans_per_lap,
+            laps: self.settings.laps,
+            lap: (scans.saturating_sub(1) / self.scans_per_lap + 1).min(self.settings.laps),
+            time: self.seconds_after(scans),
+            done: self.done(),
+            person: self.sim.person(),
+            frame_ms: self.frame_ms(),
+            panes: [pane(&self.panes[0]), pane(&self.panes[1])],
+        }
+    }
+
+    /// The cell under image column `col`, row `row` (row 0 at the top: the
+    /// image is north up), or `None` outside the map.
+    pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<Option<CellInfo>> {
+        let p = self.pane(pane)?;
+        let g = &self.geometry;
+        if col >= g.width() || row >= g.height() {
+            return Ok(None);
+        }
+        let (ix, iy) = (col, g.height() - 1 - row);
+        let i = g.index(ix, iy);
+        let (x, y) = g.cell_center(ix, iy);
+        Ok(Some(CellInfo {
+            ix,
+            iy,
+            x,
+            y,
+            l: p.grid.log_odds()[i],
+            p: p.grid.probability_at(i),
+            updates: p.grid.update_counts()[i],
+            occupied: self.ground_truth()[i],
+            unknown: p.grid.is_unknown(i),
+        }))
+    }
+
+    /// World point to image units (see [`Overlay`]).
+    fn to_image(&self, x: f64, y: f64) -> [f64; 2] {
+        let (u, v) = self.geometry.world_to_grid(x, y);
+        [u, self.geometry.height() as f64 - v]
+    }
+
+    fn rect_to_image(&self, r: &Rect) -> [f64; 4] {
+        let [u0, v1] = self.to_image(r.min_x, r.min_y);
+        let [u1, v0] = self.to_image(r.max_x, r.max_y);
+        [u0, v0, u1, v1]
+    }
+
+    /// What to draw over a pane: the robot where the pane put the last scan,
+    /// its beams, and the person.
+    pub fn overlay(&self, pane: usize) -> Result<Overlay> {
+        let p = self.pane(pane)?;
+        let pose = p.pose;
+        let z_max = self.settings.scene.lidar.z_max;
+        let last = self.history.last();
+        let mut beams = Vec::new();
+        let mut hits = Vec::new();
+        if let Some(scan) = last {
+            for (&z, &b) in scan.ranges.iter().zip(self.sim.bearings()) {
+                let (x, y) = pose.point_at(z.min(z_max), b);
+                beams.extend(self.to_image(x, y));
+                hits.push(z < z_max);
+            }
+        }
+        let (nx, ny) = pose.point_at(0.3, 0.0);
+        let truth = last.map_or(pose, |s| s.truth);
+        Ok(Overlay {
+            robot: self.to_image(pose.x, pose.y),
+            nose: self.to_image(nx, ny),
+            truth: self.to_image(truth.x, truth.y),
+            beams,
+            hits,
+            person: last.and_then(|s| s.person).map(|r| self.rect_to_image(&r)),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::OnceLock;
+
+    /// A run with a model trained once for all the tests here.
+    fn weaver(settings: WeaverSettings) -> Weaver {
+        static LEARNED: OnceLock<LearnedInverse> = OnceLock::new();
+        let learned =
+            LEARNED.get_or_init(|| training::train(&TrainingConfig::default()).unwrap().0);
+        Weaver::with_learned(settings, learned.clone()).unwrap()
+    }
+
+    #[test]
+    fn view_pixels_match_the_grid_renderer_after_scans_and_a_clamp_change() {
+        let mut w = weaver(WeaverSettings::default());
+        w.advance(40).unwrap();
+        w.set_clamp(0, 1.5).unwrap();
+        w.advance(5).unwrap();
+        for k in 0..2 {
+            let grid = w.grid(k).unwrap();
+            let mut px = vec![0u8; grid.geometry().len() * 4];
+            crate::render::gray::render_grid_rgba(grid, &mut px).unwrap();
+            assert_eq!(w.view(k).unwrap().rgba(), &px[..], "pane {k}");
+            // The view scores from a table (view.rs): within 1e-6 bits per
+            // cell of the exact sum.
+            let h = grid.entropy_bits();
+            assert!((w.view(k).unwrap().entropy_bits() - h).abs() < 1e-6 * 10_800.0);
+            let b = grid.brier_score(w.ground_truth(), None).unwrap();
+            assert!((w.view(k).unwrap().brier_all() - b).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn training_past_the_update_limit_is_refused_before_it_starts() {
+        let mut s = WeaverSettings::default();
+        s.training.triplets = 1_000_000;
+        s.training.epochs = 200;
+        let e = Weaver::new(s.clone()).err().unwrap().to_string();
+        assert!(
+            e.contains("training.triplets x training.epochs")
+                && e.contains("200000000")
+                && e.contains("5000000"),
+            "{e}"
+        );
+        // Each alone, at its own maximum, is fine.
+        s.training.epochs = 5;
+        s.validate().unwrap();
+        s.training = TrainingConfig {
+            epochs: 200,
+            ..TrainingConfig::default()
+        };
+        s.validate().unwrap();
+    }
+
+    #[test]
+    fn bad_knobs_are_rejected_naming_the_pane_and_leave_the_map_alone() {
+        let mut w = weaver(WeaverSettings::default());
+        w.advance(10).unwrap();
+        let before = w.grid(1).unwrap().clone();
+        let e = w.set_clamp(1, 0.0).unwrap_err().to_string();
+        assert!(e.contains("panes[1].clamp") && e.contains('0'), "{e}");
+        let e = w.set_strength(1, f64::NAN).unwrap_err().to_string();
+        assert!(e.contains("panes[1].strength") && e.contains("NaN"), "{e}");
+        assert!(w.set_strength(1, 11.0).is_err());
+        assert!(w
+            .set_clamp(2, 3.0)
+            .unwrap_err()
+            .to_string()
+            .contains("pane"));
+        assert!(w.cell_info(5, 0, 0).is_err());
+        assert_eq!(w.cell_info(0, 120, 0).unwrap(), None);
+        assert_eq!(w.grid(1).unwrap(), &before);
+        let mut s = WeaverSettings::default();
+        s.laps = 0;
+        assert!(Weaver::new(s).unwrap_err().to_string().contains("laps"));
+        let mut s = WeaverSettings::default();
+        s.panes[0].clamp = -1.0;
+        assert!(Weaver::new(s)
+            .unwrap_err()
+            .to_string()
+            .contains("panes[0].clamp"));
+    }
+
+    #[test]
+    fn switching_the_pose_source_rebuilds_the_pane_over_the_same_scans() {
+        let mut s = WeaverSettings::default();
+        s.panes[1].pose = PoseSource::DeadReckoning;
+        let mut reference = weaver(s);
+        reference.advance(120).unwrap();
+        let mut w = weaver(WeaverSettings::default());
+        w.advance(120).unwrap();
+        w.set_pose_source(1, PoseSource::DeadReckoning).unwrap();
+        assert_eq!(w.grid(1).unwrap(), reference.grid(1).unwrap());
+        assert_eq!(
+            w.entropy_curve(1).unwrap(),
+            reference.entropy_curve(1).unwrap()
+        );
+        assert_eq!(w.entropy_curve(1).unwrap().len(), 121);
+    }
+
+    #[test]
+    fn hover_reads_the_cell_under_the_pointer_north_up() {
+        let mut w = weaver(WeaverSettings::default());
+        w.advance(30).unwrap();
+        // Image row 0 is the map's northernmost row.
+        let info = w.cell_info(0, 30, 0).unwrap().unwrap();
+        assert_eq!((info.ix, info.iy), (30, 89));
+        assert!(info.occupied, "the north outer wall");
+        let [wall, _, _] = w.tracked_cells();
+        let (ix, iy) = w.geometry().cell_of_index(wall);
+        let info = w.cell_info(0, ix, 89 - iy).unwrap().unwrap();
+        assert_eq!(info.l, w.grid(0).unwrap().log_odds()[wall]);
+        assert_eq!(info.updates, w.grid(0).unwrap().update_counts()[wall]);
+    }
+
+    #[test]
+    fn overlay_puts_the_robot_on_its_cell_with_one_end_point_per_beam() {
+        let mut w = weaver(WeaverSettings::default());
+        w.advance(1).unwrap();
+        let o = w.overlay(0).unwrap();
+        // The lap starts at (1.2 m, 4.95 m): column 12, 49.5 rows from the
+        // bottom of 90, so 40.5 rows from the top.
+        assert!((o.robot[0] - 12.0).abs() < 1e-9 && (o.robot[1] - 40.5).abs() < 1e-9);
+        assert!(o.nose[0] > o.robot[0], "facing east");
+        assert_eq!((o.beams.len(), o.hits.len()), (120, 60));
+        assert!(o.person.is_some());
+    }
+
+    /// The readout's "s of driving" and the charts' time axis come from the
+    /// scene's scan rate (a chart that assumed 12 scans per second put the
+    /// 12th scan of a 6 Hz scene at 1 s, the readout at 2 s).
+    #[test]
+    fn readout_time_and_curve_times_follow_the_scene_scan_rate() {
+        let mut s = WeaverSettings::default();
+        s.scene.scan_rate = 6.0;
+        let mut w = weaver(s);
+        w.advance(12).unwrap();
+        let times = w.curve_times();
+        assert_eq!(times.len(), w.entropy_curve(0).unwrap().len());
+        assert_eq!(times[0], 0.0);
+        assert_eq!(*times.last().unwrap(), 2.0);
+        assert_eq!(w.readout().time, 2.0);
+    }
+}

@@ -1,0 +1,559 @@
+//! The real-log session behind Map Weaver's real-log mode: a CARMEN log read
+//! a few lines at a time, then mapped a few scans at a time with the ray
+//! traversal (Table 9.1) and the hand-crafted model (Table 9.2), so that a
+//! page shows progress, stays responsive, and can scrub through the build.
+//!
+//! [`RealLogSession`] is the state machine a page drives (reading →
+//! waiting for settings that fit → building); [`LogMapBuild`] the build
+//! itself; [`LogMapSettings`] what a reader chooses.
+
+use crate::error::{self, invalid, OccError, Result};
+use crate::geometry::{GridGeometry, MAX_CELLS};
+use crate::grid::readout::{readout_at_pixel, CellReadout};
+use crate::grid::stats::{count_states, StateCounts};
+use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::inverse::{HandCrafted, HandCraftedParams};
+use crate::io::carmen::{LaserScans, LoadProgress, LogLoader};
+use crate::io::map_server::{self, MapServerPair};
+use crate::mapping::traversal::RayMapper;
+use std::io::Cursor;
+
+/// What the reader of a log chooses for its map: the grid's resolution,
+/// the inverse model of Table 9.2 and the filter's clamp. The defaults are
+/// those of workload W1 (BENCHMARKS.md).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, rename_all = "camelCase", deny_unknown_fields)]
+pub struct LogMapSettings {
+    /// Metres per cell.
+    pub resolution: f64,
+    /// The model's `z_max`, metres: readings at or beyond it are
+    /// no-returns (they carve free space out to it and mark nothing), and
+    /// only endpoints closer than it decide the grid's extent.
+    pub range_cap: f64,
+    /// Obstacle thickness `alpha`, metres.
+    pub alpha: f64,
+    /// Evidence at the reading, log odds.
+    pub l_occ: f64,
+    /// Evidence in front of the reading, log odds.
+    pub l_free: f64,
+    /// Saturation `|l| <= clamp`, log odds.
+    pub clamp: f64,
+    /// Free border around the log's extent, metres.
+    pub margin: f64,
+}
+
+impl Default for LogMapSettings {
+    fn default() -> Self {
+        let laser = HandCraftedParams::laser(30.0);
+        Self {
+            resolution: 0.05,
+            range_cap: laser.z_max,
+            alpha: laser.alpha,
+            l_occ: laser.l_occ,
+            l_free: laser.l_free,
+            clamp: 3.5,
+            margin: 1.0,
+        }
+    }
+}
+
+impl LogMapSettings {
+    /// The field names as a page spells them (the serde names).
+    pub const FIELDS: [&'static str; 7] = [
+        "resolution",
+        "rangeCap",
+        "alpha",
+        "lOcc",
+        "lFree",
+        "clamp",
+        "margin",
+    ];
+
+    /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
+    /// margin, its corners on whole multiples of the resolution (so that
+    /// maps of one log at one resolution line up cell for cell).
+    pub fn geometry(&self, extent: [f64; 4]) -> Result<GridGeometry> {
+        let r = error::positive("resolution", self.resolution)?;
+        let m = error::non_negative("margin", self.margin)?;
+        let [x0, y0, x1, y1] = extent;
+        let (i0, j0) = (((x0 - m) / r).floor(), ((y0 - m) / r).floor());
+        let (i1, j1) = (((x1 + m) / r).floor() + 1.0, ((y1 + m) / r).floor() + 1.0);
+        let (w, h) = (i1 - i0, j1 - j0);
+        // Written so that a NaN (cells so small that both edges overflow to
+        // the same infinity) is refused too.
+        if !(w * h <= MAX_CELLS as f64) {
+            return Err(invalid(
+                "width x height",
+                format!("{w} x {h}"),
+                "at most 16777216 cells: a coarser resolution or a shorter range cap",
+            ));
+        }
+        // Rounded to a nanometre: -418 cells of 0.05 m is -20.900000000000002
+        // in binary, and the exported YAML should read -20.9.
+        let round = |v: f64| (v * 1e9).round() / 1e9;
+        let (ox, oy) = (round(i0 * r), round(j0 * r));
+        // Absurdly large cells put the corners beyond f64 (the rounding
+        // above overflows first): the page sent a resolution, so name it.
+        let corners = [ox, oy, ox + w * r, oy + h * r];
+        if !corners.iter().all(|c| c.is_finite()) {
+            return Err(invalid(
+                "resolution",
+                error::show(r),
+                "cells small enough that the map's corners are finite numbers of metres",
+            ));
+        }
+        GridGeometry::new(w as usize, h as usize, r, ox, oy)
+    }
+
+    fn model_params(&self) -> HandCraftedParams {
+        HandCraftedParams {
+            alpha: self.alpha,
+            l_occ: self.l_occ,
+            l_free: self.l_free,
+            ..HandCraftedParams::laser(self.range_cap)
+        }
+    }
+
+    fn filter(&self) -> FilterSettings {
+        FilterSettings {
+            prior: 0.5,
+            clamp: self.clamp,
+        }
+    }
+
+    /// Checks every field, naming the first bad one as a page spells it
+    /// (the serde names).
+    pub fn validate(&self) -> Result<()> {
+        error::positive("resolution", self.resolution)?;
+        error::positive("rangeCap", self.range_cap)?;
+        error::positive("alpha", self.alpha)?;
+        error::finite("lOcc", self.l_occ)?;
+        error::finite("lFree", self.l_free)?;
+        error::non_negative("margin", self.margin)?;
+        // The model checks what is left of it (evidence past f32) under its
+        // own names: report them as the page spells them.
+        HandCrafted::new(self.model_params()).map_err(Self::page_names)?;
+        // What is left to check (the clamp) is named alike by the filter.
+        self.filter().validate()
+    }
+
+    /// A Table 9.2 model error under the name the page used for the field.
+    fn page_names(e: OccError) -> OccError {
+        match e {
+            OccError::InvalidParameter {
+                field,
+                value,
+                expected,
+            } => {
+                let field = match field.as_str() {
+                    "z_max" => "rangeCap".to_string(),
+                    "l_occ" => "lOcc".to_string(),
+                    "l_free" => "lFree".to_string(),
+                    _ => field,
+                };
+                OccError::InvalidParameter {
+                    field,
+                    value,
+                    expected,
+                }
+            }
+            other => other,
+        }
+    }
+}
+
+/// How far a [`LogMapBuild`] has got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BuildProgress {
+    /// Scans integrated into the map so far (the map shows scans
+    /// `0..scans_done`).
+    pub scans_done: usize,
+    /// Where the build is heading (all scans, or a scrub position).
+    pub scans_target: usize,
+    pub scans_total: usize,
+    /// Cell updates since the map was last reset.
+    pub cell_updates: u64,
+    /// Beams traced since the map was last reset.
+    pub beams: u64,
+    pub finished: bool,
+}
+
+/// A map built from a log a few scans at a time. The build heads for a
+/// target scan count: all scans at first, or any scrub position; going back
+/// resets the map and rebuilds from the first scan (the build is fast, and
+/// keeping snapshots of a million-cell map would cost more memory than the
+/// whole log).
+pub struct LogMapBuild {
+    scans: LaserScans,
+    settings: LogMapSettings,
+    grid: LogOddsGrid,
+    model: HandCrafted,
+    mapper: RayMapper,
+    done: usize,
+    target: usize,
+    cell_updates: u64,
+    beams: u64,
+}
+
+impl LogMapBuild {
+    /// A fresh map over the log's extent, heading for all scans.
+    pub fn new(scans: LaserScans, settings: LogMapSettings) -> Result<Self> {
+        let (grid, model) = Self::prepare(&scans, &settings)?;
+        let target = scans.len();
+        Ok(Self {
+            scans,
+            settings,
+            grid,
+            model,
+            mapper: RayMapper::new(),
+            done: 0,
+            target,
+            cell_updates: 0,
+            beams: 0,
+        })
+    }
+
+    /// The grid `settings` would give `scans`, without allocating it: an
+    /// error if the settings are invalid, the log has no laser scans, or
+    /// the grid would be too large. A caller can check before handing its
+    /// scans over to [`Self::new`].
+    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
+        settings.validate()?;
+        let extent = scans.extent(settings.range_cap).ok_or_else(|| {
+            invalid(
+                "log",
+                "no FLASER or ROBOTLASER1 lines",
+                "at least one laser scan",
+            )
+        })?;
+        settings.geometry(extent)
+    }
+
+    fn prepare(scans: &LaserScans, s: &LogMapSettings) -> Result<(LogOddsGrid, HandCrafted)> {
+        let grid = LogOddsGrid::new(Self::check(scans, s)?, s.filter())?;
+        Ok((grid, HandCrafted::new(s.model_params())?))
+    }
+
+    /// New settings: a new grid (the extent depends on the range cap and
+    /// margin) and a rebuild from the first scan towards the same target.
+    /// On error nothing changes.
+    pub fn configure(&mut self, settings: LogMapSettings) -> Result<()> {
+        let (grid, model) = Self::prepare(&self.scans, &settings)?;
+        self.settings = settings;
+        self.grid = grid;
+        self.model = model;
+        self.restart();
+        Ok(())
+    }
+
+    fn restart(&mut self) {
+        self.grid.reset();
+        self.done = 0;
+        self.cell_updates = 0;
+        self.beams = 0;
+    }
+
+    /// Heads the build for `scans` integrated scans (a scrub position).
+    /// Going back resets the map; [`Self::advance`] then does the work.
+    pub fn seek(&mut self, scans: usize) -> Result<()> {
+        if scans > self.scans.len() {
+            return Err(invalid(
+                "scan",
+                scans,
+                "at most the number of scans in the log",
+            ));
+        }
+        if scans < self.done {
+            self.restart();
+        }
+        self.target = scans;
+        Ok(())
+    }
+
+    /// Integrates up to `max_scans` more scans towards the target.
+    pub fn advance(&mut self, max_scans: usize) -> BuildProgress {
+        let end = self.target.min(self.done.saturating_add(max_scans));
+        let cap = self.settings.range_cap;
+        while self.done < end {
+            let k = self.done;
+            if let Some(scan) = self.scans.scan(k) {
+                let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+                // A laser that says its own maximum range is shorter than the
+                // cap reports no-returns at that maximum: the model must
+                // treat them as no-returns, not as walls at the maximum.
+                let short = (laser_max < cap)
+                    .then(|| {
+                        HandCrafted::new(HandCraftedParams {
+                            z_max: laser_max,
+                            ..self.settings.model_params()
+                        })
+                        .ok()
+                    })
+                    .flatten();
+                let stats = match &short {
+                    Some(m) => self.mapper.integrate(&mut self.grid, m, &scan),
+                    None => self.mapper.integrate(&mut self.grid, &self.model, &scan),
+                };
+                self.cell_updates += stats.cells_updated as u64;
+                self.beams += scan.len() as u64;
+            }
+            self.done += 1;
+        }
+        self.progress()
+    }
+
+    pub fn progress(&self) -> BuildProgress {
+        BuildProgress {
+            scans_done: self.done,
+            scans_target: self.target,
+            scans_total: self.scans.len(),
+            cell_updates: self.cell_updates,
+            beams: self.beams,
+            finished: self.done == self.target,
+        }
+    }
+
+    pub fn grid(&self) -> &LogOddsGrid {
+        &self.grid
+    }
+
+    pub fn scans(&self) -> &LaserScans {
+        &self.scans
+    }
+
+    pub fn settings(&self) -> &LogMapSettings {
+        &self.settings
+    }
+
+    /// How many cells are occupied, free and unknown now.
+    pub fn counts(&self) -> StateCounts {
+        count_states(&self.grid)
+    }
+
+    /// The laser positions of all scans in image units (x to the right, y
+    /// down, pixel `(c, r)` spanning `[c, c+1) x [r, r+1)`), as
+    /// `[x0, y0, x1, y1, ...]`: a page draws the robot's path from it.
+    pub fn path_in_pixels(&self) -> Vec<f32> {
+        let g = self.grid.geometry();
+        (0..self.scans.len())
+            .filter_map(|k| self.scans.pose(k))
+            .flat_map(|p| g.world_to_image(p.x, p.y).map(|c| c as f32))
+            .collect()
+    }
+
+    /// The cell under image pixel `(col, row)` (row 0 at the top, north
+    /// up), or `None` outside the map.
+    pub fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
+        readout_at_pixel(&self.grid, col, row)
+    }
+}
+
+/// What the read of a log reports: its progress and the file's size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ReadReport {
+    #[serde(flatten)]
+    pub progress: LoadProgress,
+    pub bytes_total: usize,
+}
+
+/// The map's limits as a page shows them.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GeometryReport {
+    pub width: usize,
+    pub height: usize,
+    /// Metres per cell.
+    pub resolution: f64,
+    /// World position of the map's lower-left corner, metres.
+    pub origin_x: f64,
+    pub origin_y: f64,
+}
+
+/// A log being read and mapped, step by step:
+///
+/// 1. [`Self::new`] takes the file's bytes (gzip or plain);
+/// 2. [`Self::read`] reads up to `n` more laser lines per call, until
+///    finished (then the map is set up with the current settings);
+/// 3. [`Self::build_chunk`] integrates up to `n` more scans per call;
+/// 4. [`Self::seek`] scrubs to `k` scans, and [`Self::configure`] restarts
+///    the build with new settings.
+pub struct RealLogSession {
+    /// The reader over the file's bytes, dropped (with the bytes) once the
+    /// whole log is read.
+    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    /// Scans read whose map the current settings cannot make (a grid too
+    /// large): kept until `configure` brings settings that fit.
+    pending: Option<LaserScans>,
+    /// How the read ended, once it has.
+    read_summary: Option<LoadProgress>,
+    bytes_total: usize,
+    settings: LogMapSettings,
+    build: Option<LogMapBuild>,
+}
+
+impl RealLogSession {
+    pub fn new(bytes: Vec<u8>) -> Self {
+        Self {
+            bytes_total: bytes.len(),
+            loader: Some(LogLoader::new(Cursor::new(bytes))),
+            pending: None,
+            read_summary: None,
+            settings: LogMapSettings::default(),
+            build: None,
+        }
+    }
+
+    /// Reads up to `max_scans` more laser lines. When the log is finished
+    /// the map is set up; a malformed line is an error naming its line
+    /// number, and so is a log without laser lines. If the settings make too
+    /// large a grid for this log, that is an error too, and the scans wait
+    /// ([`Self::awaiting_settings`]) for a [`Self::configure`] that fits.
+    pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
+        let Some(loader) = self.loader.as_mut() else {
+            return Err(OccError::State("the log has been read already".into()));
+        };
+        let progress = loader.read(max_scans)?;
+        if progress.finished {
+            self.read_summary = Some(progress);
+            if let Some(loader) = self.loader.take() {
+                let scans = loader.into_scans();
+                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
+                    self.pending = Some(scans);
+                    return Err(e);
+                }
+                self.build = Some(LogMapBuild::new(scans, self.settings)?);
+            }
+        }
+        Ok(ReadReport {
+            progress,
+            bytes_total: self.bytes_total,
+        })
+    }
+
+    /// New settings: restarts the build towards the same scan count and
+    /// returns the map's geometry (`None` while the log is still being
+    /// read). On error nothing changes.
+    pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
+        settings.validate()?;
+        if let Some(build) = self.build.as_mut() {
+            build.configure(settings)?;
+        } else if let Some(scans) = self.pending.take() {
+            if let Err(e) = LogMapBuild::check(&scans, &settings) {
+                self.pending = Some(scans);
+                return Err(e);
+            }
+            self.build = Some(LogMapBuild::new(scans, settings)?);
+        }
+        self.settings = settings;
+        Ok(self.geometry())
+    }
+
+    /// How the read ended (also when setting up the map failed), or `None`.
+    pub fn read_summary(&self) -> Option<ReadReport> {
+        self.read_summary.map(|progress| ReadReport {
+            progress,
+            bytes_total: self.bytes_total,
+        })
+    }
+
+    /// True when the whole log has been read but the settings made too large
+    /// a grid for it.
+    pub fn awaiting_settings(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// The map's limits, or `None` before the log is read.
+    pub fn geometry(&self) -> Option<GeometryReport> {
+        self.build.as_ref().map(|b| {
+            let g = b.grid().geometry();
+            let [origin_x, origin_y] = g.origin();
+            GeometryReport {
+                width: g.width(),
+                height: g.height(),
+                resolution: g.resolution(),
+                origin_x,
+                origin_y,
+            }
+        })
+    }
+
+    /// The build, once the log is read and the settings fit.
+    pub fn build(&self) -> Result<&LogMapBuild> {
+        self.build
+            .as_ref()
+            .ok_or_else(|| OccError::State("the log has not been read yet".into()))
+    }
+
+    fn build_mut(&mut self) -> Result<&mut LogMapBuild> {
+        self.build
+            .as_mut()
+            .ok_or_else(|| OccError::State("the log has not been read yet".into()))
+    }
+
+    /// Integrates up to `max_scans` more scans.
+    pub fn build_chunk(&mut self, max_scans: usize) -> Result<BuildProgress> {
+        Ok(self.build_mut()?.advance(max_scans))
+    }
+
+    /// Scrubs to `scans` integrated scans; [`Self::build_chunk`] then does
+    /// the work (going back restarts from the first scan).
+    pub fn seek(&mut self, scans: usize) -> Result<()> {
+        self.build_mut()?.seek(scans)
+    }
+
+    /// The heading of scan `k`'s laser, radians counter-clockwise from east.
+    pub fn heading(&self, k: usize) -> Result<f64> {
+        self.build()?
+            .scans()
+            .pose(k)
+            .map(|p| p.theta)
+            .ok_or_else(|| invalid("scan", k, "a scan of the log"))
+    }
+
+    /// The map as a ROS `map_server` pair, the YAML naming the image
+    /// `NAME.pgm` (`map.pgm` without a name).
+    pub fn export_map(&self, name: Option<&str>) -> Result<MapServerPair> {
+        let stem = map_server::file_stem(name.unwrap_or(""));
+        Ok(map_server::map_server_pair(
+            self.build()?.grid(),
+            &format!("{stem}.pgm"),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seeking_back_rebuilds_the_same_map() {
+        let mut text = String::new();
+        for k in 0..6 {
+            text.push_str(&format!(
+                "FLASER 4 1.0 1.5 2.0 2.5 {} 0.0 0.3 0 0 0 0 h 0\n",
+                k as f64 * 0.2
+            ));
+        }
+        let scans = LaserScans::read(text.as_bytes()).unwrap();
+        let settings = LogMapSettings {
+            resolution: 0.1,
+            ..Default::default()
+        };
+        let mut a = LogMapBuild::new(scans.clone(), settings).unwrap();
+        a.seek(3).unwrap();
+        let p = a.advance(100);
+        assert_eq!((p.scans_done, p.finished), (3, true));
+        let at3 = a.grid().clone();
+        a.seek(6).unwrap();
+        a.advance(2);
+        a.advance(2);
+        assert!(a.progress().finished && a.progress().scans_done == 6);
+        a.seek(3).unwrap();
+        assert_eq!(a.progress().scans_done, 0, "going back resets");
+        a.advance(10);
+        assert_eq!(a.grid(), &at3);
+        assert!(a.seek(7).is_err());
+    }
+}

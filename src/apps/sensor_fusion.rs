@@ -1,0 +1,427 @@
+//! The sensor-fusion session (eq. 9.9 in the table scene): what
+//! `<occgrid-sensor-fusion>` shows.
+//!
+//! Data flow: [`TableFusion`] takes the scans of a [`TableRun`], feeds the
+//! sonar (a wide cone) through the literal sweep [`sweep_scan`] and the
+//! LiDAR (thin beams) through [`RayMapper`], into the per-modality grids and,
+//! both together, into the summed grid; the max-fused map
+//! ([`max_fused_probabilities`]) is recomputed after each step. The widget draws all
+//! four and reads the table footprint's mean occupancy under each rule.
+
+use crate::error::{self, Result};
+use crate::geometry::Pose;
+use crate::grid::{logit, probability, FilterSettings, LogOddsGrid};
+use crate::inverse::{HandCrafted, HandCraftedParams};
+use crate::mapping::fusion::{max_fuse_into, max_fused_probabilities, mean_over, mean_probability};
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::RayMapper;
+use crate::scenes::table::{TableRun, TableScene};
+
+/// The hand-crafted inverse models (Table 9.2) of the two modalities, and
+/// the settings of every map. Probabilities rather than log odds, because
+/// that is how a reader thinks about them.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct FusionModels {
+    /// Sonar: `p(m | z)` at the echo.
+    pub sonar_p_occ: f64,
+    /// Sonar: `p(m | z)` inside the cone in front of the echo.
+    pub sonar_p_free: f64,
+    /// Sonar obstacle thickness `alpha`, metres.
+    pub sonar_alpha: f64,
+    /// LiDAR: `p(m | z)` at the return.
+    pub lidar_p_occ: f64,
+    /// LiDAR: `p(m | z)` along the beam in front of the return.
+    pub lidar_p_free: f64,
+    /// LiDAR obstacle thickness `alpha`, metres.
+    pub lidar_alpha: f64,
+    /// Prior `p0` of every map.
+    pub prior: f64,
+    /// Saturation `|l| <= clamp` of every map, log odds.
+    pub clamp: f64,
+}
+
+impl Default for FusionModels {
+    /// The sonar's echo is strong evidence (something *is* at that range
+    /// somewhere in the cone: 0.7), its free space weaker (0.4), because a
+    /// wide cone blurs where the echo came from and smooth surfaces can
+    /// deflect it; its `alpha` of 20 cm (four cells at 5 cm) covers the
+    /// cone's arc and the sonar's coarse range. The LiDAR uses the values of
+    /// the Intel benchmark (0.7 / 0.4, i.e. l_occ = +0.85 and
+    /// l_free = -0.41) with `alpha` = 10 cm, two cells: enough that a return
+    /// from a cell's near face still marks that cell. Prior 0.5, so
+    /// "unknown" is mid-gray and both modalities start from the same `l0`;
+    /// clamp 6 (p between 0.0025 and 0.9975) keeps every cell revisable
+    /// within a lap.
+    fn default() -> Self {
+        Self {
+            sonar_p_occ: 0.7,
+            sonar_p_free: 0.4,
+            sonar_alpha: 0.2,
+            lidar_p_occ: 0.7,
+            lidar_p_free: 0.4,
+            lidar_alpha: 0.1,
+            prior: 0.5,
+            clamp: 6.0,
+        }
+    }
+}
+
+impl FusionModels {
+    fn settings(&self) -> FilterSettings {
+        FilterSettings {
+            prior: self.prior,
+            clamp: self.clamp,
+        }
+    }
+
+    /// The sonar's Table 9.2 model: the cone's opening angle and range come
+    /// from the scene's sonar.
+    pub fn sonar_model(&self, scene: &TableScene) -> Result<HandCrafted> {
+        error::open_probability("sonar_p_occ", self.sonar_p_occ)?;
+        error::open_probability("sonar_p_free", self.sonar_p_free)?;
+        HandCrafted::new(HandCraftedParams::from_probabilities(
+            self.sonar_p_occ,
+            self.sonar_p_free,
+            self.prior,
+            self.sonar_alpha,
+            scene.sonar.beta,
+            scene.sonar.z_max,
+        )?)
+    }
+
+    /// The LiDAR's Table 9.2 model. Its opening angle only matters to a
+    /// sweep; the ray traversal treats each beam as its own raster, so it is
+    /// set to the beam spacing.
+    pub fn lidar_model(&self, scene: &TableScene) -> Result<HandCrafted> {
+        error::open_probability("lidar_p_occ", self.lidar_p_occ)?;
+        error::open_probability("lidar_p_free", self.lidar_p_free)?;
+        let spacing = std::f64::consts::TAU / scene.lidar.beams.max(1) as f64;
+        HandCrafted::new(HandCraftedParams::from_probabilities(
+            self.lidar_p_occ,
+            self.lidar_p_free,
+            self.prior,
+            self.lidar_alpha,
+            spacing,
+            scene.lidar.z_max,
+        )?)
+    }
+
+    pub fn validate(&self, scene: &TableScene) -> Result<()> {
+        self.settings().validate()?;
+        self.sonar_model(scene)?;
+        self.lidar_model(scene)?;
+        Ok(())
+    }
+}
+
+/// The footprint's mean occupancy under each way of reading the sensors.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FootprintMeans {
+    /// The sonar's own map.
+    pub sonar: f64,
+    /// The LiDAR's own map.
+    pub lidar: f64,
+    /// Eq. 9.9, max over the two maps.
+    pub max: f64,
+    /// Both streams summed into one map.
+    pub sum: f64,
+}
+
+/// What the widget reads after each step.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FusionReadout {
+    /// Steps integrated so far.
+    pub step: usize,
+    /// Steps in the whole run.
+    pub steps: usize,
+    pub lidar_beams: usize,
+    pub sonar_count: usize,
+    /// The sonar's opening angle `beta`, degrees.
+    pub sonar_cone_degrees: f64,
+    /// Cells under the table top.
+    pub footprint_cells: usize,
+    pub footprint: FootprintMeans,
+    /// The last integrated pose (the first pose before any step).
+    pub pose: Pose,
+}
+
+/// One sonar cone of the current step, in grid units (cells), for drawing.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ConeView {
+    /// World angle of the cone's axis, radians, counter-clockwise from +x.
+    pub angle: f64,
+    /// The reading, in cells.
+    pub range: f64,
+}
+
+/// What the widget draws over the maps: the robot, the current step's
+/// beams and the table footprint, all in continuous grid coordinates (cell
+/// `(i, j)` spans `[i, i+1) x [j, j+1)`, `v` growing north).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SceneView {
+    /// Robot position and heading (radians).
+    pub robot: [f64; 3],
+    /// Table top `[u_min, v_min, u_max, v_max]`.
+    pub footprint: [f64; 4],
+    /// Half the sonar's opening angle, radians.
+    pub sonar_half_width: f64,
+    /// The sonar ring's cones at the last integrated step (none before the
+    /// first step).
+    pub sonar: Vec<ConeView>,
+    /// End points `[u0, v0, u1, v1, ...]` of the LiDAR's beams at the last
+    /// integrated step.
+    pub lidar: Vec<f64>,
+}
+
+/// The fusion experiment on the table scene: four maps fed step by step.
+#[derive(Debug, Clone)]
+pub struct TableFusion {
+    run: TableRun,
+    models: FusionModels,
+    sonar_model: HandCrafted,
+    lidar_model: HandCrafted,
+    sonar: LogOddsGrid,
+    lidar: LogOddsGrid,
+    summed: LogOddsGrid,
+    fused: LogOddsGrid,
+    fused_p: Vec<f64>,
+    lidar_mapper: RayMapper,
+    summed_mapper: RayMapper,
+    next: usize,
+}
+
+impl TableFusion {
+    /// The scene with the default models.
+    pub fn new(scene: &TableScene) -> Result<Self> {
+        Self::with_models(scene, FusionModels::default())
+    }
+
+    pub fn with_models(scene: &TableScene, models: FusionModels) -> Result<Self> {
+        models.validate(scene)?;
+        let run = scene.build()?;
+        let g = *run.geometry();
+        let s = models.settings();
+        let fresh = LogOddsGrid::new(g, s)?;
+        Ok(Self {
+            sonar_model: models.sonar_model(scene)?,
+            lidar_model: models.lidar_model(scene)?,
+            models,
+            sonar: fresh.clone(),
+            lidar: fresh.clone(),
+            summed: fresh.clone(),
+            fused: fresh,
+            fused_p: vec![probability(logit(s.prior)); g.len()],
+            lidar_mapper: RayMapper::new(),
+            summed_mapper: RayMapper::new(),
+            next: 0,
+            run,
+        })
+    }
+
+    /// Integrates the next time step's sonar and LiDAR scans. Returns false
+    /// (and changes nothing) once the run is over.
+    pub fn step(&mut self) -> bool {
+        let stepped = self.advance();
+        if stepped {
+            self.refresh_fused();
+        }
+        stepped
+    }
+
+    /// [`TableFusion::step`] without refreshing the fused map, for replays
+    /// that only need the fused map at their end.
+    fn advance(&mut self) -> bool {
+        let (Some(sonar), Some(lidar)) = (
+            self.run.sonar().get(self.next),
+            self.run.lidar().get(self.next),
+        ) else {
+            return false;
+        };
+        // One grid per modality, each with the mapper its beam shape needs:
+        // a 25° cone covers cells no beam raster crosses (SPEC §3).
+        sweep_scan(&mut self.sonar, &self.sonar_model, sonar);
+        self.lidar_mapper
+            .integrate(&mut self.lidar, &self.lidar_model, lidar);
+        // The naive alternative: both streams into the same cells.
+        sweep_scan(&mut self.summed, &self.sonar_model, sonar);
+        self.summed_mapper
+            .integrate(&mut self.summed, &self.lidar_model, lidar);
+        self.next += 1;
+        true
+    }
+
+    /// Steps to the end of the run; returns the number of steps taken.
+    pub fn run_to_end(&mut self) -> usize {
+        let mut n = 0;
+        while self.advance() {
+            n += 1;
+        }
+        self.refresh_fused();
+        n
+    }
+
+    /// Every map back to the prior, the robot back to the start.
+    pub fn reset(&mut self) {
+        for m in [
+            &mut self.sonar,
+            &mut self.lidar,
+            &mut self.summed,
+            &mut self.fused,
+        ] {
+            m.reset();
+        }
+        self.next = 0;
+        self.refresh_fused();
+    }
+
+    /// Changes only the LiDAR's beam count (same seed, same path, same
+    /// sonar readings) and rebuilds every map up to the current step, so the
+    /// reader sees the effect at the same point of the run. On error nothing
+    /// changes.
+    pub fn set_lidar_beams(&mut self, beams: usize) -> Result<()> {
+        let run = self.run.with_lidar_beams(beams)?;
+        let lidar_model = self.models.lidar_model(run.scene())?;
+        self.run = run;
+        self.lidar_model = lidar_model;
+        // The sonar's scans are unchanged, and so is its map: only the maps
+        // the LiDAR feeds are rebuilt (a slider drag stays responsive).
+        self.lidar.reset();
+        self.summed.reset();
+        for k in 0..self.next {
+            let (Some(sonar), Some(lidar)) = (self.run.sonar().get(k), self.run.lidar().get(k))
+            else {
+                break;
+            };
+            self.lidar_mapper
+                .integrate(&mut self.lidar, &self.lidar_model, lidar);
+            sweep_scan(&mut self.summed, &self.sonar_model, sonar);
+            self.summed_mapper
+                .integrate(&mut self.summed, &self.lidar_model, lidar);
+        }
+        self.refresh_fused();
+        Ok(())
+    }
+
+    fn refresh_fused(&mut self) {
+        let maps = [&self.sonar, &self.lidar];
+        // Both maps were built with the same limits and prior, so neither
+        // call can fail; on the impossible error the previous fused state
+        // stays.
+        if let Ok(p) = max_fused_probabilities(&maps) {
+            self.fused_p = p;
+        }
+        let _ = max_fuse_into(&mut self.fused, &maps);
+    }
+
+    /// The sonar's own map.
+    pub fn sonar(&self) -> &LogOddsGrid {
+        &self.sonar
+    }
+    /// The LiDAR's own map.
+    pub fn lidar(&self) -> &LogOddsGrid {
+        &self.lidar
+    }
+    /// Both streams summed into one map.
+    pub fn summed(&self) -> &LogOddsGrid {
+        &self.summed
+    }
+    /// Eq. 9.9 as a drawable map.
+    pub fn fused(&self) -> &LogOddsGrid {
+        &self.fused
+    }
+    /// Eq. 9.9 per cell, exactly `max(p_sonar, p_lidar)`.
+    pub fn fused_probabilities(&self) -> &[f64] {
+        &self.fused_p
+    }
+    pub fn run(&self) -> &TableRun {
+        &self.run
+    }
+    pub fn models(&self) -> &FusionModels {
+        &self.models
+    }
+    /// Steps integrated so far.
+    pub fn steps_done(&self) -> usize {
+        self.next
+    }
+
+    /// The table footprint's mean occupancy under each rule.
+    pub fn footprint_means(&self) -> FootprintMeans {
+        let cells = self.run.footprint();
+        // The footprint of a validated scene is never empty (the table is
+        // at least one resolution wide in the map), so the means exist; a
+        // NaN would show a bug rather than hide it.
+        let mean = |g: &LogOddsGrid| mean_probability(g, cells).unwrap_or(f64::NAN);
+        FootprintMeans {
+            sonar: mean(&self.sonar),
+            lidar: mean(&self.lidar),
+            max: mean_over(&self.fused_p, cells).unwrap_or(f64::NAN),
+            sum: mean(&self.summed),
+        }
+    }
+
+    /// The robot, its last scans and the table, in grid units.
+    pub fn scene_view(&self) -> SceneView {
+        let g = self.run.geometry();
+        let res = g.resolution();
+        let last = self.next.checked_sub(1);
+        let pose = self.readout().pose;
+        let (u, v) = g.world_to_grid(pose.x, pose.y);
+        let t = self.run.scene().table.top();
+        let (u0, v0) = g.world_to_grid(t.min_x, t.min_y);
+        let (u1, v1) = g.world_to_grid(t.max_x, t.max_y);
+        let sonar = last
+            .and_then(|k| self.run.sonar().get(k))
+            .map(|scan| {
+                scan.ranges()
+                    .iter()
+                    .zip(scan.bearings())
+                    .map(|(&z, &b)| ConeView {
+                        angle: pose.theta + b,
+                        range: z / res,
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let lidar = last
+            .and_then(|k| self.run.lidar().get(k))
+            .map(|scan| {
+                scan.ranges()
+                    .iter()
+                    .zip(scan.bearings())
+                    .flat_map(|(&z, &b)| {
+                        let (x, y) = pose.point_at(z, b);
+                        let (eu, ev) = g.world_to_grid(x, y);
+                        [eu, ev]
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        SceneView {
+            robot: [u, v, pose.theta],
+            footprint: [u0, v0, u1, v1],
+            sonar_half_width: 0.5 * self.run.scene().sonar.beta,
+            sonar,
+            lidar,
+        }
+    }
+
+    pub fn readout(&self) -> FusionReadout {
+        let scene = self.run.scene();
+        let last = self.next.saturating_sub(1);
+        FusionReadout {
+            step: self.next,
+            steps: self.run.len(),
+            lidar_beams: scene.lidar.beams,
+            sonar_count: scene.sonar.count,
+            sonar_cone_degrees: scene.sonar.beta.to_degrees(),
+            footprint_cells: self.run.footprint().len(),
+            footprint: self.footprint_means(),
+            pose: self.run.poses().get(last).copied().unwrap_or_default(),
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Settings objects from JavaScript, read strictly and safely.
+//!
+//! Two steps, for every settings and scene object a widget sends:
+//!
+//! 1. [`plain_copy`] copies the value into plain objects, arrays and
+//!    primitives through `Reflect` calls that catch what JavaScript throws,
+//!    so a throwing getter or a `Proxy` becomes an error here instead of an
+//!    exception unwinding through the core (which would leave a session
+//!    marked "in use" for good). The copy has a budget of nodes and depth.
+//! 2. [`Strict`] reads the copy with serde, refusing any field the Rust
+//!    struct does not have, at any depth (`invalid scene.lidar.beems:
+//!    unknown field ...`). serde-wasm-bindgen alone reads only the fields it
+//!    knows, so a misspelt one would pass unnoticed.
+
+use js_sys::{Array, Object, Reflect};
+use serde::de::{
+    self, DeserializeSeed, Deserializer, IntoDeserializer, MapAccess, SeqAccess, Visitor,
+};
+use serde_wasm_bindgen::Error;
+use wasm_bindgen::{JsCast, JsValue};
+
+/// The most values (objects, arrays and primitives together) a settings
+/// object may hold: scenes carry lists of boxes and rooms, never more than
+/// a few thousand values.
+pub const MAX_NODES: usize = 100_000;
+/// The deepest nesting a settings object may have.
+pub const MAX_DEPTH: usize = 32;
+
+/// A plain copy of `value` (see the module doc), or why there is none.
+pub fn plain_copy(value: &JsValue) -> Result<JsValue, String> {
+    let mut nodes = 0;
+    copy(value, 0, &mut nodes)
+}
+
+fn copy(value: &JsValue, depth: usize, nodes: &mut usize) -> Result<JsValue, String> {
+    *nodes += 1;
+    if *nodes > MAX_NODES {
+        return Err(format!("more than {MAX_NODES} values"));
+    }
+    if depth > MAX_DEPTH {
+        return Err(format!("nested deeper than {MAX_DEPTH} levels"));
+    }
+    if !value.is_object() || value.is_function() {
+        return Ok(value.clone());
+    }
+    let thrown = |e: JsValue| {
+        let text = e
+            .dyn_ref::<js_sys::Error>()
+            .map(|e| String::from(e.message()))
+            .or_else(|| e.as_string())
+            .unwrap_or_else(|| "an exception".into());
+        format!("reading it threw: {text}")
+    };
+    if Array::is_array(value) {
+        let len = Reflect::get(value, &"length".into())
+            .map_err(thrown)?
+            .as_f64()
+            .unwrap_or(0.0);
+        if !(len <= MAX_NODES as f64) {
+            return Err(format!("an array longer than {MAX_NODES} values"));
+        }
+        let out = Array::new();
+        for i in 0..len as u32 {
+            let item = Reflect::get_u32(value, i).map_err(thrown)?;
+            out.push(&copy(&item, depth + 1, nodes)?);
+        }
+        return Ok(out.into());
+    }
+    let out = Object::new();
+    let keys = Reflect::own_keys(value).map_err(thrown)?;
+    for key in keys.iter() {
+        // Symbol keys are no settings.
+        if !key.is_string() {
+            continue;
+        }
+        let item = Reflect::get(value, &key).map_err(thrown)?;
+        if item.is_undefined() {
+            continue;
+        }
+        Reflect::set(&out, &key, &copy(&item, depth + 1, nodes)?).map_err(thrown)?;
+    }
+    Ok(out.into())
+}
+
+/// A serde deserializer over a plain copy that refuses unknown fields.
+pub struct Strict(pub JsValue);
+
+impl Strict {
+    fn loose(self) -> serde_wasm_bindgen::Deserializer {
+        serde_wasm_bindgen::Deserializer::from(self.0)
+    }
+}
+
+macro_rules! delegate {
+    ($($method:ident),*) => {$(
+        fn $method<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
+            self.loose().$method(visitor)
+        }
+    )*};
+}
+
+impl<'de> Deserializer<'de> for Strict {
+    type Error = Error;
+
+    delegate!(
+        deserialize_any,
+        deserialize_bool,
+        deserialize_i8,
+        deserialize_i16,
+        deserialize_i32,
+        deserialize_i64,
+        deserialize_u8,
+        deserialize_u16,
+        deserialize_u32,
+        deserialize_u64,
+        deserialize_f32,
+        deserialize_f64,
+        deserialize_char,
+        deserialize_str,
+        deserialize_string,
+        deserialize_bytes,
+        deserialize_byte_buf,
+        deserialize_unit,
+        deserialize_identifier,
+        deserialize_ignored_any,
+        deserialize_map
+    );
+
+    fn deserialize_option<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
+        if self.0.is_undefined() || self.0.is_null() {
+            visitor.visit_none()
+        } else {
+            visitor.visit_some(self)
+        }
+    }
+
+    fn deserialize_unit_struct<V: Visitor<'de>>(
+        self,
+        name: &'static str,
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        self.loose().deserialize_unit_struct(name, visitor)
+    }
+
+    fn deserialize_newtype_struct<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        visitor.visit_newtype_struct(self)
+    }
+
+    fn deserialize_seq<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
+        if !Array::is_array(&self.0) {
+            return self.loose().deserialize_seq(visitor);
+        }
+        let items: Vec<JsValue> = self.0.unchecked_into::<Array>().iter().collect();
+        visitor.visit_seq(Items(items.into_iter()))
+    }
+
+    fn deserialize_tuple<V: Visitor<'de>>(
+        self,
+        _len: usize,
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        self.deserialize_seq(visitor)
+    }
+
+    fn deserialize_tuple_struct<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        _len: usize,
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        self.deserialize_seq(visitor)
+    }
+
+    fn deserialize_struct<V: Visitor<'de>>(
+        self,
+        name: &'static str,
+        fields: &'static [&'static str],
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        if !self.0.is_object() || Array::is_array(&self.0) {
+            return self.loose().deserialize_struct(name, fields, visitor);
+        }
+        let mut entries = Vec::new();
+        let object: &Object = self.0.unchecked_ref();
+        for key in Object::keys(object).iter() {
+            let key = key.as_string().unwrap_or_default();
+            if !fields.contains(&key.as_str()) {
+                return Err(de::Error::custom(format!(
+                    "unknown field \"{key}\" (expected {})",
+                    fields.join(", ")
+                )));
+            }
+            let value = match Reflect::get(&self.0, &JsValue::from_str(&key)) {
+                Ok(v) => v,
+                Err(_) => {
+                    return Err(<Error as de::Error>::custom(format!(
+                        "cannot read field \"{key}\""
+                    )))
+                }
+            };
+            entries.push((key, value));
+        }
+        visitor.visit_map(Fields {
+            entries: entries.into_iter(),
+            value: None,
+        })
+    }
+
+    fn deserialize_enum<V: Visitor<'de>>(
+        self,
+        name: &'static str,
+        variants: &'static [&'static str],
+        visitor: V,
+    ) -> Result<V::Value, Error> {
+        self.loose().deserialize_enum(name, variants, visitor)
+    }
+}
+
+struct Items(std::vec::IntoIter<JsValue>);
+
+impl<'de> SeqAccess<'de> for Items {
+    type Error = Error;
+    fn next_element_seed<T: DeserializeSeed<'de>>(
+        &mut self,
+        seed: T,
+    ) -> Result<Option<T::Value>, Error> {
+        self.0
+            .next()
+            .map(|v| seed.deserialize(Strict(v)))
+            .transpose()
+    }
+}
+
+struct Fields {
+    entries: std::vec::IntoIter<(String, JsValue)>,
+    value: Option<JsValue>,
+}
+
+impl<'de> MapAccess<'de> for Fields {
+    type Error = Error;
+    fn next_key_seed<K: DeserializeSeed<'de>>(
+        &mut self,
+        seed: K,
+    ) -> Result<Option<K::Value>, Error> {
+        match self.entries.next() {
+            None => Ok(None),
+            Some((key, value)) => {
+                self.value = Some(value);
+                let key: de::value::StringDeserializer<Error> = key.into_deserializer();
+                seed.deserialize(key).map(Some)
+            }
+        }
+    }
+    fn next_value_seed<V: DeserializeSeed<'de>>(&mut self, seed: V) -> Result<V::Value, Error> {
+        seed.deserialize(Strict(self.value.take().unwrap_or(JsValue::UNDEFINED)))
+    }
+}

@@ -1,0 +1,907 @@
+//! The ray traversal: Table 9.1's recursion applied along each beam.
+//!
+//! * [`RayMapper`] — the production path. Each beam is rastered with a
+//!   supercover line from the sensor out to the model's reach
+//!   (`min(z_max, z + alpha/2)` for Table 9.2). Cells near the sensor lie on
+//!   many beams, so the verdicts of one scan are gathered first and every
+//!   touched cell is updated once, occupied evidence winning over free
+//!   (Cartographer's range-data inserter does the same: hits, then misses,
+//!   each cell once per scan). The result then does not depend on beam
+//!   order, and the cost follows the cells the beams cross, not the map.
+//!   The walk carries each cell's index and range along the beam from cell
+//!   to cell; when the model states its evidence along the beam as a step
+//!   function of range ([`crate::inverse::AxisProfile`], as Table 9.2 can),
+//!   a cell's verdict is two comparisons of that range. When every beam of
+//!   the scan shares the same two values (free below zero, occupied above),
+//!   the verdicts are gathered as flags in a byte per cell; otherwise as a
+//!   float per cell.
+//! * [`super::sweep::sweep_scan`] — Table 9.1 as printed, every cell of the
+//!   map (what a wide cone needs).
+
+use crate::geometry::raster::{Cursor, Walk};
+use crate::grid::{CellsMut, LogOddsGrid};
+use crate::inverse::{AxisProfile, InverseModel};
+
+use crate::sensors::Scan;
+
+/// The work one scan cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct ScanStats {
+    /// Cells the mapper looked at (raster visits for the traversal, every
+    /// cell of the map for the sweep).
+    pub cells_visited: usize,
+    /// Cells whose log odds were updated.
+    pub cells_updated: usize,
+}
+
+/// Scratch mark of a cell no beam of the current scan has given evidence.
+/// Any real verdict is larger, so "keep the larger" needs no extra test,
+/// and a cell is new to the scan exactly when it still holds the mark.
+const UNTOUCHED: f32 = f32::NEG_INFINITY;
+
+/// The ray-traversal mapper, with its per-scan scratch space (kept between
+/// scans so that integrating a scan allocates nothing). Every per-cell
+/// slot is clear again between scans: the update pass clears the slots it
+/// applies.
+#[derive(Debug, Default, Clone)]
+pub struct RayMapper {
+    /// Per cell, the verdict code of the current scan (step-profile path).
+    codes: Vec<u8>,
+    /// Per cell, the evidence the current scan has gathered for it (log
+    /// odds net of `l0`), or [`UNTOUCHED`] (general path).
+    pending: Vec<f32>,
+    /// The cells touched in the current scan, in first-touch order.
+    touched: Vec<u32>,
+    /// The current scan's reach and axis profile per beam (step-profile
+    /// path; `None` for a beam with nothing to walk).
+    profiles: Vec<Option<(f64, AxisProfile)>>,
+    /// `(sin, cos)` of each bearing of the last scan, and those bearings:
+    /// a scanner's bearings rarely change from scan to scan, so a beam's
+    /// direction costs four products instead of two library calls (which
+    /// in wasm are software routines).
+    bearings: Vec<f64>,
+    bearing_trig: Vec<(f64, f64)>,
+}
+
+impl RayMapper {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Integrates one scan into `grid` with the inverse model `model`.
+    ///
+    /// Each cell on a beam's raster gets the model's evidence for its range
+    /// along the beam axis (the projection of its centre), at bearing offset
+    /// zero: a thin beam's raster *is* its footprint. Every input was
+    /// validated when the scan and model were built, so this cannot fail.
+    pub fn integrate<M: InverseModel + ?Sized>(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        model: &M,
+        scan: &Scan,
+    ) -> ScanStats {
+        self.cache_bearing_trig(scan.bearings());
+        let frame = BeamFrame::new(grid, scan);
+        match self.step_profiles(model, scan.ranges()) {
+            Some(bands) => self.integrate_step_profiles(grid, &frame, bands),
+            None => self.integrate_general(grid, model, scan, &frame),
+        }
+    }
+
+    /// Fills `profiles` with each beam's reach and axis profile, and
+    /// returns the scan's free and occupied evidence when every beam states
+    /// its evidence as a step function with those same two values, free
+    /// negative and occupied positive (Table 9.2 and the like). `None` sends the scan down the
+    /// general path.
+    fn step_profiles<M: InverseModel + ?Sized>(
+        &mut self,
+        model: &M,
+        ranges: &[f64],
+    ) -> Option<Bands> {
+        self.profiles.clear();
+        let mut bands: Option<Bands> = None;
+        for &z in ranges {
+            let reach = model.reach(z);
+            if !(reach > 0.0) {
+                self.profiles.push(None);
+                continue;
+            }
+            let p = model.axis_profile(z)?;
+            let these = Bands {
+                free: p.free,
+                occupied: p.occupied,
+            };
+            // A band whose evidence is zero carries no information and must
+            // not count as an update: the general path leaves such cells
+            // out. Free lowers the log odds and occupied raises them, so
+            // each needs only one side of the clamp.
+            if !(these.free < 0.0 && these.occupied > 0.0) {
+                return None;
+            }
+            match bands {
+                None => bands = Some(these),
+                Some(b) if b.same(these) => {}
+                Some(_) => return None,
+            }
+            self.profiles.push(Some((reach, p)));
+        }
+        // A scan without a beam to walk has no evidence to apply.
+        Some(bands.unwrap_or(Bands {
+            free: -1.0,
+            occupied: 1.0,
+        }))
+    }
+
+    /// A scan whose beams share one free and one occupied value
+    /// ([`Self::step_profiles`]): a cell's verdicts are then two flags
+    /// (free, occupied) in a byte per cell, and "occupied wins" is reading
+    /// the occupied flag first. A map of bytes is a quarter of a map of
+    /// floats, and stays in cache.
+    fn integrate_step_profiles(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        frame: &BeamFrame,
+        bands: Bands,
+    ) -> ScanStats {
+        let len = Gathered::<u8>::len_for(grid.geometry().len());
+        if self.codes.len() != len {
+            self.codes = vec![Code::Untouched as u8; len];
+        }
+        ensure_len(&mut self.touched, len);
+        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
+        let mut visits = 0;
+        for (profile, &trig) in self.profiles.iter().zip(&self.bearing_trig) {
+            let Some((reach, p)) = *profile else { continue };
+            let Some((walk, at)) = frame.beam(trig, reach) else {
+                continue;
+            };
+            let n;
+            (n, gathered) = trace(walk, at, StepCodes(p), gathered);
+            visits += n;
+        }
+
+        let count = gathered.count;
+        gathered.settle(grid, bands);
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: count,
+        }
+    }
+
+    /// The general path: each cell's evidence is gathered as a float (the
+    /// larger wins per cell), then every touched cell is updated once.
+    fn integrate_general<M: InverseModel + ?Sized>(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        model: &M,
+        scan: &Scan,
+        frame: &BeamFrame,
+    ) -> ScanStats {
+        let len = Gathered::<f32>::len_for(grid.geometry().len());
+        if self.pending.len() != len {
+            self.pending = vec![UNTOUCHED; len];
+        }
+        ensure_len(&mut self.touched, len);
+        let mut gathered = Pending::new(&mut self.pending, &mut self.touched);
+        let mut visits = 0;
+        for (&z, &trig) in scan.ranges().iter().zip(&self.bearing_trig) {
+            let reach = model.reach(z);
+            if !(reach > 0.0) {
+                continue;
+            }
+            let Some((walk, at)) = frame.beam(trig, reach) else {
+                continue;
+            };
+            let n;
+            (n, gathered) = match model.axis_profile(z) {
+                // Two comparisons per cell. (A band whose evidence is zero
+                // carries no information and must not count as an update:
+                // such a profile takes the per-cell branch.)
+                Some(p) if p.free != 0.0 && p.occupied != 0.0 => {
+                    trace(walk, at, StepEvidence(p), gathered)
+                }
+                _ => trace(walk, at, ModelEvidence { model, z }, gathered),
+            };
+            visits += n;
+        }
+
+        let count = gathered.count;
+        // (The floats are the evidence: no bands to look them up in.)
+        gathered.settle(
+            grid,
+            Bands {
+                free: 0.0,
+                occupied: 0.0,
+            },
+        );
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: count,
+        }
+    }
+
+    /// Makes `bearing_trig` hold `(sin, cos)` of `bearings`.
+    fn cache_bearing_trig(&mut self, bearings: &[f64]) {
+        // Every bearing compared, no early exit: a loop without branches
+        // (the bearings almost always all match).
+        let same = self.bearings.len() == bearings.len()
+            && self
+                .bearings
+                .iter()
+                .zip(bearings)
+                .fold(true, |same, (a, b)| same & (a.to_bits() == b.to_bits()));
+        if !same {
+            self.bearings.clear();
+            self.bearings.extend_from_slice(bearings);
+            self.bearing_trig.clear();
+            self.bearing_trig
+                .extend(bearings.iter().map(|b| b.sin_cos()));
+        }
+    }
+}
+
+/// Makes `buffer` `len` long (its contents are scratch).
+fn ensure_len(buffer: &mut Vec<u32>, len: usize) {
+    if buffer.len() != len {
+        *buffer = vec![0; len];
+    }
+}
+
+/// A model's evidence is finite by contract. Should one return NaN, it is
+/// read as "no information"; minus infinity as the most negative finite
+/// verdict (the grid's clamp makes the two equivalent). Either way the
+/// [`UNTOUCHED`] mark stays unambiguous.
+#[inline(always)]
+fn sanitize(e: f32) -> f32 {
+    if e.is_nan() {
+        0.0
+    } else if e < f32::MIN {
+        f32::MIN
+    } else {
+        e
+    }
+}
+
+/// The free and occupied evidence (net of `l0`) shared by every beam of a
+/// scan on the step-profile path.
+#[derive(Debug, Clone, Copy)]
+struct Bands {
+    free: f32,
+    occupied: f32,
+}
+
+impl Bands {
+    fn same(self, other: Bands) -> bool {
+        self.free.to_bits() == other.free.to_bits()
+            && self.occupied.to_bits() == other.occupied.to_bits()
+    }
+}
+
+/// What every beam of a scan shares: the sensor in grid coordinates, the
+/// grid's size and resolution, and the heading.
+struct BeamFrame {
+    su: f64,
+    sv: f64,
+    res: f64,
+    /// `1 / res`: cells per metre.
+    per_metre: f64,
+    width: usize,
+    height: usize,
+    sin_t: f64,
+    cos_t: f64,
+}
+
+impl BeamFrame {
+    fn new(grid: &LogOddsGrid, scan: &Scan) -> Self {
+        let g = grid.geometry();
+        let pose = scan.pose();
+        let (su, sv) = g.world_to_grid(pose.x, pose.y);
+        let (sin_t, cos_t) = pose.theta.sin_cos();
+        Self {
+            su,
+            sv,
+            res: g.resolution(),
+            per_metre: 1.0 / g.resolution(),
+            width: g.width(),
+            height: g.height(),
+            sin_t,
+            cos_t,
+        }
+    }
+
+    /// The walk along the beam of bearing `(sin, cos)` from the sensor out
+    /// to range `reach` (metres), and the state at its first cell; `None`
+    /// when the beam misses the map.
+    #[inline]
+    fn beam(&self, (sin_b, cos_b): (f64, f64), reach: f64) -> Option<(Walk, BeamState)> {
+        let (su, sv, res) = (self.su, self.sv, self.res);
+        // Beam direction theta + bearing by the angle-addition formulas
+        // (within a few ulps of sin_cos of the sum).
+        let s = self.sin_t * cos_b + self.cos_t * sin_b;
+        let c = self.cos_t * cos_b - self.sin_t * sin_b;
+        let cells = reach * self.per_metre;
+        let end = (su + cells * c, sv + cells * s);
+        let walk = Walk::new(self.width, self.height, (su, sv), end)?;
+        // Per cell the walk needs the cell's index and the range of its
+        // centre along the beam axis (metres); both change by a fixed
+        // amount per step on each axis, so they are carried along. The
+        // steps point along the beam, so both range steps are >= 0.
+        let (ix, iy) = walk.start;
+        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
+        let at = BeamState {
+            index: iy * self.width + ix,
+            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
+            index_step: (
+                walk.step.0 as isize,
+                walk.step.1 as isize * self.width as isize,
+            ),
+            range_step: (step_x * res * c, step_y * res * s),
+        };
+        Some((walk, at))
+    }
+}
+
+/// Where a beam's walk stands: the cell's row-major index and the range of
+/// its centre along the beam axis (metres), with their change per step on
+/// each axis. Incremental, as Amanatides & Woo carry their `tMax`.
+struct BeamState {
+    index: usize,
+    range: f64,
+    index_step: (isize, isize),
+    range_step: (f64, f64),
+}
+
+/// A cell's verdicts on the step-profile path, as flags: a cell that any
+/// beam found occupied has the occupied flag, and "occupied wins" is
+/// reading that flag first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Code {
+    Untouched = 0,
+    Free = 1,
+    Occupied = 2,
+}
+
+/// A cell's verdicts as gathered in one scan; `UNTOUCHED` until a beam
+/// gives evidence.
+trait Slot: Copy + PartialEq {
+    const UNTOUCHED: Self;
+    /// A cell's verdicts so far, `self`, merged with a beam's verdict `v`.
+    fn merge(self, v: Self) -> Self;
+    /// Applies the evidence this verdict stands for (given the scan's
+    /// `bands`) to cell `i` of `grid`.
+    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands);
+}
+
+/// [`Code`] flags (step-profile path).
+impl Slot for u8 {
+    const UNTOUCHED: u8 = Code::Untouched as u8;
+    #[inline(always)]
+    fn merge(self, v: u8) -> u8 {
+        self | v
+    }
+    /// (The bands' signs are known, see [`RayMapper::step_profiles`], so
+    /// each update needs one side of the clamp only.)
+    #[inline(always)]
+    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands) {
+        if self & Code::Occupied as u8 != 0 {
+            cells.raise(i, bands.occupied)
+        } else {
+            cells.lower(i, bands.free)
+        }
+    }
+}
+
+/// Log odds net of `l0` (general path). Occupied (positive) wins over
+/// free; between two free verdicts the weaker one stands.
+impl Slot for f32 {
+    const UNTOUCHED: f32 = UNTOUCHED;
+    #[inline(always)]
+    fn merge(self, v: f32) -> f32 {
+        if v > self {
+            v
+        } else {
+            self
+        }
+    }
+    #[inline(always)]
+    fn apply(self, cells: &mut CellsMut, i: usize, _: Bands) {
+        cells.apply(i, self);
+    }
+}
+
+/// Where a scan's verdicts are gathered, at most one per cell: a slot per
+/// cell, and the list of cells touched so far, in first-touch order (a cell
+/// enters at most once per scan, so a list longer than the map never
+/// overflows). Merging verdicts (flags or-ed, the larger float kept) is
+/// symmetric, so beam order does not matter.
+///
+/// Both buffers are `mask + 1` long, a power of two, and are indexed with
+/// `& mask`: the compiler then sees every index in range and drops the
+/// bounds checks from the per-cell loop. The mask never changes an index:
+/// the walk stays inside the map, and the count below the number of cells.
+struct Gathered<'a, T> {
+    slots: &'a mut [T],
+    touched: &'a mut [u32],
+    mask: usize,
+    count: usize,
+}
+
+impl<'a, T: Slot> Gathered<'a, T> {
+    /// `slots` and `touched` have the same power-of-two length.
+    fn new(slots: &'a mut [T], touched: &'a mut [u32]) -> Self {
+        debug_assert!(slots.len().is_power_of_two() && touched.len() == slots.len());
+        let mask = slots.len() - 1;
+        Self {
+            slots,
+            touched,
+            mask,
+            count: 0,
+        }
+    }
+
+    /// The same gathering with its buffers resliced to exactly `mask + 1`
+    /// entries, done inside the function that loops, so that the compiler
+    /// knows the length there.
+    #[inline(always)]
+    fn narrowed(self) -> Self {
+        let mask = self.mask;
+        Self {
+            slots: &mut self.slots[..=mask],
+            touched: &mut self.touched[..=mask],
+            ..self
+        }
+    }
+
+    /// Records verdict `v` for cell `i`, without a branch on whether the
+    /// cell is new to the scan: the cell is written past the end of the
+    /// touched list, which only grows when the cell was untouched. Where
+    /// beams start to fan apart, that follows no pattern a branch predictor
+    /// can learn.
+    #[inline(always)]
+    fn record(&mut self, i: usize, v: T) {
+        let slot = &mut self.slots[i & self.mask];
+        let old = *slot;
+        let new = old.merge(v);
+        *slot = new;
+        self.touched[self.count & self.mask] = i as u32;
+        self.count += (old == T::UNTOUCHED && new != T::UNTOUCHED) as usize;
+    }
+
+    /// Table 9.1, line 4, once per touched cell; every slot is clear again
+    /// afterwards, so no map-sized clearing is ever needed. Four cells per
+    /// loop turn: under Node the loop's own bookkeeping (a stack check and
+    /// a counter per turn) is a sizeable share of this short body.
+    #[inline(always)]
+    fn settle(self, grid: &mut LogOddsGrid, bands: Bands) {
+        let Self {
+            slots,
+            touched,
+            mask,
+            count,
+        } = self.narrowed();
+        let cells = &mut grid.cells_mut();
+        // (A function rather than a closure: at opt-level "s" a closure
+        // called from several places stays a call.)
+        #[inline(always)]
+        fn settle_one<T: Slot>(
+            slots: &mut [T],
+            mask: usize,
+            cells: &mut CellsMut,
+            bands: Bands,
+            i: u32,
+        ) {
+            let i = i as usize;
+            let slot = &mut slots[i & mask];
+            slot.apply(cells, i, bands);
+            *slot = T::UNTOUCHED;
+        }
+        let mut fours = touched[..count].chunks_exact(4);
+        for four in &mut fours {
+            settle_one(slots, mask, cells, bands, four[0]);
+            settle_one(slots, mask, cells, bands, four[1]);
+            settle_one(slots, mask, cells, bands, four[2]);
+            settle_one(slots, mask, cells, bands, four[3]);
+        }
+        for &i in fours.remainder() {
+            settle_one(slots, mask, cells, bands, i);
+        }
+    }
+}
+
+impl<T> Gathered<'_, T> {
+    /// The length of the buffers for a map of `cells` cells: a power of
+    /// two, and more than `cells`, so that the touched list always has a
+    /// spare entry past its end (see [`Gathered::record`]).
+    fn len_for(cells: usize) -> usize {
+        (cells + 1).next_power_of_two()
+    }
+}
+
+/// Verdicts as codes, for a scan whose beams share one free and one
+/// occupied value.
+type Codes<'a> = Gathered<'a, u8>;
+
+/// Verdicts as log odds (net of `l0`), for any model.
+type Pending<'a> = Gathered<'a, f32>;
+
+/// A beam's verdict on the cell under the cursor, from the range of the
+/// cell's centre along the beam axis. (Methods rather than closures: they
+/// must be inlined into the walk, which calls them from several places.)
+trait Verdict<G> {
+    fn visit(&self, r: f64, i: usize, gathered: &mut G);
+}
+
+/// A step profile, as codes: free up to `free_until`, then occupied.
+struct StepCodes(AxisProfile);
+
+impl Verdict<Codes<'_>> for StepCodes {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
+        if r <= self.0.free_until {
+            gathered.record(i, Code::Free as u8);
+        } else if r <= self.0.occupied_until {
+            gathered.record(i, Code::Occupied as u8);
+        }
+    }
+}
+
+/// A step profile, as log odds.
+struct StepEvidence(AxisProfile);
+
+impl Verdict<Pending<'_>> for StepEvidence {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Pending) {
+        if r <= self.0.free_until {
+            gathered.record(i, self.0.free);
+        } else if r <= self.0.occupied_until {
+            gathered.record(i, self.0.occupied);
+        }
+    }
+}
+
+/// Any model, asked per cell.
+struct ModelEvidence<'m, M: ?Sized> {
+    model: &'m M,
+    z: f64,
+}
+
+impl<M: InverseModel + ?Sized> Verdict<Pending<'_>> for ModelEvidence<'_, M> {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Pending) {
+        let e = sanitize(self.model.evidence(r, 0.0, self.z));
+        if e != 0.0 {
+            gathered.record(i, e);
+        }
+    }
+}
+
+/// Walks one beam, handing each cell's verdict to `gathered`; returns the
+/// number of visits and the gathering. (Inlined into the loop over the
+/// beams: under Node a call per beam, its arguments passed through memory,
+/// cost more than the registers the loop gives up.)
+#[inline(always)]
+fn trace<'a, T: Slot, V: Verdict<Gathered<'a, T>>>(
+    walk: Walk,
+    at: BeamState,
+    verdict: V,
+    gathered: Gathered<'a, T>,
+) -> (usize, Gathered<'a, T>) {
+    let mut cursor = BeamCursor {
+        at,
+        gathered: gathered.narrowed(),
+        verdict,
+    };
+    let visits = walk.run(&mut cursor);
+    (visits, cursor.gathered)
+}
+
+/// The mapper's [`Cursor`]: the verdict on the cell under it, gathered.
+struct BeamCursor<G, V> {
+    at: BeamState,
+    gathered: G,
+    verdict: V,
+}
+
+impl<G, V: Verdict<G>> Cursor for BeamCursor<G, V> {
+    #[inline(always)]
+    fn visit(&mut self) {
+        self.verdict
+            .visit(self.at.range, self.at.index, &mut self.gathered);
+    }
+    #[inline(always)]
+    fn step_x(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(self.at.index_step.0);
+        self.at.range += self.at.range_step.0;
+    }
+    #[inline(always)]
+    fn step_y(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(self.at.index_step.1);
+        self.at.range += self.at.range_step.1;
+    }
+    #[inline(always)]
+    fn unstep_x(&mut self) {
+        self.at.index = self.at.index.wrapping_add_signed(-self.at.index_step.0);
+        self.at.range -= self.at.range_step.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::raster::supercover;
+    use crate::geometry::GridGeometry;
+    use crate::geometry::Pose;
+    use crate::grid::FilterSettings;
+    use crate::inverse::{HandCrafted, HandCraftedParams};
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
+
+    /// Table 9.2 without its axis profile: the mapper then asks
+    /// `evidence` per cell.
+    struct PerCell(HandCrafted);
+
+    impl InverseModel for PerCell {
+        fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+            self.0.evidence(r, phi, z)
+        }
+        fn reach(&self, z: f64) -> f64 {
+            self.0.reach(z)
+        }
+        fn half_width(&self) -> f64 {
+            self.0.half_width()
+        }
+        fn z_max(&self) -> f64 {
+            self.0.z_max()
+        }
+        fn l0(&self) -> f32 {
+            self.0.l0()
+        }
+    }
+
+    /// The traversal mapper written plainly on top of `supercover`: the
+    /// range of each cell computed afresh, the verdicts of a scan gathered
+    /// in a map, occupied (the larger) winning, then one update per cell.
+    fn reference_integrate<M: InverseModel>(
+        grid: &mut LogOddsGrid,
+        model: &M,
+        scan: &Scan,
+    ) -> ScanStats {
+        let g = *grid.geometry();
+        let pose = scan.pose();
+        let (su, sv) = g.world_to_grid(pose.x, pose.y);
+        let res = g.resolution();
+        let mut best = std::collections::BTreeMap::<usize, f32>::new();
+        let mut visits = 0;
+        for (&z, &bearing) in scan.ranges().iter().zip(scan.bearings()) {
+            let reach = model.reach(z);
+            if !(reach > 0.0) {
+                continue;
+            }
+            let (s, c) = (pose.theta + bearing).sin_cos();
+            let end = (su + reach * c / res, sv + reach * s / res);
+            visits += supercover(g.width(), g.height(), (su, sv), end, |ix, iy| {
+                let r = res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s);
+                let e = model.evidence(r, 0.0, z);
+                if e != 0.0 {
+                    let slot = best.entry(g.index(ix, iy)).or_insert(e);
+                    *slot = slot.max(e);
+                }
+            });
+        }
+        for (&i, &e) in &best {
+            grid.apply(i, e);
+        }
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: best.len(),
+        }
+    }
+
+    fn random_model(rng: &mut StdRng) -> HandCrafted {
+        HandCrafted::new(HandCraftedParams {
+            alpha: rng.random_range(0.05..0.4),
+            beta: 0.02,
+            z_max: 8.0,
+            l_occ: rng.random_range(0.2..2.0),
+            l_free: rng.random_range(-2.0..-0.2),
+            l0: rng.random_range(-0.3..0.3),
+        })
+        .unwrap()
+    }
+
+    /// A scan from anywhere near (or outside) a 6 m x 4 m map, with
+    /// no-returns, zero readings and repeated bearings among its beams.
+    fn random_scan(rng: &mut StdRng) -> Scan {
+        let pose = Pose::new(
+            rng.random_range(-2.0..7.0),
+            rng.random_range(-2.0..5.0),
+            rng.random_range(-4.0..4.0),
+        )
+        .unwrap();
+        let n = rng.random_range(1..120);
+        let ranges = (0..n)
+            .map(|k| match k % 11 {
+                0 => 8.0 + rng.random_range(0.0..2.0),
+                1 => 0.0,
+                _ => rng.random_range(0.0..9.0),
+            })
+            .collect();
+        let span = rng.random_range(0.0..7.0);
+        let bearings = (0..n)
+            .map(|k| {
+                if k % 13 == 5 {
+                    0.25
+                } else {
+                    rng.random_range(-span..=span)
+                }
+            })
+            .collect();
+        Scan::new(pose, ranges, bearings).unwrap()
+    }
+
+    fn map() -> LogOddsGrid {
+        let g = GridGeometry::new(60, 40, 0.1, -1.0, -1.0).unwrap();
+        LogOddsGrid::new(
+            g,
+            FilterSettings {
+                prior: 0.5,
+                clamp: 2.0,
+            },
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn traversal_builds_the_same_map_as_the_plain_reference() {
+        let mut rng = StdRng::seed_from_u64(5);
+        for _ in 0..40 {
+            let model = random_model(&mut rng);
+            let (mut fast, mut plain, mut per_cell) = (map(), map(), map());
+            let (mut mapper, mut per_cell_mapper) = (RayMapper::new(), RayMapper::new());
+            for _ in 0..6 {
+                let scan = random_scan(&mut rng);
+                let stats = mapper.integrate(&mut fast, &model, &scan);
+                assert_eq!(stats, reference_integrate(&mut plain, &model, &scan));
+                let per_cell_stats =
+                    per_cell_mapper.integrate(&mut per_cell, &PerCell(model), &scan);
+                assert_eq!(stats, per_cell_stats);
+            }
+            assert_eq!(fast, plain, "profile path vs reference");
+            assert_eq!(fast, per_cell, "profile path vs per-cell evidence");
+        }
+    }
+
+    /// Table 9.2 with its evidence scaled by a factor that depends on the
+    /// reading: every beam is a step profile, but their values differ, so
+    /// the mapper must gather floats (occupied still winning, and between
+    /// two verdicts the larger).
+    struct ScaledByReading(HandCrafted);
+
+    impl ScaledByReading {
+        fn scale(z: f64) -> f32 {
+            1.0 + (z * 4.0).floor().rem_euclid(3.0) as f32 * 0.5
+        }
+    }
+
+    impl InverseModel for ScaledByReading {
+        fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+            self.0.evidence(r, phi, z) * Self::scale(z)
+        }
+        fn reach(&self, z: f64) -> f64 {
+            self.0.reach(z)
+        }
+        fn half_width(&self) -> f64 {
+            self.0.half_width()
+        }
+        fn z_max(&self) -> f64 {
+            self.0.z_max()
+        }
+        fn l0(&self) -> f32 {
+            self.0.l0()
+        }
+        fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
+            let p = self.0.axis_profile(z)?;
+            Some(AxisProfile {
+                free: p.free * Self::scale(z),
+                occupied: p.occupied * Self::scale(z),
+                ..p
+            })
+        }
+    }
+
+    #[test]
+    fn beams_with_different_step_values_build_the_reference_map() {
+        let mut rng = StdRng::seed_from_u64(6);
+        for _ in 0..40 {
+            let model = ScaledByReading(random_model(&mut rng));
+            let (mut fast, mut plain) = (map(), map());
+            let mut mapper = RayMapper::new();
+            for _ in 0..6 {
+                let scan = random_scan(&mut rng);
+                let stats = mapper.integrate(&mut fast, &model, &scan);
+                assert_eq!(stats, reference_integrate(&mut plain, &model, &scan));
+            }
+            assert_eq!(fast, plain);
+        }
+    }
+
+    #[test]
+    fn each_cell_is_updated_once_per_scan_whatever_the_beam_order() {
+        let mut rng = StdRng::seed_from_u64(9);
+        for _ in 0..30 {
+            let model = random_model(&mut rng);
+            let scan = random_scan(&mut rng);
+            let mut order: Vec<usize> = (0..scan.len()).collect();
+            order.reverse();
+            order.rotate_left(rng.random_range(0..scan.len()));
+            let shuffled = Scan::new(
+                scan.pose(),
+                order.iter().map(|&k| scan.ranges()[k]).collect(),
+                order.iter().map(|&k| scan.bearings()[k]).collect(),
+            )
+            .unwrap();
+            let (mut a, mut b) = (map(), map());
+            let stats = RayMapper::new().integrate(&mut a, &model, &scan);
+            RayMapper::new().integrate(&mut b, &model, &shuffled);
+            assert_eq!(a.log_odds(), b.log_odds());
+            assert!(a.update_counts().iter().all(|&n| n <= 1));
+            let updated = a.update_counts().iter().filter(|&&n| n == 1).count();
+            assert_eq!(stats.cells_updated, updated);
+        }
+    }
+
+    #[test]
+    fn occupied_wins_where_a_wall_cell_lies_on_another_beams_free_path() {
+        // Beam 0 ends at 1.0 m straight ahead; beam 1 passes through the
+        // same cells at a shallow angle and goes on for another metre.
+        let g = GridGeometry::new(40, 5, 0.1, 0.0, 0.0).unwrap();
+        let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+        let pose = Pose::new(0.05, 0.25, 0.0).unwrap();
+        let scan = Scan::new(pose, vec![1.0, 2.0], vec![0.0, 0.001]).unwrap();
+        RayMapper::new().integrate(&mut m, &lidar(), &scan);
+        assert!(
+            m.log_odds()[g.index(10, 2)] > 0.0,
+            "the wall cell stays occupied"
+        );
+        assert!(
+            m.log_odds()[g.index(15, 2)] < 0.0,
+            "beyond it, beam 1 carves"
+        );
+    }
+
+    #[test]
+    fn evidence_of_zero_strength_updates_nothing() {
+        let model = HandCrafted::with_strength(*lidar().params(), 0.0).unwrap();
+        let mut rng = StdRng::seed_from_u64(2);
+        let mut m = map();
+        let stats = RayMapper::new().integrate(&mut m, &model, &random_scan(&mut rng));
+        assert_eq!(stats.cells_updated, 0);
+        assert!(m.update_counts().iter().all(|&n| n == 0));
+    }
+
+    fn lidar() -> HandCrafted {
+        HandCrafted::new(HandCraftedParams {
+            alpha: 0.15,
+            beta: 0.02,
+            z_max: 8.0,
+            l_occ: 0.85,
+            l_free: -0.4,
+            l0: 0.0,
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn one_beam_marks_free_then_occupied() {
+        let g = GridGeometry::new(20, 5, 0.1, 0.0, 0.0).unwrap();
+        let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+        let scan = Scan::new(Pose::new(0.05, 0.25, 0.0).unwrap(), vec![1.0], vec![0.0]).unwrap();
+        let stats = RayMapper::new().integrate(&mut m, &lidar(), &scan);
+        let l = |ix| m.log_odds()[g.index(ix, 2)];
+        assert!(l(3) < 0.0 && l(9) < 0.0, "free in front");
+        assert!(l(10) > 0.0, "occupied at 1.0 m");
+        assert_eq!(l(12), 0.0, "unknown behind");
+        assert_eq!(stats.cells_updated, 11);
+    }
+}

@@ -1,0 +1,384 @@
+//! What a reader sees of a map, kept up to date at the cost of what changed.
+//!
+//! Between the mapper and the page (SPEC §10: "map pixels through a view
+//! into wasm memory"): after each scan a [`MapView`] compares the grid's log
+//! odds with the values it last drew and, for the cells that changed only,
+//! redraws the pixel and rescores the cell's entropy (bits) and squared
+//! error against the ground truth. A scan of the apartment changes about a
+//! tenth of the map, so this costs far less than redrawing and rescoring
+//! every cell, and needs no exponential or logarithm per cell:
+//!
+//! * pixels come from [`gray_level`], which finds the grid's gray level by
+//!   a binary search over the 255 exact log-odds thresholds of its ramp
+//!   (bit for bit what [`LogOddsGrid::render_rgba`] draws);
+//! * `p` and `H_b(p)` come from a table over the log odds, linearly
+//!   interpolated ([`cell_look`]; error below 1e-6 per cell, see the
+//!   test). The same table holds each bin's gray level and the one ramp
+//!   threshold inside it, so drawing a cell is one comparison.
+
+use crate::error::{invalid, OccError, Result};
+use crate::geometry::GridGeometry;
+use crate::grid::{binary_entropy_bits, probability, LogOddsGrid};
+use std::sync::OnceLock;
+
+/// The grid's gray level for log odds `l` (grid.rs, `render_rgba`): a
+/// linear ramp `round(255 (1 - p))`, white free, black occupied. (Unknown
+/// cells, exactly at the prior, are mid-gray; the caller checks that.)
+fn ramp(l: f32) -> u8 {
+    (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
+}
+
+/// Orders finite `f32`s as integers, so that a bisection can walk them.
+fn key(f: f32) -> i32 {
+    let b = f.to_bits() as i32;
+    b ^ (((b >> 31) as u32) >> 1) as i32
+}
+fn unkey(k: i32) -> f32 {
+    f32::from_bits((k ^ (((k >> 31) as u32) >> 1) as i32) as u32)
+}
+
+/// `THRESHOLDS[k - 1]` is the smallest `f32` log odds whose gray level is
+/// below `k` (k = 1..=255). The ramp falls as `l` grows, so the thresholds
+/// fall too, and the gray level of `l` is the number of thresholds above
+/// `l`.
+fn thresholds() -> &'static [f32; 255] {
+    static T: OnceLock<[f32; 255]> = OnceLock::new();
+    T.get_or_init(|| {
+        let mut t = [0.0f32; 255];
+        // Beyond +-100 the ramp is flat at 0 and 255.
+        let (lo, hi) = (key(-100.0) as i64, key(100.0) as i64);
+        for (j, slot) in t.iter_mut().enumerate() {
+            let k = (j + 1) as u8;
+            // Smallest key in [lo, hi] with ramp < k (ramp(hi) = 0 < k).
+            let (mut a, mut b) = (lo, hi);
+            while a < b {
+                let m = a + (b - a) / 2;
+                if ramp(unkey(m as i32)) < k {
+                    b = m;
+                } else {
+                    a = m + 1;
+                }
+            }
+            *slot = unkey(a as i32);
+        }
+        t
+    })
+}
+
+/// The gray level the grid's renderer gives log odds `l` (not at the
+/// prior), found without an exponential.
+#[inline]
+pub fn gray_level(l: f32) -> u8 {
+    // Thresholds are decreasing: those above `l` come first.
+    thresholds().partition_point(|&t| l < t) as u8
+}
+
+/// Log-odds range of the cell table; beyond it cells are drawn and scored
+/// with the exact formulas.
+const TABLE_RANGE: f32 = 32.0;
+/// Table bins per unit of log odds. The ramp falls by at most 255 / 4 gray
+/// levels per unit of log odds (its slope at `l = 0`), so a bin a 256th of
+/// a unit wide holds at most one gray threshold.
+const TABLE_DENSITY: f32 = 256.0;
+
+/// One bin of the cell table, starting at `l = -TABLE_RANGE + k / TABLE_DENSITY`:
+/// `p` and `H_b(p)` there (bits), and the bin's gray levels: `gray` below
+/// the bin's threshold `step` (if any), one less from `step` on.
+#[derive(Debug, Clone, Copy)]
+struct Bin {
+    p: f32,
+    h: f32,
+    step: f32,
+    gray: u8,
+}
+
+fn cell_table() -> &'static [Bin] {
+    static T: OnceLock<Vec<Bin>> = OnceLock::new();
+    T.get_or_init(|| {
+        let n = (2.0 * TABLE_RANGE * TABLE_DENSITY) as usize;
+        let t = thresholds();
+        (0..=n)
+            .map(|k| {
+                let start = -TABLE_RANGE + k as f32 / TABLE_DENSITY;
+                let end = -TABLE_RANGE + (k + 1) as f32 / TABLE_DENSITY;
+                let p = probability(start as f64);
+                let gray = gray_level(start);
+                // The one threshold in (start, end), where the gray level
+                // drops to `gray - 1`; +inf when the bin has none.
+                let step = t
+                    .iter()
+                    .copied()
+                    .find(|&x| x > start && x < end)
+                    .unwrap_or(f32::INFINITY);
+                Bin {
+                    p: p as f32,
+                    h: binary_entropy_bits(p) as f32,
+                    step,
+                    gray,
+                }
+            })
+            .collect()
+    })
+}
+
+/// Gray level, probability and binary entropy (bits) of log odds `l`:
+/// the gray level exactly as the grid draws it, `p` and `H_b` linearly
+/// interpolated in the table (exact formulas outside its range).
+#[inline]
+pub fn cell_look(l: f32) -> (u8, f64, f64) {
+    let t = (l as f64 + TABLE_RANGE as f64) * TABLE_DENSITY as f64;
+    let table = cell_table();
+    if t >= 0.0 {
+        // An infinite `l` saturates `k` at usize::MAX: look the neighbour
+        // up without overflowing.
+        let k = t as usize;
+        let next = k.checked_add(1).and_then(|j| table.get(j));
+        if let (Some(a), Some(b)) = (table.get(k), next) {
+            let f = (t - k as f64) as f32;
+            let gray = if l >= a.step { a.gray - 1 } else { a.gray };
+            return (
+                gray,
+                (a.p + f * (b.p - a.p)) as f64,
+                (a.h + f * (b.h - a.h)) as f64,
+            );
+        }
+    }
+    let p = probability(l as f64);
+    (gray_level(l), p, binary_entropy_bits(p))
+}
+
+/// Probability and binary entropy (bits) of log odds `l`, as the view
+/// scores a cell.
+pub fn score(l: f32) -> (f64, f64) {
+    let (_, p, h) = cell_look(l);
+    (p, h)
+}
+
+/// A map as the page shows it: RGBA pixels (north up, the grid's drawing
+/// convention), and every cell's entropy and squared error with their sums.
+#[derive(Debug, Clone)]
+pub struct MapView {
+    width: usize,
+    height: usize,
+    /// The log odds each cell had when last drawn (NaN: never drawn).
+    shown: Vec<f32>,
+    rgba: Vec<u8>,
+    entropy: Vec<f64>,
+    sq_error: Vec<f64>,
+    truth: Vec<bool>,
+    in_region: Vec<bool>,
+    region_cells: usize,
+    entropy_sum: f64,
+    sq_sum_all: f64,
+    sq_sum_region: f64,
+    /// Scratch: the cells that changed since the last sync.
+    dirty: Vec<u32>,
+}
+
+impl MapView {
+    /// A view of maps with `geometry`, scored against `truth`, with a
+    /// Brier region of the cells in `region` (indices).
+    pub fn new(geometry: &GridGeometry, truth: &[bool], region: &[usize]) -> Result<Self> {
+        let n = geometry.len();
+        if truth.len() != n {
+            return Err(OccError::LengthMismatch {
+                field: "truth".into(),
+                expected: n,
+                found: truth.len(),
+            });
+        }
+        let mut in_region = vec![false; n];
+        for &i in region {
+            if i >= n {
+                return Err(invalid("region", i, "cell indices inside the map"));
+            }
+            in_region[i] = true;
+        }
+        let region_cells = in_region.iter().filter(|&&b| b).count();
+        if region_cells == 0 {
+            return Err(invalid("region", "[]", "at least one cell"));
+        }
+        Ok(Self {
+            width: geometry.width(),
+            height: geometry.height(),
+            shown: vec![f32::NAN; n],
+            rgba: vec![0; 4 * n],
+            entropy: vec![0.0; n],
+            sq_error: vec![0.0; n],
+            truth: truth.to_vec(),
+            in_region,
+            region_cells,
+            entropy_sum: 0.0,
+            sq_sum_all: 0.0,
+            sq_sum_region: 0.0,
+            dirty: Vec::new(),
+        })
+    }
+
+    /// Brings the view up to date with `grid` (same geometry as the view),
+    /// redrawing and rescoring only the cells whose log odds changed since
+    /// the last call.
+    pub fn sync(&mut self, grid: &LogOddsGrid) {
+        let l0 = grid.l0();
+        let now = grid.log_odds();
+        // Find the changed cells first. Most cells did not change, so test
+        // eight at a time with one branch.
+        let mut dirty = std::mem::take(&mut self.dirty);
+        dirty.clear();
+        const LANES: usize = 8;
+        let blocks = now.chunks_exact(LANES).zip(self.shown.chunks_exact(LANES));
+        for (b, (a, s)) in blocks.enumerate() {
+            let diff = a
+                .iter()
+                .zip(s)
+                .fold(0u32, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()));
+            if diff != 0 {
+                let base = b * LANES;
+                for (j, (x, y)) in a.iter().zip(s).enumerate() {
+                    if x.to_bits() != y.to_bits() {
+                        dirty.push((base + j) as u32);
+                    }
+                }
+            }
+        }
+        let tail = now.len() - now.len() % LANES;
+        for j in tail..now.len().min(self.shown.len()) {
+            if now[j].to_bits() != self.shown[j].to_bits() {
+                dirty.push(j as u32);
+            }
+        }
+        for &i in &dirty {
+            let i = i as usize;
+            self.redraw(i, now[i], l0);
+        }
+        self.dirty = dirty;
+    }
+
+    /// Draws and scores cell `i` at log odds `l`.
+    #[inline]
+    fn redraw(&mut self, i: usize, l: f32, l0: f32) {
+        self.shown[i] = l;
+        let (gray, p, hb) = cell_look(l);
+        // Unknown is mid-gray whatever the prior (grid.rs).
+        let g = if l == l0 { 128 } else { gray };
+        let w = self.width;
+        let (ix, iy) = (i % w, i / w);
+        let o = 4 * ((self.height - 1 - iy) * w + ix);
+        if let Some(px) = self.rgba.get_mut(o..o + 4) {
+            px.copy_from_slice(&[g, g, g, 255]);
+        }
+        let m = if self.truth[i] { 1.0 } else { 0.0 };
+        let sq = (p - m) * (p - m);
+        self.entropy_sum += hb - self.entropy[i];
+        self.entropy[i] = hb;
+        let d = sq - self.sq_error[i];
+        self.sq_sum_all += d;
+        if self.in_region[i] {
+            self.sq_sum_region += d;
+        }
+        self.sq_error[i] = sq;
+    }
+
+    /// Forgets everything drawn and scored, as if new: the next sync
+    /// redraws every cell and sums from zero.
+    pub fn clear(&mut self) {
+        self.shown.fill(f32::NAN);
+        self.entropy.fill(0.0);
+        self.sq_error.fill(0.0);
+        self.entropy_sum = 0.0;
+        self.sq_sum_all = 0.0;
+        self.sq_sum_region = 0.0;
+    }
+
+    /// The pixels as of the last [`MapView::sync`], `4 * width * height`
+    /// bytes, north up.
+    pub fn rgba(&self) -> &[u8] {
+        &self.rgba
+    }
+    /// Map entropy, bits.
+    pub fn entropy_bits(&self) -> f64 {
+        self.entropy_sum
+    }
+    /// Brier score over the region.
+    pub fn brier_region(&self) -> f64 {
+        self.sq_sum_region / self.region_cells as f64
+    }
+    /// Brier score over every cell.
+    pub fn brier_all(&self) -> f64 {
+        self.sq_sum_all / self.truth.len() as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gray_level_is_the_renderers_ramp_bit_for_bit() {
+        // Every threshold and its neighbours, and a dense sweep.
+        for &t in thresholds() {
+            for f in [unkey(key(t) - 1), t, unkey(key(t) + 1)] {
+                assert_eq!(gray_level(f), ramp(f), "l = {f}");
+            }
+        }
+        let mut l = -40.0f32;
+        while l < 40.0 {
+            assert_eq!(gray_level(l), ramp(l), "l = {l}");
+            l += 0.000_77;
+        }
+        assert_eq!(gray_level(-1e30), 255);
+        assert_eq!(gray_level(1e30), 0);
+    }
+
+    #[test]
+    fn table_gray_levels_are_exact() {
+        for &t in thresholds() {
+            for f in [unkey(key(t) - 1), t, unkey(key(t) + 1)] {
+                assert_eq!(cell_look(f).0, ramp(f), "l = {f}");
+            }
+        }
+        let mut l = -40.0f32;
+        while l < 40.0 {
+            assert_eq!(cell_look(l).0, ramp(l), "l = {l}");
+            l += 0.000_77;
+        }
+    }
+
+    #[test]
+    fn table_scores_are_within_a_millionth_of_exact() {
+        let mut worst = (0.0f64, 0.0f64);
+        let mut l = -45.0f32;
+        while l < 45.0 {
+            let (p, h) = score(l);
+            let p_exact = probability(l as f64);
+            worst.0 = worst.0.max((p - p_exact).abs());
+            worst.1 = worst.1.max((h - binary_entropy_bits(p_exact)).abs());
+            l += 0.001_3;
+        }
+        assert!(worst.0 < 3e-7 && worst.1 < 1e-6, "{worst:?}");
+        assert_eq!(score(0.0), (0.5, 1.0));
+    }
+
+    #[test]
+    fn view_matches_a_full_render_and_full_scores() {
+        let g = GridGeometry::new(7, 5, 0.1, 0.0, 0.0).unwrap();
+        let mut grid = LogOddsGrid::new(g, Default::default()).unwrap();
+        let truth: Vec<bool> = (0..g.len()).map(|i| i % 3 == 0).collect();
+        let mut view = MapView::new(&g, &truth, &[0, 1, 2]).unwrap();
+        view.sync(&grid);
+        assert_eq!(view.entropy_bits(), 35.0);
+        for (i, e) in [(0, 2.3f32), (4, -0.7), (9, 11.9), (33, -5.0), (4, 0.7)] {
+            grid.apply(i, e);
+            view.sync(&grid);
+        }
+        let mut px = vec![0; g.len() * 4];
+        crate::render::gray::render_grid_rgba(&grid, &mut px).unwrap();
+        assert_eq!(view.rgba(), &px[..]);
+        assert!((view.entropy_bits() - grid.entropy_bits()).abs() < 1e-5);
+        let b = grid.brier_score(&truth, Some(&[0, 1, 2])).unwrap();
+        assert!((view.brier_region() - b).abs() < 1e-6);
+        assert!(MapView::new(&g, &truth[1..], &[0]).is_err());
+        assert!(MapView::new(&g, &truth, &[]).is_err());
+        assert!(MapView::new(&g, &truth, &[35]).is_err());
+    }
+}

@@ -1,0 +1,5 @@
+//! Rendering: log odds to pixels. The one gray ramp, and the incremental
+//! view a widget reads its map pixels from (in wasm memory, without a copy).
+
+pub mod gray;
+pub mod map_view;

@@ -1,0 +1,584 @@
+//! The apartment of Map Weaver (SPEC §9): a 12 m × 9 m flat at 0.10 m
+//! (120 × 90 = 10,800 cells), a robot driving a lap through it with a
+//! 60-beam LiDAR, a person walking the corridor, and wheel odometry.
+//!
+//! Data flow: an [`ApartmentScene`] (plain serde data: walls and furniture
+//! as boxes, named rooms, the lap, the sensor, the odometry, the person) is
+//! validated and turned by [`ApartmentSim::new`] into a ground-truth
+//! [`World`] and a seeded stream of [`SimScan`]s: the true pose, the
+//! dead-reckoned pose and the LiDAR's ranges for every scan. The mapping
+//! session ([`crate::apps::map_weaver`]) feeds those scans to the maps, and scores
+//! the maps against the same ground truth.
+//!
+//! The floor plan, north up:
+//!
+//! ```text
+//!  9 +---------------------------------------------------------+
+//!    | study (never entered)  |##| closet  :  bedroom (never   |
+//!    |                        |##|---..---   entered)          |
+//!    |   __                   |##|                          __ |
+//!5.6 +--+  +------------------+--+--------------------------+  +
+//!    |  corridor: the lap's north leg, the person walks here   |
+//!4.0 +--+  +------------------------------------------------+  +
+//!    |    living room            ..     kitchen                |
+//!    |   (lap's west leg)        ..  (lap's east leg)          |
+//!  0 +---------------------------------------------------------+
+//!    0                          6.0                            12
+//! ```
+//!
+//! The doors of the two north rooms sit at their outer ends, right above
+//! the corners where the lap turns, so the robot looks into each room only
+//! along a narrow wedge: the far halves of both rooms are out of sight from
+//! every pose of the lap and stay unknown. The closet opens into the
+//! bedroom's far half, so no beam ever reaches it.
+
+use super::paths::{LapPath, WalkerParams};
+use crate::error::{self, invalid, Result};
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::sensors::lidar::LidarParams;
+use crate::sensors::odometry::OdometryParams;
+use crate::world::{Rect, World};
+use rand::rngs::StdRng;
+use rand::SeedableRng;
+
+/// Added to the seed for the odometry's noise stream, so that the LiDAR and
+/// the wheels never share random numbers (any odd constant would do).
+const ODOMETRY_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
+
+/// The most scans per second a scene may ask for (a reader's attribute
+/// could ask for any number).
+pub const MAX_SCAN_RATE: f64 = 1000.0;
+/// The largest apartment map, in cells (1024 x 1024): every pane keeps
+/// several per-cell arrays, and a browser tab has to hold them.
+pub const MAX_SCENE_CELLS: usize = 1 << 20;
+/// The most boxes of each kind a scene may list (rastering the ground
+/// truth visits every cell once per box).
+pub const MAX_BOXES: usize = 1000;
+/// The most scans one lap may take.
+pub const MAX_SCANS_PER_LAP: usize = 100_000;
+
+/// A named part of the floor plan.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Room {
+    pub name: String,
+    pub area: Rect,
+    /// Whether the lap drives through it.
+    pub entered: bool,
+}
+
+/// A cell the widget follows over time, named for the chart's legend.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TrackedPoint {
+    pub name: String,
+    /// A point inside the cell, metres.
+    pub at: [f64; 2],
+}
+
+/// Everything that defines the simulated apartment. The default is the
+/// chapter's apartment; every field can be overridden (serde default).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct ApartmentScene {
+    /// Map size in cells and resolution in metres per cell; the map's
+    /// lower-left corner is the world origin.
+    pub width: usize,
+    pub height: usize,
+    pub resolution: f64,
+    /// Walls and furniture: every cell whose centre lies in one of these
+    /// boxes is occupied.
+    pub obstacles: Vec<Rect>,
+    pub rooms: Vec<Room>,
+    /// The closet the robot never sees.
+    pub closet: Rect,
+    /// The parts of the never-entered rooms that no beam of the lap can
+    /// reach (their far interiors).
+    pub hidden: Vec<Rect>,
+    /// The part of the map the lap surveys (corridor, the two south rooms
+    /// and their walls): the region of the widget's Brier score.
+    pub surveyed: Rect,
+    /// The three cells of the log-odds chart: a wall cell, a corridor cell
+    /// and a closet cell.
+    pub tracked: [TrackedPoint; 3],
+    pub path: LapPath,
+    /// Scans per second.
+    pub scan_rate: f64,
+    pub lidar: LidarParams,
+    pub odometry: OdometryParams,
+    pub person: WalkerParams,
+}
+
+impl Default for ApartmentScene {
+    fn default() -> Self {
+        let r = Rect::new;
+        let mut obstacles = vec![
+            // Outer walls, 0.2 m thick.
+            r(0.0, 0.0, 12.0, 0.2),
+            r(0.0, 8.8, 12.0, 9.0),
+            r(0.0, 0.0, 0.2, 9.0),
+            r(11.8, 0.0, 12.0, 9.0),
+            // The corridor's south wall, with the doors to the living room
+            // (x 0.7–1.7) and the kitchen (x 10.3–11.3).
+            r(0.2, 3.9, 0.7, 4.0),
+            r(1.7, 3.9, 10.3, 4.0),
+            r(11.3, 3.9, 11.8, 4.0),
+            // The corridor's north wall, with the doors to the study
+            // (x 0.4–1.3) and the bedroom (x 10.7–11.6).
+            r(0.2, 5.5, 0.4, 5.6),
+            r(1.3, 5.5, 10.7, 5.6),
+            r(11.6, 5.5, 11.8, 5.6),
+            // Living room | kitchen, with a door at y 1.5–2.5.
+            r(6.0, 0.2, 6.1, 1.5),
+            r(6.0, 2.5, 6.1, 3.9),
+            // Study | bedroom.
+            r(5.0, 5.6, 5.1, 8.8),
+            // The closet in the bedroom's north-west corner; its door
+            // (x 5.5–6.2) opens into the bedroom's far half.
+            r(5.1, 7.1, 5.5, 7.2),
+            r(6.2, 7.1, 6.6, 7.2),
+            r(6.5, 7.2, 6.6, 8.8),
+        ];
+        obstacles.extend([
+            // Living room: a sofa against the south wall, an armchair.
+            r(2.0, 0.2, 4.2, 0.9),
+            r(4.6, 2.9, 5.3, 3.6),
+            // Kitchen: a counter along the south wall, an island.
+            r(6.6, 0.2, 9.8, 0.8),
+            r(7.6, 2.7, 9.2, 3.2),
+            // Study: a desk. Bedroom: a bed.
+            r(3.0, 8.2, 4.6, 8.8),
+            r(7.4, 7.0, 9.2, 8.8),
+        ]);
+        let room = |name: &str, area: Rect, entered: bool| Room {
+            name: name.into(),
+            area,
+            entered,
+        };
+        Self {
+            width: 120,
+            height: 90,
+            resolution: 0.1,
+            obstacles,
+            rooms: vec![
+                room("corridor", r(0.2, 4.0, 11.8, 5.5), true),
+                room("living room", r(0.2, 0.2, 6.0, 3.9), true),
+                room("kitchen", r(6.1, 0.2, 11.8, 3.9), true),
+                room("study", r(0.2, 5.6, 5.0, 8.8), false),
+                room("bedroom", r(5.1, 5.6, 11.8, 8.8), false),
+            ],
+            closet: r(5.1, 7.2, 6.5, 8.8),
+            hidden: vec![
+                r(2.0, 5.6, 5.0, 8.8),
+                r(5.1, 5.6, 9.6, 7.2),
+                r(6.6, 7.2, 9.6, 8.8),
+            ],
+            surveyed: r(0.1, 0.1, 11.9, 5.6),
+            tracked: [
+                // Mid-corridor, one above the other: the wall north of the
+                // robot's track, and the floor just below the track (clear
+                // of the person's walk, so only the floor's own evidence
+                // shows).
+                TrackedPoint {
+                    name: "corridor wall".into(),
+                    at: [6.05, 5.55],
+                },
+                TrackedPoint {
+                    name: "corridor floor".into(),
+                    at: [6.05, 4.85],
+                },
+                TrackedPoint {
+                    name: "closet".into(),
+                    at: [5.85, 8.05],
+                },
+            ],
+            // Clockwise: east along the corridor, south into the kitchen,
+            // west through both south rooms, north back into the corridor.
+            path: LapPath {
+                waypoints: vec![[1.2, 4.95], [10.8, 4.95], [10.8, 2.0], [1.2, 2.0]],
+                speed: 0.5,
+                turn_rate: 1.5,
+            },
+            scan_rate: 12.0,
+            lidar: LidarParams {
+                beams: 60,
+                z_max: 8.0,
+                sigma: 0.02,
+                first_bearing: 0.0,
+            },
+            odometry: OdometryParams {
+                alpha: [0.05, 0.01, 0.02, 0.01],
+                heading_drift: -0.003,
+                turn_scale: 0.01,
+            },
+            person: WalkerParams {
+                size: 0.5,
+                from: [3.0, 4.35],
+                to: [9.0, 4.35],
+                speed: 0.5,
+                pause: 4.0,
+                phase: 0.1,
+            },
+        }
+    }
+}
+
+impl ApartmentScene {
+    /// The map's limits: `width × height` cells of `resolution` metres,
+    /// lower-left corner at the origin.
+    pub fn geometry(&self) -> Result<GridGeometry> {
+        GridGeometry::new(self.width, self.height, self.resolution, 0.0, 0.0)
+    }
+
+    /// Checks every field, naming the first one that is wrong.
+    pub fn validate(&self) -> Result<GridGeometry> {
+        let g = self.geometry()?;
+        if g.len() > MAX_SCENE_CELLS {
+            return Err(invalid(
+                "width x height",
+                format!("{} x {}", self.width, self.height),
+                "at most 1048576 cells",
+            ));
+        }
+        for (field, n) in [
+            ("obstacles", self.obstacles.len()),
+            ("rooms", self.rooms.len()),
+            ("hidden", self.hidden.len()),
+        ] {
+            if n > MAX_BOXES {
+                return Err(invalid(field, n, "at most 1000 boxes"));
+            }
+        }
+        let check_rect = |field: &str, b: &Rect| -> Result<()> {
+            for (k, v) in [
+                ("min_x", b.min_x),
+                ("min_y", b.min_y),
+                ("max_x", b.max_x),
+                ("max_y", b.max_y),
+            ] {
+                error::finite(&format!("{field}.{k}"), v)?;
+            }
+            Ok(())
+        };
+        for (i, b) in self.obstacles.iter().enumerate() {
+            check_rect(&format!("obstacles[{i}]"), b)?;
+        }
+        for (i, room) in self.rooms.iter().enumerate() {
+            check_rect(&format!("rooms[{i}].area"), &room.area)?;
+        }
+        for (i, b) in self.hidden.iter().enumerate() {
+            check_rect(&format!("hidden[{i}]"), b)?;
+        }
+        check_rect("closet", &self.closet)?;
+        check_rect("surveyed", &self.surveyed)?;
+        if self.cells_in(&g, &[self.surveyed]).is_empty() {
+            return Err(invalid(
+                "surveyed",
+                format!("{:?}", self.surveyed),
+                "a box holding at least one cell centre of the map",
+            ));
+        }
+        for (i, t) in self.tracked.iter().enumerate() {
+            if g.world_to_cell(t.at[0], t.at[1]).is_none() {
+                return Err(invalid(
+                    &format!("tracked[{i}].at"),
+                    format!("({}, {})", t.at[0], t.at[1]),
+                    "a point inside the map",
+                ));
+            }
+        }
+        self.path.validate()?;
+        for (i, w) in self.path.waypoints.iter().enumerate() {
+            if g.world_to_cell(w[0], w[1]).is_none() {
+                return Err(invalid(
+                    &format!("path.waypoints[{i}]"),
+                    format!("({}, {})", w[0], w[1]),
+                    "a waypoint inside the map",
+                ));
+            }
+        }
+        error::positive("scan_rate", self.scan_rate)?;
+        if self.scan_rate > MAX_SCAN_RATE {
+            return Err(invalid(
+                "scan_rate",
+                self.scan_rate,
+                "at most 1000 scans per second",
+            ));
+        }
+        self.lidar.validate()?;
+        self.odometry.validate()?;
+        self.person.validate()?;
+        let scans = self.path.lap_seconds() * self.scan_rate;
+        if !(scans <= MAX_SCANS_PER_LAP as f64) {
+            return Err(invalid(
+                "path",
+                format!("a lap of {scans:.0} scans"),
+                "a lap of at most 100000 scans (a faster robot or a shorter path)",
+            ));
+        }
+        Ok(g)
+    }
+
+    /// The ground truth: obstacles rastered onto the map.
+    pub fn ground_truth(&self) -> Result<World> {
+        let g = self.validate()?;
+        Ok(World::from_boxes(g, &self.obstacles))
+    }
+
+    /// Indices of the cells whose centres lie in any of `boxes`, in
+    /// increasing order.
+    pub fn cells_in(&self, g: &GridGeometry, boxes: &[Rect]) -> Vec<usize> {
+        (0..g.len())
+            .filter(|&i| {
+                let (ix, iy) = g.cell_of_index(i);
+                let (x, y) = g.cell_center(ix, iy);
+                boxes.iter().any(|b| b.contains(x, y))
+            })
+            .collect()
+    }
+
+    /// Indices of the three tracked cells.
+    pub fn tracked_cells(&self) -> Result<[usize; 3]> {
+        let g = self.geometry()?;
+        let mut out = [0; 3];
+        for (k, t) in self.tracked.iter().enumerate() {
+            let (ix, iy) = g.world_to_cell(t.at[0], t.at[1]).ok_or_else(|| {
+                invalid(
+                    &format!("tracked[{k}].at"),
+                    format!("({}, {})", t.at[0], t.at[1]),
+                    "a point inside the map",
+                )
+            })?;
+            out[k] = g.index(ix, iy);
+        }
+        Ok(out)
+    }
+
+    /// Number of scans in one lap (the last partial scan interval rounded
+    /// up).
+    pub fn scans_per_lap(&self) -> usize {
+        (self.path.lap_seconds() * self.scan_rate).ceil().max(1.0) as usize
+    }
+}
+
+/// One simulated scan: where the robot truly was, where its odometry says
+/// it was, and what the LiDAR read.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SimScan {
+    /// 0 for the first scan of the run.
+    pub index: usize,
+    /// Seconds since the start.
+    pub time: f64,
+    /// The true pose (what the pose oracle gives).
+    pub truth: Pose,
+    /// The dead-reckoned pose: the start pose plus every noisy odometry
+    /// increment since.
+    pub odometry: Pose,
+    /// One range per beam, metres, in the order of
+    /// [`LidarParams::bearings`].
+    pub ranges: Vec<f64>,
+    /// The person's footprint while they were in the world for this scan.
+    pub person: Option<Rect>,
+}
+
+/// The running simulation: a validated scene, its ground truth, and the
+/// seeded noise streams.
+#[derive(Debug, Clone)]
+pub struct ApartmentSim {
+    scene: ApartmentScene,
+    truth: World,
+    /// The ground truth plus the person, rebuilt cell by cell for each scan
+    /// in which the person is present.
+    scratch: World,
+    /// Cells of `scratch` the person currently covers.
+    person_cells: Vec<usize>,
+    bearings: Vec<f64>,
+    lidar_rng: StdRng,
+    odometry_rng: StdRng,
+    next_index: usize,
+    last_truth: Pose,
+    last_odometry: Pose,
+    person: bool,
+}
+
+impl ApartmentSim {
+    /// A fresh run of `scene` with noise seeded by `seed`; the person walks
+    /// the corridor when `person` is true.
+    pub fn new(scene: ApartmentScene, seed: u64, person: bool) -> Result<Self> {
+        let truth = scene.ground_truth()?;
+        let start = scene.path.pose_at(0.0);
+        Ok(Self {
+            bearings: scene.lidar.bearings(),
+            scratch: truth.clone(),
+            truth,
+            person_cells: Vec::new(),
+            lidar_rng: StdRng::seed_from_u64(seed),
+            odometry_rng: StdRng::seed_from_u64(seed ^ ODOMETRY_STREAM),
+            next_index: 0,
+            last_truth: start,
+            last_odometry: start,
+            person,
+            scene,
+        })
+    }
+
+    pub fn scene(&self) -> &ApartmentScene {
+        &self.scene
+    }
+    /// The static ground truth (walls and furniture; the person is a
+    /// passer-by, not part of the map).
+    pub fn ground_truth(&self) -> &World {
+        &self.truth
+    }
+    /// Bearing of every beam, radians relative to the heading.
+    pub fn bearings(&self) -> &[f64] {
+        &self.bearings
+    }
+    /// How many scans have been taken.
+    pub fn scans_taken(&self) -> usize {
+        self.next_index
+    }
+    pub fn person(&self) -> bool {
+        self.person
+    }
+    /// Puts the person into the corridor or takes them out, from the next
+    /// scan on. Their position follows the clock either way, so they
+    /// reappear where they would have been.
+    pub fn set_person(&mut self, on: bool) {
+        self.person = on;
+    }
+
+    /// Simulates the next scan.
+    pub fn next_scan(&mut self) -> SimScan {
+        let index = self.next_index;
+        let time = index as f64 / self.scene.scan_rate;
+        let truth = self.scene.path.pose_at(time);
+        let odometry = if index == 0 {
+            truth
+        } else {
+            self.scene.odometry.dead_reckon(
+                &self.last_odometry,
+                &self.last_truth,
+                &truth,
+                &mut self.odometry_rng,
+            )
+        };
+        let person = self.person.then(|| self.scene.person.footprint_at(time));
+        self.draw_person(person);
+        let mut ranges = Vec::with_capacity(self.bearings.len());
+        self.scene
+            .lidar
+            .scan_into(&self.scratch, &truth, &mut self.lidar_rng, &mut ranges);
+        self.next_index += 1;
+        self.last_truth = truth;
+        self.last_odometry = odometry;
+        SimScan {
+            index,
+            time,
+            truth,
+            odometry,
+            ranges,
+            person,
+        }
+    }
+
+    /// Makes `scratch` the ground truth plus the person's footprint (if
+    /// any), touching only the cells the person leaves and enters.
+    fn draw_person(&mut self, footprint: Option<Rect>) {
+        let g = *self.truth.geometry();
+        for &i in &self.person_cells {
+            self.scratch.occupied_mut()[i] = self.truth.occupied()[i];
+        }
+        self.person_cells.clear();
+        let Some(b) = footprint else { return };
+        // The cells whose centres can lie in the box, clipped to the map.
+        let (u0, v0) = g.world_to_grid(b.min_x, b.min_y);
+        let (u1, v1) = g.world_to_grid(b.max_x, b.max_y);
+        // Cell k's centre is at k + 0.5 in grid units.
+        let first = |u: f64, n: usize| ((u - 0.5).ceil().max(0.0) as usize).min(n);
+        for iy in first(v0, g.height())..first(v1, g.height()) {
+            for ix in first(u0, g.width())..first(u1, g.width()) {
+                let (x, y) = g.cell_center(ix, iy);
+                if b.contains(x, y) {
+                    let i = g.index(ix, iy);
+                    self.scratch.occupied_mut()[i] = true;
+                    self.person_cells.push(i);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_apartment_is_120_by_90_at_ten_centimetres() {
+        let scene = ApartmentScene::default();
+        let g = scene.validate().unwrap();
+        assert_eq!((g.width(), g.height(), g.len()), (120, 90, 10_800));
+        assert_eq!(scene.lidar.beams, 60);
+        // About 12 scans a second over a lap of about a minute.
+        let n = scene.scans_per_lap();
+        assert!((500..800).contains(&n), "{n}");
+    }
+
+    #[test]
+    fn person_is_drawn_for_one_scan_and_erased_for_the_next() {
+        let scene = ApartmentScene::default();
+        let mut sim = ApartmentSim::new(scene.clone(), 1, true).unwrap();
+        let truth = sim.ground_truth().occupied().to_vec();
+        let s = sim.next_scan();
+        let person = s.person.unwrap();
+        let covered = scene.cells_in(&scene.geometry().unwrap(), &[person]);
+        assert_eq!(covered.len(), 25, "a 0.5 m square covers 5 x 5 cells");
+        assert!(covered.iter().all(|&i| sim.scratch.occupied()[i]));
+        sim.set_person(false);
+        let s = sim.next_scan();
+        assert!(s.person.is_none());
+        assert_eq!(
+            sim.scratch.occupied(),
+            &truth[..],
+            "the person left no trace"
+        );
+    }
+
+    #[test]
+    fn bad_scene_fields_are_named() {
+        let mut scene = ApartmentScene::default();
+        scene.scan_rate = 0.0;
+        assert!(scene
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("scan_rate"));
+        let mut scene = ApartmentScene::default();
+        scene.obstacles[3].max_y = f64::NAN;
+        assert!(scene
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("obstacles[3].max_y"));
+        let mut scene = ApartmentScene::default();
+        scene.tracked[2].at = [50.0, 1.0];
+        assert!(scene
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("tracked[2]"));
+        let mut scene = ApartmentScene::default();
+        scene.resolution = -0.1;
+        assert!(ApartmentSim::new(scene, 0, false).is_err());
+        let mut scene = ApartmentScene::default();
+        scene.width = 2000;
+        scene.height = 1000;
+        assert!(scene
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("width x height"));
+        let mut scene = ApartmentScene::default();
+        scene.path.speed = 1e-9;
+        assert!(scene.validate().unwrap_err().to_string().contains("path"));
+    }
+}

@@ -1,0 +1,76 @@
+//! The odometry motion model of Probabilistic Robotics Table 5.6 (rotate,
+//! translate, rotate, each with noise that grows with the motion), plus the
+//! systematic errors real wheels have. Integrating the noisy increments from
+//! the start pose gives the dead-reckoned poses a map is built at when the
+//! pose oracle is off.
+
+use super::noise::standard_normal;
+use crate::error::{self, invalid, Result};
+use crate::geometry::{wrap_angle, Pose};
+use rand::rngs::StdRng;
+
+/// Odometry noise. `alpha` are the four coefficients of Table 5.6, used as
+/// standard deviations: rotation noise per radian turned (`alpha[0]`) and
+/// per metre driven (`alpha[1]`), translation noise per metre driven
+/// (`alpha[2]`) and per radian turned (`alpha[3]`). On top of that random
+/// noise, two systematic errors that do not average out and make a map
+/// built by dead reckoning bend: `heading_drift` radians of heading error
+/// per metre driven (unequal wheel diameters) and `turn_scale` (the
+/// fraction by which every turn is over-reported: a wrong wheel base).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct OdometryParams {
+    pub alpha: [f64; 4],
+    pub heading_drift: f64,
+    pub turn_scale: f64,
+}
+
+impl OdometryParams {
+    pub fn validate(&self) -> Result<()> {
+        for (i, &a) in self.alpha.iter().enumerate() {
+            error::non_negative(&format!("odometry.alpha[{i}]"), a)?;
+        }
+        error::finite("odometry.heading_drift", self.heading_drift)?;
+        error::finite("odometry.turn_scale", self.turn_scale)?;
+        if self.turn_scale.abs() >= 1.0 {
+            return Err(invalid(
+                "odometry.turn_scale",
+                self.turn_scale,
+                "a fraction between -1 and 1",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Advances the dead-reckoned pose `estimate` by what the wheels report
+    /// for the true motion from `from` to `to`: the motion is split into
+    /// rotate, translate, rotate (Table 5.6, lines 2–4), each part is
+    /// corrupted (lines 5–7, plus the systematic errors) and the result is
+    /// composed onto the estimate (lines 8–10). Draws exactly three normal
+    /// samples.
+    pub fn dead_reckon(&self, estimate: &Pose, from: &Pose, to: &Pose, rng: &mut StdRng) -> Pose {
+        let (dx, dy) = (to.x - from.x, to.y - from.y);
+        let trans = dx.hypot(dy);
+        // A turn in place has no direction of travel: all of it is rot2.
+        let rot1 = if trans > 1e-9 {
+            wrap_angle(dy.atan2(dx) - from.theta)
+        } else {
+            0.0
+        };
+        let rot2 = wrap_angle(to.theta - from.theta - rot1);
+        let [a1, a2, a3, a4] = self.alpha;
+        let n1 = standard_normal(rng);
+        let n2 = standard_normal(rng);
+        let n3 = standard_normal(rng);
+        let rot1_hat = rot1 * (1.0 + self.turn_scale) + (a1 * rot1.abs() + a2 * trans) * n1;
+        let trans_hat = trans + (a3 * trans + a4 * (rot1.abs() + rot2.abs())) * n2;
+        let rot2_hat = rot2 * (1.0 + self.turn_scale)
+            + self.heading_drift * trans
+            + (a1 * rot2.abs() + a2 * trans) * n3;
+        let heading = estimate.theta + rot1_hat;
+        Pose {
+            x: estimate.x + trans_hat * heading.cos(),
+            y: estimate.y + trans_hat * heading.sin(),
+            theta: wrap_angle(heading + rot2_hat),
+        }
+    }
+}
