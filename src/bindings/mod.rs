@@ -42,13 +42,8 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
 ) -> Result<T, JsError> {
     let value = plain::plain_copy(&value)
         .map_err(|reason| JsError::new(&format!("invalid {what}: {reason}")))?;
-    serde_path_to_error::deserialize(plain::Strict(value)).map_err(|e| {
-        // The library's message already reads "Error: ..." (it is a JS
-        // error's text); keep only the reason.
-        let text = e.inner().to_string();
-        let reason = text.strip_prefix("Error: ").unwrap_or(&text);
-        let path = e.path().to_string();
-        if path == "." {
+    plain::read_strict(value).map_err(|(path, reason)| {
+        if path.is_empty() {
             JsError::new(&format!("invalid {what}: {reason}"))
         } else {
             JsError::new(&format!("invalid {what}.{path}: {reason}"))

@@ -8,9 +8,11 @@
 //!    exception unwinding through the core (which would leave a session
 //!    marked "in use" for good). The copy has a budget of nodes and depth.
 //! 2. [`Strict`] reads the copy with serde, refusing any field the Rust
-//!    struct does not have, at any depth (`invalid scene.lidar.beems:
-//!    unknown field ...`). serde-wasm-bindgen alone reads only the fields it
-//!    knows, so a misspelt one would pass unnoticed.
+//!    struct does not have, at any depth, and [`read_strict`] names the path
+//!    to the field an error is about (`invalid scene.lidar: unknown field
+//!    "beems"`, `invalid scene.sonar.sub_rays: ...`). serde-wasm-bindgen
+//!    alone reads only the fields it knows, so a misspelt one would pass
+//!    unnoticed.
 
 use js_sys::{Array, Object, Reflect};
 use serde::de::{
@@ -82,12 +84,56 @@ fn copy(value: &JsValue, depth: usize, nodes: &mut usize) -> Result<JsValue, Str
     Ok(out.into())
 }
 
+/// Marks an error message that already carries a path: `PATH` + the path +
+/// `REASON` + the reason. Built up one field at a time on the way out.
+const PATH: char = '\u{1}';
+const REASON: char = '\u{2}';
+
+/// An error's text without the "Error: " a JavaScript error's text has.
+fn message(e: &Error) -> String {
+    let text = e.to_string();
+    text.strip_prefix("Error: ").unwrap_or(&text).to_string()
+}
+
+/// `e`, one path segment deeper (`key` or `[i]`).
+fn under(segment: &str, e: Error) -> Error {
+    let text = message(&e);
+    let inner = match text.strip_prefix(PATH) {
+        Some(rest) if rest.starts_with('[') => format!("{segment}{rest}"),
+        Some(rest) => format!("{segment}.{rest}"),
+        None => format!("{segment}{REASON}{text}"),
+    };
+    <Error as de::Error>::custom(format!("{PATH}{inner}"))
+}
+
+/// Reads `value` (a plain copy) as `T`, strictly; on error the path to the
+/// field (empty at the top) and the reason.
+pub fn read_strict<T: serde::de::DeserializeOwned>(value: JsValue) -> Result<T, (String, String)> {
+    T::deserialize(Strict(value)).map_err(|e| {
+        let text = message(&e);
+        match text
+            .strip_prefix(PATH)
+            .and_then(|rest| rest.split_once(REASON))
+        {
+            Some((path, reason)) => (path.to_string(), reason.to_string()),
+            None => (String::new(), text),
+        }
+    })
+}
+
 /// A serde deserializer over a plain copy that refuses unknown fields.
 pub struct Strict(pub JsValue);
 
 impl Strict {
     fn loose(self) -> serde_wasm_bindgen::Deserializer {
         serde_wasm_bindgen::Deserializer::from(self.0)
+    }
+
+    /// "invalid type: ..., expected ...", without handing the value to the
+    /// loose deserializer (which would read it a second way, in more code).
+    fn unexpected(&self, expected: &dyn de::Expected) -> Error {
+        let what = super::describe(&self.0);
+        <Error as de::Error>::invalid_type(de::Unexpected::Other(&what), expected)
     }
 }
 
@@ -152,10 +198,10 @@ impl<'de> Deserializer<'de> for Strict {
 
     fn deserialize_seq<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
         if !Array::is_array(&self.0) {
-            return self.loose().deserialize_seq(visitor);
+            return Err(self.unexpected(&visitor));
         }
         let items: Vec<JsValue> = self.0.unchecked_into::<Array>().iter().collect();
-        visitor.visit_seq(Items(items.into_iter()))
+        visitor.visit_seq(Items(items.into_iter().enumerate()))
     }
 
     fn deserialize_tuple<V: Visitor<'de>>(
@@ -177,12 +223,12 @@ impl<'de> Deserializer<'de> for Strict {
 
     fn deserialize_struct<V: Visitor<'de>>(
         self,
-        name: &'static str,
+        _name: &'static str,
         fields: &'static [&'static str],
         visitor: V,
     ) -> Result<V::Value, Error> {
         if !self.0.is_object() || Array::is_array(&self.0) {
-            return self.loose().deserialize_struct(name, fields, visitor);
+            return Err(self.unexpected(&visitor));
         }
         let mut entries = Vec::new();
         let object: &Object = self.0.unchecked_ref();
@@ -206,6 +252,7 @@ impl<'de> Deserializer<'de> for Strict {
         }
         visitor.visit_map(Fields {
             entries: entries.into_iter(),
+            key: String::new(),
             value: None,
         })
     }
@@ -220,7 +267,7 @@ impl<'de> Deserializer<'de> for Strict {
     }
 }
 
-struct Items(std::vec::IntoIter<JsValue>);
+struct Items(std::iter::Enumerate<std::vec::IntoIter<JsValue>>);
 
 impl<'de> SeqAccess<'de> for Items {
     type Error = Error;
@@ -228,15 +275,20 @@ impl<'de> SeqAccess<'de> for Items {
         &mut self,
         seed: T,
     ) -> Result<Option<T::Value>, Error> {
-        self.0
-            .next()
-            .map(|v| seed.deserialize(Strict(v)))
-            .transpose()
+        match self.0.next() {
+            None => Ok(None),
+            Some((i, v)) => seed
+                .deserialize(Strict(v))
+                .map(Some)
+                .map_err(|e| under(&format!("[{i}]"), e)),
+        }
     }
 }
 
 struct Fields {
     entries: std::vec::IntoIter<(String, JsValue)>,
+    /// The field being read, and its value until it is read.
+    key: String,
     value: Option<JsValue>,
 }
 
@@ -250,6 +302,7 @@ impl<'de> MapAccess<'de> for Fields {
             None => Ok(None),
             Some((key, value)) => {
                 self.value = Some(value);
+                self.key = key.clone();
                 let key: de::value::StringDeserializer<Error> = key.into_deserializer();
                 seed.deserialize(key).map(Some)
             }
@@ -257,5 +310,6 @@ impl<'de> MapAccess<'de> for Fields {
     }
     fn next_value_seed<V: DeserializeSeed<'de>>(&mut self, seed: V) -> Result<V::Value, Error> {
         seed.deserialize(Strict(self.value.take().unwrap_or(JsValue::UNDEFINED)))
+            .map_err(|e| under(&self.key, e))
     }
 }
