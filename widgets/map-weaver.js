@@ -571,7 +571,9 @@ class MapWeaverElement extends HTMLElement {
 
   drawCharts(r) {
     if (!this.entropyChart) return;
-    const t = chartTimes;
+    // The time of each point comes from the core, at the scene's scan rate.
+    const times = Array.from(this.weaver.curveTimes());
+    const t = (n) => times.slice(0, n);
     const e0 = this.weaver.entropyCurve(0);
     const e1 = this.weaver.entropyCurve(1);
     this.entropyChart.setData(t(e0.length), Array.from(e0), Array.from(e1));
@@ -654,15 +656,6 @@ class MapWeaverElement extends HTMLElement {
   exportMap(k) {
     if (this.weaver) return exportMap(this, `apartment-${SIDES[k]}`, () => this.weaver.exportMap(k));
   }
-}
-
-/**
- * The time of each of the first `n` scans, seconds, for the charts' x axis.
- * It assumes 12 scans per second, which is wrong for a scene with another
- * `scan_rate`; the one place to take the time from the core instead.
- */
-function chartTimes(n) {
-  return Array.from({ length: n }, (_, i) => i / SCANS_PER_SECOND);
 }
 
 /**
