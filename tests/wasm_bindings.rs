@@ -5,8 +5,9 @@
 
 use js_sys::{Error, Reflect};
 use occgrid::bindings::cell_filter::{run_cell_filter, worked_example};
-use occgrid::bindings::doorway_trap::{chapter_two_cell_query, joint_answer, DoorwayTrap};
+use occgrid::bindings::doorway_trap::DoorwayTrap;
 use occgrid::bindings::real_log::{LaserLog, LogMapSession};
+use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_answer};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 

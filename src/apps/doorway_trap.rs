@@ -6,7 +6,8 @@
 use crate::error::{invalid, Result};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::mapping::map_search::{MapSearch, MapSearchSettings};
+use crate::io::map_server::{map_server_pair, MapServerPair};
+use crate::mapping::map_search::{Flip, MapSearch, MapSearchSettings};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
 use crate::scenes::doorway::DoorwayScene;
@@ -151,6 +152,171 @@ impl DoorwaySweep {
 /// The right half of the widget: the MAP search over the scene's readings.
 pub fn map_search(scene: &DoorwayScene) -> Result<MapSearch> {
     MapSearch::new(scene.geometry()?, scene.beams()?, search_settings(scene))
+}
+
+/// Saturation of the exported MAP map, log odds: far past both YAML
+/// thresholds, so every decided cell exports as occupied or free.
+const EXPORT_CLAMP: f64 = 12.0;
+
+/// What one sweep step did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SweepStep {
+    /// Scans swept so far.
+    pub scan: usize,
+    pub cells_visited: usize,
+    pub cells_updated: usize,
+}
+
+/// The MAP climb as the widget shows it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct MapState<'a> {
+    pub flips: &'a [Flip],
+    /// The objective `J` before the first flip and after each.
+    pub history: &'a [f64],
+    pub objective: f64,
+    pub converged: bool,
+    pub occupied: usize,
+    pub l0: f64,
+    pub beams: usize,
+}
+
+/// The door report with the sweep's progress.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TrapReport {
+    #[serde(flatten)]
+    pub door: DoorReport,
+    pub scans_done: usize,
+    pub scans: usize,
+}
+
+/// One cell as the hover readout shows it in both halves: the swept log
+/// odds and probability, the MAP cell, its objective change if flipped, and
+/// the cones through it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DoorwayCell {
+    pub ix: usize,
+    pub iy: usize,
+    pub l: f32,
+    pub p: f64,
+    pub updates: u32,
+    pub occupied: bool,
+    pub sensitivity: f64,
+    pub beams: usize,
+}
+
+/// The doorway trap: both halves over one scene, stepped by the widget.
+pub struct DoorwayTrapSession {
+    scene: DoorwayScene,
+    sweep: DoorwaySweep,
+    search: MapSearch,
+}
+
+impl DoorwayTrapSession {
+    pub fn new(scene: DoorwayScene) -> Result<Self> {
+        Ok(Self {
+            sweep: DoorwaySweep::new(&scene)?,
+            search: map_search(&scene)?,
+            scene,
+        })
+    }
+
+    pub fn scene(&self) -> &DoorwayScene {
+        &self.scene
+    }
+    pub fn sweep(&self) -> &DoorwaySweep {
+        &self.sweep
+    }
+    pub fn search(&self) -> &MapSearch {
+        &self.search
+    }
+
+    /// Sweeps the next scan; `None` once every scan is in.
+    pub fn sweep_step(&mut self) -> Option<SweepStep> {
+        let stats = self.sweep.step()?;
+        Some(SweepStep {
+            scan: self.sweep.scans_done(),
+            cells_visited: stats.cells_visited,
+            cells_updated: stats.cells_updated,
+        })
+    }
+
+    pub fn sweep_reset(&mut self) {
+        self.sweep.reset();
+    }
+
+    /// One steepest-ascent flip, or `None` at a local maximum.
+    pub fn map_step(&mut self) -> Option<&Flip> {
+        self.search.step()
+    }
+
+    pub fn map_reset(&mut self) {
+        self.search.reset();
+    }
+
+    /// Runs the climb on, at most `max_flips` more flips; the flips made.
+    pub fn map_run(&mut self, max_flips: usize) -> usize {
+        self.search.run(max_flips)
+    }
+
+    pub fn map_state(&self) -> MapState<'_> {
+        MapState {
+            flips: self.search.flips(),
+            history: self.search.history(),
+            objective: self.search.objective(),
+            converged: self.search.is_converged(),
+            occupied: self.search.occupied_count(),
+            l0: self.search.l0(),
+            beams: self.search.beams().len(),
+        }
+    }
+
+    pub fn report(&self) -> Result<TrapReport> {
+        Ok(TrapReport {
+            door: door_report(&self.scene, self.sweep.grid(), self.search.occupied())?,
+            scans_done: self.sweep.scans_done(),
+            scans: self.sweep.scan_count(),
+        })
+    }
+
+    /// The hover readout of cell `(ix, iy)`.
+    pub fn cell_info(&self, ix: usize, iy: usize) -> Result<DoorwayCell> {
+        let g = *self.search.geometry();
+        if ix >= g.width() || iy >= g.height() {
+            return Err(invalid(
+                "cell",
+                format!("({ix}, {iy})"),
+                "a cell of the map",
+            ));
+        }
+        let i = g.index(ix, iy);
+        let grid = self.sweep.grid();
+        Ok(DoorwayCell {
+            ix,
+            iy,
+            l: grid.log_odds()[i],
+            p: grid.probability_at(i),
+            updates: grid.update_counts()[i],
+            occupied: self.search.occupied()[i],
+            sensitivity: self.search.sensitivity()[i],
+            beams: self.search.beams_through(i),
+        })
+    }
+
+    /// One half's map (`"sweep"` or `"map"`) as a ROS `map_server` pair.
+    pub fn export_map(&self, which: &str) -> Result<MapServerPair> {
+        let name = format!("doorway-{which}.pgm");
+        match which {
+            "sweep" => Ok(map_server_pair(self.sweep.grid(), &name)),
+            "map" => Ok(map_server_pair(&self.search.to_grid(EXPORT_CLAMP)?, &name)),
+            _ => Err(invalid(
+                "map",
+                format!("\"{which}\""),
+                "\"sweep\" or \"map\"",
+            )),
+        }
+    }
 }
 
 #[cfg(test)]

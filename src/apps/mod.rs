@@ -3,6 +3,7 @@
 //! JavaScript only draws. The bindings wrap each session in one newtype.
 
 pub mod doorway_trap;
+pub mod inverse_workbench;
 pub mod map_weaver;
 pub mod real_log;
 pub mod sensor_fusion;

@@ -5,9 +5,9 @@
 //! learned model with another seed; it draws what it gets.
 
 use super::{object_from_js, object_or_default, to_js};
-use crate::inverse::probes::{mean_free_evidence, side_by_side, BeamLattice};
-use crate::inverse::training::{self, TrainingConfig};
-use crate::inverse::{HandCrafted, InverseModel, LearnedInverse};
+use crate::apps::inverse_workbench::WorkbenchSession;
+use crate::inverse::probes::BeamLattice;
+use crate::inverse::training;
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 use wasm_bindgen::prelude::*;
 
@@ -25,68 +25,12 @@ fn now_ms() -> f64 {
     performance_now().unwrap_or(f64::NAN)
 }
 
-/// Both models and the last training run, held in wasm memory.
+/// Both models and the last training run, held in wasm memory:
+/// [`WorkbenchSession`], and the last view's images.
 #[wasm_bindgen]
 pub struct InverseWorkbench {
-    config: TrainingConfig,
-    hand: HandCrafted,
-    learned: LearnedInverse,
-    run: TrainingRun,
-}
-
-/// What the readout says about the last training run.
-#[derive(serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-struct TrainingRun {
-    seed: u64,
-    triplets: usize,
-    epochs: usize,
-    maps: usize,
-    map_occupancy: f64,
-    no_returns: f64,
-    occupied_fraction: f64,
-    sample_ms: f64,
-    fit_ms: f64,
-    train_ms: f64,
-}
-
-/// The readout: the last run, the learned model's figures, and both
-/// models' geometry.
-#[derive(serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-struct Readout<'a> {
-    run: &'a TrainingRun,
-    learned: training::ModelSummary,
-    hand_l0: f32,
-    z_max: f64,
-    /// Half-angle of the sensor's cone, radians.
-    half_width: f64,
-    hand_half_width: f64,
-    learned_half_width: f64,
-    alpha: f64,
-    weights: &'a [f64],
-}
-
-/// Trains the learned model, timing sampling and fitting apart.
-fn train(config: &TrainingConfig) -> Result<(LearnedInverse, TrainingRun), JsError> {
-    let t0 = now_ms();
-    let set = training::sample_triplets(config)?;
-    let t1 = now_ms();
-    let (model, report) = training::fit(config, &set)?;
-    let t2 = now_ms();
-    let run = TrainingRun {
-        seed: config.seed,
-        triplets: set.triplets.len(),
-        epochs: config.epochs,
-        maps: set.maps,
-        map_occupancy: set.map_occupancy,
-        no_returns: set.no_returns,
-        occupied_fraction: report.occupied_fraction,
-        sample_ms: t1 - t0,
-        fit_ms: t2 - t1,
-        train_ms: t2 - t0,
-    };
-    Ok((model, run))
+    session: WorkbenchSession,
+    images: [Vec<u8>; 2],
 }
 
 #[wasm_bindgen]
@@ -96,34 +40,18 @@ impl InverseWorkbench {
     /// same sensor.
     #[wasm_bindgen(constructor)]
     pub fn new(seed: Option<f64>) -> Result<InverseWorkbench, JsError> {
-        let config = TrainingConfig {
-            seed: match seed {
-                Some(s) => training::seed_from_number(s)?,
-                None => training::DEFAULT_SEED,
-            },
-            ..TrainingConfig::default()
-        };
-        let hand = HandCrafted::new(config.hand_crafted_counterpart()?)?;
-        let (learned, run) = train(&config)?;
+        let seed = seed.map(training::seed_from_number).transpose()?;
         Ok(InverseWorkbench {
-            config,
-            hand,
-            learned,
-            run,
+            session: WorkbenchSession::new(seed, &now_ms)?,
+            images: [Vec::new(), Vec::new()],
         })
     }
 
     /// Retrains the learned model with another seed. On an error the
     /// current model stays.
     pub fn retrain(&mut self, seed: f64) -> Result<JsValue, JsError> {
-        let config = TrainingConfig {
-            seed: training::seed_from_number(seed)?,
-            ..self.config
-        };
-        let (learned, run) = train(&config)?;
-        self.config = config;
-        self.learned = learned;
-        self.run = run;
+        self.session
+            .retrain(training::seed_from_number(seed)?, &now_ms)?;
         self.readout()
     }
 
@@ -133,32 +61,25 @@ impl InverseWorkbench {
     /// handL0, zMax, halfWidth, handHalfWidth, learnedHalfWidth, alpha,
     /// weights }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
-        to_js(&Readout {
-            run: &self.run,
-            learned: training::summarize(&self.learned)?,
-            hand_l0: self.hand.l0(),
-            z_max: self.config.sensor.z_max,
-            half_width: self.config.half_width,
-            hand_half_width: self.hand.half_width(),
-            learned_half_width: self.learned.half_width(),
-            alpha: self.hand.params().alpha,
-            weights: self.learned.weights(),
-        })
+        to_js(&self.session.readout()?)
     }
 
     /// Both models for reading `z` over `lattice` (`{ minRange, maxRange,
     /// ranges, maxBearing, bearings }`, metres and radians):
-    /// `{ hand, learned }` evidence images (`Float32Array`, log odds net of
+    /// `{ hand, learned }` evidence fields (`Float32Array`, log odds net of
     /// each model's `l0`, one row per bearing from `-maxBearing`),
-    /// `{ handAxis, learnedAxis }` log odds along the axis
+    /// `{ handImage, learnedImage }` the addresses in wasm memory of their
+    /// RGBA images (`ranges x bearings`, `+maxBearing` on top, on the
+    /// shared scale), `{ handAxis, learnedAxis }` log odds along the axis
     /// (`Float32Array`), `scale`: the largest `|evidence|` of the two
-    /// images (their shared colour scale), `{ handL0, learnedL0 }`,
+    /// (their shared colour scale), `{ handL0, learnedL0 }`,
     /// `{ rangeAxis, bearingAxis }` (the lattice's ranges and bearings) and
     /// `{ handFree, learnedFree }`: the mean evidence on the axis in front
     /// of the reading (null when the reading is too short to have any).
-    pub fn view(&self, z: f64, lattice: JsValue) -> Result<JsValue, JsError> {
+    pub fn view(&mut self, z: f64, lattice: JsValue) -> Result<JsValue, JsError> {
         let lattice: BeamLattice = object_from_js("lattice", lattice)?;
-        let v = side_by_side(&self.hand, &self.learned, z, &lattice)?;
+        let v = self.session.view(z, &lattice)?;
+        self.images = v.images;
         let out = js_sys::Object::new();
         let set = |key: &str, value: JsValue| -> Result<(), JsError> {
             js_sys::Reflect::set(&out, &JsValue::from_str(key), &value)
@@ -166,27 +87,26 @@ impl InverseWorkbench {
                 .map_err(|_| JsError::new("cannot build the view object"))
         };
         let array = |v: &[f32]| JsValue::from(js_sys::Float32Array::from(v));
+        let number = |v: Option<f64>| v.map_or(JsValue::NULL, JsValue::from_f64);
         set("hand", array(&v.fields[0]))?;
         set("learned", array(&v.fields[1]))?;
+        set(
+            "handImage",
+            JsValue::from_f64(self.images[0].as_ptr() as usize as f64),
+        )?;
+        set(
+            "learnedImage",
+            JsValue::from_f64(self.images[1].as_ptr() as usize as f64),
+        )?;
         set("handAxis", array(&v.axes[0]))?;
         set("learnedAxis", array(&v.axes[1]))?;
         set("scale", JsValue::from_f64(v.scale as f64))?;
-        let ranges: Vec<f32> = (0..lattice.ranges)
-            .map(|i| lattice.range(i) as f32)
-            .collect();
-        let bearings: Vec<f32> = (0..lattice.bearings)
-            .map(|j| lattice.bearing(j) as f32)
-            .collect();
-        set("rangeAxis", array(&ranges))?;
-        set("bearingAxis", array(&bearings))?;
-        // Too short a reading has no free space in front of its ramp: null.
-        let free = |m: &dyn InverseModel| {
-            mean_free_evidence(m, z, training::FREE_MARGIN).map_or(JsValue::NULL, JsValue::from_f64)
-        };
-        set("handFree", free(&self.hand))?;
-        set("learnedFree", free(&self.learned))?;
-        set("handL0", JsValue::from_f64(self.hand.l0() as f64))?;
-        set("learnedL0", JsValue::from_f64(self.learned.l0() as f64))?;
+        set("rangeAxis", array(&v.range_axis))?;
+        set("bearingAxis", array(&v.bearing_axis))?;
+        set("handFree", number(v.free[0]))?;
+        set("learnedFree", number(v.free[1]))?;
+        set("handL0", JsValue::from_f64(v.l0[0] as f64))?;
+        set("learnedL0", JsValue::from_f64(v.l0[1] as f64))?;
         Ok(out.into())
     }
 
@@ -194,8 +114,9 @@ impl InverseWorkbench {
     /// trainMs, triplets, epochs }` (the model is kept).
     #[wasm_bindgen(js_name = benchmarkTraining)]
     pub fn benchmark_training(&mut self, seed: f64) -> Result<JsValue, JsError> {
-        self.retrain(seed)?;
-        to_js(&self.run)
+        self.session
+            .retrain(training::seed_from_number(seed)?, &now_ms)?;
+        to_js(self.session.run())
     }
 }
 

@@ -16,6 +16,7 @@ pub mod map_weaver;
 pub mod plain;
 pub mod real_log;
 pub mod sensor_fusion;
+pub mod two_cell_table;
 
 #[wasm_bindgen(start)]
 fn start() {

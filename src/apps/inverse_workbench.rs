@@ -1,0 +1,229 @@
+//! The inverse-model workbench session (Table 9.2 against §9.3): both
+//! models for one beam, trained and timed, with everything the widget shows:
+//! the evidence images rendered on one shared scale, the log odds along the
+//! beam axis, the mean free evidence in front of the reading, and the
+//! training run's figures.
+
+use crate::error::Result;
+use crate::inverse::probes::{mean_free_evidence, side_by_side, BeamLattice};
+use crate::inverse::training::{self, ModelSummary, TrainingConfig};
+use crate::inverse::{HandCrafted, InverseModel, LearnedInverse};
+use crate::render::evidence::render_evidence_rgba;
+
+/// What the readout says about the last training run.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TrainingRun {
+    pub seed: u64,
+    pub triplets: usize,
+    pub epochs: usize,
+    pub maps: usize,
+    pub map_occupancy: f64,
+    pub no_returns: f64,
+    pub occupied_fraction: f64,
+    /// Milliseconds on the host's clock (NaN where it has none).
+    pub sample_ms: f64,
+    pub fit_ms: f64,
+    pub train_ms: f64,
+}
+
+/// The readout: the last run, the learned model's figures, and both
+/// models' geometry.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct WorkbenchReadout<'a> {
+    pub run: &'a TrainingRun,
+    pub learned: ModelSummary,
+    pub hand_l0: f32,
+    pub z_max: f64,
+    /// Half-angle of the sensor's cone, radians.
+    pub half_width: f64,
+    pub hand_half_width: f64,
+    pub learned_half_width: f64,
+    pub alpha: f64,
+    pub weights: &'a [f64],
+}
+
+/// Both models for one reading over one lattice: the evidence fields, their
+/// images (RGBA, `ranges x bearings`, most positive bearing on top), the
+/// axis curves, the shared scale and the mean free evidence.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorkbenchView {
+    /// Evidence, log odds net of each model's `l0`: hand-crafted, learned.
+    pub fields: [Vec<f32>; 2],
+    pub images: [Vec<u8>; 2],
+    /// Log odds along the axis: hand-crafted, learned.
+    pub axes: [Vec<f32>; 2],
+    /// The images' shared colour scale: `+scale` black, `-scale` white.
+    pub scale: f32,
+    pub range_axis: Vec<f32>,
+    pub bearing_axis: Vec<f32>,
+    /// Mean evidence in front of the reading (`None` when the reading is
+    /// too short to have any free space in front of its ramp).
+    pub free: [Option<f64>; 2],
+    pub l0: [f32; 2],
+}
+
+/// The workbench: the training configuration, both models and the last run.
+pub struct WorkbenchSession {
+    config: TrainingConfig,
+    hand: HandCrafted,
+    learned: LearnedInverse,
+    run: TrainingRun,
+}
+
+/// Trains the learned model, timing sampling and fitting apart on `now`
+/// (milliseconds; the core has no clock of its own in wasm).
+fn train(config: &TrainingConfig, now: &dyn Fn() -> f64) -> Result<(LearnedInverse, TrainingRun)> {
+    let t0 = now();
+    let set = training::sample_triplets(config)?;
+    let t1 = now();
+    let (model, report) = training::fit(config, &set)?;
+    let t2 = now();
+    let run = TrainingRun {
+        seed: config.seed,
+        triplets: set.triplets.len(),
+        epochs: config.epochs,
+        maps: set.maps,
+        map_occupancy: set.map_occupancy,
+        no_returns: set.no_returns,
+        occupied_fraction: report.occupied_fraction,
+        sample_ms: t1 - t0,
+        fit_ms: t2 - t1,
+        train_ms: t2 - t0,
+    };
+    Ok((model, run))
+}
+
+impl WorkbenchSession {
+    /// Trains the learned model with `seed` (the chapter's when `None`) and
+    /// builds the hand-crafted model for the same sensor.
+    pub fn new(seed: Option<u64>, now: &dyn Fn() -> f64) -> Result<Self> {
+        let config = TrainingConfig {
+            seed: seed.unwrap_or(training::DEFAULT_SEED),
+            ..TrainingConfig::default()
+        };
+        let hand = HandCrafted::new(config.hand_crafted_counterpart()?)?;
+        let (learned, run) = train(&config, now)?;
+        Ok(Self {
+            config,
+            hand,
+            learned,
+            run,
+        })
+    }
+
+    /// Retrains the learned model with another seed. On an error the
+    /// current model stays.
+    pub fn retrain(&mut self, seed: u64, now: &dyn Fn() -> f64) -> Result<()> {
+        let config = TrainingConfig {
+            seed,
+            ..self.config
+        };
+        let (learned, run) = train(&config, now)?;
+        self.config = config;
+        self.learned = learned;
+        self.run = run;
+        Ok(())
+    }
+
+    pub fn run(&self) -> &TrainingRun {
+        &self.run
+    }
+
+    pub fn learned(&self) -> &LearnedInverse {
+        &self.learned
+    }
+
+    pub fn readout(&self) -> Result<WorkbenchReadout<'_>> {
+        Ok(WorkbenchReadout {
+            run: &self.run,
+            learned: training::summarize(&self.learned)?,
+            hand_l0: self.hand.l0(),
+            z_max: self.config.sensor.z_max,
+            half_width: self.config.half_width,
+            hand_half_width: self.hand.half_width(),
+            learned_half_width: self.learned.half_width(),
+            alpha: self.hand.params().alpha,
+            weights: self.learned.weights(),
+        })
+    }
+
+    /// Both models for reading `z` (metres) over `lattice`.
+    pub fn view(&self, z: f64, lattice: &BeamLattice) -> Result<WorkbenchView> {
+        let v = side_by_side(&self.hand, &self.learned, z, lattice)?;
+        let mut images = [Vec::new(), Vec::new()];
+        for (image, field) in images.iter_mut().zip(&v.fields) {
+            render_evidence_rgba(
+                field,
+                lattice.ranges,
+                lattice.bearings,
+                v.scale as f64,
+                image,
+            )?;
+        }
+        let free = |m: &dyn InverseModel| mean_free_evidence(m, z, training::FREE_MARGIN).ok();
+        Ok(WorkbenchView {
+            images,
+            axes: v.axes,
+            scale: v.scale,
+            range_axis: (0..lattice.ranges)
+                .map(|i| lattice.range(i) as f32)
+                .collect(),
+            bearing_axis: (0..lattice.bearings)
+                .map(|j| lattice.bearing(j) as f32)
+                .collect(),
+            free: [free(&self.hand), free(&self.learned)],
+            l0: [self.hand.l0(), self.learned.l0()],
+            fields: v.fields,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lattice() -> BeamLattice {
+        BeamLattice {
+            min_range: 0.0,
+            max_range: 4.0,
+            ranges: 40,
+            max_bearing: 0.3,
+            bearings: 9,
+        }
+    }
+
+    #[test]
+    fn the_session_trains_times_and_draws_both_models_on_one_scale() {
+        let clock = std::cell::Cell::new(0.0);
+        let now = || {
+            clock.set(clock.get() + 5.0);
+            clock.get()
+        };
+        let mut w = WorkbenchSession::new(None, &now).unwrap();
+        assert_eq!(w.run().seed, training::DEFAULT_SEED);
+        assert_eq!((w.run().sample_ms, w.run().fit_ms), (5.0, 5.0));
+        let v = w.view(2.0, &lattice()).unwrap();
+        assert_eq!(v.images[0].len(), 40 * 9 * 4);
+        // The image is the field on the shared scale: the cell with the
+        // strongest evidence of either model is black or white.
+        let strongest = v
+            .fields
+            .iter()
+            .flatten()
+            .fold(0.0f32, |m, &e| m.max(e.abs()));
+        assert_eq!(strongest, v.scale);
+        let darkest = v.images.iter().flatten().step_by(4).min().copied().unwrap();
+        let lightest = v.images.iter().flatten().step_by(4).max().copied().unwrap();
+        assert!(darkest <= 1 || lightest == 255, "{darkest} {lightest}");
+        assert!(
+            v.free[1].is_some() && v.free[1].unwrap() < 0.0,
+            "free space in front"
+        );
+        let before = w.learned().clone();
+        w.retrain(10, &now).unwrap();
+        assert_eq!(w.run().seed, 10);
+        assert_ne!(w.learned(), &before, "another seed, another model");
+    }
+}
