@@ -464,7 +464,7 @@ proptest! {
             2 => w.set_model(pane, if model { ModelKind::Learned } else { ModelKind::HandCrafted }),
             3 => w.set_pose_source(pane, if model { PoseSource::DeadReckoning } else { PoseSource::Oracle }),
             4 => w.cell_info(pane, col, row).map(|c| {
-                if let Some(c) = c { assert!(c.p.is_finite() && c.l.is_finite()); }
+                if let Some(c) = c { assert!(c.cell.p.is_finite() && c.cell.l.is_finite()); }
             }),
             5 => w.overlay(pane).map(drop),
             6 => w.entropy_curve(pane).and(w.brier_curve(pane)).and(w.tracked_history(pane)).map(drop),

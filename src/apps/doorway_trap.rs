@@ -4,6 +4,7 @@
 //! the door report the widget prints.
 
 use crate::error::{invalid, Result};
+use crate::grid::readout::{readout_at_cell, CellReadout};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::map_server::{map_server_pair, MapServerPair};
@@ -191,16 +192,12 @@ pub struct TrapReport {
     pub scans: usize,
 }
 
-/// One cell as the hover readout shows it in both halves: the swept log
-/// odds and probability, the MAP cell, its objective change if flipped, and
-/// the cones through it.
+/// One cell as the hover readout shows it in both halves: the swept cell,
+/// the MAP cell, its objective change if flipped, and the cones through it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct DoorwayCell {
-    pub ix: usize,
-    pub iy: usize,
-    pub l: f32,
-    pub p: f64,
-    pub updates: u32,
+    #[serde(flatten)]
+    pub cell: CellReadout,
     pub occupied: bool,
     pub sensitivity: f64,
     pub beams: usize,
@@ -291,13 +288,10 @@ impl DoorwayTrapSession {
             ));
         }
         let i = g.index(ix, iy);
-        let grid = self.sweep.grid();
+        let cell = readout_at_cell(self.sweep.grid(), ix, iy)
+            .ok_or_else(|| invalid("cell", format!("({ix}, {iy})"), "a cell of the map"))?;
         Ok(DoorwayCell {
-            ix,
-            iy,
-            l: grid.log_odds()[i],
-            p: grid.probability_at(i),
-            updates: grid.update_counts()[i],
+            cell,
             occupied: self.search.occupied()[i],
             sensitivity: self.search.sensitivity()[i],
             beams: self.search.beams_through(i),

@@ -22,6 +22,7 @@
 use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
+use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
@@ -350,22 +351,15 @@ pub struct Readout {
     pub panes: [PaneReadout; 2],
 }
 
-/// One cell as the hover readout shows it.
+/// One cell as the hover readout shows it: the pane's cell and the ground
+/// truth under it.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct CellInfo {
-    pub ix: usize,
-    pub iy: usize,
-    /// The cell's centre, metres.
-    pub x: f64,
-    pub y: f64,
-    pub l: f32,
-    pub p: f64,
-    pub updates: u32,
+    #[serde(flatten)]
+    pub cell: CellReadout,
     /// Ground truth.
     pub occupied: bool,
-    /// Still exactly at the prior.
-    pub unknown: bool,
 }
 
 /// What is drawn over a pane's map, in the map image's own units: `u`
@@ -753,23 +747,9 @@ impl Weaver {
     /// image is north up), or `None` outside the map.
     pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<Option<CellInfo>> {
         let p = self.pane(pane)?;
-        let g = &self.geometry;
-        if col >= g.width() || row >= g.height() {
-            return Ok(None);
-        }
-        let (ix, iy) = (col, g.height() - 1 - row);
-        let i = g.index(ix, iy);
-        let (x, y) = g.cell_center(ix, iy);
-        Ok(Some(CellInfo {
-            ix,
-            iy,
-            x,
-            y,
-            l: p.grid.log_odds()[i],
-            p: p.grid.probability_at(i),
-            updates: p.grid.update_counts()[i],
-            occupied: self.ground_truth()[i],
-            unknown: p.grid.is_unknown(i),
+        Ok(readout_at_pixel(&p.grid, col, row).map(|cell| CellInfo {
+            occupied: self.ground_truth()[self.geometry.index(cell.ix, cell.iy)],
+            cell,
         }))
     }
 
@@ -921,13 +901,13 @@ mod tests {
         w.advance(30).unwrap();
         // Image row 0 is the map's northernmost row.
         let info = w.cell_info(0, 30, 0).unwrap().unwrap();
-        assert_eq!((info.ix, info.iy), (30, 89));
+        assert_eq!((info.cell.ix, info.cell.iy), (30, 89));
         assert!(info.occupied, "the north outer wall");
         let [wall, _, _] = w.tracked_cells();
         let (ix, iy) = w.geometry().cell_of_index(wall);
         let info = w.cell_info(0, ix, 89 - iy).unwrap().unwrap();
-        assert_eq!(info.l, w.grid(0).unwrap().log_odds()[wall]);
-        assert_eq!(info.updates, w.grid(0).unwrap().update_counts()[wall]);
+        assert_eq!(info.cell.l, w.grid(0).unwrap().log_odds()[wall] as f64);
+        assert_eq!(info.cell.updates, w.grid(0).unwrap().update_counts()[wall]);
     }
 
     #[test]

@@ -295,13 +295,11 @@ pub fn supercover(
     let Some(walk) = Walk::new(width, height, a, b) else {
         return 0;
     };
-    let mut cursor = CellCursor {
-        x: walk.start.0,
-        y: walk.start.1,
-        step_x: walk.step.0 as isize,
-        step_y: walk.step.1 as isize,
-        visit,
-    };
+    let mut visit = visit;
+    let mut cursor = CellCursor::<_, false>::new(&walk, |x, y| {
+        visit(x, y);
+        false
+    });
     walk.run(&mut cursor)
 }
 
@@ -316,52 +314,9 @@ pub fn first_cell(
     hit: impl FnMut(usize, usize) -> bool,
 ) -> Option<(usize, usize)> {
     let walk = Walk::new(width, height, a, b)?;
-    let mut cursor = FirstHit {
-        x: walk.start.0,
-        y: walk.start.1,
-        step_x: walk.step.0 as isize,
-        step_y: walk.step.1 as isize,
-        hit,
-        found: None,
-    };
+    let mut cursor = CellCursor::<_, true>::new(&walk, hit);
     walk.run(&mut cursor);
     cursor.found
-}
-
-/// The cursor of [`first_cell`]: the cell's coordinates and the first hit.
-struct FirstHit<F> {
-    x: usize,
-    y: usize,
-    step_x: isize,
-    step_y: isize,
-    hit: F,
-    found: Option<(usize, usize)>,
-}
-
-impl<F: FnMut(usize, usize) -> bool> Cursor for FirstHit<F> {
-    const STOPS: bool = true;
-    #[inline(always)]
-    fn visit(&mut self) {
-        if (self.hit)(self.x, self.y) {
-            self.found = Some((self.x, self.y));
-        }
-    }
-    #[inline(always)]
-    fn done(&self) -> bool {
-        self.found.is_some()
-    }
-    #[inline(always)]
-    fn step_x(&mut self) {
-        self.x = self.x.wrapping_add_signed(self.step_x);
-    }
-    #[inline(always)]
-    fn step_y(&mut self) {
-        self.y = self.y.wrapping_add_signed(self.step_y);
-    }
-    #[inline(always)]
-    fn unstep_x(&mut self) {
-        self.x = self.x.wrapping_add_signed(-self.step_x);
-    }
 }
 
 /// The parameter at which the ray `start + t (c, s)` (grid coordinates,
@@ -385,19 +340,41 @@ pub fn entry_parameter(ix: usize, iy: usize, start: (f64, f64), (c, s): (f64, f6
         .max(0.0)
 }
 
-/// The cursor of [`supercover`]: the cell's coordinates.
-struct CellCursor<F> {
+/// The cursor of [`supercover`] and [`first_cell`]: the cell's coordinates,
+/// and with `STOP` the first cell `visit` says yes to, where the walk ends.
+struct CellCursor<F, const STOP: bool> {
     x: usize,
     y: usize,
     step_x: isize,
     step_y: isize,
     visit: F,
+    found: Option<(usize, usize)>,
 }
 
-impl<F: FnMut(usize, usize)> Cursor for CellCursor<F> {
+impl<F, const STOP: bool> CellCursor<F, STOP> {
+    fn new(walk: &Walk, visit: F) -> Self {
+        Self {
+            x: walk.start.0,
+            y: walk.start.1,
+            step_x: walk.step.0 as isize,
+            step_y: walk.step.1 as isize,
+            visit,
+            found: None,
+        }
+    }
+}
+
+impl<F: FnMut(usize, usize) -> bool, const STOP: bool> Cursor for CellCursor<F, STOP> {
+    const STOPS: bool = STOP;
     #[inline(always)]
     fn visit(&mut self) {
-        (self.visit)(self.x, self.y);
+        if (self.visit)(self.x, self.y) {
+            self.found = Some((self.x, self.y));
+        }
+    }
+    #[inline(always)]
+    fn done(&self) -> bool {
+        self.found.is_some()
     }
     #[inline(always)]
     fn step_x(&mut self) {

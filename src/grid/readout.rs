@@ -26,8 +26,16 @@ pub struct CellReadout {
 /// The cell under image pixel `(col, row)` of the north-up image (row 0 at
 /// the top), or `None` outside the map.
 pub fn readout_at_pixel(grid: &LogOddsGrid, col: usize, row: usize) -> Option<CellReadout> {
+    let (ix, iy) = grid.geometry().image_pixel_to_cell(col, row)?;
+    readout_at_cell(grid, ix, iy)
+}
+
+/// Cell `(ix, iy)` (row 0 at the bottom), or `None` outside the map.
+pub fn readout_at_cell(grid: &LogOddsGrid, ix: usize, iy: usize) -> Option<CellReadout> {
     let g = grid.geometry();
-    let (ix, iy) = g.image_pixel_to_cell(col, row)?;
+    if ix >= g.width() || iy >= g.height() {
+        return None;
+    }
     let i = g.index(ix, iy);
     let (x, y) = g.cell_center(ix, iy);
     Some(CellReadout {
