@@ -58,7 +58,7 @@ fn intel_full() {
 /// scans, and one lap integrated into the sonar, LiDAR, summed and
 /// max-fused maps (two 12,000-cell sweeps and two ray traversals per scan).
 fn table_fusion() {
-    use occgrid::mapping::fusion::TableFusion;
+    use occgrid::apps::sensor_fusion::TableFusion;
     use occgrid::scenes::table::TableScene;
     let scene = TableScene::default();
     let (mut build, mut lap, mut per_step) = (Vec::new(), Vec::new(), Vec::new());
@@ -155,7 +155,7 @@ fn intel_real_log() {
         let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
         read.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
-        let mut b = carmen::LogMapBuild::new(scans, carmen::LogMapSettings::default())
+        let mut b = occgrid::apps::real_log::LogMapBuild::new(scans, occgrid::apps::real_log::LogMapSettings::default())
             .expect("default settings");
         let p = b.advance(usize::MAX);
         build.push(t.elapsed().as_secs_f64() * 1e3);
@@ -172,13 +172,13 @@ fn intel_real_log() {
 /// One flip step and the climb to convergence from the all-free start are
 /// timed apart; building the incidence cache is `setup_ms`.
 fn doorway_map() {
-    use occgrid::scenes::doorway::{self, DoorwayScene};
+    use occgrid::scenes::doorway::DoorwayScene;
     let scene = DoorwayScene::standard();
     let (mut setup, mut converge, mut step) = (Vec::new(), Vec::new(), Vec::new());
-    let mut search = doorway::map_search(&scene).expect("the chapter's scene is valid");
+    let mut search = occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
     for _ in 0..runs() {
         let t = Instant::now();
-        search = doorway::map_search(&scene).expect("the chapter's scene is valid");
+        search = occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
         setup.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
         search.run(usize::MAX);

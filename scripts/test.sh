@@ -8,6 +8,8 @@ bash scripts/setup.sh --browser
 
 echo "== native: cargo test"
 cargo test --quiet
+# The benchmark runner is no test target: make sure it still compiles.
+cargo check --quiet --benches
 
 echo "== wasm: wasm-pack test --node"
 wasm-pack --log-level warn test --node
