@@ -410,7 +410,7 @@ proptest! {
                 prop_assert!(search.objective().is_finite());
                 let report = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), search.occupied()).unwrap();
                 prop_assert!(report.sweep_closed <= report.door_cells);
-                let view = scene.view().unwrap();
+                let view = occgrid::apps::doorway_trap::view(&scene).unwrap();
                 prop_assert_eq!(view.beams.len(), scene.poses.len() * scene.bearings_deg.len());
                 let wrong = vec![true; search.occupied().len() + 1];
                 let e = occgrid::apps::doorway_trap::door_report(&scene, sweep.grid(), &wrong).unwrap_err();

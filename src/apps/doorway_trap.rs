@@ -11,6 +11,7 @@ use crate::io::map_server::{map_server_pair, MapServerPair};
 use crate::mapping::map_search::{Flip, MapSearch, MapSearchSettings};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
+use crate::render::overlay::{ImageCell, ImagePoint, RayMark};
 use crate::scenes::doorway::DoorwayScene;
 use crate::sensors::beam_model::BeamModelParams;
 use crate::sensors::Scan;
@@ -277,16 +278,13 @@ impl DoorwayTrapSession {
         })
     }
 
-    /// The hover readout of cell `(ix, iy)`.
-    pub fn cell_info(&self, ix: usize, iy: usize) -> Result<DoorwayCell> {
+    /// The hover readout of the cell under image pixel `(col, row)` (row
+    /// 0 at the top).
+    pub fn cell_info(&self, col: usize, row: usize) -> Result<DoorwayCell> {
         let g = *self.search.geometry();
-        if ix >= g.width() || iy >= g.height() {
-            return Err(invalid(
-                "cell",
-                format!("({ix}, {iy})"),
-                "a cell of the map",
-            ));
-        }
+        let (ix, iy) = g
+            .image_pixel_to_cell(col, row)
+            .ok_or_else(|| invalid("cell", format!("({col}, {row})"), "a cell of the map"))?;
         let i = g.index(ix, iy);
         let cell = readout_at_cell(self.sweep.grid(), ix, iy)
             .ok_or_else(|| invalid("cell", format!("({ix}, {iy})"), "a cell of the map"))?;
@@ -311,6 +309,102 @@ impl DoorwayTrapSession {
             )),
         }
     }
+}
+
+/// The doorway scene as the widget draws it over both maps, in image units
+/// (see [`crate::render::overlay`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DoorwayView {
+    pub width: usize,
+    pub height: usize,
+    /// Metres per cell.
+    pub resolution: f64,
+    /// Boxes as `[u0, v0, u1, v1]`.
+    pub walls: Vec<[f64; 4]>,
+    pub door: [f64; 4],
+    pub far_wall: [f64; 4],
+    /// Half the cone's opening angle, radians.
+    pub half_width: f64,
+    /// Maximum range, cells.
+    pub z_max: f64,
+    pub beams_per_scan: usize,
+    /// Every reading, in the order of [`DoorwayScene::beams`] (the MAP
+    /// search's beam indices).
+    pub beams: Vec<BeamView>,
+    /// Where the sonar stood for each scan.
+    pub stops: Vec<ImagePoint>,
+    /// The middle of the doorway's south edge, where its label goes.
+    pub door_label: ImagePoint,
+    /// The doorway's middle cell on that edge.
+    pub door_cell: ImageCell,
+}
+
+/// One reading as the widget draws it: its cone from the sonar, and which
+/// stop (scan) and which sonar of the fan it is.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BeamView {
+    pub scan: usize,
+    pub sonar: usize,
+    #[serde(flatten)]
+    pub ray: RayMark,
+}
+
+/// The scene's overlays in image units.
+pub fn view(scene: &DoorwayScene) -> Result<DoorwayView> {
+    let g = scene.geometry()?;
+    let image = |r: &Rect| g.box_to_image(r.min_x, r.min_y, r.max_x, r.max_y);
+    let per_pose = scene.bearings_deg.len();
+    let beams = scene
+        .beams()?
+        .iter()
+        .enumerate()
+        .map(|(k, b)| BeamView {
+            scan: k / per_pose,
+            sonar: k % per_pose,
+            ray: RayMark::from_pose(&g, &b.pose, b.bearing, b.range, scene.half_width()),
+        })
+        .collect();
+    let stops = scene
+        .poses
+        .iter()
+        .map(|p| {
+            let [x, y] = g.world_to_image(p.x, p.y);
+            ImagePoint { x, y }
+        })
+        .collect();
+    let door = image(&scene.door);
+    // The label sits on the doorway's south edge, where the sonar looks
+    // from; the cell is the doorway's middle one on that edge.
+    let (mid_x, south_y) = (
+        0.5 * (scene.door.min_x + scene.door.max_x),
+        scene.door.min_y,
+    );
+    let [label_x, label_y] = g.world_to_image(mid_x, south_y);
+    let door_cell = g
+        .world_to_cell(mid_x, south_y)
+        .map_or(ImageCell { col: 0, row: 0 }, |(ix, iy)| {
+            ImageCell::of(&g, ix, iy)
+        });
+    Ok(DoorwayView {
+        width: g.width(),
+        height: g.height(),
+        resolution: g.resolution(),
+        walls: scene.walls.iter().map(image).collect(),
+        door,
+        far_wall: image(&scene.far_wall),
+        half_width: scene.half_width(),
+        z_max: scene.sonar.z_max / g.resolution(),
+        beams_per_scan: per_pose,
+        beams,
+        stops,
+        door_label: ImagePoint {
+            x: label_x,
+            y: label_y,
+        },
+        door_cell,
+    })
 }
 
 #[cfg(test)]

@@ -28,9 +28,9 @@ use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
 use crate::mapping::traversal::{RayMapper, ScanStats};
 use crate::render::map_view::MapView;
+use crate::render::overlay::RobotMark;
 use crate::scenes::apartment::{ApartmentScene, ApartmentSim, SimScan};
 use crate::sensors::Scan;
-use crate::world::Rect;
 
 /// At most this many laps per run: every scan is kept for rebuilding a
 /// pane, and a run must not grow without bound in a forgotten tab.
@@ -368,10 +368,8 @@ pub struct CellInfo {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct Overlay {
-    /// The robot where this pane believes it is: `[u, v]`.
-    pub robot: [f64; 2],
-    /// A point 0.3 m ahead of the robot, for its heading tick.
-    pub nose: [f64; 2],
+    /// The robot where this pane believes it is, and its heading.
+    pub robot: RobotMark,
     /// The robot's true position, `[u, v]` (differs under dead reckoning).
     pub truth: [f64; 2],
     /// Beam end points, `[u0, v0, u1, v1, ...]`, at the pane's pose.
@@ -753,18 +751,6 @@ impl Weaver {
         }))
     }
 
-    /// World point to image units (see [`Overlay`]).
-    fn to_image(&self, x: f64, y: f64) -> [f64; 2] {
-        let (u, v) = self.geometry.world_to_grid(x, y);
-        [u, self.geometry.height() as f64 - v]
-    }
-
-    fn rect_to_image(&self, r: &Rect) -> [f64; 4] {
-        let [u0, v1] = self.to_image(r.min_x, r.min_y);
-        let [u1, v0] = self.to_image(r.max_x, r.max_y);
-        [u0, v0, u1, v1]
-    }
-
     /// What to draw over a pane: the robot where the pane put the last scan,
     /// its beams, and the person.
     pub fn overlay(&self, pane: usize) -> Result<Overlay> {
@@ -772,24 +758,25 @@ impl Weaver {
         let pose = p.pose;
         let z_max = self.settings.scene.lidar.z_max;
         let last = self.history.last();
+        let g = &self.geometry;
         let mut beams = Vec::new();
         let mut hits = Vec::new();
         if let Some(scan) = last {
             for (&z, &b) in scan.ranges.iter().zip(self.sim.bearings()) {
                 let (x, y) = pose.point_at(z.min(z_max), b);
-                beams.extend(self.to_image(x, y));
+                beams.extend(g.world_to_image(x, y));
                 hits.push(z < z_max);
             }
         }
-        let (nx, ny) = pose.point_at(0.3, 0.0);
         let truth = last.map_or(pose, |s| s.truth);
         Ok(Overlay {
-            robot: self.to_image(pose.x, pose.y),
-            nose: self.to_image(nx, ny),
-            truth: self.to_image(truth.x, truth.y),
+            robot: RobotMark::at(g, &pose),
+            truth: g.world_to_image(truth.x, truth.y),
             beams,
             hits,
-            person: last.and_then(|s| s.person).map(|r| self.rect_to_image(&r)),
+            person: last
+                .and_then(|s| s.person)
+                .map(|r| g.box_to_image(r.min_x, r.min_y, r.max_x, r.max_y)),
         })
     }
 }
@@ -917,8 +904,8 @@ mod tests {
         let o = w.overlay(0).unwrap();
         // The lap starts at (1.2 m, 4.95 m): column 12, 49.5 rows from the
         // bottom of 90, so 40.5 rows from the top.
-        assert!((o.robot[0] - 12.0).abs() < 1e-9 && (o.robot[1] - 40.5).abs() < 1e-9);
-        assert!(o.nose[0] > o.robot[0], "facing east");
+        assert!((o.robot.x - 12.0).abs() < 1e-9 && (o.robot.y - 40.5).abs() < 1e-9);
+        assert!(o.robot.heading.cos() > 0.99, "facing east");
         assert_eq!((o.beams.len(), o.hits.len()), (120, 60));
         assert!(o.person.is_some());
     }

@@ -15,6 +15,7 @@ use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::mapping::fusion::{max_fuse_into, max_fused_probabilities, mean_over, mean_probability};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::RayMapper;
+use crate::render::overlay::{RayMark, RobotMark};
 use crate::scenes::table::{TableRun, TableScene};
 
 /// The hand-crafted inverse models (Table 9.2) of the two modalities, and
@@ -148,31 +149,20 @@ pub struct FusionReadout {
     pub pose: Pose,
 }
 
-/// One sonar cone of the current step, in grid units (cells), for drawing.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct ConeView {
-    /// World angle of the cone's axis, radians, counter-clockwise from +x.
-    pub angle: f64,
-    /// The reading, in cells.
-    pub range: f64,
-}
-
-/// What the widget draws over the maps: the robot, the current step's
-/// beams and the table footprint, all in continuous grid coordinates (cell
-/// `(i, j)` spans `[i, i+1) x [j, j+1)`, `v` growing north).
+/// What the widget draws over the maps, in image units (see
+/// [`crate::render::overlay`]): the robot, the current step's beams and the
+/// table footprint.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct SceneView {
-    /// Robot position and heading (radians).
-    pub robot: [f64; 3],
-    /// Table top `[u_min, v_min, u_max, v_max]`.
+    pub robot: RobotMark,
+    /// Table top `[u0, v0, u1, v1]`.
     pub footprint: [f64; 4],
     /// Half the sonar's opening angle, radians.
     pub sonar_half_width: f64,
     /// The sonar ring's cones at the last integrated step (none before the
     /// first step).
-    pub sonar: Vec<ConeView>,
+    pub sonar: Vec<RayMark>,
     /// End points `[u0, v0, u1, v1, ...]` of the LiDAR's beams at the last
     /// integrated step.
     pub lidar: Vec<f64>,
@@ -367,23 +357,17 @@ impl TableFusion {
     /// The robot, its last scans and the table, in grid units.
     pub fn scene_view(&self) -> SceneView {
         let g = self.run.geometry();
-        let res = g.resolution();
         let last = self.next.checked_sub(1);
         let pose = self.readout().pose;
-        let (u, v) = g.world_to_grid(pose.x, pose.y);
         let t = self.run.scene().table.top();
-        let (u0, v0) = g.world_to_grid(t.min_x, t.min_y);
-        let (u1, v1) = g.world_to_grid(t.max_x, t.max_y);
+        let half_width = 0.5 * self.run.scene().sonar.beta;
         let sonar = last
             .and_then(|k| self.run.sonar().get(k))
             .map(|scan| {
                 scan.ranges()
                     .iter()
                     .zip(scan.bearings())
-                    .map(|(&z, &b)| ConeView {
-                        angle: pose.theta + b,
-                        range: z / res,
-                    })
+                    .map(|(&z, &b)| RayMark::from_pose(g, &pose, b, z, half_width))
                     .collect()
             })
             .unwrap_or_default();
@@ -395,16 +379,15 @@ impl TableFusion {
                     .zip(scan.bearings())
                     .flat_map(|(&z, &b)| {
                         let (x, y) = pose.point_at(z, b);
-                        let (eu, ev) = g.world_to_grid(x, y);
-                        [eu, ev]
+                        g.world_to_image(x, y)
                     })
                     .collect()
             })
             .unwrap_or_default();
         SceneView {
-            robot: [u, v, pose.theta],
-            footprint: [u0, v0, u1, v1],
-            sonar_half_width: 0.5 * self.run.scene().sonar.beta,
+            robot: RobotMark::at(g, &pose),
+            footprint: g.box_to_image(t.min_x, t.min_y, t.max_x, t.max_y),
+            sonar_half_width: half_width,
             sonar,
             lidar,
         }

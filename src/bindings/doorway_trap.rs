@@ -41,10 +41,10 @@ impl DoorwayTrap {
         self.session.search().geometry().height()
     }
 
-    /// Walls, door, poses and every reading in grid cells (see
+    /// Walls, door, poses and every reading in image units (see
     /// `DoorwayView`).
     pub fn view(&self) -> Result<JsValue, JsError> {
-        to_js(&self.session.scene().view()?)
+        to_js(&crate::apps::doorway_trap::view(self.session.scene())?)
     }
 
     /// Sweeps the next scan; returns `{ scan, cellsVisited, cellsUpdated }`
@@ -110,8 +110,9 @@ impl DoorwayTrap {
         to_js(&self.session.report()?)
     }
 
-    /// The hover readout of cell `(ix, iy)` (whole numbers): `{ ix, iy, l,
-    /// p, updates, occupied, sensitivity, beams }`.
+    /// The hover readout of the cell under image pixel `(col, row)` (whole
+    /// numbers, row 0 at the top): `{ ix, iy, x, y, l, p, updates, unknown,
+    /// occupied, sensitivity, beams }`.
     #[wasm_bindgen(js_name = cellInfo)]
     pub fn cell_info(&self, ix: f64, iy: f64) -> Result<JsValue, JsError> {
         let g = *self.session.search().geometry();

@@ -94,7 +94,8 @@ impl MapWeaver {
             .collect())
     }
 
-    /// The tracked cells: `[{ name, at: [x, y], ix, iy }]`.
+    /// The tracked cells: `[{ name, at: [x, y], ix, iy, col, row }]` (world
+    /// metres, grid indices, and the image cell, row 0 at the top).
     #[wasm_bindgen(js_name = trackedCells)]
     pub fn tracked_cells(&self) -> Result<JsValue, JsError> {
         #[derive(serde::Serialize)]
@@ -103,6 +104,8 @@ impl MapWeaver {
             at: [f64; 2],
             ix: usize,
             iy: usize,
+            col: usize,
+            row: usize,
         }
         let g = self.0.geometry();
         let cells = self.0.tracked_cells();
@@ -120,6 +123,8 @@ impl MapWeaver {
                     at: t.at,
                     ix,
                     iy,
+                    col: ix,
+                    row: g.height() - 1 - iy,
                 }
             })
             .collect();

@@ -113,10 +113,13 @@ pub struct BeamChange {
 pub struct Flip {
     /// 1 for the first flip.
     pub number: usize,
-    /// The flipped cell: row-major index and `(ix, iy)`.
+    /// The flipped cell: row-major index and `(ix, iy)`, and where it is
+    /// drawn in the north-up image (column, row from the top).
     pub cell: usize,
     pub ix: usize,
     pub iy: usize,
+    pub col: usize,
+    pub row: usize,
     /// True when the cell became occupied.
     pub to_occupied: bool,
     /// Objective change, nats: the sum of the beams' changes plus the
@@ -351,6 +354,8 @@ impl MapSearch {
             cell: c,
             ix,
             iy,
+            col: ix,
+            row: self.geometry.height() - 1 - iy,
             to_occupied,
             gain,
             prior_term: if to_occupied { self.l0 } else { -self.l0 },

@@ -4,3 +4,4 @@
 pub mod evidence;
 pub mod gray;
 pub mod map_view;
+pub mod overlay;
