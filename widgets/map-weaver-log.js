@@ -16,7 +16,7 @@
 // `data-controls`: log-source (file picker, dataset menu), log-settings
 // (resolution and the model's sliders) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
-import { arrowCell, exportMap, pointerCell } from './lib/pane.js';
+import { arrowCell, exportMap, followResize, pointerCell } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
@@ -109,8 +109,7 @@ export class RealLogPanel {
     this.buildDom();
     container.append(this.root);
     this.probeDatasets();
-    this.resizer = new ResizeObserver(() => this.fitCanvas());
-    this.resizer.observe(this.stage);
+    this.resizer = followResize(this.stage, () => this.fitCanvas());
     if (log) this.open(log);
   }
 
@@ -147,7 +146,7 @@ export class RealLogPanel {
   /** Frees the wasm session and removes the panel. */
   dispose() {
     this.run++;
-    this.resizer.disconnect();
+    this.resizer?.disconnect();
     this.session?.free();
     this.session = null;
     this.root.remove();
