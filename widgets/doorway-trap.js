@@ -240,7 +240,6 @@ class DoorwayTrapElement extends HTMLElement {
       this.trap?.free();
       this.trap = next;
       this.view = next.view();
-      this.image = doorwayViewInImageUnits(this.view);
       clearError(this);
     } catch (e) {
       showError(this, e);
@@ -418,7 +417,7 @@ class DoorwayTrapElement extends HTMLElement {
     layers.add((f) => this.drawTruth(f));
     layers.add(({ ctx, s, report }) => {
       const current = report.scansDone - 1;
-      for (const b of this.image.beams) if (b.scan === current) drawCones(ctx, s, [b], { color: COLORS.evidence });
+      for (const b of this.view.beams) if (b.scan === current) drawCones(ctx, s, [b], { color: COLORS.evidence });
     });
     layers.add(({ ctx, s, report }) => this.drawPoses(ctx, s, report.scansDone - 1));
     layers.add((f) => this.drawCursor(f));
@@ -437,7 +436,7 @@ class DoorwayTrapElement extends HTMLElement {
     layers.add(({ ctx, s, state }) => {
       const current = state.flips.at(-1);
       for (const c of current ? current.beams : []) {
-        const beam = this.image.beams[c.beam];
+        const beam = this.view.beams[c.beam];
         if (c.delta > 0) drawCones(ctx, s, [beam], { color: COLORS.evidence });
         else drawCones(ctx, s, [beam], { color: LOWERED_COLOR, dashed: true, fillAlpha: null });
       }
@@ -447,7 +446,7 @@ class DoorwayTrapElement extends HTMLElement {
       const lastOf = new Map();
       for (const f of state.flips) lastOf.set(f.cell, f);
       for (const f of lastOf.values()) {
-        outlineCell(ctx, s, flipCell(f, this.view.height), f.toOccupied
+        outlineCell(ctx, s, f, f.toOccupied
           ? { color: SET_COLOR, lineWidth: 1.5, pad: -0.75 }
           : { color: CLEARED_COLOR, lineWidth: 1.5, pad: -0.75, dash: [2, 2] });
       }
@@ -455,7 +454,7 @@ class DoorwayTrapElement extends HTMLElement {
     layers.add(({ ctx, s, pane, state }) => {
       const current = state.flips.at(-1);
       if (!current) return;
-      const cell = flipCell(current, this.view.height);
+      const cell = current;
       outlineCell(ctx, s, cell, { color: CURRENT_COLOR, lineWidth: 3, pad: 1.5 });
       const x = cell.col * s;
       const y = cell.row * s;
@@ -478,14 +477,14 @@ class DoorwayTrapElement extends HTMLElement {
 
   /** The true walls, outlined, and the door's label below the gap. */
   drawTruth({ ctx, s }) {
-    for (const box of this.image.walls) outlineBox(ctx, s, box, { color: TRUTH_COLOR, lineWidth: 1.25 });
+    for (const box of this.view.walls) outlineBox(ctx, s, box, { color: TRUTH_COLOR, lineWidth: 1.25 });
     ctx.save();
     ctx.font = '600 11px system-ui, sans-serif';
     ctx.textAlign = 'center';
     ctx.textBaseline = 'top';
     // Below the gap, in the room, where the flips on the wall line stay visible.
-    const tx = this.image.doorLabel.x * s;
-    const ty = this.image.doorLabel.y * s + 3;
+    const tx = this.view.doorLabel.x * s;
+    const ty = this.view.doorLabel.y * s + 3;
     const tw = ctx.measureText('door').width;
     ctx.fillStyle = 'rgba(255,255,255,0.8)';
     ctx.fillRect(tx - tw / 2 - 2, ty - 1, tw + 4, 13);
@@ -496,7 +495,7 @@ class DoorwayTrapElement extends HTMLElement {
 
   /** The robot's stops, the `highlight`-th larger and opaque. */
   drawPoses(ctx, s, highlight) {
-    this.image.stops.forEach((stop, k) => drawDots(ctx, s, [stop], k === highlight
+    this.view.stops.forEach((stop, k) => drawDots(ctx, s, [stop], k === highlight
       ? { color: POSE_COLOR, radius: 4 }
       : { color: POSE_COLOR + '70', radius: 2.5 }));
   }
@@ -527,7 +526,7 @@ class DoorwayTrapElement extends HTMLElement {
 
   /** The cursor on map `key`, or where it starts: the doorway. */
   cursorOn(key) {
-    return this.cursor && this.cursor.key === key ? this.cursor : this.image.doorCell;
+    return this.cursor && this.cursor.key === key ? this.cursor : this.view.doorCell;
   }
 
   /** Puts the cursor on map `key` at `cell` (image units) and reads the cell. */
@@ -541,7 +540,7 @@ class DoorwayTrapElement extends HTMLElement {
   readCell(col, row) {
     if (col < 0 || row < 0 || col >= this.view.width || row >= this.view.height) return;
     try {
-      const c = this.trap.cellInfo(...gridCellOf(col, row, this.view.height));
+      const c = this.trap.cellInfo(col, row);
       this.hoverOut.textContent = `Cell (${c.ix}, ${c.iy}) · swept: l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ${c.updates} update${c.updates === 1 ? '' : 's'} · ` +
         `MAP: ${c.occupied ? 'occupied' : 'free'}, inside ${c.beams} cone${c.beams === 1 ? '' : 's'}, ` +
         `flipping it would change J by ${c.sensitivity >= 0 ? '+' : ''}${fixed(c.sensitivity, 3)} nats.`;
@@ -553,35 +552,6 @@ class DoorwayTrapElement extends HTMLElement {
   exportMap(key) {
     if (this.trap) return exportMap(this, `doorway-${key}`, () => this.trap.exportMap(key));
   }
-}
-
-// The core's doorway view is in grid cells (u east, v north, angles
-// counter-clockwise from east) and its flips and cell readouts in grid
-// indices (row 0 at the bottom). These adapters turn them into image units
-// (widgets/lib/layers.js) and back; they are deleted once `DoorwayTrap`
-// answers in image units.
-
-/** Walls, door, stops and beams of `view` in image units. */
-function doorwayViewInImageUnits(view) {
-  const h = view.height;
-  const [du0, dv0, du1] = view.door;
-  return {
-    walls: view.walls.map(([u0, v0, u1, v1]) => [u0, h - v1, u1, h - v0]),
-    doorLabel: { x: (du0 + du1) / 2, y: h - dv0 },
-    doorCell: { col: Math.floor((du0 + du1) / 2), row: h - 1 - Math.floor(dv0) },
-    beams: view.beams.map((b) => ({ x: b.u, y: h - b.v, heading: -b.angle, halfWidth: view.halfWidth, range: b.range, scan: b.scan })),
-    stops: view.beams.filter((_, i) => i % view.beamsPerScan === 0).map((b) => ({ x: b.u, y: h - b.v })),
-  };
-}
-
-/** A flip's cell (grid indices) as an image cell. */
-function flipCell(flip, h) {
-  return { col: flip.ix, row: h - 1 - flip.iy };
-}
-
-/** An image cell as the grid indices `cellInfo` takes: `[ix, iy]`. */
-function gridCellOf(col, row, h) {
-  return [col, h - 1 - row];
 }
 
 if (!customElements.get('occgrid-doorway-trap')) customElements.define('occgrid-doorway-trap', DoorwayTrapElement);

@@ -62,7 +62,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.build();
     applyControls(this, this.values.controls);
     try {
-      ({ core: this.core } = await loadCore());
+      ({ core: this.core, memory: this.memory } = await loadCore());
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
@@ -267,7 +267,8 @@ class InverseWorkbenchElement extends HTMLElement {
     const atMax = this.z >= this.zMax;
     this.maxButton.setAttribute('aria-pressed', String(atMax));
     const width = Math.max(200, Math.min(MAX_IMAGE_WIDTH, Math.floor(this.panes[0].root.clientWidth || 320)));
-    const fields = { hand: v.hand, learned: v.learned };
+    // The core draws both images on their shared scale; the page copies the pixels.
+    const images = { hand: v.handImage, learned: v.learnedImage };
     const edges = { hand: info.handHalfWidth, learned: info.learnedHalfWidth };
     const notes = {
       hand: `alpha ${fixed(info.alpha * 100, 0)} cm, beta ${fixed(2 * deg(info.handHalfWidth), 1)}°, l0 ${fixed(v.handL0, 2)}`,
@@ -275,7 +276,7 @@ class InverseWorkbenchElement extends HTMLElement {
     };
     const reading = `a reading of ${fixed(this.z, 2)} m${atMax ? ' (max range: a no-return)' : ''}`;
     for (const p of this.panes) {
-      this.image(p, width, fields[p.key], v, lattice, edges[p.key]);
+      this.image(p, width, images[p.key], v, lattice, edges[p.key]);
       p.note.textContent = `· ${notes[p.key]}`;
       const free = p.key === 'hand' ? v.handFree : v.learnedFree;
       const l0 = p.key === 'hand' ? v.handL0 : v.learnedL0;
@@ -304,8 +305,8 @@ class InverseWorkbenchElement extends HTMLElement {
     this.dataset.state = 'ready';
   }
 
-  /** One model's evidence image with its green overlays and axis ticks. */
-  image(p, width, field, v, lattice, edge) {
+  /** One model's evidence image (RGBA at `ptr` in wasm memory) with its green overlays and axis ticks. */
+  image(p, width, ptr, v, lattice, edge) {
     const { ranges, bearings } = lattice;
     const left = 34;
     const bottom = 18;
@@ -323,21 +324,7 @@ class InverseWorkbenchElement extends HTMLElement {
       p.off.width = ranges;
       p.off.height = bearings;
     }
-    const img = new ImageData(ranges, bearings);
-    const s = v.scale > 0 ? 127 / v.scale : 0;
-    for (let j = 0; j < bearings; j++) {
-      // Row j of the field is the bearing -max + j * step; draw +max on top.
-      const row = bearings - 1 - j;
-      for (let i = 0; i < ranges; i++) {
-        const e = field[j * ranges + i];
-        const g = Math.max(0, Math.min(255, Math.round(128 - e * s)));
-        const k = 4 * (row * ranges + i);
-        img.data[k] = g;
-        img.data[k + 1] = g;
-        img.data[k + 2] = g;
-        img.data[k + 3] = 255;
-      }
-    }
+    const img = new ImageData(new Uint8ClampedArray(this.memory.buffer, ptr, ranges * bearings * 4).slice(), ranges, bearings);
     p.off.getContext('2d').putImageData(img, 0, 0);
     ctx.clearRect(0, 0, cssW, cssH);
     ctx.imageSmoothingEnabled = false;

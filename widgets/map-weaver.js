@@ -354,7 +354,7 @@ class MapWeaverElement extends HTMLElement {
       if (this.cursor && this.cursor.pane === k) outlineCell(ctx, s, this.cursor, { color: COLORS.l0, lineWidth: 2 });
     });
     layers.add(({ ctx, s, o }) => drawRobot(ctx, s, o.robot, {
-      color: ROBOT_COLOR, radius: 4, tick: o.robot.length * s, lineWidth: 2.5, truth: o.truth, ringRadius: 6, ringWidth: 1.5,
+      color: ROBOT_COLOR, radius: 4, tick: o.tick * s, lineWidth: 2.5, truth: o.truth, ringRadius: 6, ringWidth: 1.5,
     }));
     return layers;
   }
@@ -535,7 +535,7 @@ class MapWeaverElement extends HTMLElement {
         const p = this.panes[k];
         if (!p.ctx) return;
         drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
-        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: overlayInImageUnits(this.weaver.overlay(k), this.tracked, h) });
+        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked } });
         p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]}`;
         p.entropy.textContent = bits(pr.entropyBits);
         p.brier.textContent = fixed(pr.brier, 4);
@@ -656,26 +656,6 @@ class MapWeaverElement extends HTMLElement {
   exportMap(k) {
     if (this.weaver) return exportMap(this, `apartment-${SIDES[k]}`, () => this.weaver.exportMap(k));
   }
-}
-
-/**
- * The core's overlay (already image units, but the heading as a nose
- * point) and the tracked cells (grid cells, row 0 at the bottom) in image
- * units (widgets/lib/layers.js). Deleted once `MapWeaver.overlay()` gives
- * the heading as an image angle and `trackedCells()` their image cells.
- */
-function overlayInImageUnits(o, tracked, imageH) {
-  const [x, y] = o.robot;
-  const dx = o.nose[0] - x;
-  const dy = o.nose[1] - y;
-  return {
-    robot: { x, y, heading: Math.atan2(dy, dx), length: Math.hypot(dx, dy) },
-    truth: { x: o.truth[0], y: o.truth[1] },
-    beams: o.beams,
-    hits: o.hits,
-    person: o.person,
-    tracked: tracked.map((t) => ({ col: t.ix, row: imageH - 1 - t.iy })),
-  };
 }
 
 if (!customElements.get('occgrid-map-weaver')) customElements.define('occgrid-map-weaver', MapWeaverElement);

@@ -285,7 +285,7 @@ class SensorFusionElement extends HTMLElement {
     try {
       r = this.sim.readout();
       const { width: w, height: h } = this.sim;
-      view = sceneViewInImageUnits(this.sim.sceneView(), h);
+      view = this.sim.sceneView();
       for (const p of this.panes) {
         if (!p.ctx) continue;
         drawMapImage(p.canvas, this.memory, this.sim.render(p.key), w, h);
@@ -329,20 +329,6 @@ class SensorFusionElement extends HTMLElement {
   exportMap(key) {
     if (this.sim) return exportMap(this, `table-${key}`, () => this.sim.exportMap(key));
   }
-}
-
-/**
- * The core's scene view (grid cells: u east, v north; angles counter-
- * clockwise from east) in image units (widgets/lib/layers.js). Deleted
- * once `SensorFusion.sceneView()` answers in image units.
- */
-function sceneViewInImageUnits(view, imageH) {
-  const [u, v, theta] = view.robot;
-  const robot = { x: u, y: imageH - v, heading: -theta };
-  const lidar = Float64Array.from(view.lidar, (c, i) => (i % 2 ? imageH - c : c));
-  const sonar = view.sonar.map((c) => ({ x: robot.x, y: robot.y, heading: -c.angle, halfWidth: view.sonarHalfWidth, range: c.range }));
-  const [u0, v0, u1, v1] = view.footprint;
-  return { robot, lidar, sonar, footprint: [u0, imageH - v1, u1, imageH - v0] };
 }
 
 if (!customElements.get('occgrid-sensor-fusion')) customElements.define('occgrid-sensor-fusion', SensorFusionElement);

@@ -28,7 +28,7 @@ use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
 use crate::mapping::traversal::{RayMapper, ScanStats};
 use crate::render::map_view::MapView;
-use crate::render::overlay::RobotMark;
+use crate::render::overlay::{ImagePoint, RobotMark};
 use crate::scenes::apartment::{ApartmentScene, ApartmentSim, SimScan};
 use crate::sensors::Scan;
 
@@ -47,6 +47,9 @@ pub const MAX_STRENGTH: f64 = 10.0;
 pub const MAX_TRAINING_UPDATES: u64 = crate::inverse::training::MAX_UPDATES;
 /// How many recent frame times the "ms per frame" readout is the median of.
 const FRAME_WINDOW: usize = 31;
+
+/// Length of the robot's heading tick over the map, metres.
+const HEADING_TICK: f64 = 0.3;
 
 /// Which inverse sensor model a pane maps with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -370,8 +373,10 @@ pub struct CellInfo {
 pub struct Overlay {
     /// The robot where this pane believes it is, and its heading.
     pub robot: RobotMark,
-    /// The robot's true position, `[u, v]` (differs under dead reckoning).
-    pub truth: [f64; 2],
+    /// Length of the robot's heading tick, cells (0.3 m).
+    pub tick: f64,
+    /// The robot's true position (differs under dead reckoning).
+    pub truth: ImagePoint,
     /// Beam end points, `[u0, v0, u1, v1, ...]`, at the pane's pose.
     pub beams: Vec<f64>,
     /// Per beam: did it return (false: a no-return drawn to `z_max`).
@@ -771,7 +776,11 @@ impl Weaver {
         let truth = last.map_or(pose, |s| s.truth);
         Ok(Overlay {
             robot: RobotMark::at(g, &pose),
-            truth: g.world_to_image(truth.x, truth.y),
+            tick: HEADING_TICK / g.resolution(),
+            truth: {
+                let [x, y] = g.world_to_image(truth.x, truth.y);
+                ImagePoint { x, y }
+            },
             beams,
             hits,
             person: last
