@@ -7,3 +7,4 @@ pub mod inverse_workbench;
 pub mod map_weaver;
 pub mod real_log;
 pub mod sensor_fusion;
+pub mod two_cell_table;

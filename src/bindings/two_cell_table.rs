@@ -2,6 +2,7 @@
 //! few cells against the product of their marginals.
 
 use super::{object_from_js, to_js};
+use crate::apps::two_cell_table::two_cell_report;
 use crate::mapping::joint::{JointPosterior, JointQuery};
 use wasm_bindgen::prelude::*;
 
@@ -9,11 +10,11 @@ use wasm_bindgen::prelude::*;
 /// bearing_deg }], readings, model? }`, with everything the two-cell table
 /// prints: `{ joint, marginals, allFreeTrue, allFreeFactored, allFreeRatio,
 /// mutualInformationBits, table: [{ index, occupied, expectedRange,
-/// likelihood, joint, factored }] }`.
+/// likelihood, joint, factored }], marginalGrays }`.
 #[wasm_bindgen(js_name = jointPosterior)]
 pub fn joint_posterior(query: JsValue) -> Result<JsValue, JsError> {
     let q: JointQuery = object_from_js("joint query", query)?;
-    to_js(&JointPosterior::compute(&q)?.report())
+    to_js(&two_cell_report(&q)?)
 }
 
 /// The numbers script's answer to a query: exactly `{ joint, marginals,

@@ -37,15 +37,6 @@ const POSE_COLOR = COLORS.series[1];
 export const TWO_CELL_LIMITS = { minRange: 0.1, maxRange: 3.0, halfConeDeg: 11 };
 const { minRange: MIN_RANGE, maxRange: MAX_RANGE, halfConeDeg: HALF_CONE_DEG } = TWO_CELL_LIMITS;
 
-/**
- * The gray a cell of probability `p` gets on the maps (white free, black
- * occupied): the core's map ramp, restated for the two dots of the
- * diagram, which are not a map the core renders.
- */
-function grayLevel(p) {
-  return Math.round(255 * (1 - p));
-}
-
 /** The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres, degrees). */
 export const cellsType = {
   describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${MIN_RANGE} to ${MAX_RANGE} m, bearings from -${HALF_CONE_DEG} to ${HALF_CONE_DEG}°`,
@@ -270,8 +261,8 @@ export class TwoCellTable {
     // The cells (points of the query), labelled, shaded by their marginal.
     q.cells.forEach((c, j) => {
       const [x, y] = toXY(c.range, c.bearing_deg);
-      const p = this.jointReport ? this.jointReport.marginals[j] : 0.5;
-      const g = grayLevel(p);
+      // The core's gray for the marginal (mid-gray before the first answer).
+      const g = this.jointReport ? this.jointReport.marginalGrays[j] : 128;
       const color = j === 0 ? COLORS.series[1] : COLORS.l0;
       ctx.beginPath();
       ctx.arc(x, y, 7, 0, 2 * Math.PI);
