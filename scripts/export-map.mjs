@@ -72,7 +72,9 @@ async function main() {
     console.log(JSON.stringify({
       log, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
-      occupied: c.occupied, free: c.free, unknown: c.unknown, pgm: pgmPath, yaml: yamlPath,
+      // Counted with the YAML's own thresholds: what map_server loads.
+      occupied: c.occupied, free: c.free, unknown: c.unknown,
+      occupied_thresh: c.occupiedThresh, free_thresh: c.freeThresh, pgm: pgmPath, yaml: yamlPath,
     }));
   } finally {
     session.free();

@@ -428,14 +428,18 @@ export class RealLogPanel {
       ? `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
         `map ${count(width)} × ${count(height)} cells at ${this.geometry.resolution} m`
       : `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+    // The thresholds are the exported YAML's (the core sends them with the
+    // counts): the figures are what map_server would load from the file.
+    const occ = `p > ${c.occupiedThresh}`;
+    const free = `p < ${c.freeThresh}`;
     this.counts.textContent =
-      `occupied (p > 0.65) ${count(c.occupied)} · free (p < 0.35) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
+      `as exported: occupied (${occ}) ${count(c.occupied)} · free (${free}) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
     Object.assign(this.root.dataset, {
       scans: String(p.scansDone), occupied: String(c.occupied), free: String(c.free), unknown: String(c.unknown), cells: String(c.cells),
     });
     this.canvas.setAttribute('aria-label',
       `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${this.geometry.resolution} m, ` +
-      `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (p > 0.65), ${count(c.free)} free (p < 0.35), ` +
+      `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (${occ}), ${count(c.free)} free (${free}), ` +
       `${count(c.unknown)} unknown. Gray is unknown, white free, black occupied; the green line is the laser’s path. ${CURSOR_HINT}`);
   }
 

@@ -10,11 +10,10 @@
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::{GridGeometry, MAX_CELLS};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
-use crate::grid::stats::{count_states, StateCounts};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::carmen::{LaserScans, LoadProgress, LogLoader};
-use crate::io::map_server::{self, MapServerPair};
+use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::mapping::traversal::RayMapper;
 use std::io::Cursor;
 
@@ -326,9 +325,11 @@ impl LogMapBuild {
         &self.settings
     }
 
-    /// How many cells are occupied, free and unknown now.
-    pub fn counts(&self) -> StateCounts {
-        count_states(&self.grid)
+    /// How many cells are occupied, free and unknown now, counted with the
+    /// thresholds of the exported file (what the PGM would show and
+    /// `map_server` load), which the counts carry.
+    pub fn counts(&self) -> ExportCounts {
+        map_server::export_counts(&self.grid)
     }
 
     /// The laser positions of all scans in image units (x to the right, y
