@@ -17,16 +17,38 @@ import { loadCore } from './lib/load-core.mjs';
 
 const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M]';
 
+/**
+ * A number option's value: the text as given must be a decimal number
+ * (`Number` would take '', '0x10' or ' 1 '; the core checks the range and
+ * names the field). A text that is not a number is refused here, by name,
+ * with the text itself, not as "NaN".
+ */
+function numberOption(name, text, what) {
+  if (!/^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(text)) {
+    throw new Error(`${name} ${JSON.stringify(text)} is not a number: expected ${what}\n${USAGE}`);
+  }
+  return Number(text);
+}
+
+/** `--name VALUE` or `--name=VALUE` at argv[i]: the text and the next index. */
+function optionText(argv, i, name, what) {
+  const a = argv[i];
+  const text = a.includes('=') ? a.slice(a.indexOf('=') + 1) : argv[i + 1];
+  if (text === undefined) throw new Error(`${name} needs a value: ${what}\n${USAGE}`);
+  return [text, a.includes('=') ? i : i + 1];
+}
+
 function parseArgs(argv) {
   const positional = [];
   const settings = {};
+  const is = (a, name) => a === name || a.startsWith(`${name}=`);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
-    if (a === '--resolution' || a.startsWith('--resolution=')) {
-      const text = a.includes('=') ? a.slice(a.indexOf('=') + 1) : argv[++i];
-      if (text === undefined) throw new Error(`--resolution needs a value in metres per cell\n${USAGE}`);
-      // The core validates the number and names it in its error.
-      settings.resolution = text.trim() === '' ? NaN : Number(text);
+    if (is(a, '--resolution')) {
+      const what = 'metres per cell, such as 0.05';
+      let text;
+      [text, i] = optionText(argv, i, '--resolution', what);
+      settings.resolution = numberOption('--resolution', text, what);
     } else if (a === '--help' || a === '-h') {
       console.log(USAGE);
       process.exit(0);
@@ -52,8 +74,10 @@ async function main() {
   const session = new core.LogMapSession(bytes);
   try {
     session.configure(settings);
+    // Each call reads a bounded step (scans, lines, bytes): loop to the end.
     let read;
     do read = session.read(1 << 30); while (!read.finished);
+    if (read.warning) console.error(`export-map: warning: ${read.warning}`);
     let built;
     do built = session.buildChunk(1 << 30); while (!built.finished);
     const stem = path.basename(prefix);
@@ -70,7 +94,7 @@ async function main() {
     const g = session.geometry();
     const c = session.counts();
     console.log(JSON.stringify({
-      log, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      log, warning: read.warning ?? undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Counted with the YAML's own thresholds: what map_server loads.
       occupied: c.occupied, free: c.free, unknown: c.unknown,

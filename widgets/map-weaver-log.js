@@ -306,6 +306,8 @@ export class RealLogPanel {
       // Settings moved while the file was read: apply them before mapping.
       if (this.applied !== requested) session.configure(this.applied);
       const readMs = performance.now() - t0;
+      // A log cut short is mapped up to the cut; say where it was cut.
+      const warning = p.warning ? ` Warning: ${p.warning}.` : '';
       this.adopt(session, name);
       session = null;
       const built = await this.buildToTarget(run, READ_SHARE);
@@ -315,7 +317,7 @@ export class RealLogPanel {
       this.root.dataset.readMs = readMs.toFixed(1);
       this.timing.textContent =
         `${name}: ${count(this.lines)} lines (${count(Math.round(this.bytes / 1024))} kB) read and ${count(built.scansDone)} scans mapped ` +
-        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).`;
+        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).${warning}`;
     } catch (e) {
       if (run !== this.run) return void session?.free();
       this.setState('error');

@@ -12,7 +12,7 @@ use crate::geometry::{GridGeometry, MAX_CELLS};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::io::carmen::{LaserScans, LoadProgress, LogLoader};
+use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::mapping::traversal::RayMapper;
 use std::io::Cursor;
@@ -351,7 +351,7 @@ impl LogMapBuild {
 }
 
 /// What the read of a log reports: its progress and the file's size.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct ReadReport {
     #[serde(flatten)]
@@ -389,6 +389,8 @@ pub struct RealLogSession {
     pending: Option<LaserScans>,
     /// How the read ended, once it has.
     read_summary: Option<LoadProgress>,
+    /// Why the read was refused, once it has been (the file is freed).
+    read_failure: Option<OccError>,
     bytes_total: usize,
     settings: LogMapSettings,
     build: Option<LogMapBuild>,
@@ -396,30 +398,54 @@ pub struct RealLogSession {
 
 impl RealLogSession {
     pub fn new(bytes: Vec<u8>) -> Self {
+        Self::with_budget(bytes, LogBudget::default())
+    }
+
+    /// A session whose reader has its own budget (a test's smaller one).
+    pub fn with_budget(bytes: Vec<u8>, budget: LogBudget) -> Self {
         Self {
             bytes_total: bytes.len(),
-            loader: Some(LogLoader::new(Cursor::new(bytes))),
+            loader: Some(LogLoader::with_budget(Cursor::new(bytes), budget)),
             pending: None,
             read_summary: None,
+            read_failure: None,
             settings: LogMapSettings::default(),
             build: None,
         }
     }
 
-    /// Reads up to `max_scans` more laser lines. When the log is finished
-    /// the map is set up; a malformed line is an error naming its line
-    /// number, and so is a log without laser lines. If the settings make too
+    /// Reads up to `max_scans` more laser lines (and at most the reader's
+    /// budget of lines and bytes per call: [`LogBudget`]). When the log is
+    /// finished the map is set up; a malformed line is an error naming its
+    /// line number, and so is a log past the budget or without laser lines:
+    /// the file and the scans read are then freed, and every later call
+    /// gives the same error (the session stays usable: settings, and a new
+    /// session for another file). A log cut short is read up to the cut,
+    /// with the report's `warning` naming the line. If the settings make too
     /// large a grid for this log, that is an error too, and the scans wait
     /// ([`Self::awaiting_settings`]) for a [`Self::configure`] that fits.
     pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
+        if let Some(e) = &self.read_failure {
+            return Err(e.clone());
+        }
         let Some(loader) = self.loader.as_mut() else {
             return Err(OccError::State("the log has been read already".into()));
         };
-        let progress = loader.read(max_scans)?;
+        let progress = match loader.read(max_scans) {
+            Ok(p) => p,
+            Err(e) => return Err(self.read_failed(e)),
+        };
         if progress.finished {
-            self.read_summary = Some(progress);
+            self.read_summary = Some(progress.clone());
             if let Some(loader) = self.loader.take() {
                 let scans = loader.into_scans();
+                if scans.is_empty() {
+                    let e = OccError::State(format!(
+                        "the file has no FLASER or ROBOTLASER1 lines ({} lines read): no laser scans to map",
+                        progress.lines
+                    ));
+                    return Err(self.read_failed(e));
+                }
                 if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
                     self.pending = Some(scans);
                     return Err(e);
@@ -431,6 +457,13 @@ impl RealLogSession {
             progress,
             bytes_total: self.bytes_total,
         })
+    }
+
+    /// Frees the file and the scans read, and keeps `e` for later calls.
+    fn read_failed(&mut self, e: OccError) -> OccError {
+        self.loader = None;
+        self.read_failure = Some(e.clone());
+        e
     }
 
     /// New settings: restarts the build towards the same scan count and
@@ -453,7 +486,7 @@ impl RealLogSession {
 
     /// How the read ended (also when setting up the map failed), or `None`.
     pub fn read_summary(&self) -> Option<ReadReport> {
-        self.read_summary.map(|progress| ReadReport {
+        self.read_summary.clone().map(|progress| ReadReport {
             progress,
             bytes_total: self.bytes_total,
         })
