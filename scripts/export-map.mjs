@@ -8,14 +8,16 @@
 // In the file name, characters other than letters, digits, `.`, `_` and `-`
 // become `_`, so that the YAML can name the image without quoting. LOG may
 // be gzipped.
-// The map is the one Map Weaver's real-log mode builds: the grid covers the
-// log's poses and readings, the inverse model and clamp are those of
-// BENCHMARKS.md W1, and the resolution defaults to 0.05 m.
+// The map is the one Map Weaver's real-log mode builds, at its defaults: the
+// grid covers the log's poses and readings, Table 9.2 with W1's weights and
+// clamp, no-returns clearing 5 m (--no-return-reach), free evidence that
+// stops at the wall a beam grazes (--walls incidence; table-9.2 for the
+// chapter's model), 0.05 m cells (--resolution).
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -49,6 +51,16 @@ function parseArgs(argv) {
       let text;
       [text, i] = optionText(argv, i, '--resolution', what);
       settings.resolution = numberOption('--resolution', text, what);
+    } else if (is(a, '--no-return-reach')) {
+      const what = 'metres a no-return clears, such as 5';
+      let text;
+      [text, i] = optionText(argv, i, '--no-return-reach', what);
+      settings.noReturnReach = numberOption('--no-return-reach', text, what);
+    } else if (is(a, '--walls')) {
+      let text;
+      [text, i] = optionText(argv, i, '--walls', 'incidence or table-9.2');
+      // The core names the field and the value it refuses.
+      settings.walls = text;
     } else if (a === '--help' || a === '-h') {
       console.log(USAGE);
       process.exit(0);

@@ -513,10 +513,10 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
 #[test]
 fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_count() {
     let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
-    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::default()).unwrap();
+    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::chapter()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && p.scans_done == 910 && p.beams == 163_800);
-    let mut chunked = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut chunked = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
     let mut calls = 0;
     while !chunked.advance(37).finished {
         calls += 1;

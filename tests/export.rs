@@ -141,7 +141,7 @@ fn the_origin_puts_a_world_point_on_the_pixel_map_server_gives_it() {
 fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     let bytes = std::fs::read(datasets().join("intel-corrected.log.gz")).unwrap();
     let scans = LaserScans::read(&bytes[..]).unwrap();
-    let mut build = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut build = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
     build.advance(usize::MAX);
     let grid = build.grid();
     let geo = *grid.geometry();

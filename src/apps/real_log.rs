@@ -14,12 +14,16 @@ use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
-use crate::mapping::traversal::RayMapper;
+use crate::mapping::traversal::{BeamBand, RayMapper};
+use crate::mapping::walls::{beam_bands, WallModel};
 use std::io::Cursor;
 
 /// What the reader of a log chooses for its map: the grid's resolution,
-/// the inverse model of Table 9.2 and the filter's clamp. The defaults are
-/// those of workload W1 (BENCHMARKS.md).
+/// the inverse model of Table 9.2, how far a no-return clears, how free
+/// evidence ends near a wall ([`WallModel`]) and the filter's clamp. The
+/// defaults keep walls and the outside of a building gray
+/// ([`crate::mapping::walls`]); [`Self::chapter`] is Table 9.2 with the
+/// chapter's clamp, exactly workload W1 (BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, rename_all = "camelCase", deny_unknown_fields)]
 pub struct LogMapSettings {
@@ -39,7 +43,16 @@ pub struct LogMapSettings {
     pub clamp: f64,
     /// Free border around the log's extent, metres.
     pub margin: f64,
+    /// How far a no-return (a reading at or beyond `rangeCap`) clears free
+    /// space, metres (at most `rangeCap`).
+    pub no_return_reach: f64,
+    /// How a beam's free evidence ends before its reading.
+    pub walls: WallModel,
 }
+
+/// The default no-return reach, metres (Cartographer's
+/// `missing_data_ray_length` default).
+pub const NO_RETURN_REACH: f64 = 5.0;
 
 impl Default for LogMapSettings {
     fn default() -> Self {
@@ -52,13 +65,15 @@ impl Default for LogMapSettings {
             l_free: laser.l_free,
             clamp: 3.5,
             margin: 1.0,
+            no_return_reach: NO_RETURN_REACH,
+            walls: WallModel::Incidence,
         }
     }
 }
 
 impl LogMapSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 7] = [
+    pub const FIELDS: [&'static str; 9] = [
         "resolution",
         "rangeCap",
         "alpha",
@@ -66,7 +81,19 @@ impl LogMapSettings {
         "lFree",
         "clamp",
         "margin",
+        "noReturnReach",
+        "walls",
     ];
+
+    /// Table 9.2 with the chapter's clamp, no-returns carving out to
+    /// `z_max`: workload W1's map, and the lesson of walls that wear away.
+    pub fn chapter() -> Self {
+        Self {
+            no_return_reach: 30.0,
+            walls: WallModel::Table92,
+            ..Self::default()
+        }
+    }
 
     /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
     /// margin, its corners on whole multiples of the resolution (so that
@@ -129,6 +156,16 @@ impl LogMapSettings {
         error::finite("lOcc", self.l_occ)?;
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
+        error::positive("noReturnReach", self.no_return_reach)?;
+        // Free evidence lowers a cell and occupied evidence raises it: the
+        // traversal gathers them as two flags.
+        // (Compared as the f32 the map stores: 1e-50 is 0 there.)
+        if !((self.l_occ as f32) > 0.0) {
+            return Err(invalid("lOcc", error::show(self.l_occ), "log odds above 0 (at least 1e-38)"));
+        }
+        if !((self.l_free as f32) < 0.0) {
+            return Err(invalid("lFree", error::show(self.l_free), "log odds below 0 (at most -1e-38)"));
+        }
         // The model checks what is left of it (evidence past f32) under its
         // own names: report them as the page spells them.
         HandCrafted::new(self.model_params()).map_err(Self::page_names)?;
@@ -189,6 +226,8 @@ pub struct LogMapBuild {
     grid: LogOddsGrid,
     model: HandCrafted,
     mapper: RayMapper,
+    /// Scratch: the current scan's beam bands.
+    bands: Vec<Option<BeamBand>>,
     done: usize,
     target: usize,
     cell_updates: u64,
@@ -206,6 +245,7 @@ impl LogMapBuild {
             grid,
             model,
             mapper: RayMapper::new(),
+            bands: Vec::new(),
             done: 0,
             target,
             cell_updates: 0,
@@ -290,10 +330,17 @@ impl LogMapBuild {
                         .ok()
                     })
                     .flatten();
-                let stats = match &short {
-                    Some(m) => self.mapper.integrate(&mut self.grid, m, &scan),
-                    None => self.mapper.integrate(&mut self.grid, &self.model, &scan),
-                };
+                let model = short.as_ref().unwrap_or(&self.model);
+                let res = self.grid.geometry().resolution();
+                let s = &self.settings;
+                beam_bands(&scan, model, s.no_return_reach, s.walls, res, &mut self.bands);
+                let (free, occupied) = (
+                    (s.l_free - model.params().l0) as f32,
+                    (s.l_occ - model.params().l0) as f32,
+                );
+                let stats =
+                    self.mapper
+                        .integrate_bands(&mut self.grid, &scan, &self.bands, free, occupied);
                 self.cell_updates += stats.cells_updated as u64;
                 self.beams += scan.len() as u64;
             }

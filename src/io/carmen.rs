@@ -387,10 +387,14 @@ impl<R: Read> LogReader<R> {
         self.text_bytes
     }
 
-    /// Ends the read cleanly at a cut on line `line`.
+    /// Ends the read cleanly at a cut on line `line` (an error when there is
+    /// no complete scan before it to keep).
     fn cut_short(&mut self, line: usize, what: String) -> Result<Step> {
-        self.close();
         let n = self.records;
+        if n == 0 {
+            return self.fail(line, what);
+        }
+        self.close();
         self.warning = Some(format!(
             "line {line}: {what}; the {n} complete scan{} before it {} kept",
             if n == 1 { "" } else { "s" },
