@@ -8,25 +8,59 @@
 // In the file name, characters other than letters, digits, `.`, `_` and `-`
 // become `_`, so that the YAML can name the image without quoting. LOG may
 // be gzipped.
-// The map is the one Map Weaver's real-log mode builds: the grid covers the
-// log's poses and readings, the inverse model and clamp are those of
-// BENCHMARKS.md W1, and the resolution defaults to 0.05 m.
+// The map is the one Map Weaver's real-log mode builds, at its defaults: the
+// grid covers the log's poses and readings, Table 9.2 with W1's weights and
+// clamp, no-returns clearing 5 m (--no-return-reach), free evidence that
+// stops at the wall a beam grazes (--walls incidence; table-9.2 for the
+// chapter's model), 0.05 m cells (--resolution).
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2]';
+
+/**
+ * A number option's value: the text as given must be a decimal number
+ * (`Number` would take '', '0x10' or ' 1 '; the core checks the range and
+ * names the field). A text that is not a number is refused here, by name,
+ * with the text itself, not as "NaN".
+ */
+function numberOption(name, text, what) {
+  if (!/^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(text)) {
+    throw new Error(`${name} ${JSON.stringify(text)} is not a number: expected ${what}\n${USAGE}`);
+  }
+  return Number(text);
+}
+
+/** `--name VALUE` or `--name=VALUE` at argv[i]: the text and the next index. */
+function optionText(argv, i, name, what) {
+  const a = argv[i];
+  const text = a.includes('=') ? a.slice(a.indexOf('=') + 1) : argv[i + 1];
+  if (text === undefined) throw new Error(`${name} needs a value: ${what}\n${USAGE}`);
+  return [text, a.includes('=') ? i : i + 1];
+}
 
 function parseArgs(argv) {
   const positional = [];
   const settings = {};
+  const is = (a, name) => a === name || a.startsWith(`${name}=`);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
-    if (a === '--resolution' || a.startsWith('--resolution=')) {
-      const text = a.includes('=') ? a.slice(a.indexOf('=') + 1) : argv[++i];
-      if (text === undefined) throw new Error(`--resolution needs a value in metres per cell\n${USAGE}`);
-      // The core validates the number and names it in its error.
-      settings.resolution = text.trim() === '' ? NaN : Number(text);
+    if (is(a, '--resolution')) {
+      const what = 'metres per cell, such as 0.05';
+      let text;
+      [text, i] = optionText(argv, i, '--resolution', what);
+      settings.resolution = numberOption('--resolution', text, what);
+    } else if (is(a, '--no-return-reach')) {
+      const what = 'metres a no-return clears, such as 5';
+      let text;
+      [text, i] = optionText(argv, i, '--no-return-reach', what);
+      settings.noReturnReach = numberOption('--no-return-reach', text, what);
+    } else if (is(a, '--walls')) {
+      let text;
+      [text, i] = optionText(argv, i, '--walls', 'incidence or table-9.2');
+      // The core names the field and the value it refuses.
+      settings.walls = text;
     } else if (a === '--help' || a === '-h') {
       console.log(USAGE);
       process.exit(0);
@@ -52,8 +86,10 @@ async function main() {
   const session = new core.LogMapSession(bytes);
   try {
     session.configure(settings);
+    // Each call reads a bounded step (scans, lines, bytes): loop to the end.
     let read;
     do read = session.read(1 << 30); while (!read.finished);
+    if (read.warning) console.error(`export-map: warning: ${read.warning}`);
     let built;
     do built = session.buildChunk(1 << 30); while (!built.finished);
     const stem = path.basename(prefix);
@@ -70,9 +106,11 @@ async function main() {
     const g = session.geometry();
     const c = session.counts();
     console.log(JSON.stringify({
-      log, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      log, warning: read.warning ?? undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
-      occupied: c.occupied, free: c.free, unknown: c.unknown, pgm: pgmPath, yaml: yamlPath,
+      // Counted with the YAML's own thresholds: what map_server loads.
+      occupied: c.occupied, free: c.free, unknown: c.unknown,
+      occupied_thresh: c.occupiedThresh, free_thresh: c.freeThresh, pgm: pgmPath, yaml: yamlPath,
     }));
   } finally {
     session.free();

@@ -33,6 +33,19 @@ fn gunzip(bytes: &[u8]) -> Vec<u8> {
     out
 }
 
+/// A message for a reader: printable ASCII and the typographic characters
+/// the project writes, no byte of a binary file (no control characters, no
+/// replacement characters, no escapes such as `\u{..}`).
+fn assert_words_only(message: &str) {
+    assert!(
+        message
+            .chars()
+            .all(|c| (' '..='~').contains(&c) || "…–—’".contains(c)),
+        "{message:?}"
+    );
+    assert!(!message.contains("\\u{") && !message.contains("\\x"), "{message:?}");
+}
+
 fn parse_error(bytes: &[u8]) -> (usize, String) {
     match parse_bytes(bytes) {
         Err(OccError::Parse { line, reason }) => (line, reason),
@@ -151,7 +164,8 @@ fn garbage_files_fail_on_line_one_without_panicking() {
     let png = dataset("intel-corrected.png");
     let (line, reason) = parse_error(&png);
     assert_eq!(line, 1, "{reason}");
-    assert!(reason.contains("not a CARMEN log"), "{reason}");
+    assert!(reason.contains("neither gzip nor a text log"), "{reason}");
+    assert_words_only(&reason);
 
     let (line, reason) = parse_error(b"This is a shopping list.\nMilk\n");
     assert_eq!(line, 1);
@@ -161,9 +175,10 @@ fn garbage_files_fail_on_line_one_without_panicking() {
     for _ in 0..50 {
         let n = rng.random_range(1..4000);
         let noise: Vec<u8> = (0..n).map(|_| rng.random::<u8>()).collect();
-        // Any outcome but a panic is acceptable for noise; most fail at once.
-        if let Err(e) = parse_bytes(&noise) {
-            assert!(matches!(e, OccError::Parse { line, .. } if line >= 1));
+        // Random bytes are never a log: refused on line 1, in words.
+        match parse_bytes(&noise) {
+            Err(OccError::Parse { line: 1, reason }) => assert_words_only(&reason),
+            other => panic!("noise of {n} bytes: {other:?}"),
         }
     }
     // A gzip header over garbage.
@@ -173,30 +188,36 @@ fn garbage_files_fail_on_line_one_without_panicking() {
 }
 
 #[test]
-fn a_gzip_log_cut_short_fails_on_the_line_being_read() {
+fn a_gzip_log_cut_short_keeps_the_scans_before_the_cut_and_warns_with_the_line() {
     let bytes = dataset(INTEL.name);
-    for fraction in [0.02, 0.25, 0.5, 0.9, 0.999] {
+    let full = parse_bytes(&bytes).unwrap();
+    assert_eq!(full.warning, None);
+    for fraction in [0.02, 0.25, 0.3, 0.5, 0.9, 0.999] {
         let cut = (bytes.len() as f64 * fraction) as usize;
-        let (line, reason) = parse_error(&bytes[..cut]);
-        assert!(
-            line >= 1 && line <= INTEL.lines,
-            "cut at {cut}: line {line}: {reason}"
-        );
+        let log = parse_bytes(&bytes[..cut]).unwrap();
+        let warning = log.warning.clone().expect("a cut log warns");
+        let line: usize = warning
+            .strip_prefix("line ")
+            .and_then(|w| w.split(':').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{warning}"));
+        assert!(warning.contains("ends early"), "{warning}");
         // Roughly where the cut is: the text is compressed about evenly.
         let expected = fraction * INTEL.lines as f64;
         assert!(
             (line as f64 - expected).abs() < 0.15 * INTEL.lines as f64,
             "cut at {fraction}: line {line}, expected near {expected}"
         );
+        // Every scan before the cut, exactly as in the whole log.
+        assert!(!log.scans.is_empty() && log.scans.len() < full.scans.len());
+        assert_eq!(log.scans[..], full.scans[..log.scans.len()]);
+        assert!(warning.contains(&format!("the {} complete scans", log.scans.len())), "{warning}");
     }
-    let (_, reason) = parse_error(&bytes[..bytes.len() - 4]);
-    assert!(reason.contains("ends early"), "{reason}");
 }
 
-#[test]
-fn a_plain_log_cut_inside_a_scan_names_that_line_and_a_cut_in_its_timestamps_does_not() {
-    let text = gunzip(&dataset(INTEL.name));
-    // The fifth FLASER line.
+/// The byte offsets of each line's start, and the line number (from 1) and
+/// start of the `k`-th FLASER line (from 0).
+fn nth_flaser(text: &[u8], k: usize) -> (usize, usize, usize) {
     let starts: Vec<usize> = std::iter::once(0)
         .chain(
             text.iter()
@@ -210,12 +231,20 @@ fn a_plain_log_cut_inside_a_scan_names_that_line_and_a_cut_in_its_timestamps_doe
         .enumerate()
         .filter(|(_, &s)| text[s..].starts_with(b"FLASER"))
         .map(|(k, &s)| (k + 1, s))
-        .nth(4)
+        .nth(k)
         .unwrap();
     let end = start + text[start..].iter().position(|&b| b == b'\n').unwrap();
+    (number, start, end)
+}
+
+#[test]
+fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line() {
+    let text = gunzip(&dataset(INTEL.name));
+    // The fifth FLASER line.
+    let (number, start, end) = nth_flaser(&text, 4);
     let line = std::str::from_utf8(&text[start..end]).unwrap();
     // Cut in the middle of the ranges, right after the pose, and inside
-    // the odometry: each is an error on that line.
+    // the odometry: the four scans before are kept, with a warning.
     let after_pose = line
         .split(' ')
         .take(185)
@@ -223,9 +252,11 @@ fn a_plain_log_cut_inside_a_scan_names_that_line_and_a_cut_in_its_timestamps_doe
         .join(" ")
         .len();
     for cut in [start + 400, start + after_pose, start + after_pose + 3] {
-        let (l, reason) = parse_error(&text[..cut]);
-        assert_eq!(l, number, "cut at byte {}: {reason}", cut - start);
-        assert!(reason.starts_with("FLASER line ends before"), "{reason}");
+        let log = parse_bytes(&text[..cut]).unwrap();
+        assert_eq!((log.scans.len(), log.lines), (4, number), "cut at byte {}", cut - start);
+        let w = log.warning.unwrap();
+        assert!(w.starts_with(&format!("line {number}: the file ends inside this line")), "{w}");
+        assert!(w.contains("FLASER line ends before") && w.contains("the 4 complete scans"), "{w}");
     }
     // Cut after the odometry, inside the trailing timestamps: nothing the
     // map uses is lost, so the line counts.
@@ -237,8 +268,26 @@ fn a_plain_log_cut_inside_a_scan_names_that_line_and_a_cut_in_its_timestamps_doe
         .len();
     for cut in [start + after_odom, end - 2] {
         let log = parse_bytes(&text[..cut]).unwrap();
-        assert_eq!((log.scans.len(), log.lines), (5, number));
+        assert_eq!((log.scans.len(), log.lines, log.warning), (5, number, None));
     }
+    // The Intel log cut at 30 %, mid-line, as a reader would have it: a map
+    // of the scans before the cut, through the session the page drives.
+    let cut = (text.len() as f64 * 0.3) as usize;
+    let cut = cut + text[cut..].iter().position(|&b| b == b' ').unwrap();
+    let mut session = occgrid::apps::real_log::RealLogSession::new(text[..cut].to_vec());
+    let report = loop {
+        let r = session.read(usize::MAX).unwrap();
+        if r.progress.finished {
+            break r;
+        }
+    };
+    let w = report.progress.warning.expect("warned");
+    let complete = parse_bytes(&text[..cut]).unwrap().scans.len();
+    assert!(complete > 200, "{complete}");
+    assert_eq!(report.progress.scans, complete);
+    assert!(w.contains(&format!("line {}:", report.progress.lines)), "{w}");
+    while !session.build_chunk(usize::MAX).unwrap().finished {}
+    assert_eq!(session.build().unwrap().progress().scans_done, complete);
 }
 
 #[test]
@@ -464,10 +513,10 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
 #[test]
 fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_count() {
     let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
-    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::default()).unwrap();
+    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::chapter()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && p.scans_done == 910 && p.beams == 163_800);
-    let mut chunked = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut chunked = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
     let mut calls = 0;
     while !chunked.advance(37).finished {
         calls += 1;
@@ -736,4 +785,107 @@ fn streaming_a_100_mb_log_holds_about_one_line_in_memory() {
     // megabyte at most, against the log's 100 MB.
     assert!(peak < 256 << 10, "peak heap {peak} bytes");
     assert!(MAX_LINE_BYTES <= 1 << 20);
+}
+
+/// A gzip file of `lines` FLASER lines of `beams` beams each, built here.
+fn flaser_bomb(lines: usize, beams: usize) -> Vec<u8> {
+    use std::io::Write;
+    let ranges = "12.34 ".repeat(beams);
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    for k in 0..lines {
+        writeln!(gz, "FLASER {beams} {ranges}1 2 0.5 1 2 0.5 {k} host {k}").unwrap();
+    }
+    gz.finish().unwrap()
+}
+
+#[test]
+fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the_session_survives() {
+    use occgrid::apps::real_log::RealLogSession;
+    use occgrid::io::carmen::LogBudget;
+    // 200 lines of 10,000 beams: 12 MB of text, 8 MB of f32 ranges to keep,
+    // against a budget lowered to 1 MiB for the test.
+    let bomb = flaser_bomb(200, 10_000);
+    let budget = LogBudget {
+        kept_bytes: 1 << 20,
+        ..LogBudget::default()
+    };
+    LIVE.with(|l| l.set(0));
+    PEAK.with(|p| p.set(0));
+    let mut session = RealLogSession::with_budget(bomb.clone(), budget);
+    let e = loop {
+        match session.read(usize::MAX) {
+            Ok(r) => assert!(!r.progress.finished, "the bomb was kept whole"),
+            Err(e) => break e.to_string(),
+        }
+    };
+    let peak = PEAK.with(|p| p.get()) as usize;
+    // Scans kept to the budget, the reader's line (at most 1 MiB) and
+    // buffers: never the 8 MB the whole log would take.
+    assert!(peak < bomb.len() + (1 << 20) + (1 << 20) + (512 << 10), "peak heap {peak} bytes");
+    assert!(e.contains("over the budget of 1.0 MiB"), "{e}");
+    assert!(e.contains("need 1.0 MiB (27 scans, 270000 beams)"), "{e}");
+    assert!(e.starts_with("line 27:"), "{e}");
+    // Usable after the refusal: the same error again, settings still taken,
+    // other calls refused in words; no panic.
+    assert_eq!(session.read(10).unwrap_err().to_string(), e);
+    assert!(session.configure(Default::default()).unwrap().is_none());
+    assert!(session.build_chunk(1).is_err());
+    assert!(!session.awaiting_settings());
+    // Under the default budget the same bomb is kept (8 MB is well within).
+    let mut ok = RealLogSession::new(bomb);
+    while !ok.read(usize::MAX).unwrap().progress.finished {}
+    assert_eq!(ok.build().unwrap().scans().beams(), 2_000_000);
+}
+
+#[test]
+fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so() {
+    use occgrid::apps::real_log::RealLogSession;
+    use occgrid::io::carmen::LogBudget;
+    use std::io::Write;
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    gz.write_all(&vec![b'\n'; 300_000]).unwrap();
+    gz.write_all(b"ODOM 1 2 3\n# a comment\n").unwrap();
+    let blank = gz.finish().unwrap();
+    let budget = LogBudget {
+        lines_per_read: 1000,
+        ..LogBudget::default()
+    };
+    let mut session = RealLogSession::with_budget(blank, budget);
+    let (mut calls, mut lines) = (0, 0);
+    let e = loop {
+        match session.read(usize::MAX) {
+            Ok(r) => {
+                assert!(r.progress.lines - lines <= 1000, "one call read {} lines", r.progress.lines - lines);
+                lines = r.progress.lines;
+                calls += 1;
+            }
+            Err(e) => break e.to_string(),
+        }
+    };
+    assert!(calls >= 299, "{calls} calls");
+    assert!(e.contains("no FLASER or ROBOTLASER1 lines") && e.contains("300002 lines"), "{e}");
+    assert!(!e.contains("resolution"), "{e}");
+    assert!(!session.awaiting_settings(), "no settings can map an empty log");
+    assert_eq!(session.read(1).unwrap_err().to_string(), e);
+
+    // Bytes bound a call too: 64 kB of text per call over long comments.
+    let mut text = Vec::new();
+    for _ in 0..200 {
+        text.extend_from_slice(b"# ");
+        text.extend(std::iter::repeat_n(b'x', 10_000));
+        text.push(b'\n');
+    }
+    let mut loader = LogLoader::with_budget(
+        &text[..],
+        LogBudget {
+            bytes_per_read: 64 << 10,
+            ..LogBudget::default()
+        },
+    );
+    let mut steps = 0;
+    while !loader.read(usize::MAX).unwrap().finished {
+        steps += 1;
+    }
+    // 64 kB and the line that crosses it per call: at least 25 calls.
+    assert!(steps >= 25, "{steps} steps for 2 MB");
 }

@@ -34,7 +34,7 @@ fn expected_gray(grid: &LogOddsGrid, i: usize) -> u8 {
         205
     } else if p > 0.65 {
         0
-    } else if p < 0.25 {
+    } else if p < 0.196 {
         254
     } else {
         205
@@ -61,9 +61,9 @@ fn the_yaml_names_image_resolution_lower_left_origin_and_thresholds() {
          origin: [-1.25, 2.5, 0.0]\n\
          negate: 0\n\
          occupied_thresh: 0.65\n\
-         free_thresh: 0.25\n"
+         free_thresh: 0.196\n"
     );
-    assert_eq!((OCCUPIED_THRESH, FREE_THRESH), (0.65, 0.25));
+    assert_eq!((OCCUPIED_THRESH, FREE_THRESH), (0.65, 0.196));
     let unnamed = map_server_pair(&small_map(), "");
     assert!(unnamed.yaml.starts_with("image: map.pgm\n"));
     let spaced = map_server_pair(&small_map(), "my lab.pgm");
@@ -141,7 +141,7 @@ fn the_origin_puts_a_world_point_on_the_pixel_map_server_gives_it() {
 fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     let bytes = std::fs::read(datasets().join("intel-corrected.log.gz")).unwrap();
     let scans = LaserScans::read(&bytes[..]).unwrap();
-    let mut build = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut build = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
     build.advance(usize::MAX);
     let grid = build.grid();
     let geo = *grid.geometry();
@@ -243,4 +243,63 @@ fn the_zip_holds_the_pgm_and_a_yaml_that_names_it() {
         "_...zip",
         "no path"
     );
+}
+
+/// The YAML's fields as `map_server` reads them (flat `key: value` lines).
+fn yaml_field(yaml: &str, key: &str) -> f64 {
+    yaml.lines()
+        .find_map(|l| l.strip_prefix(&format!("{key}: ")))
+        .unwrap_or_else(|| panic!("no {key} in {yaml}"))
+        .parse()
+        .unwrap()
+}
+
+/// What `map_server` makes of the pair: each pixel's `occ = (255 - gray) /
+/// 255` (negate 0), occupied if above `occupied_thresh`, free if below
+/// `free_thresh`, unknown otherwise; the three counts.
+fn loaded_by_map_server(pair: &occgrid::io::map_server::MapServerPair) -> [usize; 3] {
+    let occ_t = yaml_field(&pair.yaml, "occupied_thresh");
+    let free_t = yaml_field(&pair.yaml, "free_thresh");
+    assert_eq!(yaml_field(&pair.yaml, "negate"), 0.0);
+    let pgm = read_pgm(&pair.pgm).unwrap();
+    let mut counts = [0usize; 3];
+    for &gray in &pgm.pixels {
+        let occ = (255.0 - gray as f64) / 255.0;
+        counts[if occ > occ_t {
+            0
+        } else if occ < free_t {
+            1
+        } else {
+            2
+        }] += 1;
+    }
+    counts
+}
+
+#[test]
+fn map_server_loads_unknown_gray_as_unknown_and_the_counts_agree_with_the_file() {
+    // Gray 205 on its own, as map_server reads it under the YAML.
+    let pair = map_server_pair(&small_map(), "m.pgm");
+    let pgm = read_pgm(&pair.pgm).unwrap();
+    let gray = pgm.pixels.iter().filter(|&&g| g == 205).count();
+    assert!(gray > 0);
+    let [_, free, unknown] = loaded_by_map_server(&pair);
+    assert_eq!((free, unknown), (1, gray), "gray 205 must load as unknown");
+
+    // A real log: what the session counts (the panel's and the CLI's
+    // figures) is what map_server loads from the exported pair.
+    let bytes = std::fs::read(datasets().join("aces-corrected.log.gz")).unwrap();
+    let mut session = occgrid::apps::real_log::RealLogSession::new(bytes);
+    while !session.read(usize::MAX).unwrap().progress.finished {}
+    while !session.build_chunk(usize::MAX).unwrap().finished {}
+    let pair = session.export_map(Some("aces")).unwrap();
+    let c = session.build().unwrap().counts();
+    let loaded = loaded_by_map_server(&pair);
+    assert_eq!([c.occupied, c.free, c.unknown], loaded);
+    assert_eq!(c.cells, loaded.iter().sum::<usize>());
+    assert_eq!(
+        (c.occupied_thresh, c.free_thresh),
+        (yaml_field(&pair.yaml, "occupied_thresh"), yaml_field(&pair.yaml, "free_thresh"))
+    );
+    assert!(loaded[2] > 0 && loaded[1] > 0 && loaded[0] > 0);
 }

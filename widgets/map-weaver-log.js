@@ -84,7 +84,7 @@ function mapStem(fileName) {
 }
 
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
-export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp'];
+export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls'];
 
 export class RealLogPanel {
   /**
@@ -171,6 +171,8 @@ export class RealLogPanel {
       lOcc: slider({ label: 'l_occ', min: 0.05, max: 3, step: 0.05, value: s.lOcc, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lOcc: v }), name: 'l-occ' }),
       lFree: slider({ label: 'l_free', min: -3, max: -0.05, step: 0.05, value: s.lFree, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lFree: v }), name: 'l-free' }),
       clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
+      noReturnReach: slider({ label: 'no-return reach', min: 1, max: 80, step: 1, value: s.noReturnReach, format: (v) => `${v} m`, onInput: (v) => this.change({ noReturnReach: v }), name: 'no-return-reach' }),
+      walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
     };
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
@@ -205,7 +207,9 @@ export class RealLogPanel {
         'FLASER and ROBOTLASER1 lines are read with their corrected poses; the map covers every pose and every ',
         'reading closer than z_max, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
         'of Table 9.2: l_occ within α/2 of the reading, l_free in front of it; a reading at or beyond z_max is a ',
-        'no-return that only clears space. Scrub back and the map is rebuilt from the first scan.'));
+        'no-return that only clears space, out to the no-return reach. Near walls, free evidence stops where a beam ',
+        'grazing a wall enters its band of cells (res / sin of the incidence), so long logs keep their walls; choose ',
+        'Table 9.2 to see them wear away. Scrub back and the map is rebuilt from the first scan.'));
 
     const drag = (on) => (e) => {
       e.preventDefault();
@@ -306,6 +310,8 @@ export class RealLogPanel {
       // Settings moved while the file was read: apply them before mapping.
       if (this.applied !== requested) session.configure(this.applied);
       const readMs = performance.now() - t0;
+      // A log cut short is mapped up to the cut; say where it was cut.
+      const warning = p.warning ? ` Warning: ${p.warning}.` : '';
       this.adopt(session, name);
       session = null;
       const built = await this.buildToTarget(run, READ_SHARE);
@@ -315,7 +321,7 @@ export class RealLogPanel {
       this.root.dataset.readMs = readMs.toFixed(1);
       this.timing.textContent =
         `${name}: ${count(this.lines)} lines (${count(Math.round(this.bytes / 1024))} kB) read and ${count(built.scansDone)} scans mapped ` +
-        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).`;
+        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).${warning}`;
     } catch (e) {
       if (run !== this.run) return void session?.free();
       this.setState('error');
@@ -428,14 +434,18 @@ export class RealLogPanel {
       ? `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
         `map ${count(width)} × ${count(height)} cells at ${this.geometry.resolution} m`
       : `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+    // The thresholds are the exported YAML's (the core sends them with the
+    // counts): the figures are what map_server would load from the file.
+    const occ = `p > ${c.occupiedThresh}`;
+    const free = `p < ${c.freeThresh}`;
     this.counts.textContent =
-      `occupied (p > 0.65) ${count(c.occupied)} · free (p < 0.35) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
+      `as exported: occupied (${occ}) ${count(c.occupied)} · free (${free}) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
     Object.assign(this.root.dataset, {
       scans: String(p.scansDone), occupied: String(c.occupied), free: String(c.free), unknown: String(c.unknown), cells: String(c.cells),
     });
     this.canvas.setAttribute('aria-label',
       `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${this.geometry.resolution} m, ` +
-      `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (p > 0.65), ${count(c.free)} free (p < 0.35), ` +
+      `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (${occ}), ${count(c.free)} free (${free}), ` +
       `${count(c.unknown)} unknown. Gray is unknown, white free, black occupied; the green line is the laser’s path. ${CURSOR_HINT}`);
   }
 
@@ -532,7 +542,8 @@ export class RealLogPanel {
   syncControls() {
     const s = this.settings;
     this.controls.resolution.input.value = String(s.resolution);
-    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp']) this.controls[key].set(s[key]);
+    this.controls.walls.input.value = String(s.walls);
+    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach']) this.controls[key].set(s[key]);
   }
 
   async seek(k) {

@@ -10,17 +10,20 @@
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::{GridGeometry, MAX_CELLS};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
-use crate::grid::stats::{count_states, StateCounts};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::io::carmen::{LaserScans, LoadProgress, LogLoader};
-use crate::io::map_server::{self, MapServerPair};
-use crate::mapping::traversal::RayMapper;
+use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
+use crate::io::map_server::{self, ExportCounts, MapServerPair};
+use crate::mapping::traversal::{BeamBand, RayMapper};
+use crate::mapping::walls::{beam_bands, WallModel};
 use std::io::Cursor;
 
 /// What the reader of a log chooses for its map: the grid's resolution,
-/// the inverse model of Table 9.2 and the filter's clamp. The defaults are
-/// those of workload W1 (BENCHMARKS.md).
+/// the inverse model of Table 9.2, how far a no-return clears, how free
+/// evidence ends near a wall ([`WallModel`]) and the filter's clamp. The
+/// defaults keep walls and the outside of a building gray
+/// ([`crate::mapping::walls`]); [`Self::chapter`] is Table 9.2 with the
+/// chapter's clamp, exactly workload W1 (BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, rename_all = "camelCase", deny_unknown_fields)]
 pub struct LogMapSettings {
@@ -40,7 +43,16 @@ pub struct LogMapSettings {
     pub clamp: f64,
     /// Free border around the log's extent, metres.
     pub margin: f64,
+    /// How far a no-return (a reading at or beyond `rangeCap`) clears free
+    /// space, metres (at most `rangeCap`).
+    pub no_return_reach: f64,
+    /// How a beam's free evidence ends before its reading.
+    pub walls: WallModel,
 }
+
+/// The default no-return reach, metres (Cartographer's
+/// `missing_data_ray_length` default).
+pub const NO_RETURN_REACH: f64 = 5.0;
 
 impl Default for LogMapSettings {
     fn default() -> Self {
@@ -53,13 +65,15 @@ impl Default for LogMapSettings {
             l_free: laser.l_free,
             clamp: 3.5,
             margin: 1.0,
+            no_return_reach: NO_RETURN_REACH,
+            walls: WallModel::Incidence,
         }
     }
 }
 
 impl LogMapSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 7] = [
+    pub const FIELDS: [&'static str; 9] = [
         "resolution",
         "rangeCap",
         "alpha",
@@ -67,7 +81,19 @@ impl LogMapSettings {
         "lFree",
         "clamp",
         "margin",
+        "noReturnReach",
+        "walls",
     ];
+
+    /// Table 9.2 with the chapter's clamp, no-returns carving out to
+    /// `z_max`: workload W1's map, and the lesson of walls that wear away.
+    pub fn chapter() -> Self {
+        Self {
+            no_return_reach: 30.0,
+            walls: WallModel::Table92,
+            ..Self::default()
+        }
+    }
 
     /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
     /// margin, its corners on whole multiples of the resolution (so that
@@ -130,6 +156,16 @@ impl LogMapSettings {
         error::finite("lOcc", self.l_occ)?;
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
+        error::positive("noReturnReach", self.no_return_reach)?;
+        // Free evidence lowers a cell and occupied evidence raises it: the
+        // traversal gathers them as two flags.
+        // (Compared as the f32 the map stores: 1e-50 is 0 there.)
+        if !((self.l_occ as f32) > 0.0) {
+            return Err(invalid("lOcc", error::show(self.l_occ), "log odds above 0 (at least 1e-38)"));
+        }
+        if !((self.l_free as f32) < 0.0) {
+            return Err(invalid("lFree", error::show(self.l_free), "log odds below 0 (at most -1e-38)"));
+        }
         // The model checks what is left of it (evidence past f32) under its
         // own names: report them as the page spells them.
         HandCrafted::new(self.model_params()).map_err(Self::page_names)?;
@@ -190,6 +226,8 @@ pub struct LogMapBuild {
     grid: LogOddsGrid,
     model: HandCrafted,
     mapper: RayMapper,
+    /// Scratch: the current scan's beam bands.
+    bands: Vec<Option<BeamBand>>,
     done: usize,
     target: usize,
     cell_updates: u64,
@@ -207,6 +245,7 @@ impl LogMapBuild {
             grid,
             model,
             mapper: RayMapper::new(),
+            bands: Vec::new(),
             done: 0,
             target,
             cell_updates: 0,
@@ -291,10 +330,17 @@ impl LogMapBuild {
                         .ok()
                     })
                     .flatten();
-                let stats = match &short {
-                    Some(m) => self.mapper.integrate(&mut self.grid, m, &scan),
-                    None => self.mapper.integrate(&mut self.grid, &self.model, &scan),
-                };
+                let model = short.as_ref().unwrap_or(&self.model);
+                let res = self.grid.geometry().resolution();
+                let s = &self.settings;
+                beam_bands(&scan, model, s.no_return_reach, s.walls, res, &mut self.bands);
+                let (free, occupied) = (
+                    (s.l_free - model.params().l0) as f32,
+                    (s.l_occ - model.params().l0) as f32,
+                );
+                let stats =
+                    self.mapper
+                        .integrate_bands(&mut self.grid, &scan, &self.bands, free, occupied);
                 self.cell_updates += stats.cells_updated as u64;
                 self.beams += scan.len() as u64;
             }
@@ -326,9 +372,11 @@ impl LogMapBuild {
         &self.settings
     }
 
-    /// How many cells are occupied, free and unknown now.
-    pub fn counts(&self) -> StateCounts {
-        count_states(&self.grid)
+    /// How many cells are occupied, free and unknown now, counted with the
+    /// thresholds of the exported file (what the PGM would show and
+    /// `map_server` load), which the counts carry.
+    pub fn counts(&self) -> ExportCounts {
+        map_server::export_counts(&self.grid)
     }
 
     /// The laser positions of all scans in image units (x to the right, y
@@ -350,7 +398,7 @@ impl LogMapBuild {
 }
 
 /// What the read of a log reports: its progress and the file's size.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct ReadReport {
     #[serde(flatten)]
@@ -388,6 +436,8 @@ pub struct RealLogSession {
     pending: Option<LaserScans>,
     /// How the read ended, once it has.
     read_summary: Option<LoadProgress>,
+    /// Why the read was refused, once it has been (the file is freed).
+    read_failure: Option<OccError>,
     bytes_total: usize,
     settings: LogMapSettings,
     build: Option<LogMapBuild>,
@@ -395,30 +445,54 @@ pub struct RealLogSession {
 
 impl RealLogSession {
     pub fn new(bytes: Vec<u8>) -> Self {
+        Self::with_budget(bytes, LogBudget::default())
+    }
+
+    /// A session whose reader has its own budget (a test's smaller one).
+    pub fn with_budget(bytes: Vec<u8>, budget: LogBudget) -> Self {
         Self {
             bytes_total: bytes.len(),
-            loader: Some(LogLoader::new(Cursor::new(bytes))),
+            loader: Some(LogLoader::with_budget(Cursor::new(bytes), budget)),
             pending: None,
             read_summary: None,
+            read_failure: None,
             settings: LogMapSettings::default(),
             build: None,
         }
     }
 
-    /// Reads up to `max_scans` more laser lines. When the log is finished
-    /// the map is set up; a malformed line is an error naming its line
-    /// number, and so is a log without laser lines. If the settings make too
+    /// Reads up to `max_scans` more laser lines (and at most the reader's
+    /// budget of lines and bytes per call: [`LogBudget`]). When the log is
+    /// finished the map is set up; a malformed line is an error naming its
+    /// line number, and so is a log past the budget or without laser lines:
+    /// the file and the scans read are then freed, and every later call
+    /// gives the same error (the session stays usable: settings, and a new
+    /// session for another file). A log cut short is read up to the cut,
+    /// with the report's `warning` naming the line. If the settings make too
     /// large a grid for this log, that is an error too, and the scans wait
     /// ([`Self::awaiting_settings`]) for a [`Self::configure`] that fits.
     pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
+        if let Some(e) = &self.read_failure {
+            return Err(e.clone());
+        }
         let Some(loader) = self.loader.as_mut() else {
             return Err(OccError::State("the log has been read already".into()));
         };
-        let progress = loader.read(max_scans)?;
+        let progress = match loader.read(max_scans) {
+            Ok(p) => p,
+            Err(e) => return Err(self.read_failed(e)),
+        };
         if progress.finished {
-            self.read_summary = Some(progress);
+            self.read_summary = Some(progress.clone());
             if let Some(loader) = self.loader.take() {
                 let scans = loader.into_scans();
+                if scans.is_empty() {
+                    let e = OccError::State(format!(
+                        "the file has no FLASER or ROBOTLASER1 lines ({} lines read): no laser scans to map",
+                        progress.lines
+                    ));
+                    return Err(self.read_failed(e));
+                }
                 if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
                     self.pending = Some(scans);
                     return Err(e);
@@ -430,6 +504,13 @@ impl RealLogSession {
             progress,
             bytes_total: self.bytes_total,
         })
+    }
+
+    /// Frees the file and the scans read, and keeps `e` for later calls.
+    fn read_failed(&mut self, e: OccError) -> OccError {
+        self.loader = None;
+        self.read_failure = Some(e.clone());
+        e
     }
 
     /// New settings: restarts the build towards the same scan count and
@@ -452,7 +533,7 @@ impl RealLogSession {
 
     /// How the read ended (also when setting up the map failed), or `None`.
     pub fn read_summary(&self) -> Option<ReadReport> {
-        self.read_summary.map(|progress| ReadReport {
+        self.read_summary.clone().map(|progress| ReadReport {
             progress,
             bytes_total: self.bytes_total,
         })

@@ -148,8 +148,9 @@ impl LogMapSession {
         to_js(&self.session.build()?.readout_at_pixel(col, row))
     }
 
-    /// `{ occupied, free, unknown, cells }` now (p > 0.65, p < 0.35,
-    /// exactly the prior).
+    /// `{ occupied, free, unknown, cells, occupiedThresh, freeThresh }` now,
+    /// counted as the exported map holds them: occupied `p > occupiedThresh`,
+    /// free `p < freeThresh`, unknown the rest (the YAML's thresholds).
     pub fn counts(&self) -> Result<JsValue, JsError> {
         to_js(&self.session.build()?.counts())
     }

@@ -1,6 +1,8 @@
 //! What a whole map amounts to: how many cells are occupied, free and still
-//! unknown, with the thresholds of BENCHMARKS.md W1 (so that a page's
-//! figures can be held against the benchmark's).
+//! unknown. [`count_states`] uses the thresholds of BENCHMARKS.md W1 (the
+//! benchmark's figures); [`count_states_between`] any pair, which is how an
+//! exported map counts its cells with the thresholds its YAML states
+//! (`crate::io::map_server::export_counts`).
 
 use super::{logit, LogOddsGrid};
 
@@ -13,9 +15,9 @@ pub const FREE_BELOW: f64 = 0.35;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct StateCounts {
-    /// Cells with `p > 0.65`.
+    /// Cells above the occupied threshold (`p > 0.65` for W1).
     pub occupied: usize,
-    /// Cells with `p < 0.35`.
+    /// Cells below the free threshold (`p < 0.35` for W1).
     pub free: usize,
     /// Cells still exactly at the prior.
     pub unknown: usize,
@@ -25,8 +27,22 @@ pub struct StateCounts {
 /// Counts the three states of a map. A cell still at the prior is unknown,
 /// whatever the thresholds say of `l0`.
 pub fn count_states(grid: &LogOddsGrid) -> StateCounts {
-    // p > 0.65 and p < 0.35 compared in log odds: no exp per cell.
-    let (occ_l, free_l) = (logit(OCCUPIED_ABOVE) as f32, logit(FREE_BELOW) as f32);
+    count_states_between(grid, OCCUPIED_ABOVE, FREE_BELOW)
+}
+
+/// The log-odds form of the thresholds `p > occupied_above` and
+/// `p < free_below`, as every comparison against them is made (one place,
+/// so that a map's image and its counts cannot disagree on a cell).
+pub fn log_odds_thresholds(occupied_above: f64, free_below: f64) -> (f32, f32) {
+    (logit(occupied_above) as f32, logit(free_below) as f32)
+}
+
+/// Counts the three states of a map with `p > occupied_above` occupied and
+/// `p < free_below` free (a cell still at the prior is unknown either way;
+/// one between the thresholds is in none of the three).
+pub fn count_states_between(grid: &LogOddsGrid, occupied_above: f64, free_below: f64) -> StateCounts {
+    // Compared in log odds: no exp per cell.
+    let (occ_l, free_l) = log_odds_thresholds(occupied_above, free_below);
     let l0 = grid.l0();
     let mut tally = Tally {
         l0,

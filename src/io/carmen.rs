@@ -40,21 +40,33 @@
 //! [`OccError::Parse`] naming the line and the reason; nothing after it is
 //! trusted.
 //!
-//! A **truncated last line** (the file ends without a newline) is read like
-//! any other line. Each field the map uses (ranges, laser pose) is followed
-//! by at least one required field, so a file cut inside the data the map
-//! needs always fails with the line number ("line 812: FLASER line ends
-//! before odom_x"), while a cut among the trailing timestamps, which the map
-//! does not use, is accepted. A gzip file cut short fails with the line that
-//! was being read when the compressed stream ended.
+//! A **log cut short** keeps the complete scans before the cut: a last
+//! laser line that ends without a newline and cannot be read (a file cut
+//! inside the ranges or the pose), or a gzip stream that ends early, ends
+//! the read cleanly with a [`LogReader::warning`] naming the line, not an
+//! error. (A cut among the trailing timestamps, which the map does not use,
+//! loses nothing: that line is read as usual.)
 //!
-//! # Memory
+//! **Foreign bytes** (a picture, an archive, random data) are refused on
+//! the first line holding bytes no text log has (NUL and other control
+//! characters, invalid UTF-8), in words: "the file is neither gzip nor a
+//! text log"; no byte of it is copied into the message.
+//!
+//! # Memory and budgets
 //!
 //! [`LogReader`] holds one line at a time (at most [`MAX_LINE_BYTES`]; a
 //! longer "line" is an error, so a binary file without newlines cannot fill
 //! memory). [`LaserScans`] keeps ranges as `f32` (CARMEN writes centimetres;
 //! `f32` rounds an 80 m reading by at most 4 µm) and one pose and angle pair
 //! per scan: about 0.8 kB per 180-beam scan, less than the line's text.
+//! What it keeps has a budget ([`LogBudget::kept_bytes`], 256 MiB by
+//! default: some 300,000 scans of 180 beams, sixty times the longest log of
+//! the public corpus), checked before anything is allocated
+//! (`try_reserve`): a log past it (a gzip bomb of valid lines) is refused
+//! with the budget and what it would need, and what was kept is freed.
+//! Each [`LogLoader::read`] call is bounded by scans, lines and bytes of
+//! text ([`LogBudget`]), so a file of blank lines is read in bounded steps
+//! like any other.
 
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
@@ -68,12 +80,44 @@ pub const MAX_LINE_BYTES: usize = 1 << 20;
 /// The most beams (and remission values) a laser line may declare.
 pub const MAX_BEAMS: usize = 10_000;
 
+/// What a log may cost, checked as it is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LogBudget {
+    /// Bytes the kept scans ([`LaserScans`]) may take.
+    pub kept_bytes: usize,
+    /// Lines one [`LogLoader::read`] call reads at most.
+    pub lines_per_read: usize,
+    /// Bytes of (decompressed) text one [`LogLoader::read`] call reads at
+    /// most (the line that crosses it is finished).
+    pub bytes_per_read: u64,
+}
+
+/// The default [`LogBudget::kept_bytes`]: 256 MiB.
+pub const MAX_KEPT_BYTES: usize = 256 << 20;
+
+impl Default for LogBudget {
+    fn default() -> Self {
+        Self {
+            kept_bytes: MAX_KEPT_BYTES,
+            lines_per_read: 1 << 16,
+            bytes_per_read: 1 << 20,
+        }
+    }
+}
+
+/// Mebibytes, for messages.
+fn mib(bytes: usize) -> String {
+    format!("{:.1} MiB", bytes as f64 / (1u64 << 20) as f64)
+}
+
 /// A parsed log: its laser scans in file order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CarmenLog {
     pub scans: Vec<Scan>,
     /// Lines read, laser or not.
     pub lines: usize,
+    /// How a log cut short ended ([`LogReader::warning`]), if it was.
+    pub warning: Option<String>,
 }
 
 /// Angle between consecutive FLASER beams for a scan of `n` beams.
@@ -101,6 +145,7 @@ pub fn read_log<R: Read>(reader: R) -> Result<CarmenLog> {
     Ok(CarmenLog {
         scans,
         lines: log.lines_read(),
+        warning: log.warning().map(str::to_string),
     })
 }
 
@@ -265,17 +310,53 @@ fn read_line(src: &mut dyn BufRead, buf: &mut Vec<u8>, limit: usize) -> io::Resu
     }
 }
 
+/// True when `line` holds bytes no text log has: NUL and the other control
+/// characters (tab, line and form feeds, carriage return and escape
+/// excepted), or invalid UTF-8.
+fn is_binary(line: &[u8]) -> bool {
+    line.iter()
+        .any(|&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0b | 0x0c | 0x1b) || b == 0x7f)
+        // A character cut at the end (a line cut at the length limit) is
+        // not a sign of binary.
+        || std::str::from_utf8(line).is_err_and(|e| e.error_len().is_some())
+}
+
+/// The error for a line of binary bytes, in words.
+fn binary_reason(line: usize, gzip: bool) -> String {
+    if gzip {
+        "the file is gzip, but what it holds is not text: not a CARMEN log".into()
+    } else if line == 1 {
+        "the file is neither gzip nor a text log (its first line holds binary bytes): not a CARMEN log".into()
+    } else {
+        "the line holds binary bytes, not text: the file is not a CARMEN log".into()
+    }
+}
+
+/// What one step of [`LogReader::step`] found.
+enum Step {
+    Record(LaserRecord),
+    /// The step's budget of lines or bytes ran out first.
+    Paused,
+    End,
+}
+
 /// A streaming reader of a CARMEN log (gzip or plain, detected from the
 /// first bytes): an iterator over its laser records. It stops at the first
 /// error, which names the line: the iterator yields it once and ends, and
 /// [`LogReader::next_record`] keeps returning it (a reader that failed
-/// never reports a clean end over a half-read log).
+/// never reports a clean end over a half-read log). A log cut short ends
+/// cleanly with a [`Self::warning`].
 pub struct LogReader<R: Read> {
     source: Source<R>,
     line: Vec<u8>,
     lines: usize,
+    /// Bytes of text (after decompression) read so far.
+    text_bytes: u64,
+    /// Laser records returned so far.
+    records: usize,
     bytes_at_close: u64,
     failure: Option<OccError>,
+    warning: Option<String>,
 }
 
 impl<R: Read> LogReader<R> {
@@ -286,9 +367,40 @@ impl<R: Read> LogReader<R> {
             source: Source::Unopened(reader),
             line: Vec::new(),
             lines: 0,
+            text_bytes: 0,
+            records: 0,
             bytes_at_close: 0,
             failure: None,
+            warning: None,
         }
+    }
+
+    /// How the read ended early, when the log was cut short: the line and
+    /// what was kept ("line 5103: the file ends inside this FLASER line
+    /// (...); the 1519 complete scans before it are kept").
+    pub fn warning(&self) -> Option<&str> {
+        self.warning.as_deref()
+    }
+
+    /// Bytes of text read so far (after decompression).
+    pub fn text_bytes(&self) -> u64 {
+        self.text_bytes
+    }
+
+    /// Ends the read cleanly at a cut on line `line` (an error when there is
+    /// no complete scan before it to keep).
+    fn cut_short(&mut self, line: usize, what: String) -> Result<Step> {
+        let n = self.records;
+        if n == 0 {
+            return self.fail(line, what);
+        }
+        self.close();
+        self.warning = Some(format!(
+            "line {line}: {what}; the {n} complete scan{} before it {} kept",
+            if n == 1 { "" } else { "s" },
+            if n == 1 { "is" } else { "are" },
+        ));
+        Ok(Step::End)
     }
 
     /// Lines read so far, laser or not.
@@ -312,18 +424,30 @@ impl<R: Read> LogReader<R> {
         self.source = Source::Closed;
     }
 
-    fn fail(&mut self, line: usize, reason: String) -> Result<Option<LaserRecord>> {
+    fn fail<T>(&mut self, line: usize, reason: String) -> Result<T> {
         self.close();
         let e = OccError::Parse { line, reason };
         self.failure = Some(e.clone());
         Err(e)
     }
 
-    /// The next laser record, `Ok(None)` at the end of the file.
+    /// The next laser record, `Ok(None)` at the end of the file (or at a
+    /// cut: see [`Self::warning`]).
     pub fn next_record(&mut self) -> Result<Option<LaserRecord>> {
+        match self.step(usize::MAX, u64::MAX)? {
+            Step::Record(r) => Ok(Some(r)),
+            Step::End => Ok(None),
+            Step::Paused => unreachable!("an unbounded step does not pause"),
+        }
+    }
+
+    /// Reads lines until a laser record, the end, or `max_lines` lines /
+    /// `max_bytes` bytes of text (the line that crosses it is finished).
+    fn step(&mut self, max_lines: usize, max_bytes: u64) -> Result<Step> {
         if let Some(e) = &self.failure {
             return Err(e.clone());
         }
+        let (lines0, bytes0) = (self.lines, self.text_bytes);
         if matches!(self.source, Source::Unopened(_)) {
             if let Source::Unopened(reader) = std::mem::replace(&mut self.source, Source::Closed) {
                 match Source::open(reader) {
@@ -333,32 +457,43 @@ impl<R: Read> LogReader<R> {
             }
         }
         loop {
+            if self.lines - lines0 >= max_lines || self.text_bytes - bytes0 >= max_bytes {
+                return Ok(Step::Paused);
+            }
             let gzip = self.source.is_gzip();
             let src: &mut dyn BufRead = match &mut self.source {
                 Source::Plain(b) => b,
                 Source::Gzip(b) => b,
-                _ => return Ok(None),
+                _ => return Ok(Step::End),
             };
             self.line.clear();
             match read_line(src, &mut self.line, MAX_LINE_BYTES) {
                 Ok(LineEnd::Eof) => {
                     self.close();
-                    return Ok(None);
+                    return Ok(Step::End);
                 }
-                Ok(LineEnd::Line) => self.lines += 1,
+                Ok(LineEnd::Line) => {
+                    self.lines += 1;
+                    self.text_bytes += self.line.len() as u64;
+                }
                 Ok(LineEnd::TooLong) => {
-                    return self.fail(
-                        self.lines + 1,
-                        format!(
-                            "line is longer than {} bytes: not a CARMEN log",
-                            MAX_LINE_BYTES
-                        ),
-                    )
+                    let line = self.lines + 1;
+                    let reason = if is_binary(&self.line) {
+                        binary_reason(line, gzip)
+                    } else {
+                        format!("line is longer than {MAX_LINE_BYTES} bytes: not a CARMEN log")
+                    };
+                    return self.fail(line, reason);
                 }
                 Err(e) => {
-                    let reason = if gzip && e.kind() == io::ErrorKind::UnexpectedEof {
-                        "the compressed file ends early (cut short?)".to_string()
-                    } else if gzip {
+                    if gzip && e.kind() == io::ErrorKind::UnexpectedEof {
+                        // The partial line (if any) is dropped with the cut.
+                        return self.cut_short(
+                            self.lines + 1,
+                            "the compressed file ends early (cut short?)".into(),
+                        );
+                    }
+                    let reason = if gzip {
                         format!("the compressed file is damaged: {e}")
                     } else {
                         format!("cannot read the file: {e}")
@@ -367,6 +502,11 @@ impl<R: Read> LogReader<R> {
                 }
             }
             let number = self.lines;
+            if is_binary(&self.line) {
+                return self.fail(number, binary_reason(number, gzip));
+            }
+            // The last line of a file cut short has no newline.
+            let unterminated = self.line.last() != Some(&b'\n');
             let mut text: &[u8] = &self.line;
             if number == 1 {
                 text = text.strip_prefix(b"\xef\xbb\xbf").unwrap_or(text);
@@ -387,7 +527,14 @@ impl<R: Read> LogReader<R> {
                 )),
             };
             return match parsed {
-                Ok(record) => Ok(Some(record)),
+                Ok(record) => {
+                    self.records += 1;
+                    Ok(Step::Record(record))
+                }
+                Err(reason) if unterminated => self.cut_short(
+                    number,
+                    format!("the file ends inside this line, which is cut short ({reason})"),
+                ),
                 Err(reason) => self.fail(number, reason),
             };
         }
@@ -612,16 +759,77 @@ impl LaserScans {
         Self::default()
     }
 
-    /// Reads every laser record of a log (gzip or plain).
+    /// Reads every laser record of a log (gzip or plain), within the
+    /// default budget.
     pub fn read<R: Read>(reader: R) -> Result<Self> {
         let mut scans = Self::new();
         for record in LogReader::new(reader) {
-            scans.push(&record?);
+            scans.push(&record?, MAX_KEPT_BYTES)?;
         }
         Ok(scans)
     }
 
-    pub fn push(&mut self, record: &LaserRecord) {
+    /// Bytes kept per scan besides its ranges: pose, angles, maximum range,
+    /// offset and line number.
+    pub const SCAN_BYTES: usize = std::mem::size_of::<Pose>()
+        + std::mem::size_of::<[f64; 2]>()
+        + std::mem::size_of::<f32>()
+        + 2 * std::mem::size_of::<usize>();
+
+    /// Bytes the scans take (by the same reckoning as the budget).
+    pub fn kept_bytes(&self) -> usize {
+        self.ranges.len() * std::mem::size_of::<f32>() + self.len() * Self::SCAN_BYTES
+    }
+
+    /// Grows `v` to hold `more` more items: doubling, but never past
+    /// `most` items (the budget), and without aborting when memory is short.
+    fn grow<T>(v: &mut Vec<T>, more: usize, most: usize) -> std::result::Result<(), ()> {
+        let need = v.len() + more;
+        if need <= v.capacity() {
+            return Ok(());
+        }
+        let target = need.max(v.capacity().saturating_mul(2)).min(most.max(need));
+        v.try_reserve_exact(target - v.len()).map_err(|_| ())
+    }
+
+    /// Keeps `record`, unless the scans would then take more than `budget`
+    /// bytes: then an error naming the line, the budget and what keeping
+    /// the log so far would need, and nothing is added. Room is reserved
+    /// before anything is written (`try_reserve`), so an allocation that
+    /// fails is the same clear error, not an abort.
+    pub fn push(&mut self, record: &LaserRecord, budget: usize) -> Result<()> {
+        let beams = record.ranges.len();
+        let need = self.kept_bytes() + beams * std::mem::size_of::<f32>() + Self::SCAN_BYTES;
+        let refuse = |what: String| OccError::Parse {
+            line: record.line,
+            reason: what,
+        };
+        if need > budget {
+            return Err(refuse(format!(
+                "the log is too large to keep: its scans up to this line need {} ({} scans, {} beams), \
+                 over the budget of {} for a log's scans",
+                mib(need),
+                self.len() + 1,
+                self.beams() + beams,
+                mib(budget)
+            )));
+        }
+        let scans_most = budget / Self::SCAN_BYTES + 1;
+        let beams_most = budget / std::mem::size_of::<f32>();
+        let n = self.len();
+        let ok = Self::grow(&mut self.poses, 1, scans_most).is_ok()
+            && Self::grow(&mut self.angles, 1, scans_most).is_ok()
+            && Self::grow(&mut self.max_range, 1, scans_most).is_ok()
+            && Self::grow(&mut self.offsets, if n == 0 { 2 } else { 1 }, scans_most + 1).is_ok()
+            && Self::grow(&mut self.lines, 1, scans_most).is_ok()
+            && Self::grow(&mut self.ranges, beams, beams_most).is_ok();
+        if !ok {
+            return Err(refuse(format!(
+                "out of memory keeping the log's scans: {} needed ({} scans so far)",
+                mib(need),
+                n + 1
+            )));
+        }
         if self.offsets.is_empty() {
             self.offsets.push(0);
         }
@@ -633,6 +841,7 @@ impl LaserScans {
         self.ranges.extend(record.ranges.iter().map(|&r| r as f32));
         self.offsets.push(self.ranges.len());
         self.lines.push(record.line);
+        Ok(())
     }
 
     /// Number of scans.
@@ -716,10 +925,11 @@ impl LaserScans {
 pub struct LogLoader<R: Read> {
     reader: LogReader<R>,
     scans: LaserScans,
+    budget: LogBudget,
 }
 
 /// How far a [`LogLoader`] has got.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct LoadProgress {
     pub lines: usize,
@@ -728,23 +938,49 @@ pub struct LoadProgress {
     /// Bytes of the (possibly compressed) input consumed.
     pub bytes_read: u64,
     pub finished: bool,
+    /// How a log cut short ended ([`LogReader::warning`]), or `None`.
+    pub warning: Option<String>,
 }
 
 impl<R: Read> LogLoader<R> {
     pub fn new(reader: R) -> Self {
+        Self::with_budget(reader, LogBudget::default())
+    }
+
+    /// A loader with its own budget (a test's smaller one).
+    pub fn with_budget(reader: R, budget: LogBudget) -> Self {
         Self {
             reader: LogReader::new(reader),
             scans: LaserScans::new(),
+            budget,
         }
     }
 
     /// Reads up to `max_scans` more laser records (at least one call's worth
-    /// of progress even when `max_scans` is 0).
+    /// of progress even when `max_scans` is 0), and at most the budget's
+    /// lines and bytes of text per call. On an error (a malformed line, a
+    /// log past the budget) the scans kept so far are freed: the log is
+    /// refused whole, and the reader keeps returning the error.
     pub fn read(&mut self, max_scans: usize) -> Result<LoadProgress> {
+        let (lines0, bytes0) = (self.reader.lines_read(), self.reader.text_bytes());
         for _ in 0..max_scans.max(1) {
-            match self.reader.next_record()? {
-                Some(record) => self.scans.push(&record),
-                None => break,
+            let lines = self.budget.lines_per_read.saturating_sub(self.reader.lines_read() - lines0);
+            let bytes = self.budget.bytes_per_read.saturating_sub(self.reader.text_bytes() - bytes0);
+            if lines == 0 || bytes == 0 {
+                break;
+            }
+            let pushed = match self.reader.step(lines, bytes) {
+                Ok(Step::Record(record)) => self.scans.push(&record, self.budget.kept_bytes),
+                Ok(Step::Paused | Step::End) => break,
+                Err(e) => Err(e),
+            };
+            if let Err(e) = pushed {
+                if self.reader.failure.is_none() {
+                    self.reader.close();
+                    self.reader.failure = Some(e.clone());
+                }
+                self.scans = LaserScans::new();
+                return Err(e);
             }
         }
         Ok(self.progress())
@@ -757,6 +993,7 @@ impl<R: Read> LogLoader<R> {
             beams: self.scans.beams(),
             bytes_read: self.reader.bytes_read(),
             finished: self.reader.is_finished(),
+            warning: self.reader.warning().map(str::to_string),
         }
     }
 

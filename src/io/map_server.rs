@@ -22,19 +22,24 @@
 //!   the lower-left pixel, metres and radians: exactly the grid's origin.
 
 use crate::error::{OccError, Result};
+use crate::grid::stats::{count_states_between, log_odds_thresholds};
 use crate::grid::LogOddsGrid;
 
 /// `occupied_thresh` of the YAML: a cell with `p > 0.65` is exported as
 /// occupied.
 pub const OCCUPIED_THRESH: f64 = 0.65;
-/// `free_thresh` of the YAML: a cell with `p < 0.25` is exported as free.
+/// `free_thresh` of the YAML: a cell with `p < 0.196` is exported as free.
 ///
-/// This is the value SPEC §11 fixes. Note what a loader does with it: the
-/// unknown gray 205 reads as `occ = 50 / 255 = 0.196`, which is below 0.25,
-/// so `map_server` and `nav2_map_server` load unknown cells as *free*. ROS 1's
-/// `map_saver` writes 0.196 for that reason, and Nav2's saver does the same
-/// for trinary maps since navigation2 PR #5278.
-pub const FREE_THRESH: f64 = 0.25;
+/// ROS 1 `map_saver`'s value, and the one SPEC §11 fixes: the loader reads
+/// the unknown gray 205 as `occ = 50 / 255 = 0.19608`, just above it, so
+/// unknown cells load as unknown. With any higher value (ROS 2's default
+/// 0.25) `map_server` and `nav2_map_server` would load every unknown cell as
+/// *free*, and a planner would drive into space nobody has seen.
+///
+/// These two constants are the only thresholds of an export: the image
+/// ([`trinary_gray`]), the YAML and the counts a page or the CLI shows for
+/// it ([`export_counts`]) all read them.
+pub const FREE_THRESH: f64 = 0.196;
 /// Gray level of an occupied cell.
 pub const OCCUPIED_GRAY: u8 = 0;
 /// Gray level of a free cell.
@@ -58,18 +63,54 @@ pub struct MapServerPair {
 /// prior (whatever the prior is: a cell nobody measured is not free just
 /// because the prior was low), else occupied above [`OCCUPIED_THRESH`],
 /// free below [`FREE_THRESH`], unknown in between. The comparisons are
-/// strict, as in the loader.
+/// strict, as in the loader, and made in log odds exactly as
+/// [`export_counts`] makes them.
 pub fn trinary_gray(grid: &LogOddsGrid, i: usize) -> u8 {
+    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
+    gray_of(grid, i, occ_l, free_l)
+}
+
+#[inline]
+fn gray_of(grid: &LogOddsGrid, i: usize, occ_l: f32, free_l: f32) -> u8 {
     if grid.is_unknown(i) {
         return UNKNOWN_GRAY;
     }
-    let p = grid.probability_at(i);
-    if p > OCCUPIED_THRESH {
+    let l = grid.log_odds()[i];
+    if l > occ_l {
         OCCUPIED_GRAY
-    } else if p < FREE_THRESH {
+    } else if l < free_l {
         FREE_GRAY
     } else {
         UNKNOWN_GRAY
+    }
+}
+
+/// What an exported map holds, counted with the thresholds its YAML states:
+/// cells that load as occupied (gray 0), free (254) and unknown (205: never
+/// measured, or measured but between the thresholds).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ExportCounts {
+    pub occupied: usize,
+    pub free: usize,
+    pub unknown: usize,
+    pub cells: usize,
+    /// The YAML's `occupied_thresh`: occupied means `p >` this.
+    pub occupied_thresh: f64,
+    /// The YAML's `free_thresh`: free means `p <` this.
+    pub free_thresh: f64,
+}
+
+/// The cells of `grid` as its export would show them ([`map_server_pair`]).
+pub fn export_counts(grid: &LogOddsGrid) -> ExportCounts {
+    let s = count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH);
+    ExportCounts {
+        occupied: s.occupied,
+        free: s.free,
+        unknown: s.cells - s.occupied - s.free,
+        cells: s.cells,
+        occupied_thresh: OCCUPIED_THRESH,
+        free_thresh: FREE_THRESH,
     }
 }
 
@@ -86,9 +127,10 @@ pub fn map_server_pair(grid: &LogOddsGrid, image_name: &str) -> MapServerPair {
     );
     let mut pgm = Vec::with_capacity(header.len() + w * h);
     pgm.extend_from_slice(header.as_bytes());
+    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
     // Image rows run north to south, grid rows south to north.
     for iy in (0..h).rev() {
-        pgm.extend((0..w).map(|ix| trinary_gray(grid, g.index(ix, iy))));
+        pgm.extend((0..w).map(|ix| gray_of(grid, g.index(ix, iy), occ_l, free_l)));
     }
     let [ox, oy] = g.origin();
     let name = if image_name.is_empty() {

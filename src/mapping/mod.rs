@@ -10,6 +10,7 @@ pub mod joint;
 pub mod map_search;
 pub mod sweep;
 pub mod traversal;
+pub mod walls;
 
 pub use sweep::sweep_scan;
 pub use traversal::{RayMapper, ScanStats};

@@ -240,6 +240,71 @@ impl RayMapper {
     }
 }
 
+/// One beam's evidence along its axis for [`RayMapper::integrate_bands`]:
+/// free for `r <= free_until`, nothing up to `occupied_from`, occupied for
+/// `occupied_from < r <= occupied_until`, nothing beyond. The walk stops at
+/// `reach`. (Table 9.2 is the case `occupied_from == free_until`; a gap
+/// lets a mapper withhold free evidence near a reading without marking it
+/// occupied.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamBand {
+    pub reach: f64,
+    pub free_until: f64,
+    pub occupied_from: f64,
+    pub occupied_until: f64,
+}
+
+impl RayMapper {
+    /// Integrates one scan whose beams each state their evidence as a
+    /// [`BeamBand`] (`bands[i]` for beam `i`, `None` for a beam with nothing
+    /// to walk), every beam with the same `free` (< 0) and `occupied` (> 0)
+    /// log odds net of `l0`. Cells are gathered and updated once per scan,
+    /// occupied winning, as in [`Self::integrate`]; with each band built
+    /// from Table 9.2's axis profile (no gap) the map is bit for bit the
+    /// one `integrate` makes.
+    pub fn integrate_bands(
+        &mut self,
+        grid: &mut LogOddsGrid,
+        scan: &Scan,
+        bands: &[Option<BeamBand>],
+        free: f32,
+        occupied: f32,
+    ) -> ScanStats {
+        if !(free < 0.0 && occupied > 0.0) {
+            // Not this path's kind of evidence (the caller checks its
+            // settings): no update rather than a wrong one.
+            return ScanStats::default();
+        }
+        self.cache_bearing_trig(scan.bearings());
+        let frame = BeamFrame::new(grid, scan);
+        let len = Gathered::<u8>::len_for(grid.geometry().len());
+        if self.codes.len() != len {
+            self.codes = vec![Code::Untouched as u8; len];
+        }
+        ensure_len(&mut self.touched, len);
+        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
+        let mut visits = 0;
+        for (band, &trig) in bands.iter().zip(&self.bearing_trig) {
+            let Some(b) = *band else { continue };
+            if !(b.reach > 0.0) {
+                continue;
+            }
+            let Some((walk, at)) = frame.beam(trig, b.reach) else {
+                continue;
+            };
+            let n;
+            (n, gathered) = trace(walk, at, BandCodes(b), gathered);
+            visits += n;
+        }
+        let count = gathered.count;
+        gathered.settle(grid, Bands { free, occupied });
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: count,
+        }
+    }
+}
+
 /// Makes `buffer` `len` long (its contents are scratch).
 fn ensure_len(buffer: &mut Vec<u32>, len: usize) {
     if buffer.len() != len {
@@ -541,6 +606,21 @@ impl Verdict<Codes<'_>> for StepCodes {
         if r <= self.0.free_until {
             gathered.record(i, Code::Free as u8);
         } else if r <= self.0.occupied_until {
+            gathered.record(i, Code::Occupied as u8);
+        }
+    }
+}
+
+/// A [`BeamBand`], as codes.
+struct BandCodes(BeamBand);
+
+impl Verdict<Codes<'_>> for BandCodes {
+    #[inline(always)]
+    fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
+        let b = &self.0;
+        if r <= b.free_until {
+            gathered.record(i, Code::Free as u8);
+        } else if r > b.occupied_from && r <= b.occupied_until {
             gathered.record(i, Code::Occupied as u8);
         }
     }

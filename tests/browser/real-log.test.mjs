@@ -98,16 +98,18 @@ test('the Intel log loaded through the file input is mapped in chunks, its time 
   const frames = await page.evaluate(() => window.framesDuringBuild);
   assert.ok(frames >= 2, `${frames} frames painted during the build`);
 
-  // The map: walls a few percent, free space most of what the laser saw,
-  // a quarter never seen (the core counts 3.3 %, 55.8 %, 25.0 %).
+  // The map at the real-log defaults: walls a few percent, free space what
+  // the laser saw within the no-return reach, the outside never cleared.
   const px = await canvasClasses(page);
   const share = (k) => px[k] / px.total;
+  console.log(`# canvas classes ${JSON.stringify(px)}`);
   assert.ok(share('occupied') > 0.02 && share('occupied') < 0.06, `occupied ${share('occupied')}`);
-  assert.ok(share('free') > 0.45 && share('free') < 0.65, `free ${share('free')}`);
-  assert.ok(share('unknown') > 0.18 && share('unknown') < 0.32, `unknown ${share('unknown')}`);
+  assert.ok(share('free') > 0.22 && share('free') < 0.4, `free ${share('free')}`);
+  assert.ok(share('unknown') > 0.4 && share('unknown') < 0.7, `unknown ${share('unknown')}`);
   assert.ok(share('overlay') < 0.05, `the path covers little: ${JSON.stringify(px)}`);
+  // The counts are the exported file's (map_server's thresholds).
   const counts = await page.locator('.map-weaver-log-counts').textContent();
-  assert.match(counts, /occupied \(p > 0\.65\) 20,585/);
+  assert.match(counts, /as exported: occupied \(p > 0\.65\) 24,873 · free \(p < 0\.196\) 189,433 · unknown 405,148/);
 
   await screenshot(panel(page), 'real-log-intel');
   await screenshot(page.locator('.map-weaver-log-map'), 'real-log-intel-map');
@@ -221,7 +223,7 @@ test('export downloads one zip with a map_server PGM and the YAML that names it'
   const yaml = files['intel-corrected-map.yaml'].toString();
   assert.match(yaml, /^image: intel-corrected-map\.pgm\nmode: trinary\nresolution: 0\.05\n/);
   assert.ok(yaml.includes(`origin: [${geometry.originX}, ${geometry.originY}, 0.0]`), yaml);
-  assert.match(yaml, /\nnegate: 0\noccupied_thresh: 0\.65\nfree_thresh: 0\.25\n$/);
+  assert.match(yaml, /\nnegate: 0\noccupied_thresh: 0\.65\nfree_thresh: 0\.196\n$/);
   const pgm = files['intel-corrected-map.pgm'];
   const header = `P5\n# CREATOR: occgrid 0.050 m/pix\n${geometry.width} ${geometry.height}\n255\n`;
   assert.equal(pgm.subarray(0, header.length).toString(), header);
@@ -272,7 +274,7 @@ test('the menu offers the logs of /datasets/ and loads the one picked', async ()
   await close();
 });
 
-test('garbage and truncated files give a line-numbered error in the panel, and a good file still loads after', async () => {
+test('garbage files give a line-numbered error in the panel, a truncated one is mapped with a warning, and a good file still loads after', async () => {
   const { page, errors, close } = await openPanel();
   const input = '.map-weaver-log input[type=file]';
   const alert = page.locator('.map-weaver-log .occgrid-error');
@@ -284,12 +286,15 @@ test('garbage and truncated files give a line-numbered error in the panel, and a
   const png = fs.readFileSync(path.join(DATASETS, 'intel-corrected.png'));
   await page.setInputFiles(input, { name: 'picture.log', mimeType: 'image/png', buffer: png });
   assert.equal((await settled(page)).state, 'error');
-  assert.match(await alert.textContent(), /line 1: not a CARMEN log/);
+  assert.match(await alert.textContent(), /line 1: the file is neither gzip nor a text log/);
 
   const intel = fs.readFileSync(INTEL);
   await page.setInputFiles(input, { name: 'cut.log.gz', mimeType: 'application/gzip', buffer: intel.subarray(0, intel.length >> 1) });
-  assert.equal((await settled(page)).state, 'error');
-  assert.match(await alert.textContent(), /cut\.log\.gz: line \d{4}: the compressed file ends early/);
+  const cut = await settled(page);
+  assert.equal(cut.state, 'done');
+  assert.ok(Number(cut.scans) > 300 && Number(cut.scans) < 910, cut.scans);
+  assert.match(await page.locator('.map-weaver-log-timing').textContent(),
+    new RegExp(`Warning: line \\d{4}: the compressed file ends early \\(cut short\\?\\); the ${cut.scans} complete scans before it are kept`));
 
   const text = Buffer.from('FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 -2.0 3.0 0 0 0 0 0 0 2 h 2\n');
   await page.setInputFiles(input, { name: 'bad.log', mimeType: 'text/plain', buffer: text });
@@ -300,7 +305,7 @@ test('garbage and truncated files give a line-numbered error in the panel, and a
   await loadIntel(page);
   assert.equal(await alert.count(), 0, 'the error is cleared');
   // Only the errors the panel reported itself reached the console.
-  assert.ok(errors.length === 4 && errors.every((e) => /line \d+/.test(e)), errors.join('\n'));
+  assert.ok(errors.length === 3 && errors.every((e) => /line \d+/.test(e)), errors.join('\n'));
   await close();
 });
 

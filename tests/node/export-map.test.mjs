@@ -1,0 +1,67 @@
+// The command-line export (scripts/export-map.mjs) as a user runs it: bad
+// option values are named with the text given, a log cut short is mapped
+// with a warning naming the line. Needs pkg/ (npm run build).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import zlib from 'node:zlib';
+
+const script = new URL('../../scripts/export-map.mjs', import.meta.url).pathname;
+const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'export-map-'));
+
+function run(...args) {
+  const r = spawnSync(process.execPath, [script, ...args], { encoding: 'utf8', timeout: 60_000 });
+  return { status: r.status, stdout: r.stdout, stderr: r.stderr };
+}
+
+/** A small log: `n` FLASER lines of 180 beams 2 m away, robot moving east. */
+function smallLog(n) {
+  let text = '';
+  for (let k = 0; k < n; k++) {
+    text += `FLASER 180 ${Array(180).fill('2.00').join(' ')} ${(k * 0.1).toFixed(2)} 0 0 0 0 0 ${k} host ${k}\n`;
+  }
+  return text;
+}
+
+test('a resolution that is not a number is named with the text given', () => {
+  const log = path.join(dir, 'small.log');
+  fs.writeFileSync(log, smallLog(3));
+  for (const text of ['abc', '', '0x10', '1,5']) {
+    const r = run(log, path.join(dir, 'out'), '--resolution', text);
+    assert.equal(r.status, 1);
+    assert.match(r.stderr, new RegExp(`--resolution ${JSON.stringify(text).replace(/[.*+?^${}()|[\]\\]/g, '\\$&')} is not a number`), r.stderr);
+    assert.doesNotMatch(r.stderr, /NaN/);
+  }
+  const eq = run(log, path.join(dir, 'out'), '--resolution=abc');
+  assert.match(eq.stderr, /--resolution "abc" is not a number/);
+  const ok = run(log, path.join(dir, 'out'), '--resolution', '0.1');
+  assert.equal(ok.status, 0, ok.stderr);
+});
+
+test('a log cut mid-line is mapped from the complete scans, with a warning naming the line', () => {
+  const text = smallLog(10);
+  const cut = text.slice(0, text.length - 700);
+  const log = path.join(dir, 'cut.log.gz');
+  fs.writeFileSync(log, zlib.gzipSync(cut));
+  const r = run(log, path.join(dir, 'cut'));
+  assert.equal(r.status, 0, r.stderr);
+  assert.match(r.stderr, /warning: line 10: the file ends inside this line/);
+  const summary = JSON.parse(r.stdout);
+  assert.equal(summary.scans, 9);
+  assert.match(summary.warning, /the 9 complete scans before it are kept/);
+});
+
+test('random bytes are refused in words', () => {
+  const bytes = Buffer.alloc(5000);
+  let x = 12345;
+  for (let i = 0; i < bytes.length; i++) bytes[i] = (x = (x * 1103515245 + 12345) >>> 0) >>> 24;
+  const log = path.join(dir, 'noise.bin');
+  fs.writeFileSync(log, bytes);
+  const r = run(log, path.join(dir, 'noise'));
+  assert.equal(r.status, 1);
+  assert.match(r.stderr, /neither gzip nor a text log/);
+  assert.match(r.stderr, /^[\x20-\x7e\n…]*$/, 'no binary in the message');
+});
