@@ -531,7 +531,9 @@ test('the README’s Embedding section shows every widget with every attribute i
   // Pasted into a page as they are, the examples load without a single complaint.
   const html = [...section.matchAll(/```html\n([\s\S]*?)```/g)].map((m) => m[1])
     .filter((block) => tags.some((t) => block.includes(`<${t} `)))
-    .join('\n').replaceAll('https://HOST', project);
+    // `https://HOST/PATH/` is where an instructor put the bundle; here the
+    // project's server plays that host.
+    .join('\n').replaceAll('https://HOST/PATH', project).replaceAll('https://HOST', project);
   const pasted = await serveForeign({ '/readme.html': `<!doctype html><html lang="en"><head><meta charset="utf-8"><title>README examples</title><link rel="icon" href="data:,"></head><body>${html}</body></html>` });
   const { page: q, errors, logs, close: closeQ } = await openPage(`${pasted.origin}/readme.html`, { reducedMotion: 'reduce' });
   for (const tag of tags) {
