@@ -16,40 +16,6 @@ fn dataset(name: &str) -> Vec<u8> {
     std::fs::read(datasets().join(name)).unwrap()
 }
 
-/// Writes the map of `OCCGRID_LOG` under `OCCGRID_SETTINGS` (JSON) to
-/// `OCCGRID_OUT`.pgm/.yaml: a tool for comparing settings by hand.
-#[test]
-#[ignore]
-fn export_one_log_with_settings_from_the_environment() {
-    let (Some(log), Some(out)) = (std::env::var_os("OCCGRID_LOG"), std::env::var("OCCGRID_OUT").ok()) else {
-        return;
-    };
-    // `field=value,...`, the settings' Rust names.
-    let mut settings = LogMapSettings::default();
-    for kv in std::env::var("OCCGRID_SETTINGS").unwrap_or_default().split(',').filter(|t| !t.is_empty()) {
-        let (k, v) = kv.split_once('=').unwrap();
-        let f = || v.parse::<f64>().unwrap();
-        match k {
-            "resolution" => settings.resolution = f(),
-            "l_free" => settings.l_free = f(),
-            "l_occ" => settings.l_occ = f(),
-            "clamp" => settings.clamp = f(),
-            "alpha" => settings.alpha = f(),
-            "no_return_reach" => settings.no_return_reach = f(),
-            "walls" => settings.walls = if v == "table-9.2" { occgrid::mapping::walls::WallModel::Table92 } else { occgrid::mapping::walls::WallModel::Incidence },
-            _ => panic!("unknown {k}"),
-        }
-    }
-    let mut s = RealLogSession::new(std::fs::read(log).unwrap());
-    s.configure(settings).unwrap();
-    while !s.read(usize::MAX).unwrap().progress.finished {}
-    while !s.build_chunk(usize::MAX).unwrap().finished {}
-    let stem = std::path::Path::new(&out).file_name().unwrap().to_str().unwrap().to_string();
-    let pair = s.export_map(Some(&stem)).unwrap();
-    std::fs::write(format!("{out}.pgm"), &pair.pgm).unwrap();
-    std::fs::write(format!("{out}.yaml"), &pair.yaml).unwrap();
-}
-
 use occgrid::inverse::{HandCrafted, HandCraftedParams};
 use occgrid::io::map_server::map_server_pair;
 use occgrid::mapping::traversal::RayMapper;
@@ -60,7 +26,11 @@ fn flaser_log(scans: &[(f64, f64, f64, Vec<f64>)]) -> Vec<u8> {
     let mut text = String::new();
     for (k, (x, y, th, rs)) in scans.iter().enumerate() {
         let r: Vec<String> = rs.iter().map(|r| format!("{r:.3}")).collect();
-        text.push_str(&format!("FLASER {} {} {x} {y} {th} {x} {y} {th} {k} host {k}\n", rs.len(), r.join(" ")));
+        text.push_str(&format!(
+            "FLASER {} {} {x} {y} {th} {x} {y} {th} {k} host {k}\n",
+            rs.len(),
+            r.join(" ")
+        ));
     }
     text.into_bytes()
 }
@@ -82,7 +52,9 @@ fn the_chapter_settings_are_table_9_2_bit_for_bit() {
     let mut mapper = RayMapper::new();
     let mut updates = 0;
     for k in 0..b.scans().len() {
-        updates += mapper.integrate(&mut grid, &model, &b.scans().scan(k).unwrap()).cells_updated as u64;
+        updates += mapper
+            .integrate(&mut grid, &model, &b.scans().scan(k).unwrap())
+            .cells_updated as u64;
     }
     assert_eq!(&grid, b.grid());
     assert_eq!(updates, b.progress().cell_updates);
@@ -95,7 +67,9 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     // and scans from (30, 0) so that the map reaches that far.
     let mut scans = Vec::new();
     for k in 0..20 {
-        let rs = (0..180).map(|i| if (45..135).contains(&i) { 81.83 } else { 20.0 }).collect();
+        let rs = (0..180)
+            .map(|i| if (45..135).contains(&i) { 81.83 } else { 20.0 })
+            .collect();
         scans.push((0.0, 0.0, k as f64 * 0.001, rs));
     }
     scans.push((30.0, 0.0, std::f64::consts::PI, vec![1.0; 180]));
@@ -111,20 +85,32 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     assert!(free_at(&b, 4.0, 0.0), "cleared within the reach");
     for d in [6.0, 12.0, 20.0, 28.0] {
         assert!(!free_at(&b, d, 0.0), "a no-return cleared {d} m out");
-        assert!(b.grid().is_unknown(b.grid().geometry().index(b.grid().geometry().world_to_cell(d, 1.0).unwrap().0, b.grid().geometry().world_to_cell(d, 1.0).unwrap().1)));
+        assert!(b.grid().is_unknown(b.grid().geometry().index(
+            b.grid().geometry().world_to_cell(d, 1.0).unwrap().0,
+            b.grid().geometry().world_to_cell(d, 1.0).unwrap().1
+        )));
     }
     // Returns still carve out to their reading (bearing -70 degrees, 15 m).
     let a = -70f64.to_radians();
     assert!(free_at(&b, 15.0 * a.cos(), 15.0 * a.sin()));
     // The setting moves the reach; the chapter's no-returns reach z_max.
-    let b = build(&bytes, LogMapSettings { no_return_reach: 15.0, ..defaults });
+    let b = build(
+        &bytes,
+        LogMapSettings {
+            no_return_reach: 15.0,
+            ..defaults
+        },
+    );
     assert!(free_at(&b, 12.0, 0.0) && !free_at(&b, 20.0, 0.0));
     let b = build(&bytes, LogMapSettings::chapter());
     assert!(free_at(&b, 28.0, 0.0));
     // Checked by name.
     let mut s = RealLogSession::new(bytes);
     let e = s
-        .configure(LogMapSettings { no_return_reach: -1.0, ..defaults })
+        .configure(LogMapSettings {
+            no_return_reach: -1.0,
+            ..defaults
+        })
         .unwrap_err()
         .to_string();
     assert!(e.contains("noReturnReach") && e.contains("-1"), "{e}");
@@ -146,12 +132,17 @@ fn wall_recall(b: &LogMapBuild) -> f64 {
                 continue;
             }
             let (x, y) = pose.point_at(z, bearing);
-            let Some((ix, iy)) = g.world_to_cell(x, y) else { continue };
+            let Some((ix, iy)) = g.world_to_cell(x, y) else {
+                continue;
+            };
             let (c, r) = (ix as i64, (g.height() - 1 - iy) as i64);
             ends += 1;
             let black = (-1..=1).any(|dc| {
                 (-1..=1).any(|dr| {
-                    let (cc, rr) = ((c + dc).clamp(0, pgm.width as i64 - 1), (r + dr).clamp(0, pgm.height as i64 - 1));
+                    let (cc, rr) = (
+                        (c + dc).clamp(0, pgm.width as i64 - 1),
+                        (r + dr).clamp(0, pgm.height as i64 - 1),
+                    );
                     pgm.at(cc as usize, rr as usize) == Some(0)
                 })
             });
@@ -176,7 +167,15 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
     // 6 m away through the place where the person stood.
     let mut scans = Vec::new();
     for k in 0..60 {
-        let rs = (0..180).map(|i| if k < 10 && (88..92).contains(&i) { 3.0 } else { 6.0 }).collect();
+        let rs = (0..180)
+            .map(|i| {
+                if k < 10 && (88..92).contains(&i) {
+                    3.0
+                } else {
+                    6.0
+                }
+            })
+            .collect();
         scans.push((0.0, 0.0, 0.0, rs));
     }
     let bytes = flaser_log(&scans);
@@ -185,7 +184,11 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
         let (ix, iy) = g.world_to_cell(3.0, 0.0).unwrap();
         b.grid().probability_at(g.index(ix, iy))
     };
-    let mut b = LogMapBuild::new(LaserScans::read(&bytes[..]).unwrap(), LogMapSettings::default()).unwrap();
+    let mut b = LogMapBuild::new(
+        LaserScans::read(&bytes[..]).unwrap(),
+        LogMapSettings::default(),
+    )
+    .unwrap();
     b.seek(10).unwrap();
     b.advance(usize::MAX);
     assert!(at(&b) > 0.65, "the person is on the map");

@@ -161,10 +161,18 @@ impl LogMapSettings {
         // traversal gathers them as two flags.
         // (Compared as the f32 the map stores: 1e-50 is 0 there.)
         if !((self.l_occ as f32) > 0.0) {
-            return Err(invalid("lOcc", error::show(self.l_occ), "log odds above 0 (at least 1e-38)"));
+            return Err(invalid(
+                "lOcc",
+                error::show(self.l_occ),
+                "log odds above 0 (at least 1e-38)",
+            ));
         }
         if !((self.l_free as f32) < 0.0) {
-            return Err(invalid("lFree", error::show(self.l_free), "log odds below 0 (at most -1e-38)"));
+            return Err(invalid(
+                "lFree",
+                error::show(self.l_free),
+                "log odds below 0 (at most -1e-38)",
+            ));
         }
         // The model checks what is left of it (evidence past f32) under its
         // own names: report them as the page spells them.
@@ -333,7 +341,14 @@ impl LogMapBuild {
                 let model = short.as_ref().unwrap_or(&self.model);
                 let res = self.grid.geometry().resolution();
                 let s = &self.settings;
-                beam_bands(&scan, model, s.no_return_reach, s.walls, res, &mut self.bands);
+                beam_bands(
+                    &scan,
+                    model,
+                    s.no_return_reach,
+                    s.walls,
+                    res,
+                    &mut self.bands,
+                );
                 let (free, occupied) = (
                     (s.l_free - model.params().l0) as f32,
                     (s.l_occ - model.params().l0) as f32,

@@ -40,7 +40,11 @@ pub fn log_odds_thresholds(occupied_above: f64, free_below: f64) -> (f32, f32) {
 /// Counts the three states of a map with `p > occupied_above` occupied and
 /// `p < free_below` free (a cell still at the prior is unknown either way;
 /// one between the thresholds is in none of the three).
-pub fn count_states_between(grid: &LogOddsGrid, occupied_above: f64, free_below: f64) -> StateCounts {
+pub fn count_states_between(
+    grid: &LogOddsGrid,
+    occupied_above: f64,
+    free_below: f64,
+) -> StateCounts {
     // Compared in log odds: no exp per cell.
     let (occ_l, free_l) = log_odds_thresholds(occupied_above, free_below);
     let l0 = grid.l0();

@@ -820,7 +820,12 @@ impl LaserScans {
         let ok = Self::grow(&mut self.poses, 1, scans_most).is_ok()
             && Self::grow(&mut self.angles, 1, scans_most).is_ok()
             && Self::grow(&mut self.max_range, 1, scans_most).is_ok()
-            && Self::grow(&mut self.offsets, if n == 0 { 2 } else { 1 }, scans_most + 1).is_ok()
+            && Self::grow(
+                &mut self.offsets,
+                if n == 0 { 2 } else { 1 },
+                scans_most + 1,
+            )
+            .is_ok()
             && Self::grow(&mut self.lines, 1, scans_most).is_ok()
             && Self::grow(&mut self.ranges, beams, beams_most).is_ok();
         if !ok {
@@ -964,8 +969,14 @@ impl<R: Read> LogLoader<R> {
     pub fn read(&mut self, max_scans: usize) -> Result<LoadProgress> {
         let (lines0, bytes0) = (self.reader.lines_read(), self.reader.text_bytes());
         for _ in 0..max_scans.max(1) {
-            let lines = self.budget.lines_per_read.saturating_sub(self.reader.lines_read() - lines0);
-            let bytes = self.budget.bytes_per_read.saturating_sub(self.reader.text_bytes() - bytes0);
+            let lines = self
+                .budget
+                .lines_per_read
+                .saturating_sub(self.reader.lines_read() - lines0);
+            let bytes = self
+                .budget
+                .bytes_per_read
+                .saturating_sub(self.reader.text_bytes() - bytes0);
             if lines == 0 || bytes == 0 {
                 break;
             }
