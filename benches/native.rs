@@ -155,8 +155,11 @@ fn intel_real_log() {
         let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
         read.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
-        let mut b = occgrid::apps::real_log::LogMapBuild::new(scans, occgrid::apps::real_log::LogMapSettings::default())
-            .expect("default settings");
+        let mut b = occgrid::apps::real_log::LogMapBuild::new(
+            scans,
+            occgrid::apps::real_log::LogMapSettings::default(),
+        )
+        .expect("default settings");
         let p = b.advance(usize::MAX);
         build.push(t.elapsed().as_secs_f64() * 1e3);
         last = Some((p, b.counts(), *b.grid().geometry()));
@@ -175,10 +178,12 @@ fn doorway_map() {
     use occgrid::scenes::doorway::DoorwayScene;
     let scene = DoorwayScene::standard();
     let (mut setup, mut converge, mut step) = (Vec::new(), Vec::new(), Vec::new());
-    let mut search = occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
+    let mut search =
+        occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
     for _ in 0..runs() {
         let t = Instant::now();
-        search = occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
+        search =
+            occgrid::apps::doorway_trap::map_search(&scene).expect("the chapter's scene is valid");
         setup.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
         search.run(usize::MAX);

@@ -43,7 +43,10 @@ fn assert_words_only(message: &str) {
             .all(|c| (' '..='~').contains(&c) || "…–—’".contains(c)),
         "{message:?}"
     );
-    assert!(!message.contains("\\u{") && !message.contains("\\x"), "{message:?}");
+    assert!(
+        !message.contains("\\u{") && !message.contains("\\x"),
+        "{message:?}"
+    );
 }
 
 fn parse_error(bytes: &[u8]) -> (usize, String) {
@@ -211,7 +214,10 @@ fn a_gzip_log_cut_short_keeps_the_scans_before_the_cut_and_warns_with_the_line()
         // Every scan before the cut, exactly as in the whole log.
         assert!(!log.scans.is_empty() && log.scans.len() < full.scans.len());
         assert_eq!(log.scans[..], full.scans[..log.scans.len()]);
-        assert!(warning.contains(&format!("the {} complete scans", log.scans.len())), "{warning}");
+        assert!(
+            warning.contains(&format!("the {} complete scans", log.scans.len())),
+            "{warning}"
+        );
     }
 }
 
@@ -253,10 +259,21 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         .len();
     for cut in [start + 400, start + after_pose, start + after_pose + 3] {
         let log = parse_bytes(&text[..cut]).unwrap();
-        assert_eq!((log.scans.len(), log.lines), (4, number), "cut at byte {}", cut - start);
+        assert_eq!(
+            (log.scans.len(), log.lines),
+            (4, number),
+            "cut at byte {}",
+            cut - start
+        );
         let w = log.warning.unwrap();
-        assert!(w.starts_with(&format!("line {number}: the file ends inside this line")), "{w}");
-        assert!(w.contains("FLASER line ends before") && w.contains("the 4 complete scans"), "{w}");
+        assert!(
+            w.starts_with(&format!("line {number}: the file ends inside this line")),
+            "{w}"
+        );
+        assert!(
+            w.contains("FLASER line ends before") && w.contains("the 4 complete scans"),
+            "{w}"
+        );
     }
     // Cut after the odometry, inside the trailing timestamps: nothing the
     // map uses is lost, so the line counts.
@@ -285,7 +302,10 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
     let complete = parse_bytes(&text[..cut]).unwrap().scans.len();
     assert!(complete > 200, "{complete}");
     assert_eq!(report.progress.scans, complete);
-    assert!(w.contains(&format!("line {}:", report.progress.lines)), "{w}");
+    assert!(
+        w.contains(&format!("line {}:", report.progress.lines)),
+        "{w}"
+    );
     while !session.build_chunk(usize::MAX).unwrap().finished {}
     assert_eq!(session.build().unwrap().progress().scans_done, complete);
 }
@@ -799,7 +819,8 @@ fn flaser_bomb(lines: usize, beams: usize) -> Vec<u8> {
 }
 
 #[test]
-fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the_session_survives() {
+fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the_session_survives()
+{
     use occgrid::apps::real_log::RealLogSession;
     use occgrid::io::carmen::LogBudget;
     // 200 lines of 10,000 beams: 12 MB of text, 8 MB of f32 ranges to keep,
@@ -821,7 +842,10 @@ fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the
     let peak = PEAK.with(|p| p.get()) as usize;
     // Scans kept to the budget, the reader's line (at most 1 MiB) and
     // buffers: never the 8 MB the whole log would take.
-    assert!(peak < bomb.len() + (1 << 20) + (1 << 20) + (512 << 10), "peak heap {peak} bytes");
+    assert!(
+        peak < bomb.len() + (1 << 20) + (1 << 20) + (512 << 10),
+        "peak heap {peak} bytes"
+    );
     assert!(e.contains("over the budget of 1.0 MiB"), "{e}");
     assert!(e.contains("need 1.0 MiB (27 scans, 270000 beams)"), "{e}");
     assert!(e.starts_with("line 27:"), "{e}");
@@ -855,7 +879,11 @@ fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so()
     let e = loop {
         match session.read(usize::MAX) {
             Ok(r) => {
-                assert!(r.progress.lines - lines <= 1000, "one call read {} lines", r.progress.lines - lines);
+                assert!(
+                    r.progress.lines - lines <= 1000,
+                    "one call read {} lines",
+                    r.progress.lines - lines
+                );
                 lines = r.progress.lines;
                 calls += 1;
             }
@@ -863,9 +891,15 @@ fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so()
         }
     };
     assert!(calls >= 299, "{calls} calls");
-    assert!(e.contains("no FLASER or ROBOTLASER1 lines") && e.contains("300002 lines"), "{e}");
+    assert!(
+        e.contains("no FLASER or ROBOTLASER1 lines") && e.contains("300002 lines"),
+        "{e}"
+    );
     assert!(!e.contains("resolution"), "{e}");
-    assert!(!session.awaiting_settings(), "no settings can map an empty log");
+    assert!(
+        !session.awaiting_settings(),
+        "no settings can map an empty log"
+    );
     assert_eq!(session.read(1).unwrap_err().to_string(), e);
 
     // Bytes bound a call too: 64 kB of text per call over long comments.

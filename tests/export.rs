@@ -299,7 +299,10 @@ fn map_server_loads_unknown_gray_as_unknown_and_the_counts_agree_with_the_file()
     assert_eq!(c.cells, loaded.iter().sum::<usize>());
     assert_eq!(
         (c.occupied_thresh, c.free_thresh),
-        (yaml_field(&pair.yaml, "occupied_thresh"), yaml_field(&pair.yaml, "free_thresh"))
+        (
+            yaml_field(&pair.yaml, "occupied_thresh"),
+            yaml_field(&pair.yaml, "free_thresh")
+        )
     );
     assert!(loaded[2] > 0 && loaded[1] > 0 && loaded[0] > 0);
 }
