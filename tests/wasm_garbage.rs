@@ -49,6 +49,12 @@ fn refused<T>(result: Result<T, JsError>, words: &[&str]) -> String {
     text
 }
 
+/// A JavaScript number: every number parameter of the bindings takes a
+/// `JsValue` and reads it without coercion.
+fn num(v: f64) -> JsValue {
+    JsValue::from_f64(v)
+}
+
 fn json(text: &str) -> JsValue {
     JSON::parse(text).expect("valid JSON in the test")
 }
@@ -106,7 +112,7 @@ fn the_cell_filter_refuses_every_bad_number_by_name() {
     // An empty run is a table with no rows, not an error.
     let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &[], true).unwrap();
     assert_eq!(Array::from(&get(&t, "steps")).length(), 0);
-    let long = vec![1u8; 100_000];
+    let long = vec![1u8; occgrid::mapping::cell_filter::MAX_READINGS];
     let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &long, true).unwrap();
     let steps = Array::from(&get(&t, "steps"));
     let last = steps.get(steps.length() - 1);
@@ -120,38 +126,41 @@ fn the_cell_filter_refuses_every_bad_number_by_name() {
 #[wasm_bindgen_test]
 fn the_forward_density_refuses_bad_readings_and_bad_models_by_name() {
     refused(
-        forward_density(f64::NAN, 2.0, JsValue::UNDEFINED),
+        forward_density(num(f64::NAN), num(2.0), JsValue::UNDEFINED),
         &["z", "NaN"],
     );
-    refused(forward_density(-1.0, 2.0, JsValue::UNDEFINED), &["z", "-1"]);
     refused(
-        forward_density(1.0, f64::INFINITY, JsValue::UNDEFINED),
+        forward_density(num(-1.0), num(2.0), JsValue::UNDEFINED),
+        &["z", "-1"],
+    );
+    refused(
+        forward_density(num(1.0), num(f64::INFINITY), JsValue::UNDEFINED),
         &["z_star", "inf"],
     );
     refused(
-        forward_density(1.0, 2.0, JsValue::from_str("wide")),
+        forward_density(num(1.0), num(2.0), JsValue::from_str("wide")),
         &["params"],
     );
     refused(
-        forward_density(1.0, 2.0, json(r#"{"sigma_hit": -1}"#)),
+        forward_density(num(1.0), num(2.0), json(r#"{"sigma_hit": -1}"#)),
         &["sigma_hit", "-1"],
     );
     refused(
-        forward_density(1.0, 2.0, json(r#"{"z_rand": 0.5}"#)),
+        forward_density(num(1.0), num(2.0), json(r#"{"z_rand": 0.5}"#)),
         &["add up to 1"],
     );
     let nan_rate = with(&json("{}"), "lambda_short", JsValue::from_f64(f64::NAN));
     refused(
-        forward_density(1.0, 2.0, nan_rate),
+        forward_density(num(1.0), num(2.0), nan_rate),
         &["lambda_short", "NaN"],
     );
     refused(
-        forward_density(1.0, 2.0, json(r#"{"z_max": "far"}"#)),
+        forward_density(num(1.0), num(2.0), json(r#"{"z_max": "far"}"#)),
         &["params"],
     );
     // Degenerate but valid models still give a number.
     let flat = json(r#"{"sigma_hit": 1e300, "lambda_short": 1e-300}"#);
-    let d = forward_density(1.0, 2.0, flat).unwrap();
+    let d = forward_density(num(1.0), num(2.0), flat).unwrap();
     assert!(d.is_finite() && d >= 0.0, "{d}");
 }
 
@@ -264,11 +273,11 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
 
     let mut t = DoorwayTrap::new(scene(r#"{"seed": 3}"#)).unwrap();
     let state = stringify(&t.map_state().unwrap());
-    refused(t.cell_info(-1.0, 0.0), &["cell", "-1"]);
-    refused(t.cell_info(0.0, t.height() as f64), &["cell"]);
-    refused(t.cell_info(0.5, 0.0), &["cell", "0.5"]);
-    refused(t.cell_info(f64::NAN, 0.0), &["cell", "NaN"]);
-    refused(t.cell_info(4_294_967_296.0, 0.0), &["cell"]);
+    refused(t.cell_info(num(-1.0), num(0.0)), &["cell", "-1"]);
+    refused(t.cell_info(num(0.0), num(t.height() as f64)), &["cell"]);
+    refused(t.cell_info(num(0.5), num(0.0)), &["cell", "0.5"]);
+    refused(t.cell_info(num(f64::NAN), num(0.0)), &["cell", "NaN"]);
+    refused(t.cell_info(num(4_294_967_296.0), num(0.0)), &["cell"]);
     refused(t.export_map("both".into()), &["map", "both"]);
     for bad in [
         JsValue::from_f64(0.0),
@@ -278,7 +287,7 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
         refused(t.export_map(bad), &["map", "expected \"sweep\" or \"map\""]);
     }
     for bad in [f64::NAN, -1.0, 2.5, f64::NEG_INFINITY] {
-        refused(t.map_run_js(bad), &["maxFlips"]);
+        refused(t.map_run_js(num(bad)), &["maxFlips"]);
     }
     assert_eq!(
         stringify(&t.map_state().unwrap()),
@@ -286,13 +295,13 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
         "refusals changed nothing"
     );
     assert!(!t.sweep_step().unwrap().is_null());
-    assert!(t.map_run_js(f64::INFINITY).unwrap() > 0);
+    assert!(t.map_run_js(num(f64::INFINITY)).unwrap() > 0);
     assert!(t.map_step().unwrap().is_null(), "converged");
     assert!(t.map_render().unwrap() != 0 && t.sweep_render() != 0);
     let report = t.report().unwrap();
     assert!(get(&report, "doorCells").as_f64().unwrap() > 0.0);
     t.export_map("map".into()).unwrap();
-    assert!(t.cell_info(0.0, 0.0).is_ok());
+    assert!(t.cell_info(num(0.0), num(0.0)).is_ok());
 }
 
 #[wasm_bindgen_test]
@@ -356,7 +365,7 @@ fn sensor_fusion_refuses_bad_scenes_models_and_beam_counts_without_a_trace() {
     assert!(f.step());
     let before = stringify(&f.readout().unwrap());
     for beams in [f64::NAN, f64::INFINITY, -1.0, 1.5, 0.0, 4096.0, 1e300] {
-        refused(f.set_lidar_beams(beams), &["lidar.beams"]);
+        refused(f.set_lidar_beams(num(beams)), &["lidar.beams"]);
         assert_eq!(
             stringify(&f.readout().unwrap()),
             before,
@@ -370,7 +379,7 @@ fn sensor_fusion_refuses_bad_scenes_models_and_beam_counts_without_a_trace() {
         refused(f.export_map(bad), &["map", "\"sonar\""]);
     }
     assert!(f.step(), "still steps");
-    f.set_lidar_beams(90.0).unwrap();
+    f.set_lidar_beams(num(90.0)).unwrap();
     assert!(f.render("max".into()).unwrap() != 0);
     assert!(f.export_map("sum".into()).is_ok());
 }
@@ -463,42 +472,45 @@ fn map_weaver_refuses_bad_settings_by_field() {
 #[wasm_bindgen_test]
 fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
     let mut w = MapWeaver::new(weaver_settings()).unwrap();
-    assert_eq!(w.advance(5.0).unwrap(), 5);
+    assert_eq!(w.advance(num(5.0)).unwrap(), 5);
     let before = stringify(&w.readout().unwrap());
     for clamp in BAD_NUMBERS {
         if clamp == 1e39 {
-            refused(w.set_clamp(0.0, clamp), &["panes[0].clamp"]);
+            refused(w.set_clamp(num(0.0), num(clamp)), &["panes[0].clamp"]);
         } else {
-            refused(w.set_clamp(0.0, clamp), &["panes[0].clamp"]);
+            refused(w.set_clamp(num(0.0), num(clamp)), &["panes[0].clamp"]);
         }
     }
-    refused(w.set_clamp(7.0, 3.0), &["pane", "7"]);
+    refused(w.set_clamp(num(7.0), num(3.0)), &["pane", "7"]);
     for s in [f64::NAN, -1.0, 11.0, f64::INFINITY] {
-        refused(w.set_strength(1.0, s), &["panes[1].strength"]);
+        refused(w.set_strength(num(1.0), num(s)), &["panes[1].strength"]);
     }
-    refused(w.set_strength(1e300, 1.0), &["pane", "1e300"]);
-    refused(w.set_model(0.0, "magic".into()), &["model", "magic"]);
-    refused(w.set_model(2.0, "learned".into()), &["pane"]);
+    refused(w.set_strength(num(1e300), num(1.0)), &["pane", "1e300"]);
+    refused(w.set_model(num(0.0), "magic".into()), &["model", "magic"]);
+    refused(w.set_model(num(2.0), "learned".into()), &["pane"]);
     refused(
-        w.set_pose_source(1.0, "gps".into()),
+        w.set_pose_source(num(1.0), "gps".into()),
         &["pose source", "gps"],
     );
     // A pane index that the glue would once have wrapped or truncated to a
     // valid pane (2^32 to 0, 1.5 to 1, -0.5 to 0) is refused by name.
     for pane in [4_294_967_296.0, 1.5, -0.5, -1.0, f64::NAN, f64::INFINITY] {
-        refused(w.pixels(pane), &["pane"]);
-        refused(w.set_clamp(pane, 3.0), &["pane"]);
-        refused(w.overlay(pane), &["pane"]);
+        refused(w.pixels(num(pane)), &["pane"]);
+        refused(w.set_clamp(num(pane), num(3.0)), &["pane"]);
+        refused(w.overlay(num(pane)), &["pane"]);
     }
-    refused(w.pixels(2.0), &["pane"]);
-    refused(w.entropy_curve(9.0), &["pane"]);
-    refused(w.brier_curve(9.0), &["pane"]);
-    refused(w.tracked_history(9.0), &["pane"]);
-    refused(w.cell_info(5.0, 0.0, 0.0), &["pane"]);
-    refused(w.cell_info(0.0, 0.5, 0.0), &["col", "0.5"]);
-    refused(w.cell_info(0.0, 0.0, f64::NAN), &["row", "NaN"]);
-    refused(w.overlay(3.0), &["pane"]);
-    refused(w.export_map(4.0), &["pane"]);
+    refused(w.pixels(num(2.0)), &["pane"]);
+    refused(w.entropy_curve(num(9.0)), &["pane"]);
+    refused(w.brier_curve(num(9.0)), &["pane"]);
+    refused(w.tracked_history(num(9.0)), &["pane"]);
+    refused(w.cell_info(num(5.0), num(0.0), num(0.0)), &["pane"]);
+    refused(w.cell_info(num(0.0), num(0.5), num(0.0)), &["col", "0.5"]);
+    refused(
+        w.cell_info(num(0.0), num(0.0), num(f64::NAN)),
+        &["row", "NaN"],
+    );
+    refused(w.overlay(num(3.0)), &["pane"]);
+    refused(w.export_map(num(4.0)), &["pane"]);
     // Strings where strings belong, and nothing else.
     for bad in [
         JsValue::from_f64(42.0),
@@ -508,36 +520,52 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
         json(r#"["learned"]"#),
         JsValue::TRUE,
     ] {
-        refused(w.set_model(0.0, bad.clone()), &["model", "\"learned\""]);
-        refused(w.set_pose_source(1.0, bad), &["pose source", "\"oracle\""]);
+        refused(
+            w.set_model(num(0.0), bad.clone()),
+            &["model", "\"learned\""],
+        );
+        refused(
+            w.set_pose_source(num(1.0), bad),
+            &["pose source", "\"oracle\""],
+        );
     }
     for bad in [f64::NAN, -1.0, 0.5, f64::NEG_INFINITY] {
-        refused(w.advance(bad), &["scans"]);
+        refused(w.advance(num(bad)), &["scans"]);
     }
-    w.record_frame_ms(f64::NAN);
-    w.record_frame_ms(-5.0);
-    w.record_frame_ms(f64::INFINITY);
+    w.record_frame_ms(num(f64::NAN)).unwrap();
+    w.record_frame_ms(num(-5.0)).unwrap();
+    w.record_frame_ms(num(f64::INFINITY)).unwrap();
     assert_eq!(
         stringify(&w.readout().unwrap()),
         before,
         "refusals changed nothing"
     );
-    assert!(w.cell_info(0.0, 1e12, 0.0).unwrap().is_null());
-    assert!(w.cell_info(1.0, 0.0, -1.0).unwrap().is_null());
-    assert!(w.cell_info(1.0, 0.0, 4_294_967_296.0).unwrap().is_null());
+    assert!(w
+        .cell_info(num(0.0), num(1e12), num(0.0))
+        .unwrap()
+        .is_null());
+    assert!(w
+        .cell_info(num(1.0), num(0.0), num(-1.0))
+        .unwrap()
+        .is_null());
+    assert!(w
+        .cell_info(num(1.0), num(0.0), num(4_294_967_296.0))
+        .unwrap()
+        .is_null());
 
     // Still maps, and a huge request stops at the end of the run.
-    assert_eq!(w.advance(3.0).unwrap(), 3);
-    w.set_pose_source(1.0, "dead-reckoning".into()).unwrap();
-    w.set_model(0.0, "learned".into()).unwrap();
-    let taken = w.advance(f64::INFINITY).unwrap();
+    assert_eq!(w.advance(num(3.0)).unwrap(), 3);
+    w.set_pose_source(num(1.0), "dead-reckoning".into())
+        .unwrap();
+    w.set_model(num(0.0), "learned".into()).unwrap();
+    let taken = w.advance(num(f64::INFINITY)).unwrap();
     let r = w.readout().unwrap();
     assert_eq!(get(&r, "done").as_bool(), Some(true));
     assert_eq!(get(&r, "scans").as_f64().unwrap() as usize, 8 + taken);
-    assert_eq!(w.advance(1e300).unwrap(), 0);
-    assert!(w.pixels(1.0).unwrap() != 0);
+    assert_eq!(w.advance(num(1e300)).unwrap(), 0);
+    assert!(w.pixels(num(1.0)).unwrap() != 0);
     w.reset().unwrap();
-    assert_eq!(w.advance(2.0).unwrap(), 2);
+    assert_eq!(w.advance(num(2.0)).unwrap(), 2);
 }
 
 #[wasm_bindgen_test]
@@ -581,21 +609,21 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     refused(bad.read(10), &["line"]);
     refused(bad.read(10), &["line"]);
     refused(bad.render(), &["not been read"]);
-    refused(bad.seek(3.0), &["not been read"]);
+    refused(bad.seek(num(3.0)), &["not been read"]);
     refused(bad.build_chunk(usize::MAX), &["not been read"]);
     assert!(bad.geometry().unwrap().is_null());
 
     // A log without laser lines.
     let mut empty = LogMapSession::new(b"ODOM 0 0 0\n".to_vec());
-    refused(empty.read_js(f64::INFINITY), &["log"]);
+    refused(empty.read_js(num(f64::INFINITY)), &["log"]);
 
     // A good session and bad settings.
     let text = FLASER.repeat(6);
     let mut s = LogMapSession::new(text.into_bytes());
     for bad in [f64::NAN, -1.0, 0.5] {
-        refused(s.read_js(bad), &["maxScans"]);
+        refused(s.read_js(num(bad)), &["maxScans"]);
     }
-    let p = s.read_js(f64::INFINITY).unwrap();
+    let p = s.read_js(num(f64::INFINITY)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
     let geometry = stringify(&s.geometry().unwrap());
     refused(s.configure(JsValue::from_str("fine")), &["settings"]);
@@ -619,18 +647,18 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
         geometry,
         "refused settings changed the map"
     );
-    refused(s.build_chunk_js(f64::NAN), &["maxScans"]);
-    s.build_chunk_js(f64::INFINITY).unwrap();
-    refused(s.seek(1e6), &["scan"]);
-    refused(s.seek(-1.0), &["scan", "-1"]);
-    refused(s.seek(2.5), &["scan", "2.5"]);
-    refused(s.heading(1e9), &["scan"]);
-    refused(s.heading(-1.0), &["scan", "-1"]);
-    refused(s.heading(f64::NAN), &["scan", "NaN"]);
-    assert!(s.cell_at(1e12, 0.0).unwrap().is_null());
-    assert!(s.cell_at(-1.0, 0.0).unwrap().is_null());
-    refused(s.cell_at(0.5, 0.0), &["col"]);
-    refused(s.cell_at(0.0, f64::INFINITY), &["row"]);
+    refused(s.build_chunk_js(num(f64::NAN)), &["maxScans"]);
+    s.build_chunk_js(num(f64::INFINITY)).unwrap();
+    refused(s.seek(num(1e6)), &["scan"]);
+    refused(s.seek(num(-1.0)), &["scan", "-1"]);
+    refused(s.seek(num(2.5)), &["scan", "2.5"]);
+    refused(s.heading(num(1e9)), &["scan"]);
+    refused(s.heading(num(-1.0)), &["scan", "-1"]);
+    refused(s.heading(num(f64::NAN)), &["scan", "NaN"]);
+    assert!(s.cell_at(num(1e12), num(0.0)).unwrap().is_null());
+    assert!(s.cell_at(num(-1.0), num(0.0)).unwrap().is_null());
+    refused(s.cell_at(num(0.5), num(0.0)), &["col"]);
+    refused(s.cell_at(num(0.0), num(f64::INFINITY)), &["row"]);
     assert!(s.render().unwrap() != 0);
     let c = s.counts().unwrap();
     assert!(get(&c, "occupied").as_f64().unwrap() > 0.0);
@@ -660,59 +688,68 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
 #[wasm_bindgen_test]
 fn the_inverse_workbench_refuses_bad_seeds_and_lattices_and_keeps_its_model() {
     for seed in [f64::NAN, f64::INFINITY, -1.0, 1.5, 1e300] {
-        refused(InverseWorkbench::new(Some(seed)), &["seed"]);
+        refused(InverseWorkbench::new(num(seed)), &["seed"]);
     }
-    let mut w = InverseWorkbench::new(None).unwrap();
+    let mut w = InverseWorkbench::new(JsValue::UNDEFINED).unwrap();
     let lattice = || {
         json(r#"{"minRange": 0, "maxRange": 8, "ranges": 50, "maxBearing": 0.1, "bearings": 9}"#)
     };
     let before = stringify(&w.readout().unwrap());
     for seed in [f64::NAN, -3.0, 0.5, f64::INFINITY] {
-        refused(w.retrain(seed), &["seed"]);
+        refused(w.retrain(num(seed)), &["seed"]);
     }
     assert_eq!(
         stringify(&w.readout().unwrap()),
         before,
         "a refused retrain changed the model"
     );
-    refused(w.view(f64::NAN, lattice()), &["z", "NaN"]);
-    refused(w.view(-2.0, lattice()), &["z", "-2"]);
-    refused(w.view(3.0, JsValue::from_str("grid")), &["lattice"]);
+    refused(w.view(num(f64::NAN), lattice()), &["z", "NaN"]);
+    refused(w.view(num(-2.0), lattice()), &["z", "-2"]);
+    refused(w.view(num(3.0), JsValue::from_str("grid")), &["lattice"]);
     refused(
-        w.view(3.0, with(&lattice(), "ranges", JsValue::from_f64(1e9))),
+        w.view(num(3.0), with(&lattice(), "ranges", JsValue::from_f64(1e9))),
         &["ranges"],
     );
     refused(
-        w.view(3.0, with(&lattice(), "ranges", JsValue::from_f64(-1.0))),
+        w.view(
+            num(3.0),
+            with(&lattice(), "ranges", JsValue::from_f64(-1.0)),
+        ),
         &["lattice"],
     );
     refused(
         w.view(
-            3.0,
+            num(3.0),
             with(&lattice(), "ranges", JsValue::from_f64(100_000.0)),
         ),
         &["ranges"],
     );
     refused(
-        w.view(3.0, with(&lattice(), "bearings", JsValue::from_f64(1.0))),
+        w.view(
+            num(3.0),
+            with(&lattice(), "bearings", JsValue::from_f64(1.0)),
+        ),
         &["bearings"],
     );
     refused(
         w.view(
-            3.0,
+            num(3.0),
             with(&lattice(), "maxRange", JsValue::from_f64(f64::NAN)),
         ),
         &["max_range"],
     );
     refused(
-        w.view(3.0, with(&lattice(), "maxBearing", JsValue::from_f64(4.0))),
+        w.view(
+            num(3.0),
+            with(&lattice(), "maxBearing", JsValue::from_f64(4.0)),
+        ),
         &["max_bearing"],
     );
-    refused(w.view(3.0, json("{}")), &["lattice"]);
-    let v = w.view(3.0, lattice()).unwrap();
+    refused(w.view(num(3.0), json("{}")), &["lattice"]);
+    let v = w.view(num(3.0), lattice()).unwrap();
     assert!(get(&v, "scale").as_f64().unwrap().is_finite());
     // A reading too short to have free space in front: null, not NaN.
-    let v = w.view(0.1, lattice()).unwrap();
+    let v = w.view(num(0.1), lattice()).unwrap();
     assert!(get(&v, "handFree").is_null());
 }
 
@@ -723,7 +760,10 @@ fn the_inverse_workbench_refuses_bad_seeds_and_lattices_and_keeps_its_model() {
 /// mismatch.
 #[wasm_bindgen_test]
 fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
-    refused(forward_density(1.0, 2.0, json("[1, 2]")), &["params"]);
+    refused(
+        forward_density(num(1.0), num(2.0), json("[1, 2]")),
+        &["params"],
+    );
     refused(DoorwayTrap::new(json("[]")), &["scene"]);
     refused(MapWeaver::new(json("[1]")), &["settings"]);
     refused(DoorwayTrap::new(json(r#"{"seed": "seven"}"#)), &["seed"]);
@@ -732,7 +772,7 @@ fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
         &["resolution"],
     );
     refused(
-        forward_density(1.0, 2.0, json(r#"{"z_max": "far"}"#)),
+        forward_density(num(1.0), num(2.0), json(r#"{"z_max": "far"}"#)),
         &["z_max"],
     );
     let q = chapter_two_cell_query().unwrap();
@@ -780,27 +820,27 @@ fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
     refused(joint_posterior(json("[]")), &["joint query", "[]"]);
     refused(joint_posterior(JsValue::TRUE), &["joint query", "true"]);
     refused(
-        forward_density(1.0, 2.0, JsValue::from_f64(f64::NAN)),
+        forward_density(num(1.0), num(2.0), JsValue::from_f64(f64::NAN)),
         &["params", "NaN"],
     );
     let long: Array = (0..500).map(|_| JsValue::from_f64(1.0)).collect();
     let text = refused(DoorwayTrap::new(long.into()), &["scene", "..."]);
     assert!(text.len() < 200, "a long value is cut short: {text}");
     let mut session = LogMapSession::new(FLASER.repeat(2).into_bytes());
-    session.read_js(f64::INFINITY).unwrap();
+    session.read_js(num(f64::INFINITY)).unwrap();
     refused(session.configure(json("[]")), &["settings"]);
     refused(session.configure(JsValue::NULL), &["settings", "null"]);
     refused(
         session.configure(json(r#"{"clamp": "tight"}"#)),
         &["settings.clamp"],
     );
-    let mut w = InverseWorkbench::new(None).unwrap();
+    let mut w = InverseWorkbench::new(JsValue::UNDEFINED).unwrap();
     refused(
-        w.view(3.0, json("[0, 8, 50, 0.1, 9]")),
+        w.view(num(3.0), json("[0, 8, 50, 0.1, 9]")),
         &["lattice", "[0,8"],
     );
     refused(
-        w.view(3.0, json(r#"{"minRange": 0, "maxRange": "far", "ranges": 50, "maxBearing": 0.1, "bearings": 9}"#)),
+        w.view(num(3.0), json(r#"{"minRange": 0, "maxRange": "far", "ranges": 50, "maxBearing": 0.1, "bearings": 9}"#)),
         &["lattice.maxRange"],
     );
     // Enum-like values stay strings: a settings object may still name a
@@ -811,7 +851,7 @@ fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
         json(r#"[{"model": "learned"}, {"pose": "dead-reckoning"}]"#),
     ));
     assert!(ok.is_ok());
-    w.retrain(3.0).unwrap();
+    w.retrain(num(3.0)).unwrap();
 }
 
 /// Inputs each within its own bound whose product would hold a widget for
@@ -849,7 +889,7 @@ fn work_past_the_widget_limits_is_refused_naming_the_fields_and_the_limit() {
     .unwrap();
     let before = stringify(&f.readout().unwrap());
     refused(
-        f.set_lidar_beams(2048.0),
+        f.set_lidar_beams(num(2048.0)),
         &["steps x lidar.beams", "2000000"],
     );
     assert_eq!(stringify(&f.readout().unwrap()), before);
@@ -862,12 +902,43 @@ fn work_past_the_widget_limits_is_refused_naming_the_fields_and_the_limit() {
     );
 }
 
+/// The readings have a budget, checked on the length JavaScript reports
+/// before a byte is copied: a hundred million readings made the core panic
+/// (its table of rows would have taken 3.2 GB).
+#[wasm_bindgen_test]
+fn the_cell_filter_refuses_more_readings_than_its_budget_before_copying_them() {
+    let run = |readings: JsValue| {
+        run_cell_filter_js(num(0.7), num(0.3), num(0.5), num(12.0), readings, true)
+    };
+    let huge = js_sys::Uint8Array::new_with_length(100_000_000);
+    refused(
+        run(huge.clone().into()),
+        &["invalid readings", "100000000 readings", "at most 10000"],
+    );
+    refused(
+        run(huge.buffer().into()),
+        &["readings", "100000000 readings"],
+    );
+    let many = Array::new_with_length(10_001);
+    many.fill(&num(1.0), 0, 10_001);
+    refused(run(many.into()), &["invalid readings", "10001 readings"]);
+    refused(
+        run_cell_filter(0.7, 0.3, 0.5, 12.0, &vec![0; 10_001], true),
+        &["readings", "10001 readings"],
+    );
+    // At the budget it runs, and the module is alive after the refusals.
+    let t = run(js_sys::Uint8Array::new_with_length(10_000).into()).unwrap();
+    assert_eq!(Array::from(&get(&t, "steps")).length(), 10_000);
+}
+
 /// Bytes and readings come as typed arrays (or, for readings, arrays of
 /// numbers): a string, a number or `undefined` is refused by name, where the
 /// glue's own copy read a string's characters as bytes and a number as none.
 #[wasm_bindgen_test]
 fn byte_parameters_refuse_what_is_not_bytes_by_name() {
-    let run = |readings: JsValue| run_cell_filter_js(0.7, 0.3, 0.5, 12.0, readings, true);
+    let run = |readings: JsValue| {
+        run_cell_filter_js(num(0.7), num(0.3), num(0.5), num(12.0), readings, true)
+    };
     let t = run(json("[1, 1, 0]")).unwrap();
     assert_eq!(Array::from(&get(&t, "steps")).length(), 3);
     let t = run(js_sys::Uint8Array::from(&[1u8, 0][..]).into()).unwrap();
@@ -914,7 +985,7 @@ fn byte_parameters_refuse_what_is_not_bytes_by_name() {
     }
     let mut s = LogMapSession::new_js(buffer.into()).unwrap();
     assert_eq!(
-        get(&s.read_js(f64::INFINITY).unwrap(), "finished").as_bool(),
+        get(&s.read_js(num(f64::INFINITY)).unwrap(), "finished").as_bool(),
         Some(true)
     );
 }

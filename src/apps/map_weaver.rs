@@ -38,6 +38,13 @@ pub const MAX_LAPS: usize = 20;
 /// The most range readings a run may keep (laps x scans x beams): every
 /// scan is kept for rebuilding a pane, 8 bytes a reading.
 pub const MAX_READINGS: usize = 10_000_000;
+/// The most work one request for scans before the first frame may ask for
+/// (a link's `scans`): cell visits, counted as scans x 2 panes x beams x the
+/// cells along a beam at the LiDAR's range ([`Weaver::work_per_scan`]).
+/// 250 million is a few seconds of mapping at the chapter's 0.1 m, where all
+/// 20 laps fit, and a few thousand scans at 0.0125 m; the widget does the
+/// work in time slices, this bounds how long the reader waits for it.
+pub const MAX_FAST_FORWARD_WORK: u64 = 250_000_000;
 /// The strongest evidence the strength slider may ask for.
 pub const MAX_STRENGTH: f64 = 10.0;
 /// The most SGD updates (triplets x epochs) a run's training may ask for:
@@ -597,6 +604,37 @@ impl Weaver {
         Ok(taken)
     }
 
+    /// The most cells one scan visits, both panes together: beams x the
+    /// cells along a beam at the LiDAR's range (one per `resolution`), x 2.
+    /// The unit of [`MAX_FAST_FORWARD_WORK`]: an estimate, but one that
+    /// grows as the real work does with finer grids and more beams.
+    pub fn work_per_scan(&self) -> u64 {
+        let lidar = &self.settings.scene.lidar;
+        let cells = (lidar.z_max / self.geometry.resolution()).ceil().max(1.0);
+        // Finite and at most z_max / resolution: `as` cannot wrap here.
+        2 * lidar.beams as u64 * cells as u64
+    }
+
+    /// How many scans [`Weaver::advance`] will take for a request of `scans`
+    /// (fewer when the run's laps end first), or an error naming `scans`
+    /// when that is more than [`MAX_FAST_FORWARD_WORK`]. Checked before a
+    /// page starts the work, so that a link asking for a minute of mapping
+    /// is refused with its reason instead of started.
+    pub fn check_fast_forward(&self, scans: usize) -> Result<usize> {
+        let total = self.settings.laps.saturating_mul(self.scans_per_lap);
+        let taken = scans.min(total.saturating_sub(self.history.len()));
+        let per_scan = self.work_per_scan();
+        let work = (taken as u64).saturating_mul(per_scan);
+        if work > MAX_FAST_FORWARD_WORK {
+            return Err(invalid(
+                "scans",
+                format!("{scans} ({taken} scans x {per_scan} cell visits = {work})"),
+                "at most 250000000 cell visits before the first frame: fewer scans or laps, or a coarser resolution",
+            ));
+        }
+        Ok(taken)
+    }
+
     /// Integrates one scan into `pane` at the pose the pane's settings ask
     /// for, then updates its view and its curves.
     fn integrate(pane: &mut Pane, scans: &PoseScans, tracked: [usize; 3]) -> Result<()> {
@@ -917,6 +955,32 @@ mod tests {
         assert!(o.robot.heading.cos() > 0.99, "facing east");
         assert_eq!((o.beams.len(), o.hits.len()), (120, 60));
         assert!(o.person.is_some());
+    }
+
+    /// A link asking for more scans than the work budget is refused by
+    /// name before any work; the run's end bounds what is asked for.
+    #[test]
+    fn fast_forward_is_bounded_by_the_work_budget_and_the_run() {
+        let w = weaver(WeaverSettings::default());
+        // 60 beams x 80 cells (8 m at 0.1 m) x 2 panes.
+        assert_eq!(w.work_per_scan(), 9600);
+        let total = 3 * w.scans_per_lap();
+        assert_eq!(w.check_fast_forward(10).unwrap(), 10);
+        assert_eq!(w.check_fast_forward(1_000_000).unwrap(), total);
+        let mut s = WeaverSettings::default();
+        s.laps = 20;
+        s.scene.width = 960;
+        s.scene.height = 720;
+        s.scene.resolution = 0.0125;
+        s.scene.scan_rate = 60.0;
+        let fine = weaver(s);
+        assert_eq!(fine.work_per_scan(), 2 * 60 * 640);
+        let limit = (MAX_FAST_FORWARD_WORK / fine.work_per_scan()) as usize;
+        assert_eq!(fine.check_fast_forward(limit).unwrap(), limit);
+        let e = fine.check_fast_forward(1_000_000).unwrap_err().to_string();
+        assert!(e.starts_with("invalid scans: 1000000 ("), "{e}");
+        assert!(e.contains("250000000 cell visits"), "{e}");
+        assert!(fine.check_fast_forward(limit + 1).is_err());
     }
 
     /// The readout's "s of driving" and the charts' time axis come from the

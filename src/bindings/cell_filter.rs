@@ -1,6 +1,6 @@
 //! Bindings of `<occgrid-cell-filter>`: one cell's filter.
 
-use super::to_js;
+use super::{number_from_js, to_js};
 use crate::mapping::cell_filter::{self, CellFilterParams};
 use wasm_bindgen::prelude::*;
 
@@ -9,13 +9,31 @@ use wasm_bindgen::prelude::*;
 /// [{ step, occupied, l, p }] }`.
 #[wasm_bindgen(js_name = runCellFilter)]
 pub fn run_cell_filter_js(
-    p_occ: f64,
-    p_free: f64,
-    prior: f64,
-    clamp: f64,
+    p_occ: JsValue,
+    p_free: JsValue,
+    prior: JsValue,
+    clamp: JsValue,
     readings: JsValue,
     subtract_prior: bool,
 ) -> Result<JsValue, JsError> {
+    let p_occ = number_from_js("p_occ", &p_occ)?;
+    let p_free = number_from_js("p_free", &p_free)?;
+    let prior = number_from_js("prior", &prior)?;
+    let clamp = number_from_js("clamp", &clamp)?;
+    // The length first: a 100-million-byte array is refused before it is
+    // copied into wasm memory.
+    let len = if let Some(array) = readings.dyn_ref::<js_sys::Array>() {
+        Some(array.length() as usize)
+    } else if let Some(bytes) = readings.dyn_ref::<js_sys::Uint8Array>() {
+        Some(bytes.length() as usize)
+    } else {
+        readings
+            .dyn_ref::<js_sys::ArrayBuffer>()
+            .map(|b| b.byte_length() as usize)
+    };
+    if let Some(len) = len {
+        cell_filter::check_readings(len)?;
+    }
     let readings = if let Some(array) = readings.dyn_ref::<js_sys::Array>() {
         // Each element as JavaScript holds it: the glue's copy into bytes
         // would wrap 256 to 0 and -1 to 255.

@@ -2,7 +2,10 @@
 //! MAP search of Table 9.3 on the doorway scene, stepped by the widget
 //! (SPEC §7). The two-cell table is [`super::two_cell_table`].
 
-use super::{budget_from_js, map_pair_to_js, object_or_default, string_from_js, to_js, Pixels};
+use super::{
+    budget_from_js, map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js,
+    Pixels,
+};
 use crate::apps::doorway_trap::DoorwayTrapSession;
 use crate::render::gray::render_binary_rgba;
 use crate::scenes::doorway::DoorwayScene;
@@ -82,8 +85,8 @@ impl DoorwayTrap {
     /// Runs the climb to its end (at most `maxFlips` more flips, a whole
     /// number; `Infinity` for no limit); returns the number of flips made.
     #[wasm_bindgen(js_name = mapRun)]
-    pub fn map_run_js(&mut self, max_flips: f64) -> Result<u32, JsError> {
-        let max_flips = budget_from_js("maxFlips", max_flips)?;
+    pub fn map_run_js(&mut self, max_flips: JsValue) -> Result<u32, JsError> {
+        let max_flips = budget_from_js("maxFlips", &max_flips)?;
         Ok(self.map_run(u32::try_from(max_flips).unwrap_or(u32::MAX)))
     }
 
@@ -114,7 +117,8 @@ impl DoorwayTrap {
     /// numbers, row 0 at the top): `{ ix, iy, x, y, l, p, updates, unknown,
     /// occupied, sensitivity, beams }`.
     #[wasm_bindgen(js_name = cellInfo)]
-    pub fn cell_info(&self, ix: f64, iy: f64) -> Result<JsValue, JsError> {
+    pub fn cell_info(&self, ix: JsValue, iy: JsValue) -> Result<JsValue, JsError> {
+        let (ix, iy) = (number_from_js("ix", &ix)?, number_from_js("iy", &iy)?);
         let g = *self.session.search().geometry();
         let inside = |v: f64, n: usize| v.fract() == 0.0 && v >= 0.0 && v < n as f64;
         if !(inside(ix, g.width()) && inside(iy, g.height())) {

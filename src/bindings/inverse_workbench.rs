@@ -4,7 +4,7 @@
 //! and their log odds along its axis for one reading, and retrains the
 //! learned model with another seed; it draws what it gets.
 
-use super::{object_from_js, object_or_default, to_js};
+use super::{number_from_js, object_from_js, object_or_default, optional_number_from_js, to_js};
 use crate::apps::inverse_workbench::WorkbenchSession;
 use crate::inverse::probes::BeamLattice;
 use crate::inverse::training;
@@ -39,7 +39,8 @@ impl InverseWorkbench {
     /// for the chapter's seed) and builds the hand-crafted model for the
     /// same sensor.
     #[wasm_bindgen(constructor)]
-    pub fn new(seed: Option<f64>) -> Result<InverseWorkbench, JsError> {
+    pub fn new(seed: JsValue) -> Result<InverseWorkbench, JsError> {
+        let seed = optional_number_from_js("seed", &seed)?;
         let seed = seed.map(training::seed_from_number).transpose()?;
         Ok(InverseWorkbench {
             session: WorkbenchSession::new(seed, &now_ms)?,
@@ -49,7 +50,8 @@ impl InverseWorkbench {
 
     /// Retrains the learned model with another seed. On an error the
     /// current model stays.
-    pub fn retrain(&mut self, seed: f64) -> Result<JsValue, JsError> {
+    pub fn retrain(&mut self, seed: JsValue) -> Result<JsValue, JsError> {
+        let seed = number_from_js("seed", &seed)?;
         self.session
             .retrain(training::seed_from_number(seed)?, &now_ms)?;
         self.readout()
@@ -76,7 +78,8 @@ impl InverseWorkbench {
     /// `{ rangeAxis, bearingAxis }` (the lattice's ranges and bearings) and
     /// `{ handFree, learnedFree }`: the mean evidence on the axis in front
     /// of the reading (null when the reading is too short to have any).
-    pub fn view(&mut self, z: f64, lattice: JsValue) -> Result<JsValue, JsError> {
+    pub fn view(&mut self, z: JsValue, lattice: JsValue) -> Result<JsValue, JsError> {
+        let z = number_from_js("z", &z)?;
         let lattice: BeamLattice = object_from_js("lattice", lattice)?;
         let v = self.session.view(z, &lattice)?;
         self.images = v.images;
@@ -113,7 +116,8 @@ impl InverseWorkbench {
     /// Workload W5 `learn-inverse` once, with `seed`: `{ sampleMs, fitMs,
     /// trainMs, triplets, epochs }` (the model is kept).
     #[wasm_bindgen(js_name = benchmarkTraining)]
-    pub fn benchmark_training(&mut self, seed: f64) -> Result<JsValue, JsError> {
+    pub fn benchmark_training(&mut self, seed: JsValue) -> Result<JsValue, JsError> {
+        let seed = number_from_js("seed", &seed)?;
         self.session
             .retrain(training::seed_from_number(seed)?, &now_ms)?;
         to_js(self.session.run())
@@ -125,7 +129,8 @@ impl InverseWorkbench {
 /// its fields (`{ z_max: 8 }`). A density in 1/metres below `z_max`; at
 /// `z_max` the point mass.
 #[wasm_bindgen(js_name = forwardDensity)]
-pub fn forward_density(z: f64, z_star: f64, params: JsValue) -> Result<f64, JsError> {
+pub fn forward_density(z: JsValue, z_star: JsValue, params: JsValue) -> Result<f64, JsError> {
+    let (z, z_star) = (number_from_js("z", &z)?, number_from_js("z_star", &z_star)?);
     let params: BeamModelParams = object_or_default("params", params, || BeamModelParams::CHAPTER)?;
     let model = BeamModel::new(params)?;
     crate::error::non_negative("z", z)?;

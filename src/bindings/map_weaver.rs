@@ -3,8 +3,8 @@
 //! ([`crate::world::weaver_workloads`]) for the wasm run under Node.
 
 use super::{
-    budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, object_or_default,
-    string_from_js, to_js,
+    budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, number_from_js,
+    object_or_default, string_from_js, to_js,
 };
 use crate::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
 use crate::bench::apartment::{AllCellsVsTraversal, ApartmentFrame};
@@ -47,14 +47,24 @@ impl MapWeaver {
     /// Simulates and integrates up to `scans` scans (a whole number;
     /// `Infinity` for the rest of the run); returns how many were taken (0
     /// once the run's laps are done).
-    pub fn advance(&mut self, scans: f64) -> Result<usize, JsError> {
-        Ok(self.0.advance(budget_from_js("scans", scans)?)?)
+    pub fn advance(&mut self, scans: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.advance(budget_from_js("scans", &scans)?)?)
+    }
+
+    /// How many scans `advance` will take for a request of `scans` before
+    /// the first frame (a whole number), or an error naming `scans` when
+    /// that is more work than the core's budget
+    /// ([`crate::apps::map_weaver::MAX_FAST_FORWARD_WORK`]). A page checks
+    /// this first, then advances in slices.
+    #[wasm_bindgen(js_name = checkFastForward)]
+    pub fn check_fast_forward(&self, scans: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.check_fast_forward(index_from_js("scans", &scans)?)?)
     }
 
     /// Address of pane `pane`'s RGBA pixels (width x height x 4, north up)
     /// in wasm memory, as of the last scan.
-    pub fn pixels(&self, pane: f64) -> Result<usize, JsError> {
-        Ok(self.0.view(pane_from_js(pane)?)?.rgba().as_ptr() as usize)
+    pub fn pixels(&self, pane: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.view(pane_from_js(&pane)?)?.rgba().as_ptr() as usize)
     }
 
     /// `{ scans, scansPerLap, lap, time, done, person, frameMs, panes: [...] }`.
@@ -71,23 +81,23 @@ impl MapWeaver {
 
     /// Entropy (bits) after each scan, from the empty map on.
     #[wasm_bindgen(js_name = entropyCurve)]
-    pub fn entropy_curve(&self, pane: f64) -> Result<Vec<f64>, JsError> {
-        Ok(self.0.entropy_curve(pane_from_js(pane)?)?.to_vec())
+    pub fn entropy_curve(&self, pane: JsValue) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.entropy_curve(pane_from_js(&pane)?)?.to_vec())
     }
 
     /// Brier score over the surveyed rooms after each scan.
     #[wasm_bindgen(js_name = brierCurve)]
-    pub fn brier_curve(&self, pane: f64) -> Result<Vec<f64>, JsError> {
-        Ok(self.0.brier_curve(pane_from_js(pane)?)?.to_vec())
+    pub fn brier_curve(&self, pane: JsValue) -> Result<Vec<f64>, JsError> {
+        Ok(self.0.brier_curve(pane_from_js(&pane)?)?.to_vec())
     }
 
     /// The three tracked cells' log odds after each scan, interleaved:
     /// `[wall0, floor0, closet0, wall1, ...]`.
     #[wasm_bindgen(js_name = trackedHistory)]
-    pub fn tracked_history(&self, pane: f64) -> Result<Vec<f32>, JsError> {
+    pub fn tracked_history(&self, pane: JsValue) -> Result<Vec<f32>, JsError> {
         Ok(self
             .0
-            .tracked_history(pane_from_js(pane)?)?
+            .tracked_history(pane_from_js(&pane)?)?
             .iter()
             .flatten()
             .copied()
@@ -135,11 +145,11 @@ impl MapWeaver {
     /// pane `pane`: `{ ix, iy, x, y, l, p, updates, occupied, unknown }`, or
     /// `null` outside the map.
     #[wasm_bindgen(js_name = cellInfo)]
-    pub fn cell_info(&self, pane: f64, col: f64, row: f64) -> Result<JsValue, JsError> {
-        let pane = pane_from_js(pane)?;
+    pub fn cell_info(&self, pane: JsValue, col: JsValue, row: JsValue) -> Result<JsValue, JsError> {
+        let pane = pane_from_js(&pane)?;
         let (col, row) = (
-            coordinate_from_js("col", col)?,
-            coordinate_from_js("row", row)?,
+            coordinate_from_js("col", &col)?,
+            coordinate_from_js("row", &row)?,
         );
         match self.0.cell_info(pane, col, row)? {
             Some(info) => to_js(&info),
@@ -149,8 +159,8 @@ impl MapWeaver {
 
     /// What to draw over pane `pane`, in image units:
     /// `{ robot, nose, truth, beams, hits, person }`.
-    pub fn overlay(&self, pane: f64) -> Result<JsValue, JsError> {
-        to_js(&self.0.overlay(pane_from_js(pane)?)?)
+    pub fn overlay(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        to_js(&self.0.overlay(pane_from_js(&pane)?)?)
     }
 
     #[wasm_bindgen(js_name = setPerson)]
@@ -159,20 +169,24 @@ impl MapWeaver {
     }
 
     #[wasm_bindgen(js_name = setClamp)]
-    pub fn set_clamp(&mut self, pane: f64, clamp: f64) -> Result<(), JsError> {
-        Ok(self.0.set_clamp(pane_from_js(pane)?, clamp)?)
+    pub fn set_clamp(&mut self, pane: JsValue, clamp: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(&pane)?;
+        let clamp = number_from_js(&format!("panes[{pane}].clamp"), &clamp)?;
+        Ok(self.0.set_clamp(pane, clamp)?)
     }
 
     #[wasm_bindgen(js_name = setStrength)]
-    pub fn set_strength(&mut self, pane: f64, strength: f64) -> Result<(), JsError> {
-        Ok(self.0.set_strength(pane_from_js(pane)?, strength)?)
+    pub fn set_strength(&mut self, pane: JsValue, strength: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(&pane)?;
+        let strength = number_from_js(&format!("panes[{pane}].strength"), &strength)?;
+        Ok(self.0.set_strength(pane, strength)?)
     }
 
     /// `"hand-crafted"` or `"learned"`; rebuilds the pane over the scans so
     /// far.
     #[wasm_bindgen(js_name = setModel)]
-    pub fn set_model(&mut self, pane: f64, model: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(pane)?;
+    pub fn set_model(&mut self, pane: JsValue, model: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(&pane)?;
         let name = string_from_js("model", &model, "\"hand-crafted\" or \"learned\"")?;
         let model: ModelKind = from_js("model", JsValue::from_str(&name))?;
         drop(name);
@@ -182,8 +196,8 @@ impl MapWeaver {
     /// `"oracle"` or `"dead-reckoning"`; rebuilds the pane over the scans
     /// so far.
     #[wasm_bindgen(js_name = setPoseSource)]
-    pub fn set_pose_source(&mut self, pane: f64, pose: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(pane)?;
+    pub fn set_pose_source(&mut self, pane: JsValue, pose: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(&pane)?;
         let name = string_from_js("pose source", &pose, "\"oracle\" or \"dead-reckoning\"")?;
         let pose: PoseSource = from_js("pose source", JsValue::from_str(&name))?;
         drop(name);
@@ -198,16 +212,17 @@ impl MapWeaver {
     /// Records one frame's duration (milliseconds, measured by the page
     /// around its calls into the core) for the "ms per frame" readout.
     #[wasm_bindgen(js_name = recordFrameMs)]
-    pub fn record_frame_ms(&mut self, ms: f64) {
-        self.0.record_frame_ms(ms);
+    pub fn record_frame_ms(&mut self, ms: JsValue) -> Result<(), JsError> {
+        self.0.record_frame_ms(number_from_js("ms", &ms)?);
+        Ok(())
     }
 
     /// Pane `pane`'s map as a ROS `map_server` pair `{ pgm: Uint8Array,
     /// yaml }`, the YAML naming the image `apartment-left.pgm` or
     /// `apartment-right.pgm`.
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map(&self, pane: f64) -> Result<JsValue, JsError> {
-        let pane = pane_from_js(pane)?;
+    pub fn export_map(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = pane_from_js(&pane)?;
         let side = if pane == 0 { "left" } else { "right" };
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         map_pair_to_js(&pair)
@@ -246,8 +261,8 @@ impl ApartmentFrameBench {
 
     /// One `integrate_scan` call into map `map` (0 hand-crafted, 1
     /// learned); returns the cells visited.
-    pub fn integrate(&mut self, map: f64) -> Result<usize, JsError> {
-        Ok(self.0.integrate(index_from_js("map", map)?)?.cells_visited)
+    pub fn integrate(&mut self, map: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.integrate(index_from_js("map", &map)?)?.cells_visited)
     }
 }
 
@@ -258,7 +273,8 @@ pub struct AllCellsVsTraversalBench(AllCellsVsTraversal);
 #[wasm_bindgen]
 impl AllCellsVsTraversalBench {
     #[wasm_bindgen(constructor)]
-    pub fn new(resolution: f64) -> Result<AllCellsVsTraversalBench, JsError> {
+    pub fn new(resolution: JsValue) -> Result<AllCellsVsTraversalBench, JsError> {
+        let resolution = number_from_js("resolution", &resolution)?;
         Ok(AllCellsVsTraversalBench(AllCellsVsTraversal::new(
             resolution,
         )?))
@@ -270,19 +286,20 @@ impl AllCellsVsTraversalBench {
     }
 
     /// Scan `k` by ray traversal; returns the cells visited.
-    pub fn traverse(&mut self, k: f64) -> Result<usize, JsError> {
-        Ok(self.0.traverse(index_from_js("scan", k)?)?.cells_visited)
+    pub fn traverse(&mut self, k: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.traverse(index_from_js("scan", &k)?)?.cells_visited)
     }
 
     /// Scan `k` by the sweep over every cell; returns the cells visited.
-    pub fn sweep(&mut self, k: f64) -> Result<usize, JsError> {
-        Ok(self.0.sweep(index_from_js("scan", k)?)?.cells_visited)
+    pub fn sweep(&mut self, k: JsValue) -> Result<usize, JsError> {
+        Ok(self.0.sweep(index_from_js("scan", &k)?)?.cells_visited)
     }
 }
 
 /// A pane index from JavaScript: 0 (left) or 1 (right), checked here with
 /// the value as JavaScript sent it (the core checks the range again).
-fn pane_from_js(pane: f64) -> Result<usize, JsError> {
+fn pane_from_js(pane: &JsValue) -> Result<usize, JsError> {
+    let pane = number_from_js("pane", pane)?;
     if pane == 0.0 || pane == 1.0 {
         Ok(pane as usize)
     } else {

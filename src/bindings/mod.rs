@@ -94,6 +94,37 @@ pub(crate) fn describe(value: &JsValue) -> String {
     }
 }
 
+/// A number parameter from JavaScript, exactly as JavaScript holds it.
+///
+/// Every number parameter of the bindings is declared as `JsValue` and read
+/// here, never as `f64`: for an `f64` the generated glue converts the
+/// argument with JavaScript's `ToNumber` after it has taken the instance's
+/// pointer, so an object whose `valueOf` calls `free()` on that instance
+/// would leave the call running on freed memory. `as_f64` reads a number
+/// and nothing else (no `valueOf`, no string parsing); NaN and the
+/// infinities pass, for the core to judge by name.
+pub(crate) fn number_from_js(field: &str, value: &JsValue) -> Result<f64, JsError> {
+    value.as_f64().ok_or_else(|| {
+        JsError::new(&format!(
+            "invalid {field}: {} (expected a number)",
+            describe(value)
+        ))
+    })
+}
+
+/// An optional number parameter: `undefined` or `null` is `None`, anything
+/// else must be a number (see [`number_from_js`]).
+pub(crate) fn optional_number_from_js(
+    field: &str,
+    value: &JsValue,
+) -> Result<Option<f64>, JsError> {
+    if value.is_undefined() || value.is_null() {
+        Ok(None)
+    } else {
+        number_from_js(field, value).map(Some)
+    }
+}
+
 /// True for a finite number without a fractional part.
 fn is_whole(value: f64) -> bool {
     value.is_finite() && value.fract() == 0.0
@@ -102,7 +133,8 @@ fn is_whole(value: f64) -> bool {
 /// An index from JavaScript (a pane, a scan, a map): a whole number from 0
 /// up. A JavaScript number reaches wasm as it is; converting it to an
 /// integer type in the glue would wrap -1 or 1e20 silently.
-pub(crate) fn index_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+pub(crate) fn index_from_js(field: &str, value: &JsValue) -> Result<usize, JsError> {
+    let value = number_from_js(field, value)?;
     if is_whole(value) && value >= 0.0 && value <= usize::MAX as f64 {
         Ok(value as usize)
     } else {
@@ -117,7 +149,8 @@ pub(crate) fn index_from_js(field: &str, value: f64) -> Result<usize, JsError> {
 /// A budget from JavaScript (scans to read, flips to make): a whole number
 /// from 0 up, where `Infinity`, or anything larger than the work there is,
 /// means "as many as there are".
-pub(crate) fn budget_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+pub(crate) fn budget_from_js(field: &str, value: &JsValue) -> Result<usize, JsError> {
+    let value = number_from_js(field, value)?;
     if value == f64::INFINITY || (is_whole(value) && value >= 0.0) {
         // `as` saturates: past usize::MAX is "no limit" too.
         Ok(value as usize)
@@ -132,7 +165,8 @@ pub(crate) fn budget_from_js(field: &str, value: f64) -> Result<usize, JsError> 
 /// A pixel or cell coordinate from JavaScript (a pointer position): a whole
 /// number. One outside every map (negative, or past `usize`) comes back as
 /// `usize::MAX`, which no map holds, so the caller answers "outside".
-pub(crate) fn coordinate_from_js(field: &str, value: f64) -> Result<usize, JsError> {
+pub(crate) fn coordinate_from_js(field: &str, value: &JsValue) -> Result<usize, JsError> {
+    let value = number_from_js(field, value)?;
     if !is_whole(value) {
         return Err(JsError::new(&format!(
             "invalid {field}: {} (expected a whole number)",

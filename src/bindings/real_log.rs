@@ -77,8 +77,8 @@ impl LogMapSession {
     /// for the rest of the log) and returns `{ lines, scans, beams,
     /// bytesRead, bytesTotal, finished }` ([`RealLogSession::read`]).
     #[wasm_bindgen(js_name = read)]
-    pub fn read_js(&mut self, max_scans: f64) -> Result<JsValue, JsError> {
-        self.read(budget_from_js("maxScans", max_scans)?)
+    pub fn read_js(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
+        self.read(budget_from_js("maxScans", &max_scans)?)
     }
 
     /// New settings (a partial object: missing fields keep the defaults;
@@ -113,8 +113,8 @@ impl LogMapSession {
     /// for all) and returns `{ scansDone, scansTarget, scansTotal,
     /// cellUpdates, beams, finished }`.
     #[wasm_bindgen(js_name = buildChunk)]
-    pub fn build_chunk_js(&mut self, max_scans: f64) -> Result<JsValue, JsError> {
-        self.build_chunk(budget_from_js("maxScans", max_scans)?)
+    pub fn build_chunk_js(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
+        self.build_chunk(budget_from_js("maxScans", &max_scans)?)
     }
 
     /// The build's progress without doing any work.
@@ -124,8 +124,8 @@ impl LogMapSession {
 
     /// Scrubs to `scans` integrated scans; `buildChunk` then does the work
     /// (going back restarts from the first scan).
-    pub fn seek(&mut self, scans: f64) -> Result<(), JsError> {
-        Ok(self.session.seek(index_from_js("scan", scans)?)?)
+    pub fn seek(&mut self, scans: JsValue) -> Result<(), JsError> {
+        Ok(self.session.seek(index_from_js("scan", &scans)?)?)
     }
 
     /// Renders the map (north up, white free, black occupied, mid-gray
@@ -140,10 +140,10 @@ impl LogMapSession {
     /// numbers): `{ ix, iy, x, y, l, p, updates, unknown }`, or `null`
     /// outside the map.
     #[wasm_bindgen(js_name = cellAt)]
-    pub fn cell_at(&self, col: f64, row: f64) -> Result<JsValue, JsError> {
+    pub fn cell_at(&self, col: JsValue, row: JsValue) -> Result<JsValue, JsError> {
         let (col, row) = (
-            coordinate_from_js("col", col)?,
-            coordinate_from_js("row", row)?,
+            coordinate_from_js("col", &col)?,
+            coordinate_from_js("row", &row)?,
         );
         to_js(&self.session.build()?.readout_at_pixel(col, row))
     }
@@ -162,8 +162,8 @@ impl LogMapSession {
     }
 
     /// The heading of scan `k`'s laser, radians counter-clockwise from east.
-    pub fn heading(&self, k: f64) -> Result<f64, JsError> {
-        Ok(self.session.heading(index_from_js("scan", k)?)?)
+    pub fn heading(&self, k: JsValue) -> Result<f64, JsError> {
+        Ok(self.session.heading(index_from_js("scan", &k)?)?)
     }
 
     /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the

@@ -2,7 +2,7 @@
 //! sensor, max fusion (eq. 9.9) against summation. The widget steps the
 //! core, draws the four maps from wasm memory and reads small readouts.
 
-use super::{map_pair_to_js, object_or_default, string_from_js, to_js, Pixels};
+use super::{map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js, Pixels};
 use crate::apps::sensor_fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
 use crate::io::map_server as export;
@@ -53,7 +53,8 @@ impl SensorFusion {
     /// Changes only the LiDAR's beam count and rebuilds the maps up to the
     /// current step. `beams` must be a whole number from 1 to 2048.
     #[wasm_bindgen(js_name = setLidarBeams)]
-    pub fn set_lidar_beams(&mut self, beams: f64) -> Result<(), JsError> {
+    pub fn set_lidar_beams(&mut self, beams: JsValue) -> Result<(), JsError> {
+        let beams = number_from_js("lidar.beams", &beams)?;
         if !(beams.is_finite() && beams >= 0.0 && beams.fract() == 0.0 && beams <= 1e9) {
             return Err(JsError::new(&format!(
                 "invalid lidar.beams: {beams} (expected a whole number of beams)"

@@ -6,8 +6,28 @@
 //! it; the update removes it once, or it would be counted once per reading
 //! and the cell would drift toward the prior's side with every scan.
 
-use crate::error::{self, Result};
+use crate::error::{self, invalid, Result};
 use crate::grid::{logit, probability};
+
+/// The most readings one run of the filter takes. The filter is a lesson
+/// read row by row: a few dozen readings tell it, and ten thousand is far
+/// past what anyone clicks. Every reading becomes a row of 32 bytes in the
+/// answer, so without a bound a page could ask for gigabytes.
+pub const MAX_READINGS: usize = 10_000;
+
+/// Refuses a run of `len` readings before anything is allocated for them:
+/// callers holding readings in another form (a JavaScript array) check the
+/// length before copying.
+pub fn check_readings(len: usize) -> Result<()> {
+    if len > MAX_READINGS {
+        return Err(invalid(
+            "readings",
+            format!("{len} readings"),
+            "at most 10000 readings",
+        ));
+    }
+    Ok(())
+}
 
 /// The inverse model and prior of a single-cell filter, as probabilities.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -79,6 +99,7 @@ pub fn run(
     readings: &[bool],
     subtract_prior: bool,
 ) -> Result<Vec<CellStep>> {
+    check_readings(readings.len())?;
     let lo = log_odds_of(params)?;
     let removed = if subtract_prior { lo.l0 } else { 0.0 };
     let mut l = lo.l0;
@@ -101,6 +122,22 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn refuses_more_readings_than_the_budget_naming_the_count() {
+        let p = CellFilterParams::WORKED_EXAMPLE;
+        assert_eq!(
+            run(&p, &vec![true; MAX_READINGS], true).unwrap().len(),
+            MAX_READINGS
+        );
+        let e = run(&p, &vec![false; MAX_READINGS + 1], true)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("readings") && e.contains("10001 readings") && e.contains("at most 10000"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn rejects_certain_probabilities_and_zero_clamp() {

@@ -29,8 +29,11 @@ test('the cell filter refuses strings, undefined and objects for its numbers', (
   refuses(() => core.runCellFilter(0.7, 0.3, {}, 12, new Uint8Array([1]), true), 'prior');
   refuses(() => core.runCellFilter(0.7, 0.3, 0.5, '-3', new Uint8Array([1]), true), 'clamp', '-3');
   refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 9]), true), 'readings[1]');
-  const t = core.runCellFilter('0.7', '0.3', '0.5', '12', new Uint8Array([1, 1, 0]), 1);
-  assert.equal(t.steps.length, 3, 'numeric strings are numbers to the glue');
+  // Numbers are read as JavaScript holds them: a numeric string is no
+  // number (the glue's coercion would call valueOf on any object).
+  refuses(() => core.runCellFilter('0.7', 0.3, 0.5, 12, new Uint8Array([1]), true), 'invalid p_occ: "0.7" (expected a number)');
+  const t = core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 1, 0]), 1);
+  assert.equal(t.steps.length, 3);
   // Readings are a Uint8Array or an array of 0s and 1s; the glue's own
   // copy read '101' as three bytes and 5 as none, and wrapped 256 to 0.
   for (const bad of ['101', 5, undefined, null, {}]) {
@@ -38,6 +41,11 @@ test('the cell filter refuses strings, undefined and objects for its numbers', (
   }
   refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, [1, 256], true), 'readings[1]', '256');
   assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, [1, 0], true).steps.length, 2);
+  // The readings' budget is checked on the length, before the copy: a
+  // hundred million bytes panicked the core (3.2 GB of rows).
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array(1e8), true), 'invalid readings', '100000000 readings', 'at most 10000');
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Array(10_001).fill(1), true), 'invalid readings', '10001 readings');
+  assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array(10_000), true).steps.length, 10_000);
 });
 
 test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
@@ -51,9 +59,11 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
   assert.equal(w.advance(3), 3);
   const before = JSON.stringify(w.readout());
-  refuses(() => w.setClamp(0, 'high'), 'panes[0].clamp', 'NaN');
+  refuses(() => w.setClamp(0, 'high'), 'panes[0].clamp', '"high"', 'expected a number');
+  refuses(() => w.setClamp(0, NaN), 'panes[0].clamp', 'NaN');
   refuses(() => w.setClamp(0, undefined), 'panes[0].clamp');
   refuses(() => w.setStrength(1, '11'), 'panes[1].strength', '11');
+  refuses(() => w.setStrength(1, 11), 'panes[1].strength', '11');
   // A non-string for a string parameter is our Error naming the
   // parameter, not a failure inside the generated glue.
   for (const bad of [42, undefined, null, {}, ['x'], true]) {
@@ -73,10 +83,12 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
     refuses(() => w.exportMap(pane), 'pane');
   }
   refuses(() => w.cellInfo(0, 0.5, 0), 'col', '0.5');
-  refuses(() => w.cellInfo(0, 0, 'x'), 'row', 'NaN');
+  refuses(() => w.cellInfo(0, 0, 'x'), 'row', '"x"');
+  refuses(() => w.cellInfo(0, 0, NaN), 'row', 'NaN');
   for (const n of [-1, 0.5, NaN, 'many']) refuses(() => w.advance(n), 'scans');
-  w.recordFrameMs('slow');
+  refuses(() => w.recordFrameMs('slow'), 'invalid ms', '"slow"');
   w.recordFrameMs(-1);
+  w.recordFrameMs(NaN);
   assert.equal(JSON.stringify(w.readout()), before, 'refused calls changed nothing');
   assert.equal(w.cellInfo(0, -1, 0), null);
   assert.equal(w.cellInfo(0, 0, 1e12), null);

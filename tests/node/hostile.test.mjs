@@ -1,0 +1,190 @@
+// SPEC §12, hostile JavaScript arguments: objects whose getters throw,
+// proxies whose traps throw, and numbers-to-be whose `valueOf` frees the
+// very instance being called. None may poison a session: the call is
+// refused with an Error naming the parameter (or the page's own free()
+// takes effect cleanly), and every other instance keeps answering.
+// Needs pkg/ (npm run build).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { loadCore } from '../../scripts/lib/load-core.mjs';
+
+const { core } = await loadCore();
+
+const FLASER = new TextEncoder().encode(
+  'FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n'.repeat(5));
+
+/** Asserts that `f` throws an Error whose message names every word. */
+function refuses(f, ...words) {
+  let error;
+  try {
+    f();
+  } catch (e) {
+    error = e;
+  }
+  assert.ok(error instanceof Error, `expected an Error naming ${words.join(', ')}, got ${error}`);
+  for (const w of words) assert.ok(error.message.includes(w), `${JSON.stringify(error.message)} should name ${w}`);
+  return error.message;
+}
+
+/**
+ * A number-to-be whose `valueOf` (and `toString`) frees `target()`: the
+ * glue converting it while the instance is in use would run the call on
+ * freed memory. Counts how often JavaScript asked it for a number.
+ */
+function freeing(target) {
+  const h = {
+    asked: 0,
+    valueOf() {
+      h.asked += 1;
+      try {
+        target().free();
+      } catch {
+        // Already freed: still a number.
+      }
+      return 1;
+    },
+  };
+  h.toString = h.valueOf;
+  return h;
+}
+
+/**
+ * For every number parameter of `methods` (`[name, args]`, `HOSTILE`
+ * marking the parameter), calls `instance[name]` with a freeing object
+ * there: the call must be refused naming `field`, `valueOf` must never
+ * run, and `alive(instance)` must still answer.
+ */
+const HOSTILE = Symbol('hostile');
+function survives(instance, methods, alive) {
+  for (const [name, args, field] of methods) {
+    const h = freeing(() => instance);
+    const call = args.map((a) => (a === HOSTILE ? h : a));
+    refuses(() => instance[name](...call), `invalid ${field}`, 'expected a number');
+    assert.equal(h.asked, 0, `${name}: the glue asked the object for a number`);
+    assert.ok(instance.__wbg_ptr !== 0, `${name}: the instance was freed`);
+    alive(instance, name);
+  }
+}
+
+test('Map Weaver: a valueOf that frees the run is never called; the run keeps mapping', () => {
+  const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
+  assert.equal(w.advance(2), 2);
+  survives(w, [
+    ['advance', [HOSTILE], 'scans'],
+    ['checkFastForward', [HOSTILE], 'scans'],
+    ['pixels', [HOSTILE], 'pane'],
+    ['entropyCurve', [HOSTILE], 'pane'],
+    ['brierCurve', [HOSTILE], 'pane'],
+    ['trackedHistory', [HOSTILE], 'pane'],
+    ['cellInfo', [HOSTILE, 0, 0], 'pane'],
+    ['cellInfo', [0, HOSTILE, 0], 'col'],
+    ['cellInfo', [0, 0, HOSTILE], 'row'],
+    ['overlay', [HOSTILE], 'pane'],
+    ['setClamp', [HOSTILE, 3], 'pane'],
+    ['setClamp', [0, HOSTILE], 'panes[0].clamp'],
+    ['setStrength', [1, HOSTILE], 'panes[1].strength'],
+    ['setModel', [HOSTILE, 'learned'], 'pane'],
+    ['setPoseSource', [HOSTILE, 'oracle'], 'pane'],
+    ['recordFrameMs', [HOSTILE], 'ms'],
+    ['exportMap', [HOSTILE], 'pane'],
+  ], (x, name) => assert.equal(x.advance(1), 1, `advances after ${name}`));
+  // Numeric strings are no numbers either: the glue used to coerce them.
+  refuses(() => w.advance('3'), 'invalid scans: "3" (expected a number)');
+  refuses(() => w.setClamp(0, '4'), 'invalid panes[0].clamp: "4"');
+  assert.ok(w.readout().scans > 2);
+  w.free();
+});
+
+test('LogMapSession: throwing getters and proxies in settings, freeing valueOf in counts', () => {
+  const s = new core.LogMapSession(FLASER);
+  assert.equal(s.read(Infinity).finished, true);
+  assert.ok(s.configure({}));
+  const getter = { get resolution() { throw new Error('boom'); } };
+  refuses(() => s.configure(getter), 'invalid settings', 'boom');
+  const proxy = new Proxy({}, { ownKeys() { throw new Error('no keys'); } });
+  refuses(() => s.configure(proxy), 'invalid settings', 'no keys');
+  const trap = new Proxy({}, { get() { throw new Error('no get'); }, ownKeys: () => ['clamp'], getOwnPropertyDescriptor: () => ({ value: 1, enumerable: true, configurable: true }) });
+  refuses(() => s.configure(trap), 'invalid settings', 'no get');
+  // The session was not left "in use": every later call answers.
+  assert.equal(s.configure({ clamp: 3 }).width > 0, true);
+  survives(s, [
+    ['read', [HOSTILE], 'maxScans'],
+    ['buildChunk', [HOSTILE], 'maxScans'],
+    ['seek', [HOSTILE], 'scan'],
+    ['cellAt', [HOSTILE, 0], 'col'],
+    ['cellAt', [0, HOSTILE], 'row'],
+    ['heading', [HOSTILE], 'scan'],
+  ], (x, name) => assert.equal(typeof x.progress().scansDone, 'number', `answers after ${name}`));
+  const done = s.buildChunk(Infinity);
+  assert.equal(done.finished, true);
+  assert.equal(done.scansDone, 5, 'the build saw every scan: no garbage counts');
+  assert.ok(s.render() > 0);
+  s.free();
+});
+
+test('a getter that frees its own session while configure reads it: freed cleanly, nothing else hurt', () => {
+  const s = new core.LogMapSession(FLASER);
+  s.read(Infinity);
+  const other = new core.LogMapSession(FLASER);
+  other.read(Infinity);
+  const settings = { get clamp() { s.free(); return 3; } };
+  // The free happens inside the call; the page asked for it, so the
+  // session ends, but with Errors, not a trap or a panic.
+  try {
+    s.configure(settings);
+  } catch (e) {
+    assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), String(e));
+  }
+  const later = refuses(() => s.progress(), '');
+  assert.doesNotMatch(later, /unreachable|recursive use/);
+  assert.equal(other.buildChunk(Infinity).scansDone, 5, 'another session still maps');
+  other.free();
+});
+
+test('the doorway trap, the fusion widget, the workbench and the cell filter never coerce a number', () => {
+  const t = new core.DoorwayTrap(undefined);
+  survives(t, [
+    ['mapRun', [HOSTILE], 'maxFlips'],
+    ['cellInfo', [HOSTILE, 0], 'ix'],
+    ['cellInfo', [0, HOSTILE], 'iy'],
+  ], (x) => assert.ok(x.mapStep() !== undefined));
+  refuses(() => new core.DoorwayTrap({ get seed() { throw new Error('seedless'); } }), 'invalid scene', 'seedless');
+  assert.ok(t.report());
+  t.free();
+
+  const f = new core.SensorFusion(undefined, undefined);
+  survives(f, [['setLidarBeams', [HOSTILE], 'lidar.beams']], (x) => assert.equal(typeof x.step(), 'boolean'));
+  refuses(() => new core.SensorFusion(new Proxy({}, { ownKeys() { throw new Error('trap'); } }), undefined), 'invalid scene', 'trap');
+  assert.ok(f.readout().step > 0);
+  f.free();
+
+  const freeingSeed = freeing(() => ({ free() {} }));
+  refuses(() => new core.InverseWorkbench(freeingSeed), 'invalid seed', 'expected a number');
+  assert.equal(freeingSeed.asked, 0);
+  const b = new core.InverseWorkbench(undefined);
+  const lattice = { minRange: 0.1, maxRange: 4, ranges: 8, maxBearing: 0.2, bearings: 5 };
+  survives(b, [
+    ['retrain', [HOSTILE], 'seed'],
+    ['view', [HOSTILE, lattice], 'z'],
+    ['benchmarkTraining', [HOSTILE], 'seed'],
+  ], (x) => assert.ok(x.readout().run));
+  refuses(() => b.view(2, { get ranges() { throw new Error('lattice trap'); } }), 'invalid lattice', 'lattice trap');
+  assert.ok(b.view(2, lattice).hand.length > 0);
+  b.free();
+
+  for (const k of [0, 1]) {
+    const h = freeing(() => ({ free() {} }));
+    const zs = [2, 2];
+    zs[k] = h;
+    refuses(() => core.forwardDensity(zs[0], zs[1], undefined), `invalid ${k ? 'z_star' : 'z'}`, 'expected a number');
+    assert.equal(h.asked, 0);
+  }
+  for (const [k, field] of ['p_occ', 'p_free', 'prior', 'clamp'].entries()) {
+    const args = [0.7, 0.3, 0.5, 12];
+    const h = freeing(() => ({ free() {} }));
+    args[k] = h;
+    refuses(() => core.runCellFilter(...args, new Uint8Array([1]), true), `invalid ${field}`, 'expected a number');
+    assert.equal(h.asked, 0);
+  }
+  assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 0]), true).steps.length, 2);
+});
