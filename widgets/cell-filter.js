@@ -28,11 +28,26 @@ const L0_LESSON = { pOcc: 0.37, pFree: 0.1, prior: 0.2, readings: [1, 0, 1, 0, 1
 const CLAMP = 12;
 const GROUPS = ['readings', 'presets', 'sliders', 'toggles', 'link'];
 
+/**
+ * The most readings the widget takes, from an attribute, a link or the
+ * buttons: a lesson read row by row (the core's own budget,
+ * `MAX_READINGS` of src/mapping/cell_filter.rs, is ten times larger).
+ */
+const MAX_READINGS = 1000;
+/** The table shows the prior and at most this many of the latest readings. */
+const TABLE_ROWS = 50;
+
 const readingsType = {
-  describe: 'letters o for occupied and f for free, e.g. "oof"',
+  describe: `at most ${MAX_READINGS} letters o for occupied and f for free, e.g. "oof"`,
   parse(text, name) {
+    const letters = text.replace(/[\s,]/g, '');
+    // Refused on its length before a reading is parsed; the message cites
+    // the count, not a kilobyte of letters.
+    if (letters.length > MAX_READINGS) {
+      throw new Error(`invalid ${name}: ${letters.length} readings (expected ${this.describe})`);
+    }
     const out = [];
-    for (const ch of text.replace(/[\s,]/g, '')) {
+    for (const ch of letters) {
       if (ch === 'o' || ch === 'O' || ch === '1') out.push(1);
       else if (ch === 'f' || ch === 'F' || ch === '0') out.push(0);
       else throw invalidValue(name, text, this.describe);
@@ -185,6 +200,10 @@ class CellFilterElement extends HTMLElement {
   }
 
   add(reading) {
+    if (this.state.readings.length >= MAX_READINGS) {
+      showError(this, new Error(`at most ${MAX_READINGS} readings: undo or clear some first`));
+      return;
+    }
     this.set({ readings: [...this.state.readings, reading] });
   }
 
@@ -203,9 +222,14 @@ class CellFilterElement extends HTMLElement {
       el('tr', { class: cls, dataset: { l: String(l), p: String(p) } },
         el('td', {}, step), el('td', {}, reading), el('td', { class: 'cell-filter-l' }, fixed(l, 4)), el('td', { class: 'cell-filter-p' }, fixed(p, 4)));
     const priorP = s.prior;
+    // A bounded table: the prior, then the latest TABLE_ROWS readings (the
+    // chart shows every one).
+    const shown = table.steps.slice(-TABLE_ROWS);
+    const hidden = table.steps.length - shown.length;
     this.tbody.replaceChildren(
       row('0', 'prior', table.l0, priorP, 'cell-filter-prior'),
-      ...table.steps.map((st) => row(String(st.step), st.occupied ? 'occupied' : 'free', st.l, st.p)),
+      ...(hidden ? [el('tr', { class: 'cell-filter-hidden' }, el('td', { colspan: '4' }, `… ${hidden} earlier reading${hidden === 1 ? '' : 's'} (in the chart)`))] : []),
+      ...shown.map((st) => row(String(st.step), st.occupied ? 'occupied' : 'free', st.l, st.p)),
     );
     const last = table.steps.at(-1);
     const p = last ? last.p : priorP;
@@ -216,7 +240,8 @@ class CellFilterElement extends HTMLElement {
     this.dataset.l = last ? String(last.l) : String(table.l0);
     const xs = [0, ...table.steps.map((st) => st.step)];
     this.chart.setData(xs, [table.l0, ...table.steps.map((st) => st.l)], xs.map(() => table.l0));
-    this.chartBox.setAttribute('aria-label', `Log odds after each reading: ${[table.l0, ...table.steps.map((st) => st.l)].map((v) => fixed(v, 2)).join(', ')}; l0 = ${fixed(table.l0, 2)}`);
+    const ls = [table.l0, ...shown.map((st) => st.l)].map((v) => fixed(v, 2)).join(', ');
+    this.chartBox.setAttribute('aria-label', `Log odds ${hidden ? `from the prior, then after the latest ${shown.length} of ${table.steps.length} readings` : 'after each reading'}: ${ls}; l0 = ${fixed(table.l0, 2)}`);
   }
 }
 

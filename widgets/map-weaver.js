@@ -33,6 +33,13 @@ import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, o
 /** Playback rate at speed 1: 12 scans per second. */
 const SCANS_PER_SECOND = 12;
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
+/**
+ * The clock budget of one slice of the scans a link asks for before the
+ * first frame: the page gets the main thread back between slices, so a
+ * fine grid's thousands of scans never freeze the tab. (The core bounds the
+ * total: `checkFastForward`.)
+ */
+const SLICE_MS = 25;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
 /** Least time between two chart redraws while playing, ms. */
@@ -401,21 +408,35 @@ class MapWeaverElement extends HTMLElement {
   /** (Re)creates the run from the attributes. Training the learned model takes a moment. */
   async create() {
     this.pause();
+    // A later create() (an attribute changed meanwhile) supersedes this one.
+    const generation = (this.generation = (this.generation ?? 0) + 1);
     this.status.textContent = 'Training the learned inverse model…';
     // Let the message paint before the core works for a moment.
-    await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+    await nextTask();
+    if (generation !== this.generation) return;
     const v = this.values;
+    let next;
     try {
       const settings = { seed: v.seed, laps: v.laps, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
-      const next = new this.core.MapWeaver(settings);
-      // A link may open the run part-way through.
-      if (v.scans > 0) next.advance(v.scans);
+      next = new this.core.MapWeaver(settings);
+      // A link may open the run part-way through: the core refuses more
+      // work than its budget (naming `scans`), and the rest is done in
+      // slices with the count on screen.
+      if (v.scans > 0) {
+        const target = next.checkFastForward(v.scans);
+        if (!(await this.fastForward(next, target, generation))) {
+          next.free();
+          return;
+        }
+      }
       this.weaver?.free();
       this.weaver = next;
       this.tracked = this.weaver.trackedCells();
       clearError(this);
     } catch (e) {
+      if (next && next !== this.weaver) next.free();
+      delete this.dataset.fastForward;
       showError(this, e);
       this.status.textContent = this.weaver ? 'Kept the previous run.' : 'No run: see the message above.';
       return;
@@ -423,6 +444,28 @@ class MapWeaverElement extends HTMLElement {
     this.syncControls();
     this.makeCharts();
     this.layout();
+  }
+
+  /**
+   * Advances `weaver` by `target` scans in slices of about SLICE_MS,
+   * yielding to the page between them and showing the count; false when a
+   * later create() took over (the caller frees `weaver`).
+   */
+  async fastForward(weaver, target, generation) {
+    let done = 0;
+    while (done < target) {
+      const start = performance.now();
+      do done += weaver.advance(1);
+      while (done < target && performance.now() - start < SLICE_MS);
+      this.dataset.fastForward = `${done}/${target}`;
+      this.status.textContent = `Integrating the first ${count(target)} scans: ${count(done)} done…`;
+      // A task boundary, not a frame: the page paints and handles input in
+      // between, and a hidden tab still gets on with the work.
+      await new Promise((r) => setTimeout(r, 0));
+      if (generation !== this.generation) return false;
+    }
+    delete this.dataset.fastForward;
+    return true;
   }
 
   /** Puts the controls in line with the options. */
@@ -660,6 +703,11 @@ class MapWeaverElement extends HTMLElement {
   exportMap(k) {
     if (this.weaver) return exportMap(this, `apartment-${SIDES[k]}`, () => this.weaver.exportMap(k));
   }
+}
+
+/** Resolves after the page has had a frame and a task of its own. */
+function nextTask() {
+  return new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
 }
 
 if (!customElements.get('occgrid-map-weaver')) customElements.define('occgrid-map-weaver', MapWeaverElement);
