@@ -502,9 +502,12 @@ impl RealLogSession {
             if let Some(loader) = self.loader.take() {
                 let scans = loader.into_scans();
                 if scans.is_empty() {
+                    let lines = match progress.lines {
+                        1 => "1 line read".to_string(),
+                        n => format!("{n} lines read"),
+                    };
                     let e = OccError::State(format!(
-                        "the file has no FLASER or ROBOTLASER1 lines ({} lines read): no laser scans to map",
-                        progress.lines
+                        "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
                     ));
                     return Err(self.read_failed(e));
                 }
