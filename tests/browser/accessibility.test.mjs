@@ -433,7 +433,7 @@ test('Map Weaver’s real-log mode is driven by keyboard alone', async () => {
   // The map: focus, then arrows move a cursor whose cell is read out.
   await operate(page, W, 'canvas.map-weaver-log-map', '');
   assert.match(await w.locator('canvas.map-weaver-log-map').getAttribute('aria-label'),
-    /^Occupancy grid map of intel-corrected\.log\.gz, [\d,]+ × [\d,]+ cells of 0\.05 m, after 910 of 910 scans: [\d,]+ cells occupied \(p > 0\.65\), [\d,]+ free \(p < 0\.35\), [\d,]+ unknown\..*Arrow keys/);
+    /^Occupancy grid map of intel-corrected\.log\.gz, [\d,]+ × [\d,]+ cells of 0\.05 m, after 910 of 910 scans: [\d,]+ cells occupied \(p > 0\.65\), [\d,]+ free \(p < 0\.196\), [\d,]+ unknown\..*Arrow keys/);
   await page.keyboard.press('ArrowRight');
   const first = await w.locator('.map-weaver-log-readout').evaluate((e) => ({ ix: Number(e.dataset.ix), iy: Number(e.dataset.iy) }));
   await page.keyboard.press('Shift+ArrowUp');
