@@ -8,14 +8,16 @@
 //! itself; [`LogMapSettings`] what a reader chooses.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::geometry::{GridGeometry, MAX_CELLS};
-use crate::grid::readout::{readout_at_pixel, CellReadout};
-use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::geometry::raster::{Cursor as RasterCursor, Walk};
+use crate::grid::readout::CellReadout;
+use crate::grid::tiled::{budget_message, Extent, TiledGrid, DEFAULT_TILE_BUDGET_CELLS, TILE_SIDE};
+use crate::grid::FilterSettings;
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
-use crate::mapping::traversal::{BeamBand, RayMapper};
+use crate::mapping::traversal::{BeamBand, RayMapper, MAX_REACH_CELLS};
 use crate::mapping::walls::{beam_bands, WallModel};
+use crate::render::viewport::{render_tiled_view, MapViewport};
 use std::io::Cursor;
 
 /// What the reader of a log chooses for its map: the grid's resolution,
@@ -97,8 +99,10 @@ impl LogMapSettings {
 
     /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
     /// margin, its corners on whole multiples of the resolution (so that
-    /// maps of one log at one resolution line up cell for cell).
-    pub fn geometry(&self, extent: [f64; 4]) -> Result<GridGeometry> {
+    /// maps of one log at one resolution line up cell for cell). Its cells
+    /// are allocated in tiles as the beams reach them, so the bounding box
+    /// is limited only by its export ([`Extent::new`]).
+    pub fn geometry(&self, extent: [f64; 4]) -> Result<Extent> {
         let r = error::positive("resolution", self.resolution)?;
         let m = error::non_negative("margin", self.margin)?;
         let [x0, y0, x1, y1] = extent;
@@ -106,12 +110,13 @@ impl LogMapSettings {
         let (i1, j1) = (((x1 + m) / r).floor() + 1.0, ((y1 + m) / r).floor() + 1.0);
         let (w, h) = (i1 - i0, j1 - j0);
         // Written so that a NaN (cells so small that both edges overflow to
-        // the same infinity) is refused too.
-        if !(w * h <= MAX_CELLS as f64) {
+        // the same infinity) is refused too; `Extent::new` then says what
+        // the size would weigh.
+        if !(w >= 1.0 && h >= 1.0 && w * h <= 1e15) {
             return Err(invalid(
                 "width x height",
                 format!("{w} x {h}"),
-                "at most 16777216 cells: a coarser resolution or a shorter range cap",
+                "at most 268435456 cells (a 256 MiB image): a coarser resolution",
             ));
         }
         // Rounded to a nanometre: -418 cells of 0.05 m is -20.900000000000002
@@ -128,7 +133,7 @@ impl LogMapSettings {
                 "cells small enough that the map's corners are finite numbers of metres",
             ));
         }
-        GridGeometry::new(w as usize, h as usize, r, ox, oy)
+        Extent::new(w as usize, h as usize, r, ox, oy)
     }
 
     fn model_params(&self) -> HandCraftedParams {
@@ -157,6 +162,15 @@ impl LogMapSettings {
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
         error::positive("noReturnReach", self.no_return_reach)?;
+        // A scan is gathered in a window as wide as its longest beam: that
+        // window's scratch is what bounds the reach in cells.
+        if !(self.range_cap / self.resolution <= MAX_REACH_CELLS) {
+            return Err(invalid(
+                "rangeCap",
+                error::show(self.range_cap),
+                "at most 2045 cells of the resolution (102 m at 5 cm, 51 m at 2.5 cm)",
+            ));
+        }
         // Free evidence lowers a cell and occupied evidence raises it: the
         // traversal gathers them as two flags.
         // (Compared as the f32 the map stores: 1e-50 is 0 there.)
@@ -221,6 +235,11 @@ pub struct BuildProgress {
     /// Beams traced since the map was last reset.
     pub beams: u64,
     pub finished: bool,
+    /// Cells allocated in tiles (what the beams have reached, in whole
+    /// tiles), of the `cells` of the bounding box.
+    pub cells_allocated: usize,
+    pub bytes_allocated: usize,
+    pub cells: usize,
 }
 
 /// A map built from a log a few scans at a time. The build heads for a
@@ -231,9 +250,13 @@ pub struct BuildProgress {
 pub struct LogMapBuild {
     scans: LaserScans,
     settings: LogMapSettings,
-    grid: LogOddsGrid,
+    grid: TiledGrid,
     model: HandCrafted,
     mapper: RayMapper,
+    /// Most cells the map's tiles may hold.
+    budget_cells: usize,
+    /// Why the build stopped short (the tile budget), once it has.
+    failure: Option<OccError>,
     /// Scratch: the current scan's beam bands.
     bands: Vec<Option<BeamBand>>,
     done: usize,
@@ -245,7 +268,13 @@ pub struct LogMapBuild {
 impl LogMapBuild {
     /// A fresh map over the log's extent, heading for all scans.
     pub fn new(scans: LaserScans, settings: LogMapSettings) -> Result<Self> {
-        let (grid, model) = Self::prepare(&scans, &settings)?;
+        Self::with_tile_budget(scans, settings, DEFAULT_TILE_BUDGET_CELLS)
+    }
+
+    /// [`Self::new`] with at most `budget_cells` cells allocated in tiles
+    /// (the default is [`DEFAULT_TILE_BUDGET_CELLS`]).
+    pub fn with_tile_budget(scans: LaserScans, settings: LogMapSettings, budget_cells: usize) -> Result<Self> {
+        let (grid, model) = Self::prepare(&scans, &settings, budget_cells)?;
         let target = scans.len();
         Ok(Self {
             scans,
@@ -253,6 +282,8 @@ impl LogMapBuild {
             grid,
             model,
             mapper: RayMapper::new(),
+            budget_cells,
+            failure: None,
             bands: Vec::new(),
             done: 0,
             target,
@@ -265,7 +296,7 @@ impl LogMapBuild {
     /// error if the settings are invalid, the log has no laser scans, or
     /// the grid would be too large. A caller can check before handing its
     /// scans over to [`Self::new`].
-    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
+    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<Extent> {
         settings.validate()?;
         let extent = scans.extent(settings.range_cap).ok_or_else(|| {
             invalid(
@@ -277,8 +308,8 @@ impl LogMapBuild {
         settings.geometry(extent)
     }
 
-    fn prepare(scans: &LaserScans, s: &LogMapSettings) -> Result<(LogOddsGrid, HandCrafted)> {
-        let grid = LogOddsGrid::new(Self::check(scans, s)?, s.filter())?;
+    fn prepare(scans: &LaserScans, s: &LogMapSettings, budget_cells: usize) -> Result<(TiledGrid, HandCrafted)> {
+        let grid = TiledGrid::new(Self::check(scans, s)?, s.filter(), budget_cells)?;
         Ok((grid, HandCrafted::new(s.model_params())?))
     }
 
@@ -286,7 +317,7 @@ impl LogMapBuild {
     /// margin) and a rebuild from the first scan towards the same target.
     /// On error nothing changes.
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<()> {
-        let (grid, model) = Self::prepare(&self.scans, &settings)?;
+        let (grid, model) = Self::prepare(&self.scans, &settings, self.budget_cells)?;
         self.settings = settings;
         self.grid = grid;
         self.model = model;
@@ -296,6 +327,7 @@ impl LogMapBuild {
 
     fn restart(&mut self) {
         self.grid.reset();
+        self.failure = None;
         self.done = 0;
         self.cell_updates = 0;
         self.beams = 0;
@@ -318,11 +350,13 @@ impl LogMapBuild {
         Ok(())
     }
 
-    /// Integrates up to `max_scans` more scans towards the target.
+    /// Integrates up to `max_scans` more scans towards the target. A scan
+    /// whose beams reach past the tile budget stops the build there:
+    /// [`Self::failure`] then says how much the whole log would need.
     pub fn advance(&mut self, max_scans: usize) -> BuildProgress {
         let end = self.target.min(self.done.saturating_add(max_scans));
         let cap = self.settings.range_cap;
-        while self.done < end {
+        while self.done < end && self.failure.is_none() {
             let k = self.done;
             if let Some(scan) = self.scans.scan(k) {
                 let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
@@ -339,7 +373,7 @@ impl LogMapBuild {
                     })
                     .flatten();
                 let model = short.as_ref().unwrap_or(&self.model);
-                let res = self.grid.geometry().resolution();
+                let res = self.grid.extent().resolution();
                 let s = &self.settings;
                 beam_bands(
                     &scan,
@@ -353,9 +387,22 @@ impl LogMapBuild {
                     (s.l_free - model.params().l0) as f32,
                     (s.l_occ - model.params().l0) as f32,
                 );
-                let stats =
-                    self.mapper
-                        .integrate_bands(&mut self.grid, &scan, &self.bands, free, occupied);
+                let stats = self.mapper.integrate_bands_tiled(
+                    &mut self.grid,
+                    &scan,
+                    &self.bands,
+                    free,
+                    occupied,
+                );
+                if self.grid.refused() {
+                    let needed = self.tiles_reached();
+                    self.failure = Some(OccError::State(budget_message(
+                        self.grid.extent(),
+                        needed,
+                        self.budget_cells,
+                    )));
+                    break;
+                }
                 self.cell_updates += stats.cells_updated as u64;
                 self.beams += scan.len() as u64;
             }
@@ -372,10 +419,52 @@ impl LogMapBuild {
             cell_updates: self.cell_updates,
             beams: self.beams,
             finished: self.done == self.target,
+            cells_allocated: self.grid.cells_allocated(),
+            bytes_allocated: self.grid.bytes_allocated(),
+            cells: self.grid.extent().cells(),
         }
     }
 
-    pub fn grid(&self) -> &LogOddsGrid {
+    /// Why the build stopped short of its target (the tile budget), if it did.
+    pub fn failure(&self) -> Option<&OccError> {
+        self.failure.as_ref()
+    }
+
+    /// The tiles the beams of every scan reach, walked on the grid of tiles
+    /// (a tile holding a cell a beam crosses is one the beam crosses): what
+    /// the whole log would allocate, said when the budget refuses it.
+    fn tiles_reached(&self) -> usize {
+        let e = *self.grid.extent();
+        let (tx, ty) = e.tiles();
+        let mut marks = vec![false; tx * ty];
+        let mut bands = Vec::new();
+        let per_tile = 1.0 / (e.resolution() * TILE_SIDE as f64);
+        for k in 0..self.scans.len() {
+            let Some(scan) = self.scans.scan(k) else { continue };
+            let s = &self.settings;
+            beam_bands(&scan, &self.model, s.no_return_reach, s.walls, e.resolution(), &mut bands);
+            let p = scan.pose();
+            let (su, sv) = e.world_to_grid(p.x, p.y);
+            let start = (su / TILE_SIDE as f64, sv / TILE_SIDE as f64);
+            for (band, &b) in bands.iter().zip(scan.bearings()) {
+                let Some(band) = band else { continue };
+                let (sn, cs) = (p.theta + b).sin_cos();
+                let end = (start.0 + band.reach * per_tile * cs, start.1 + band.reach * per_tile * sn);
+                if let Some(walk) = Walk::new(tx, ty, start, end) {
+                    let mut m = TileMarks {
+                        at: walk.start,
+                        step: walk.step,
+                        width: tx,
+                        marks: &mut marks,
+                    };
+                    walk.run(&mut m);
+                }
+            }
+        }
+        marks.iter().filter(|&&m| m).count()
+    }
+
+    pub fn grid(&self) -> &TiledGrid {
         &self.grid
     }
 
@@ -391,14 +480,14 @@ impl LogMapBuild {
     /// thresholds of the exported file (what the PGM would show and
     /// `map_server` load), which the counts carry.
     pub fn counts(&self) -> ExportCounts {
-        map_server::export_counts(&self.grid)
+        map_server::tiled_export_counts(&self.grid)
     }
 
     /// The laser positions of all scans in image units (x to the right, y
     /// down, pixel `(c, r)` spanning `[c, c+1) x [r, r+1)`), as
     /// `[x0, y0, x1, y1, ...]`: a page draws the robot's path from it.
     pub fn path_in_pixels(&self) -> Vec<f32> {
-        let g = self.grid.geometry();
+        let g = self.grid.extent();
         (0..self.scans.len())
             .filter_map(|k| self.scans.pose(k))
             .flat_map(|p| g.world_to_image(p.x, p.y).map(|c| c as f32))
@@ -408,7 +497,36 @@ impl LogMapBuild {
     /// The cell under image pixel `(col, row)` (row 0 at the top, north
     /// up), or `None` outside the map.
     pub fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
-        readout_at_pixel(&self.grid, col, row)
+        let h = self.grid.extent().height();
+        if row >= h {
+            return None;
+        }
+        self.grid.readout_at_cell(col, h - 1 - row)
+    }
+}
+
+/// Marks the tiles a walk on the grid of tiles visits.
+struct TileMarks<'a> {
+    at: (usize, usize),
+    step: (i8, i8),
+    width: usize,
+    marks: &'a mut [bool],
+}
+
+impl RasterCursor for TileMarks<'_> {
+    fn visit(&mut self) {
+        if let Some(m) = self.marks.get_mut(self.at.1 * self.width + self.at.0) {
+            *m = true;
+        }
+    }
+    fn step_x(&mut self) {
+        self.at.0 = self.at.0.wrapping_add_signed(self.step.0 as isize);
+    }
+    fn step_y(&mut self) {
+        self.at.1 = self.at.1.wrapping_add_signed(self.step.1 as isize);
+    }
+    fn unstep_x(&mut self) {
+        self.at.0 = self.at.0.wrapping_add_signed(-(self.step.0 as isize));
     }
 }
 
@@ -456,6 +574,10 @@ pub struct RealLogSession {
     bytes_total: usize,
     settings: LogMapSettings,
     build: Option<LogMapBuild>,
+    /// What part of the map is on screen (once there is a map), and the
+    /// output size it is drawn at.
+    view: Option<MapViewport>,
+    view_size: (usize, usize),
 }
 
 impl RealLogSession {
@@ -473,6 +595,8 @@ impl RealLogSession {
             read_failure: None,
             settings: LogMapSettings::default(),
             build: None,
+            view: None,
+            view_size: (480, 360),
         }
     }
 
@@ -516,6 +640,7 @@ impl RealLogSession {
                     return Err(e);
                 }
                 self.build = Some(LogMapBuild::new(scans, self.settings)?);
+                self.refit_view();
             }
         }
         Ok(ReadReport {
@@ -537,13 +662,18 @@ impl RealLogSession {
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
         settings.validate()?;
         if let Some(build) = self.build.as_mut() {
+            let before = *build.grid().extent();
             build.configure(settings)?;
+            if *build.grid().extent() != before {
+                self.refit_view();
+            }
         } else if let Some(scans) = self.pending.take() {
             if let Err(e) = LogMapBuild::check(&scans, &settings) {
                 self.pending = Some(scans);
                 return Err(e);
             }
             self.build = Some(LogMapBuild::new(scans, settings)?);
+            self.refit_view();
         }
         self.settings = settings;
         Ok(self.geometry())
@@ -566,7 +696,7 @@ impl RealLogSession {
     /// The map's limits, or `None` before the log is read.
     pub fn geometry(&self) -> Option<GeometryReport> {
         self.build.as_ref().map(|b| {
-            let g = b.grid().geometry();
+            let g = b.grid().extent();
             let [origin_x, origin_y] = g.origin();
             GeometryReport {
                 width: g.width(),
@@ -591,9 +721,77 @@ impl RealLogSession {
             .ok_or_else(|| OccError::State("the log has not been read yet".into()))
     }
 
-    /// Integrates up to `max_scans` more scans.
+    /// Integrates up to `max_scans` more scans; an error once the beams
+    /// reach past the tile budget (saying how much the log would need).
     pub fn build_chunk(&mut self, max_scans: usize) -> Result<BuildProgress> {
-        Ok(self.build_mut()?.advance(max_scans))
+        let build = self.build_mut()?;
+        let p = build.advance(max_scans);
+        match build.failure() {
+            Some(e) => Err(e.clone()),
+            None => Ok(p),
+        }
+    }
+
+    /// The whole map in a view of the current output size.
+    fn refit_view(&mut self) {
+        self.view = self.build.as_ref().and_then(|b| {
+            let e = b.grid().extent();
+            MapViewport::new(e.width(), e.height(), self.view_size.0, self.view_size.1).ok()
+        });
+    }
+
+    /// The view, once there is a map.
+    pub fn view(&self) -> Result<&MapViewport> {
+        self.view
+            .as_ref()
+            .ok_or_else(|| OccError::State("the log has not been mapped yet".into()))
+    }
+
+    fn view_mut(&mut self) -> Result<&mut MapViewport> {
+        self.view
+            .as_mut()
+            .ok_or_else(|| OccError::State("the log has not been mapped yet".into()))
+    }
+
+    /// The output's size in pixels (the canvas's device pixels): the view
+    /// keeps its centre and zoom (and stays fitted if it was).
+    pub fn set_view_size(&mut self, width: usize, height: usize) -> Result<()> {
+        match self.view.as_mut() {
+            Some(v) => v.resize(width, height)?,
+            None => {
+                MapViewport::new(1, 1, width, height)?;
+            }
+        }
+        self.view_size = (width, height);
+        Ok(())
+    }
+
+    /// Shows the whole map.
+    pub fn fit_view(&mut self) -> Result<()> {
+        self.view_mut()?.fit();
+        Ok(())
+    }
+
+    /// Zooms by `factor` about output pixel `(x, y)` ([`MapViewport::zoom_at`]).
+    pub fn zoom_view(&mut self, x: f64, y: f64, factor: f64) -> Result<()> {
+        self.view_mut()?.zoom_at(x, y, factor)
+    }
+
+    /// Moves the map by `(dx, dy)` output pixels.
+    pub fn pan_view(&mut self, dx: f64, dy: f64) -> Result<()> {
+        self.view_mut()?.pan_by(dx, dy)
+    }
+
+    /// Draws the view into `out` (its `width * height * 4` RGBA bytes).
+    pub fn render_view(&self, out: &mut Vec<u8>) -> Result<()> {
+        render_tiled_view(self.build()?.grid(), self.view()?, out);
+        Ok(())
+    }
+
+    /// The cell under output position `(x, y)` (pixels), or `None` off the map.
+    pub fn readout_at_view(&self, x: f64, y: f64) -> Result<Option<CellReadout>> {
+        let b = self.build()?;
+        Ok(self.view()?.cell_at(x, y).and_then(|(c, r)| b.readout_at_pixel(c, r)))
     }
 
     /// Scrubs to `scans` integrated scans; [`Self::build_chunk`] then does
@@ -615,7 +813,7 @@ impl RealLogSession {
     /// `NAME.pgm` (`map.pgm` without a name).
     pub fn export_map(&self, name: Option<&str>) -> Result<MapServerPair> {
         let stem = map_server::file_stem(name.unwrap_or(""));
-        Ok(map_server::map_server_pair(
+        Ok(map_server::tiled_map_server_pair(
             self.build()?.grid(),
             &format!("{stem}.pgm"),
         ))

@@ -5,7 +5,7 @@
 
 use super::{
     budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
-    object_from_js, string_from_js, to_js, Pixels,
+    object_from_js, string_from_js, to_js,
 };
 use crate::apps::real_log::{LogMapSettings, RealLogSession};
 use crate::bench::intel as workloads;
@@ -54,7 +54,9 @@ impl LaserLog {
 #[wasm_bindgen]
 pub struct LogMapSession {
     session: RealLogSession,
-    pixels: Pixels,
+    /// The last view drawn: its RGBA bytes, the view's size (bounded by
+    /// `MapViewport`), never the map's.
+    view_pixels: Vec<u8>,
 }
 
 #[wasm_bindgen]
@@ -128,12 +130,58 @@ impl LogMapSession {
         Ok(self.session.seek(index_from_js("scan", &scans)?)?)
     }
 
-    /// Renders the map (north up, white free, black occupied, mid-gray
-    /// unknown) and returns the address of its `width * height * 4` RGBA
-    /// bytes in wasm memory.
-    pub fn render(&mut self) -> Result<usize, JsError> {
-        let build = self.session.build()?;
-        Ok(self.pixels.render(build.grid()) as usize)
+    /// The size of the output the map is drawn into, device pixels (whole
+    /// numbers, 1 to 8192 each, at most 4,194,304 in all). The view keeps
+    /// its centre and zoom.
+    #[wasm_bindgen(js_name = setViewSize)]
+    pub fn set_view_size(&mut self, width: f64, height: f64) -> Result<(), JsError> {
+        let (w, h) = (index_from_js("width", width)?, index_from_js("height", height)?);
+        Ok(self.session.set_view_size(w, h)?)
+    }
+
+    /// Shows the whole map.
+    #[wasm_bindgen(js_name = fitView)]
+    pub fn fit_view(&mut self) -> Result<(), JsError> {
+        Ok(self.session.fit_view()?)
+    }
+
+    /// Zooms by `factor` (above 1 closer) about output pixel `(x, y)`: the
+    /// point under it stays under it.
+    #[wasm_bindgen(js_name = zoomAt)]
+    pub fn zoom_at(&mut self, x: f64, y: f64, factor: f64) -> Result<(), JsError> {
+        Ok(self.session.zoom_view(x, y, factor)?)
+    }
+
+    /// Moves the map by `(dx, dy)` output pixels (a drag).
+    #[wasm_bindgen(js_name = panBy)]
+    pub fn pan_by(&mut self, dx: f64, dy: f64) -> Result<(), JsError> {
+        Ok(self.session.pan_view(dx, dy)?)
+    }
+
+    /// `{ mapWidth, mapHeight, width, height, u0, v0, scale }`: output
+    /// pixel `(x, y)` shows map image point `(u0 + x / scale, v0 + y /
+    /// scale)` (image units: one per cell, row 0 at the top).
+    pub fn view(&self) -> Result<JsValue, JsError> {
+        to_js(self.session.view()?)
+    }
+
+    /// Draws the view (north up, white free, black occupied, mid-gray
+    /// unknown, blue-gray off the map) and returns the address of its
+    /// `width * height * 4` RGBA bytes in wasm memory.
+    #[wasm_bindgen(js_name = renderView)]
+    pub fn render_view(&mut self) -> Result<usize, JsError> {
+        self.session.render_view(&mut self.view_pixels)?;
+        Ok(self.view_pixels.as_ptr() as usize)
+    }
+
+    /// The cell under output position `(x, y)` of the view (pixels):
+    /// `{ ix, iy, x, y, l, p, updates, unknown }`, or `null` off the map.
+    #[wasm_bindgen(js_name = cellAtView)]
+    pub fn cell_at_view(&self, x: f64, y: f64) -> Result<JsValue, JsError> {
+        if !(x.is_finite() && y.is_finite()) {
+            return Err(JsError::new(&format!("invalid view position: ({x}, {y}) (expected finite pixels)")));
+        }
+        to_js(&self.session.readout_at_view(x, y)?)
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top; whole
@@ -191,7 +239,7 @@ impl LogMapSession {
     pub fn new(bytes: Vec<u8>) -> LogMapSession {
         LogMapSession {
             session: RealLogSession::new(bytes),
-            pixels: Pixels::default(),
+            view_pixels: Vec::new(),
         }
     }
 

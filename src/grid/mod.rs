@@ -15,6 +15,7 @@ use crate::geometry::GridGeometry;
 
 pub mod readout;
 pub mod stats;
+pub mod tiled;
 
 /// Log odds of a probability, `ln(p / (1 - p))`.
 pub fn logit(p: f64) -> f64 {

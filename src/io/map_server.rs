@@ -23,6 +23,7 @@
 
 use crate::error::{OccError, Result};
 use crate::grid::stats::{count_states_between, log_odds_thresholds};
+use crate::grid::tiled::{TiledGrid, TILE_SIDE};
 use crate::grid::LogOddsGrid;
 
 /// `occupied_thresh` of the YAML: a cell with `p > 0.65` is exported as
@@ -132,21 +133,76 @@ pub fn map_server_pair(grid: &LogOddsGrid, image_name: &str) -> MapServerPair {
     for iy in (0..h).rev() {
         pgm.extend((0..w).map(|ix| gray_of(grid, g.index(ix, iy), occ_l, free_l)));
     }
-    let [ox, oy] = g.origin();
+    let yaml = yaml_text(g.resolution(), g.origin(), image_name);
+    MapServerPair { pgm, yaml }
+}
+
+/// The YAML of a pair: the image's name, the grid's resolution and origin,
+/// and the export's thresholds.
+fn yaml_text(resolution: f64, [ox, oy]: [f64; 2], image_name: &str) -> String {
     let name = if image_name.is_empty() {
         DEFAULT_IMAGE
     } else {
         image_name
     };
-    let yaml = format!(
+    format!(
         "image: {}\nmode: trinary\nresolution: {}\norigin: [{}, {}, 0.0]\nnegate: 0\noccupied_thresh: {}\nfree_thresh: {}\n",
         yaml_string(name),
-        yaml_number(g.resolution()),
+        yaml_number(resolution),
         yaml_number(ox),
         yaml_number(oy),
         yaml_number(OCCUPIED_THRESH),
         yaml_number(FREE_THRESH),
-    );
+    )
+}
+
+/// [`export_counts`] of a tiled map: every cell of a tile never allocated
+/// is unknown.
+pub fn tiled_export_counts(grid: &TiledGrid) -> ExportCounts {
+    let (occupied, free) = grid.count_between(OCCUPIED_THRESH, FREE_THRESH);
+    let cells = grid.extent().cells();
+    ExportCounts {
+        occupied,
+        free,
+        unknown: cells - occupied - free,
+        cells,
+        occupied_thresh: OCCUPIED_THRESH,
+        free_thresh: FREE_THRESH,
+    }
+}
+
+/// [`map_server_pair`] of a tiled map: the image covers the whole extent,
+/// the cells of tiles never allocated unknown gray 205.
+pub fn tiled_map_server_pair(grid: &TiledGrid, image_name: &str) -> MapServerPair {
+    let e = grid.extent();
+    let (w, h) = (e.width(), e.height());
+    let header = format!("P5\n# CREATOR: occgrid {:.3} m/pix\n{w} {h}\n255\n", e.resolution());
+    let mut pgm = Vec::with_capacity(header.len() + w * h);
+    pgm.extend_from_slice(header.as_bytes());
+    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
+    let l0 = grid.l0();
+    let (tiles_x, _) = e.tiles();
+    for iy in (0..h).rev() {
+        let (ty, row) = (iy / TILE_SIDE, iy % TILE_SIDE);
+        for tx in 0..tiles_x {
+            let span = TILE_SIDE.min(w - tx * TILE_SIDE);
+            match grid.tile_log_odds(tx, ty) {
+                None => pgm.extend(std::iter::repeat_n(UNKNOWN_GRAY, span)),
+                Some(t) => pgm.extend(t[row * TILE_SIDE..row * TILE_SIDE + span].iter().map(|&l| {
+                    if l == l0 {
+                        UNKNOWN_GRAY
+                    } else if l > occ_l {
+                        OCCUPIED_GRAY
+                    } else if l < free_l {
+                        FREE_GRAY
+                    } else {
+                        UNKNOWN_GRAY
+                    }
+                })),
+            }
+        }
+    }
+    let yaml = yaml_text(e.resolution(), e.origin(), image_name);
     MapServerPair { pgm, yaml }
 }
 
@@ -245,7 +301,8 @@ fn stored_zip(entries: &[(String, &[u8])]) -> Vec<u8> {
     fn u32le(out: &mut Vec<u8>, v: u32) {
         out.extend_from_slice(&v.to_le_bytes());
     }
-    // Sizes fit in 32 bits: a map has at most 2^24 cells.
+    // Sizes fit in 32 bits: an image has at most 2^28 cells (a tiled map's
+    // extent limit).
     let mut out = Vec::new();
     let mut central = Vec::new();
     for (name, data) in entries {
@@ -474,5 +531,24 @@ mod tests {
         let p = read_pgm(b"P5 # c1\n# c2\n2 1 255 \x07\x08").unwrap();
         assert_eq!((p.width, p.height, p.at(1, 0)), (2, 1, Some(8)));
         assert_eq!(p.comments, [" c1", " c2"]);
+    }
+
+    #[test]
+    fn tiled_export_covers_the_whole_extent_and_matches_the_dense_export() {
+        use crate::grid::tiled::{Extent, TiledGrid};
+        let e = Extent::new(130, 70, 0.05, -2.0, 1.0).unwrap();
+        let mut t = TiledGrid::new(e, FilterSettings::default(), 1 << 20).unwrap();
+        t.raise(3, 2, 2.0);
+        t.lower(129, 69, -2.0);
+        t.lower(70, 40, -0.1); // between the thresholds
+        let dense = t.to_dense().unwrap();
+        assert_eq!(t.tiles_allocated(), 3);
+        assert_eq!(tiled_map_server_pair(&t, "m.pgm"), map_server_pair(&dense, "m.pgm"));
+        assert_eq!(tiled_export_counts(&t), export_counts(&dense));
+        let pgm = read_pgm(&tiled_map_server_pair(&t, "m.pgm").pgm).unwrap();
+        assert_eq!((pgm.width, pgm.height), (130, 70));
+        assert_eq!(pgm.at(100, 10), Some(UNKNOWN_GRAY), "a tile never touched");
+        assert_eq!(pgm.at(3, 67), Some(OCCUPIED_GRAY));
+        assert_eq!(pgm.at(129, 0), Some(FREE_GRAY));
     }
 }

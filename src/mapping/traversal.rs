@@ -19,6 +19,7 @@
 //!   map (what a wide cone needs).
 
 use crate::geometry::raster::{Cursor, Walk};
+use crate::grid::tiled::TiledGrid;
 use crate::grid::{CellsMut, LogOddsGrid};
 use crate::inverse::{AxisProfile, InverseModel};
 
@@ -305,6 +306,117 @@ impl RayMapper {
     }
 }
 
+/// The most cells a beam of a tiled map may reach from its sensor (range
+/// cap over resolution): the scan's window of `(2 n + 5)^2` cells then
+/// stays within 2^24, its scratch within 80 MiB.
+pub const MAX_REACH_CELLS: f64 = 2045.0;
+
+impl RayMapper {
+    /// [`Self::integrate_bands`] into a [`TiledGrid`]: the verdicts are
+    /// gathered in a window around the sensor (as far as the scan's longest
+    /// beam reaches), the walks made in the map's own frame, and each
+    /// touched cell then updated in its tile, allocated on first touch. The
+    /// map is cell for cell the one a dense grid of the same extent would
+    /// hold. A beam reaching more than [`MAX_REACH_CELLS`] is not walked
+    /// (the caller's settings refuse it first).
+    pub fn integrate_bands_tiled(
+        &mut self,
+        grid: &mut TiledGrid,
+        scan: &Scan,
+        bands: &[Option<BeamBand>],
+        free: f32,
+        occupied: f32,
+    ) -> ScanStats {
+        if !(free < 0.0 && occupied > 0.0) {
+            return ScanStats::default();
+        }
+        let e = *grid.extent();
+        let res = e.resolution();
+        let reach = bands
+            .iter()
+            .flatten()
+            .map(|b| b.reach)
+            .filter(|&r| r > 0.0 && r / res <= MAX_REACH_CELLS)
+            .fold(0.0, f64::max);
+        let pose = scan.pose();
+        let (su, sv) = e.world_to_grid(pose.x, pose.y);
+        if !(reach > 0.0 && su.is_finite() && sv.is_finite()) {
+            return ScanStats::default();
+        }
+        // Every cell a beam visits lies within its reach of the sensor, plus
+        // the cell the sensor is in.
+        let rc = reach / res + 2.0;
+        let span = |s: f64, n: usize| {
+            let lo = (s - rc).floor().clamp(0.0, n as f64) as usize;
+            let hi = ((s + rc).ceil() + 1.0).clamp(0.0, n as f64) as usize;
+            (lo, hi)
+        };
+        let ((x0, x1), (y0, y1)) = (span(su, e.width()), span(sv, e.height()));
+        if x0 >= x1 || y0 >= y1 {
+            return ScanStats::default();
+        }
+        let stride = x1 - x0;
+        self.cache_bearing_trig(scan.bearings());
+        let (sin_t, cos_t) = pose.theta.sin_cos();
+        let frame = BeamFrame {
+            su,
+            sv,
+            res,
+            per_metre: 1.0 / res,
+            width: e.width(),
+            height: e.height(),
+            sin_t,
+            cos_t,
+            x0,
+            y0,
+            stride,
+        };
+        // Grown, never shrunk: windows differ from scan to scan near the
+        // map's edges.
+        let len = Gathered::<u8>::len_for(stride * (y1 - y0));
+        if self.codes.len() < len {
+            self.codes = vec![Code::Untouched as u8; len];
+        }
+        ensure_len(&mut self.touched, self.codes.len());
+        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
+        let mut visits = 0;
+        for (band, &trig) in bands.iter().zip(&self.bearing_trig) {
+            let Some(b) = *band else { continue };
+            if !(b.reach > 0.0 && b.reach <= reach) {
+                continue;
+            }
+            let Some((walk, at)) = frame.beam(trig, b.reach) else {
+                continue;
+            };
+            let n;
+            (n, gathered) = trace(walk, at, BandCodes(b), gathered);
+            visits += n;
+        }
+        let count = gathered.count;
+        let Gathered {
+            slots,
+            touched,
+            mask,
+            ..
+        } = gathered;
+        for &w in &touched[..count] {
+            let w = w as usize;
+            let (ix, iy) = (x0 + w % stride, y0 + w / stride);
+            let slot = &mut slots[w & mask];
+            if *slot & Code::Occupied as u8 != 0 {
+                grid.raise(ix, iy, occupied);
+            } else {
+                grid.lower(ix, iy, free);
+            }
+            *slot = Code::Untouched as u8;
+        }
+        ScanStats {
+            cells_visited: visits,
+            cells_updated: count,
+        }
+    }
+}
+
 /// Makes `buffer` `len` long (its contents are scratch).
 fn ensure_len(buffer: &mut Vec<u32>, len: usize) {
     if buffer.len() != len {
@@ -354,6 +466,13 @@ struct BeamFrame {
     height: usize,
     sin_t: f64,
     cos_t: f64,
+    /// The cell of index 0 and the cells per row of the index space the
+    /// verdicts are gathered in: the whole grid for a dense map, a window
+    /// around the sensor for a tiled one. The walk itself is always in the
+    /// map's own frame, so both visit the same cells.
+    x0: usize,
+    y0: usize,
+    stride: usize,
 }
 
 impl BeamFrame {
@@ -371,6 +490,9 @@ impl BeamFrame {
             height: g.height(),
             sin_t,
             cos_t,
+            x0: 0,
+            y0: 0,
+            stride: g.width(),
         }
     }
 
@@ -394,11 +516,11 @@ impl BeamFrame {
         let (ix, iy) = walk.start;
         let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let at = BeamState {
-            index: iy * self.width + ix,
+            index: (iy - self.y0) * self.stride + (ix - self.x0),
             range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
             index_step: (
                 walk.step.0 as isize,
-                walk.step.1 as isize * self.width as isize,
+                walk.step.1 as isize * self.stride as isize,
             ),
             range_step: (step_x * res * c, step_y * res * s),
         };
@@ -948,6 +1070,51 @@ mod tests {
             m.log_odds()[g.index(15, 2)] < 0.0,
             "beyond it, beam 1 carves"
         );
+    }
+
+    /// The tiled map holds, cell for cell, what a dense grid of the same
+    /// extent holds after the same scans (beams leaving the map included),
+    /// with the same counts per scan.
+    #[test]
+    fn tiled_integration_builds_the_dense_map_cell_for_cell() {
+        use crate::grid::tiled::{Extent, TiledGrid};
+        let mut rng = StdRng::seed_from_u64(12);
+        let (w, h, res, ox, oy) = (150, 97, 0.05, -1.0, -1.0);
+        for _ in 0..20 {
+            let g = GridGeometry::new(w, h, res, ox, oy).unwrap();
+            let settings = FilterSettings { prior: 0.5, clamp: 2.0 };
+            let mut dense = LogOddsGrid::new(g, settings).unwrap();
+            let mut tiled =
+                TiledGrid::new(Extent::new(w, h, res, ox, oy).unwrap(), settings, 1 << 20).unwrap();
+            let (mut a, mut b) = (RayMapper::new(), RayMapper::new());
+            for _ in 0..5 {
+                let scan = random_scan(&mut rng);
+                let bands: Vec<Option<BeamBand>> = scan
+                    .ranges()
+                    .iter()
+                    .map(|&z| {
+                        let z = z.min(3.0);
+                        (z > 0.0).then_some(BeamBand {
+                            reach: z + 0.05,
+                            free_until: z - 0.05,
+                            occupied_from: z - 0.05,
+                            occupied_until: z + 0.05,
+                        })
+                    })
+                    .collect();
+                let sd = a.integrate_bands(&mut dense, &scan, &bands, -0.4, 0.85);
+                let st = b.integrate_bands_tiled(&mut tiled, &scan, &bands, -0.4, 0.85);
+                assert_eq!(sd, st);
+            }
+            for iy in 0..h {
+                for ix in 0..w {
+                    let i = g.index(ix, iy);
+                    assert_eq!(tiled.log_odds_at(ix, iy), Some(dense.log_odds()[i]), "({ix}, {iy})");
+                    assert_eq!(tiled.updates_at(ix, iy), Some(dense.update_counts()[i]));
+                }
+            }
+            assert!(tiled.tiles_allocated() <= 6);
+        }
     }
 
     #[test]

@@ -5,3 +5,4 @@ pub mod evidence;
 pub mod gray;
 pub mod map_view;
 pub mod overlay;
+pub mod viewport;

@@ -1,0 +1,329 @@
+//! A window onto a large map at screen resolution (SPEC §11, "a map you
+//! can look at"): the part of the north-up map image on screen, zoomed and
+//! panned, drawn into a buffer of the screen's size and never the map's.
+//!
+//! A 250 m campus at 5 cm is about 5,000 x 5,000 cells; a 480-pixel pane
+//! shows it at eleven cells to a pixel, and one doorway at forty pixels to
+//! a cell. [`MapViewport`] holds that view (which image point is at the
+//! top-left pixel, how many pixels a cell spans), turns wheel, pinch, drag
+//! and keys into it, and maps an output pixel back to its cell;
+//! [`render_tiled_view`] draws it.
+
+use crate::error::{invalid, Result};
+use crate::grid::tiled::{TiledGrid, TILE_SIDE};
+
+use super::gray::UNKNOWN_GRAY;
+use super::map_view::gray_level;
+
+/// The most output pixels a view may have (16 MiB of RGBA): a 2048 x 2048
+/// canvas, a full-width pane on a high-density screen.
+pub const MAX_VIEW_PIXELS: usize = 1 << 22;
+/// The longest side of a view, pixels.
+pub const MAX_VIEW_SIDE: usize = 8192;
+/// The closest zoom: a cell this many pixels wide.
+pub const MAX_PIXELS_PER_CELL: f64 = 64.0;
+/// Samples per pixel side when a pixel spans several cells: a one-cell wall
+/// stays visible down to this many cells per pixel, and the cost of a frame
+/// stays within `16 x` its pixels.
+const MAX_SAMPLES: usize = 4;
+/// Outside the map: a blue-gray no cell state uses.
+const OUTSIDE: [u8; 4] = [214, 222, 232, 255];
+
+/// What part of the map image is on screen, and how large.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct MapViewport {
+    /// The map, in cells (image columns and rows).
+    pub map_width: usize,
+    pub map_height: usize,
+    /// The output, in pixels.
+    pub width: usize,
+    pub height: usize,
+    /// The image point (columns from the left, rows from the top of the
+    /// north-up map image, one unit per cell) at the output's top-left
+    /// corner.
+    pub u0: f64,
+    pub v0: f64,
+    /// Output pixels per cell.
+    pub scale: f64,
+}
+
+impl MapViewport {
+    /// The whole map, centred in a `width x height` output.
+    pub fn new(map_width: usize, map_height: usize, width: usize, height: usize) -> Result<Self> {
+        if map_width == 0 || map_height == 0 {
+            return Err(invalid("map", format!("{map_width} x {map_height}"), "at least one cell"));
+        }
+        check_size(width, height)?;
+        let mut v = Self {
+            map_width,
+            map_height,
+            width,
+            height,
+            u0: 0.0,
+            v0: 0.0,
+            scale: 1.0,
+        };
+        v.fit();
+        Ok(v)
+    }
+
+    /// The scale at which the whole map just fits.
+    pub fn fit_scale(&self) -> f64 {
+        (self.width as f64 / self.map_width as f64).min(self.height as f64 / self.map_height as f64)
+    }
+
+    /// Shows the whole map, centred.
+    pub fn fit(&mut self) {
+        self.scale = self.fit_scale();
+        self.centre_on(self.map_width as f64 / 2.0, self.map_height as f64 / 2.0);
+    }
+
+    /// Puts image point `(u, v)` at the output's centre.
+    pub fn centre_on(&mut self, u: f64, v: f64) {
+        self.u0 = u - self.width as f64 / (2.0 * self.scale);
+        self.v0 = v - self.height as f64 / (2.0 * self.scale);
+        self.keep_in_view();
+    }
+
+    /// A new output size, keeping the image point at the centre and the
+    /// scale (refitted if the whole map was shown).
+    pub fn resize(&mut self, width: usize, height: usize) -> Result<()> {
+        check_size(width, height)?;
+        let fitted = (self.scale - self.fit_scale()).abs() <= 1e-12 * self.scale;
+        let (cu, cv) = self.centre();
+        self.width = width;
+        self.height = height;
+        if fitted {
+            self.fit();
+        } else {
+            self.scale = self.scale.clamp(self.min_scale(), MAX_PIXELS_PER_CELL);
+            self.centre_on(cu, cv);
+        }
+        Ok(())
+    }
+
+    /// The image point at the output's centre.
+    pub fn centre(&self) -> (f64, f64) {
+        (
+            self.u0 + self.width as f64 / (2.0 * self.scale),
+            self.v0 + self.height as f64 / (2.0 * self.scale),
+        )
+    }
+
+    fn min_scale(&self) -> f64 {
+        (self.fit_scale() / 2.0).min(MAX_PIXELS_PER_CELL)
+    }
+
+    /// Zooms by `factor` (above 1 closer) about output pixel `(x, y)`: the
+    /// image point under it stays under it. The zoom stops at half the
+    /// fitted scale and at [`MAX_PIXELS_PER_CELL`].
+    pub fn zoom_at(&mut self, x: f64, y: f64, factor: f64) -> Result<()> {
+        if !(factor.is_finite() && factor > 0.0) {
+            return Err(invalid("factor", factor, "a zoom factor above 0"));
+        }
+        let (x, y) = (finite_or_centre(x, self.width), finite_or_centre(y, self.height));
+        let (u, v) = self.image_point(x, y);
+        self.scale = (self.scale * factor).clamp(self.min_scale(), MAX_PIXELS_PER_CELL);
+        self.u0 = u - x / self.scale;
+        self.v0 = v - y / self.scale;
+        self.keep_in_view();
+        Ok(())
+    }
+
+    /// Moves the map by `(dx, dy)` output pixels (a drag).
+    pub fn pan_by(&mut self, dx: f64, dy: f64) -> Result<()> {
+        if !(dx.is_finite() && dy.is_finite()) {
+            return Err(invalid("pan", format!("({dx}, {dy})"), "finite pixel offsets"));
+        }
+        self.u0 -= dx / self.scale;
+        self.v0 -= dy / self.scale;
+        self.keep_in_view();
+        Ok(())
+    }
+
+    /// The centre stays over the map: the reader cannot lose it.
+    fn keep_in_view(&mut self) {
+        let (hw, hh) = (self.width as f64 / (2.0 * self.scale), self.height as f64 / (2.0 * self.scale));
+        let cu = (self.u0 + hw).clamp(0.0, self.map_width as f64);
+        let cv = (self.v0 + hh).clamp(0.0, self.map_height as f64);
+        self.u0 = cu - hw;
+        self.v0 = cv - hh;
+    }
+
+    /// The image point under output pixel position `(x, y)` (pixel units,
+    /// `(0.5, 0.5)` the first pixel's centre).
+    pub fn image_point(&self, x: f64, y: f64) -> (f64, f64) {
+        (self.u0 + x / self.scale, self.v0 + y / self.scale)
+    }
+
+    /// The map image pixel `(col, row)` (row 0 at the top) under output
+    /// position `(x, y)`, or `None` off the map.
+    pub fn cell_at(&self, x: f64, y: f64) -> Option<(usize, usize)> {
+        let (u, v) = self.image_point(x, y);
+        if !(u >= 0.0 && v >= 0.0) {
+            return None;
+        }
+        let (c, r) = (u.floor() as usize, v.floor() as usize);
+        (c < self.map_width && r < self.map_height).then_some((c, r))
+    }
+}
+
+fn finite_or_centre(x: f64, n: usize) -> f64 {
+    if x.is_finite() {
+        x
+    } else {
+        n as f64 / 2.0
+    }
+}
+
+fn check_size(width: usize, height: usize) -> Result<()> {
+    if width == 0 || width > MAX_VIEW_SIDE {
+        return Err(invalid("width", width, "1 to 8192 pixels"));
+    }
+    if height == 0 || height > MAX_VIEW_SIDE {
+        return Err(invalid("height", height, "1 to 8192 pixels"));
+    }
+    if width * height > MAX_VIEW_PIXELS {
+        return Err(invalid(
+            "width x height",
+            format!("{width} x {height}"),
+            "at most 4194304 pixels (16 MiB of RGBA)",
+        ));
+    }
+    Ok(())
+}
+
+/// Draws `view` of `grid` into `out` (resized to `width * height * 4` RGBA
+/// bytes): the gray ramp, unknown cells mid-gray, blue-gray off the map.
+/// A pixel that spans several cells shows the darkest of up to 4 x 4 cells
+/// under it, so that one-cell walls stay visible when zoomed out; a cell
+/// wider than a pixel is drawn as a block (nearest cell).
+pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>) {
+    let (w, h) = (view.width, view.height);
+    out.clear();
+    out.resize(w * h * 4, 0);
+    let e = grid.extent();
+    let (mw, mh) = (e.width(), e.height());
+    let per_pixel = 1.0 / view.scale;
+    let k = (per_pixel.ceil() as usize).clamp(1, MAX_SAMPLES);
+    // The image columns (rows) sampled for each output column (row), or
+    // none off the map: computed once per frame.
+    let samples = |n: usize, start: f64, extent: usize| -> Vec<[usize; MAX_SAMPLES]> {
+        (0..n)
+            .map(|p| {
+                let mut s = [usize::MAX; MAX_SAMPLES];
+                for (j, slot) in s.iter_mut().enumerate().take(k) {
+                    let t = start + (p as f64 + (j as f64 + 0.5) / k as f64) * per_pixel;
+                    if t >= 0.0 && (t as usize) < extent {
+                        *slot = t as usize;
+                    }
+                }
+                s
+            })
+            .collect()
+    };
+    let cols = samples(w, view.u0, mw);
+    let rows = samples(h, view.v0, mh);
+    let l0 = grid.l0();
+    let gray = |col: usize, row: usize| -> Option<u8> {
+        // Image row 0 is the grid's top row.
+        let l = grid.log_odds_at(col, mh - 1 - row)?;
+        Some(if l == l0 { UNKNOWN_GRAY } else { gray_level(l) })
+    };
+    let _ = TILE_SIDE;
+    for (py, rs) in rows.iter().enumerate() {
+        let line = &mut out[py * w * 4..(py + 1) * w * 4];
+        for (px, cs) in cols.iter().enumerate() {
+            let mut darkest: Option<u8> = None;
+            for &r in &rs[..k] {
+                if r == usize::MAX {
+                    continue;
+                }
+                for &c in &cs[..k] {
+                    if c == usize::MAX {
+                        continue;
+                    }
+                    if let Some(g) = gray(c, r) {
+                        darkest = Some(darkest.map_or(g, |d| d.min(g)));
+                    }
+                }
+            }
+            let px4 = &mut line[px * 4..px * 4 + 4];
+            match darkest {
+                Some(g) => px4.copy_from_slice(&[g, g, g, 255]),
+                None => px4.copy_from_slice(&OUTSIDE),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::tiled::Extent;
+    use crate::grid::FilterSettings;
+
+    #[test]
+    fn viewport_zoom_keeps_the_point_under_the_pointer_and_stops_at_its_limits() {
+        let mut v = MapViewport::new(5009, 4906, 480, 470).unwrap();
+        assert!((v.scale - 470.0 / 4906.0).abs() < 1e-12);
+        assert_eq!(v.cell_at(240.0, 235.0), Some((2504, 2453)));
+        let before = v.image_point(100.0, 50.0);
+        v.zoom_at(100.0, 50.0, 8.0).unwrap();
+        let after = v.image_point(100.0, 50.0);
+        assert!((before.0 - after.0).abs() < 1e-9 && (before.1 - after.1).abs() < 1e-9);
+        for _ in 0..20 {
+            v.zoom_at(10.0, 10.0, 4.0).unwrap();
+        }
+        assert_eq!(v.scale, MAX_PIXELS_PER_CELL);
+        for _ in 0..40 {
+            v.zoom_at(10.0, 10.0, 0.25).unwrap();
+        }
+        assert!((v.scale - v.fit_scale() / 2.0).abs() < 1e-12);
+        assert!(v.zoom_at(0.0, 0.0, f64::NAN).is_err());
+        assert!(v.zoom_at(0.0, 0.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn viewport_pan_cannot_lose_the_map_and_sizes_are_bounded() {
+        let mut v = MapViewport::new(100, 50, 200, 100).unwrap();
+        v.zoom_at(100.0, 50.0, 10.0).unwrap();
+        v.pan_by(-1e9, 1e9).unwrap();
+        let (cu, cv) = v.centre();
+        assert!((cu - 100.0).abs() < 1e-9 && cv.abs() < 1e-9, "({cu}, {cv})");
+        assert!(v.pan_by(f64::INFINITY, 0.0).is_err());
+        assert!(MapViewport::new(100, 50, 2048, 2048).is_ok());
+        assert!(MapViewport::new(100, 50, 2049, 2048).is_err());
+        assert!(MapViewport::new(100, 50, 0, 10).is_err());
+        assert!(v.resize(9000, 10).is_err());
+    }
+
+    #[test]
+    fn viewport_render_is_the_screen_size_and_keeps_thin_walls_when_zoomed_out() {
+        let e = Extent::new(1000, 800, 0.05, 0.0, 0.0).unwrap();
+        let mut g = TiledGrid::new(e, FilterSettings { prior: 0.5, clamp: 3.0 }, 1 << 22).unwrap();
+        // A one-cell wall along column 500, free space to its left.
+        for iy in 0..800 {
+            g.raise(500, iy, 3.0);
+            for ix in 400..500 {
+                g.lower(ix, iy, -3.0);
+            }
+        }
+        let v = MapViewport::new(1000, 800, 250, 200).unwrap();
+        let mut out = Vec::new();
+        render_tiled_view(&g, &v, &mut out);
+        assert_eq!(out.len(), 250 * 200 * 4);
+        let px = |x: usize, y: usize| out[(y * 250 + x) * 4];
+        assert_eq!(px(125, 100), gray_level(3.0), "the wall at 4 cells per pixel");
+        assert_eq!(px(110, 100), gray_level(-3.0), "free");
+        assert_eq!(px(10, 100), UNKNOWN_GRAY, "no tile: unknown");
+        // Zoomed far in, off the map is its own colour.
+        let mut v = v;
+        v.zoom_at(0.0, 0.0, 100.0).unwrap();
+        v.pan_by(1e6, 0.0).unwrap();
+        render_tiled_view(&g, &v, &mut out);
+        assert_eq!(&out[..4], &OUTSIDE);
+        assert_eq!(out.len(), 250 * 200 * 4);
+    }
+}
