@@ -466,7 +466,7 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
     };
     let mut b = LogMapBuild::new(scans, settings).unwrap();
     b.advance(1);
-    let g = b.grid();
+    let g = b.grid().to_dense().unwrap();
     let geo = g.geometry();
     let at = |x: f64, y: f64| {
         let (ix, iy) = geo.world_to_cell(x, y).unwrap();
@@ -497,7 +497,7 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
     let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
     let settings = LogMapSettings::default();
     let b = LogMapBuild::new(scans.clone(), settings).unwrap();
-    let geo = *b.grid().geometry();
+    let geo = *b.grid().to_dense().unwrap().geometry();
     let [ox, oy] = geo.origin();
     let r = geo.resolution();
     assert!(
@@ -542,7 +542,7 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
         calls += 1;
     }
     assert_eq!(calls, 910 / 37);
-    assert_eq!(chunked.grid(), whole.grid(), "bit-identical");
+    assert_eq!(chunked.grid().to_dense().unwrap(), whole.grid().to_dense().unwrap(), "bit-identical");
     assert_eq!(chunked.progress().cell_updates, p.cell_updates);
     // Every occupied cell of W1 lies inside the log's extent, so the count
     // agrees with BENCHMARKS.md's reference (20,483 for a JavaScript port).
@@ -552,9 +552,11 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
         "{c:?}"
     );
     assert!(c.occupied + c.free + c.unknown <= c.cells);
-    assert_eq!(c.cells, whole.grid().geometry().len());
+    assert_eq!(c.cells, whole.grid().to_dense().unwrap().geometry().len());
     let by_hand = whole
         .grid()
+        .to_dense()
+        .unwrap()
         .log_odds()
         .iter()
         .filter(|&&l| occgrid::grid::probability(l as f64) > 0.65)
@@ -563,7 +565,7 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
     // The path in image pixels puts the first pose back where it was.
     let path = whole.path_in_pixels();
     assert_eq!(path.len(), 2 * 910);
-    let geo = whole.grid().geometry();
+    let geo = *whole.grid().to_dense().unwrap().geometry();
     let first = whole.scans().pose(0).unwrap();
     let (u, v) = geo.world_to_grid(first.x, first.y);
     assert!((path[0] as f64 - u).abs() < 1e-3);
@@ -575,7 +577,7 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
     let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
     b.advance(2);
-    let before = (b.grid().clone(), b.progress(), *b.settings());
+    let before = (b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings());
     let bad = [
         (
             "resolution",
@@ -637,7 +639,7 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     for (field, s) in bad {
         let e = b.configure(s).unwrap_err().to_string();
         assert!(e.contains(field), "{field}: {e}");
-        assert_eq!((b.grid().clone(), b.progress(), *b.settings()), before);
+        assert_eq!((b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings()), before);
     }
     // The same verdicts without building: `check` plans the grid only.
     let huge = LogMapSettings {
@@ -653,7 +655,7 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     );
     assert_eq!(
         LogMapBuild::check(b.scans(), b.settings()).unwrap(),
-        *b.grid().geometry()
+        *b.grid().extent()
     );
     assert!(b.seek(4).is_err(), "only 3 scans");
     assert_eq!(b.progress(), before.1);
@@ -672,7 +674,7 @@ fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
     let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
     b.advance(3);
-    let geo = *b.grid().geometry();
+    let geo = *b.grid().to_dense().unwrap().geometry();
     let top_left = b.readout_at_pixel(0, 0).unwrap();
     assert_eq!(
         (top_left.ix, top_left.iy),
@@ -684,6 +686,8 @@ fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
     // The most-updated cell reads back its own log odds and count.
     let (i, &n) = b
         .grid()
+        .to_dense()
+        .unwrap()
         .update_counts()
         .iter()
         .enumerate()
@@ -692,7 +696,7 @@ fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
     let (ix, iy) = geo.cell_of_index(i);
     let r = b.readout_at_pixel(ix, geo.height() - 1 - iy).unwrap();
     assert_eq!((r.ix, r.iy, r.updates), (ix, iy, n));
-    assert_eq!(r.l, b.grid().log_odds()[i] as f64);
+    assert_eq!(r.l, b.grid().to_dense().unwrap().log_odds()[i] as f64);
     assert!((r.p - occgrid::grid::probability(r.l)).abs() < 1e-15);
     assert_eq!((r.x, r.y), geo.cell_center(ix, iy));
 }

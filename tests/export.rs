@@ -143,7 +143,7 @@ fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     let scans = LaserScans::read(&bytes[..]).unwrap();
     let mut build = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
     build.advance(usize::MAX);
-    let grid = build.grid();
+    let grid = &build.grid().to_dense().unwrap();
     let geo = *grid.geometry();
     let pair = map_server_pair(grid, "intel.pgm");
     let pgm = read_pgm(&pair.pgm).unwrap();

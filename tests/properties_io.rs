@@ -405,9 +405,9 @@ proptest! {
         };
         let p = build.advance(chunk);
         prop_assert!(p.scans_done <= p.scans_total);
-        let c = build.grid().clamp();
-        prop_assert!(build.grid().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
-        let state = |b: &LogMapBuild| (b.grid().clone(), b.progress(), *b.settings());
+        let c = build.grid().to_dense().unwrap().clamp();
+        prop_assert!(build.grid().to_dense().unwrap().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
+        let state = |b: &LogMapBuild| (b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings());
         let before = state(&build);
         match build.seek(seek) {
             Ok(()) => prop_assert!(seek <= build.scans().len()),
@@ -420,15 +420,15 @@ proptest! {
         match build.configure(second) {
             Ok(()) => {
                 build.advance(usize::MAX);
-                let c = build.grid().clamp();
-                prop_assert!(build.grid().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
+                let c = build.grid().to_dense().unwrap().clamp();
+                prop_assert!(build.grid().to_dense().unwrap().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
             }
             Err(e) => {
                 assert_names_one_of(&e, &setting_names());
                 prop_assert!(state(&build) == before, "a refused configure changed the build");
             }
         }
-        let g = *build.grid().geometry();
+        let g = *build.grid().to_dense().unwrap().geometry();
         prop_assert!(build.readout_at_pixel(g.width(), 0).is_none());
         prop_assert!(build.readout_at_pixel(usize::MAX, usize::MAX).is_none());
         prop_assert!(build.path_in_pixels().iter().all(|v| v.is_finite()));

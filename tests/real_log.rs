@@ -46,7 +46,7 @@ fn build(bytes: &[u8], settings: LogMapSettings) -> LogMapBuild {
 fn the_chapter_settings_are_table_9_2_bit_for_bit() {
     let bytes = dataset("intel-corrected.log.gz");
     let b = build(&bytes, LogMapSettings::chapter());
-    let mut grid = b.grid().clone();
+    let mut grid = b.grid().to_dense().unwrap().clone();
     grid.reset();
     let model = HandCrafted::new(HandCraftedParams::laser(30.0)).unwrap();
     let mut mapper = RayMapper::new();
@@ -56,7 +56,7 @@ fn the_chapter_settings_are_table_9_2_bit_for_bit() {
             .integrate(&mut grid, &model, &b.scans().scan(k).unwrap())
             .cells_updated as u64;
     }
-    assert_eq!(&grid, b.grid());
+    assert_eq!(grid, b.grid().to_dense().unwrap());
     assert_eq!(updates, b.progress().cell_updates);
 }
 
@@ -75,9 +75,9 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     scans.push((30.0, 0.0, std::f64::consts::PI, vec![1.0; 180]));
     let bytes = flaser_log(&scans);
     let free_at = |b: &LogMapBuild, x: f64, y: f64| {
-        let g = b.grid().geometry();
+        let g = *b.grid().to_dense().unwrap().geometry();
         let (ix, iy) = g.world_to_cell(x, y).unwrap();
-        b.grid().probability_at(g.index(ix, iy)) < 0.196
+        b.grid().to_dense().unwrap().probability_at(g.index(ix, iy)) < 0.196
     };
     let defaults = LogMapSettings::default();
     assert_eq!(defaults.no_return_reach, 5.0);
@@ -85,10 +85,10 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     assert!(free_at(&b, 4.0, 0.0), "cleared within the reach");
     for d in [6.0, 12.0, 20.0, 28.0] {
         assert!(!free_at(&b, d, 0.0), "a no-return cleared {d} m out");
-        assert!(b.grid().is_unknown(b.grid().geometry().index(
-            b.grid().geometry().world_to_cell(d, 1.0).unwrap().0,
-            b.grid().geometry().world_to_cell(d, 1.0).unwrap().1
-        )));
+        let dense = b.grid().to_dense().unwrap();
+        let g = *dense.geometry();
+        let (ix, iy) = g.world_to_cell(d, 1.0).unwrap();
+        assert!(dense.is_unknown(g.index(ix, iy)));
     }
     // Returns still carve out to their reading (bearing -70 degrees, 15 m).
     let a = -70f64.to_radians();
@@ -120,9 +120,9 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
 /// exported PGM: of every fifth endpoint closer than 30 m, the share whose
 /// cell or one of its 8 neighbours is black.
 fn wall_recall(b: &LogMapBuild) -> f64 {
-    let pair = map_server_pair(b.grid(), "m.pgm");
+    let pair = map_server_pair(&b.grid().to_dense().unwrap(), "m.pgm");
     let pgm = occgrid::io::map_server::read_pgm(&pair.pgm).unwrap();
-    let g = b.grid().geometry();
+    let g = *b.grid().to_dense().unwrap().geometry();
     let (mut ends, mut hits) = (0, 0);
     for k in 0..b.scans().len() {
         let scan = b.scans().scan(k).unwrap();
@@ -180,9 +180,9 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
     }
     let bytes = flaser_log(&scans);
     let at = |b: &LogMapBuild| {
-        let g = b.grid().geometry();
+        let g = *b.grid().to_dense().unwrap().geometry();
         let (ix, iy) = g.world_to_cell(3.0, 0.0).unwrap();
-        b.grid().probability_at(g.index(ix, iy))
+        b.grid().to_dense().unwrap().probability_at(g.index(ix, iy))
     };
     let mut b = LogMapBuild::new(
         LaserScans::read(&bytes[..]).unwrap(),
@@ -196,4 +196,55 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
     b.advance(usize::MAX);
     assert!(at(&b) < 0.196, "the ghost faded: p = {}", at(&b));
     assert_eq!(LogMapSettings::default().walls, WallModel::Incidence);
+}
+
+/// The Infinite Corridor spans about 250 m x 245 m: at 5 cm its bounding box
+/// is 24.6 million cells, past the dense grid's 16.8 million, and it was
+/// refused. Its tiles hold the cells the beams reached, far fewer, and its
+/// export covers the whole box.
+#[test]
+fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
+    let mut s = RealLogSession::new(dataset("infinite-corridor-corrected.log.gz"));
+    while !s.read(usize::MAX).unwrap().progress.finished {}
+    let g = s.geometry().unwrap();
+    assert_eq!(g.resolution, 0.05);
+    assert!(g.width * g.height > occgrid::geometry::MAX_CELLS, "{} x {}", g.width, g.height);
+    let p = loop {
+        let p = s.build_chunk(500).unwrap();
+        if p.finished {
+            break p;
+        }
+    };
+    assert_eq!(p.cells, g.width * g.height);
+    assert!(p.cells_allocated * 2 < p.cells, "{} of {} cells allocated", p.cells_allocated, p.cells);
+    let c = s.build().unwrap().counts();
+    assert_eq!(c.cells, p.cells);
+    assert!(c.occupied > 10_000 && c.free > 100_000, "{c:?}");
+    let pair = s.export_map(Some("ic")).unwrap();
+    let pgm = occgrid::io::map_server::read_pgm(&pair.pgm).unwrap();
+    assert_eq!((pgm.width, pgm.height), (g.width, g.height));
+    // The image counts what the counts say.
+    let black = pgm.pixels.iter().filter(|&&v| v == 0).count();
+    let white = pgm.pixels.iter().filter(|&&v| v == 254).count();
+    assert_eq!((black, white), (c.occupied, c.free));
+}
+
+/// A budget too small for a log refuses it, saying how many tiles, cells
+/// and bytes the whole log would need; the same log fits the default.
+#[test]
+fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
+    let scans = LaserScans::read(&dataset("aces-corrected.log.gz")[..]).unwrap();
+    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::default()).unwrap();
+    let p = whole.advance(usize::MAX);
+    assert!(p.finished && whole.failure().is_none());
+    let budget = p.cells_allocated / 2;
+    let mut s = LogMapBuild::with_tile_budget(scans, LogMapSettings::default(), budget).unwrap();
+    let p2 = s.advance(usize::MAX);
+    assert!(!p2.finished && p2.cells_allocated <= budget);
+    let e = s.failure().unwrap().to_string();
+    let tiles: usize = e.split("reach ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    // The estimate walks the grid of tiles: at least what the map allocated.
+    assert!(tiles * 4096 >= p.cells_allocated, "{e}");
+    assert!(tiles * 4096 <= p.cells_allocated * 3 / 2, "{e}");
+    assert!(e.contains(&format!("budget of {budget} cells")) && e.contains("MiB"), "{e}");
 }

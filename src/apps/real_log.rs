@@ -162,15 +162,6 @@ impl LogMapSettings {
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
         error::positive("noReturnReach", self.no_return_reach)?;
-        // A scan is gathered in a window as wide as its longest beam: that
-        // window's scratch is what bounds the reach in cells.
-        if !(self.range_cap / self.resolution <= MAX_REACH_CELLS) {
-            return Err(invalid(
-                "rangeCap",
-                error::show(self.range_cap),
-                "at most 2045 cells of the resolution (102 m at 5 cm, 51 m at 2.5 cm)",
-            ));
-        }
         // Free evidence lowers a cell and occupied evidence raises it: the
         // traversal gathers them as two flags.
         // (Compared as the f32 the map stores: 1e-50 is 0 there.)
@@ -305,7 +296,17 @@ impl LogMapBuild {
                 "at least one laser scan",
             )
         })?;
-        settings.geometry(extent)
+        let extent = settings.geometry(extent)?;
+        // A scan is gathered in a window as wide as its longest beam: that
+        // window's scratch is what bounds the reach in cells.
+        if !(settings.range_cap / settings.resolution <= MAX_REACH_CELLS) {
+            return Err(invalid(
+                "rangeCap",
+                error::show(settings.range_cap),
+                "at most 2045 cells of the resolution (102 m at 5 cm, 51 m at 2.5 cm)",
+            ));
+        }
+        Ok(extent)
     }
 
     fn prepare(scans: &LaserScans, s: &LogMapSettings, budget_cells: usize) -> Result<(TiledGrid, HandCrafted)> {
