@@ -108,6 +108,8 @@ async function main() {
     console.log(JSON.stringify({
       log, warning: read.warning ?? undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
+      // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.
+      cells_allocated: built.cellsAllocated, bytes_allocated: built.bytesAllocated, cells: built.cells,
       // Counted with the YAML's own thresholds: what map_server loads.
       occupied: c.occupied, free: c.free, unknown: c.unknown,
       occupied_thresh: c.occupiedThresh, free_thresh: c.freeThresh, pgm: pgmPath, yaml: yamlPath,
