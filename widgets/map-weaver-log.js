@@ -16,7 +16,7 @@
 // `data-controls`: log-source (file picker, dataset menu), log-settings
 // (resolution and the model's sliders) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
-import { arrowCell, exportMap, followResize, pointerCell } from './lib/pane.js';
+import { arrowCell, exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
@@ -48,7 +48,14 @@ const CURSOR_COLOR = '#2c7bb6';
 const count = (n) => Number(n).toLocaleString('en-US');
 const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.';
 /** How the map canvas is operated, for its text alternative. */
-const CURSOR_HINT = 'Arrow keys move a cursor cell (Shift: ten cells) whose values are read out below the map.';
+const CURSOR_HINT = 'Arrow keys move a cursor cell (Shift: ten steps) whose values are read out below the map; the map follows it. + and − zoom about it, 0 shows the whole map; the mouse wheel or a pinch zooms, a drag pans.';
+/** The most device pixels the map canvas gets (the core's view bound is 4,194,304). */
+const MAX_VIEW_PIXELS = 4_000_000;
+/** Zoom per key press, and per 100 px of wheel. */
+const KEY_ZOOM = 1.5;
+const WHEEL_ZOOM_PER_PX = Math.log(1.5) / 100;
+/** Device pixels a cursor step moves at any zoom (at least one cell). */
+const CURSOR_STEP_PX = 16;
 
 /**
  * Yields to the event loop and comes back in a new task: input is handled
@@ -179,9 +186,12 @@ export class RealLogPanel {
     this.status = el('p', { class: 'map-weaver-log-status occgrid-readout', 'aria-live': 'polite' }, 'No log loaded yet.');
     this.timing = el('p', { class: 'map-weaver-log-timing occgrid-readout' });
     this.canvas = el('canvas', { class: 'occgrid-map map-weaver-log-map', role: 'img', tabindex: 0, 'aria-label': `Occupancy grid map built from the log: no log mapped yet. ${CURSOR_HINT}`, width: 1, height: 1, hidden: true });
-    this.canvas.addEventListener('mousemove', (e) => this.hover(e));
+    // Pointer events for drags and pinches, not the browser's own panning.
+    this.canvas.style.touchAction = 'none';
     this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
     this.canvas.addEventListener('blur', () => this.setCursor(null));
+    this.listenForViewInput();
+    this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
     this.stage = el('div', { class: 'map-weaver-log-stage' },
       this.canvas,
       el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.'));
@@ -200,7 +210,7 @@ export class RealLogPanel {
       el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },
         Object.values(this.controls).map((c) => c.root)),
       this.progress, this.status, this.timing,
-      this.stage,
+      this.stage, this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
       this.readout, this.counts,
       el('p', { class: 'occgrid-caption' },
@@ -368,9 +378,6 @@ export class RealLogPanel {
       this.exportButton.disabled = true;
       return;
     }
-    const { width, height } = this.geometry;
-    this.canvas.width = width;
-    this.canvas.height = height;
     this.canvas.hidden = false;
     this.path = this.session.pathPixels();
     this.scrub.input.max = String(this.total);
@@ -379,16 +386,111 @@ export class RealLogPanel {
     this.fitCanvas();
   }
 
-  /** Display size: the whole map within the panel's width and 75% of the window's height. */
+  /**
+   * Display size: the whole map's shape within the panel's width and 75%
+   * of the window's height (so that the fitted view fills it). The canvas
+   * has the display's device pixels
+   * (bounded), and the core draws only the part of the map in view into
+   * them (SPEC §11): the map's own size never reaches the page.
+   */
   fitCanvas() {
-    if (!this.geometry) return;
+    if (!this.geometry || !this.session) return;
     const { width, height } = this.geometry;
     const avail = Math.max(100, this.stage.clientWidth - 8);
-    const scale = Math.min(avail / width, (0.75 * window.innerHeight) / height, 4);
-    this.canvas.style.width = `${Math.floor(width * scale)}px`;
-    this.canvas.style.height = `${Math.floor(height * scale)}px`;
-    // Shrinking with nearest-neighbour sampling would drop one-cell walls.
-    this.canvas.classList.toggle('map-weaver-log-smooth', scale * (window.devicePixelRatio || 1) < 1);
+    const fit = Math.min(avail / width, (0.75 * window.innerHeight) / height);
+    const cssW = Math.max(1, Math.floor(width * fit));
+    const cssH = Math.max(1, Math.floor(height * fit));
+    const dpr = window.devicePixelRatio || 1;
+    const k = Math.min(dpr, Math.sqrt(MAX_VIEW_PIXELS / (cssW * cssH)));
+    const w = Math.max(1, Math.round(cssW * k));
+    const h = Math.max(1, Math.round(cssH * k));
+    this.canvas.style.width = `${Math.floor(cssW)}px`;
+    this.canvas.style.height = `${Math.floor(cssH)}px`;
+    if (this.canvas.width !== w || this.canvas.height !== h) {
+      this.canvas.width = w;
+      this.canvas.height = h;
+    }
+    this.session.setViewSize(w, h);
+    this.renderView();
+  }
+
+  /** Draws the view of the map the core holds (no map-sized image: the view's pixels only). */
+  renderView() {
+    if (!this.session || !this.geometry) return;
+    this.pixels = this.session.renderView();
+    this.view = this.session.view();
+    this.redraw();
+    const v = this.view;
+    const dpr = this.canvas.width / Math.max(1, this.canvas.clientWidth || this.canvas.width);
+    const perCell = v.scale / dpr;
+    const res = this.geometry.resolution;
+    const [wx, wy] = [(v.width / v.scale) * res, (v.height / v.scale) * res];
+    this.viewStatus.textContent =
+      `view: ${perCell >= 1 ? `${fixed(perCell, 1)} screen pixels per cell` : `${fixed(1 / perCell, 1)} cells per screen pixel`}, ` +
+      `${fixed(wx, 1)} m × ${fixed(wy, 1)} m shown · wheel or pinch to zoom, drag to pan, + − 0 and arrows on the focused map`;
+    Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
+  }
+
+  /** Canvas device pixels of a pointer event. */
+  viewPoint(e) {
+    const rect = this.canvas.getBoundingClientRect();
+    return {
+      x: ((e.clientX - rect.left) / Math.max(1, rect.width)) * this.canvas.width,
+      y: ((e.clientY - rect.top) / Math.max(1, rect.height)) * this.canvas.height,
+    };
+  }
+
+  /** Wheel zoom, one-finger (or mouse) drag to pan, two-finger pinch to zoom, hover readout. */
+  listenForViewInput() {
+    const pointers = new Map();
+    let last = null;
+    const pinch = () => {
+      const [a, b] = [...pointers.values()];
+      return { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2, d: Math.hypot(a.x - b.x, a.y - b.y) };
+    };
+    this.canvas.addEventListener('wheel', (e) => {
+      if (!this.view) return;
+      e.preventDefault();
+      const px = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
+      const { x, y } = this.viewPoint(e);
+      this.session.zoomAt(x, y, Math.exp(-e.deltaY * px * WHEEL_ZOOM_PER_PX));
+      this.renderView();
+      this.readViewCell(x, y);
+    }, { passive: false });
+    this.canvas.addEventListener('pointerdown', (e) => {
+      if (!this.view) return;
+      this.canvas.setPointerCapture?.(e.pointerId);
+      pointers.set(e.pointerId, this.viewPoint(e));
+      last = pointers.size === 2 ? pinch() : null;
+    });
+    const release = (e) => {
+      pointers.delete(e.pointerId);
+      last = pointers.size === 2 ? pinch() : null;
+    };
+    this.canvas.addEventListener('pointerup', release);
+    this.canvas.addEventListener('pointercancel', release);
+    this.canvas.addEventListener('pointermove', (e) => {
+      if (!this.view) return;
+      const p = this.viewPoint(e);
+      const before = pointers.get(e.pointerId);
+      if (!before) {
+        if (this.cursor) this.setCursor(null);
+        this.readViewCell(p.x, p.y);
+        return;
+      }
+      pointers.set(e.pointerId, p);
+      if (pointers.size === 1) {
+        this.session.panBy(p.x - before.x, p.y - before.y);
+      } else if (pointers.size === 2) {
+        const now = pinch();
+        if (last && last.d > 0) {
+          this.session.panBy(now.x - last.x, now.y - last.y);
+          this.session.zoomAt(now.x, now.y, now.d / last.d);
+        }
+        last = now;
+      }
+      this.renderView();
+    });
   }
 
   /** Integrates scans towards the session's target, a time slice per call. */
@@ -425,9 +527,8 @@ export class RealLogPanel {
   }
 
   draw(p) {
-    this.pixels = this.session.render();
     this.done = p.scansDone;
-    this.redraw();
+    this.renderView();
     const { width, height } = this.geometry;
     const c = this.session.counts();
     this.status.textContent = p.finished
@@ -450,17 +551,20 @@ export class RealLogPanel {
   }
 
   /**
-   * Draws the last rendered map (no core call), the laser's path up to the
+   * Draws the last rendered view (no core call), the laser's path up to the
    * last integrated scan with the robot where it is now, and the keyboard
-   * cursor. The canvas is the map's own size: one canvas unit per cell,
-   * lines and marks scaled up on a large map so they stay visible.
+   * cursor, through the view's transform (image units to canvas pixels),
+   * their widths in screen pixels at any zoom.
    */
   redraw() {
-    if (!this.pixels) return;
-    const { width, height } = this.geometry;
-    drawMapImage(this.canvas, this.memory, this.pixels, width, height);
+    if (!this.pixels || !this.view) return;
+    const v = this.view;
+    drawMapImage(this.canvas, this.memory, this.pixels, v.width, v.height);
     const ctx = this.canvas.getContext('2d');
-    const unit = Math.max(1, width / 700);
+    ctx.save();
+    ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
+    const dpr = this.canvas.width / Math.max(1, this.canvas.clientWidth || this.canvas.width);
+    const unit = dpr / v.scale;
     if (this.path && this.done >= 1) {
       drawPath(ctx, 1, this.path, this.done, { color: PATH_COLOR, lineWidth: unit });
       drawRobot(ctx, 1, robotInImageUnits(this.path, this.session, this.done - 1), {
@@ -468,27 +572,62 @@ export class RealLogPanel {
       });
     }
     if (this.cursor) {
-      const r = Math.max(2, width / 250);
-      outlineCell(ctx, 1, this.cursor, { color: CURSOR_COLOR, lineWidth: Math.max(1, r / 2), pad: r - 0.5 });
+      outlineCell(ctx, 1, this.cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
     }
+    ctx.restore();
   }
 
-  hover(e) {
-    if (!this.session || !this.geometry) return;
-    const { col, row } = pointerCell(this.canvas, e, this.geometry.width, this.geometry.height);
-    if (this.cursor) this.setCursor(null);
-    this.readCell(col, row);
-  }
-
-  /** Arrow keys move a cursor over the map (with Shift, ten cells at a time). */
+  /**
+   * Arrow keys move a cursor over the map, a few screen pixels (at least a
+   * cell) per press, ten times as far with Shift, and the view follows it;
+   * + and - zoom about it, 0 shows the whole map.
+   */
   moveCursor(e) {
-    if (!this.geometry) return;
+    if (!this.geometry || !this.view) return;
     const { width, height } = this.geometry;
-    const to = arrowCell(e, this.cursor ?? { col: width >> 1, row: height >> 1 }, width, height, e.shiftKey ? 10 : 1);
+    const v = this.view;
+    const here = this.cursor ?? this.centreCell();
+    if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '_' || e.key === '0') {
+      e.preventDefault();
+      if (e.key === '0') this.session.fitView();
+      else {
+        const x = (here.col + 0.5 - v.u0) * v.scale;
+        const y = (here.row + 0.5 - v.v0) * v.scale;
+        this.session.zoomAt(x, y, e.key === '+' || e.key === '=' ? KEY_ZOOM : 1 / KEY_ZOOM);
+      }
+      this.cursor = here;
+      this.renderView();
+      this.readCell(here.col, here.row);
+      return;
+    }
+    const step = Math.max(1, Math.round(CURSOR_STEP_PX / v.scale)) * (e.shiftKey ? 10 : 1);
+    const to = arrowCell(e, here, width, height, step);
     if (!to) return;
     e.preventDefault();
-    this.setCursor(to);
+    this.cursor = to;
+    // Off screen (or at its edge): bring it back to the centre.
+    const x = (to.col + 0.5 - v.u0) * v.scale;
+    const y = (to.row + 0.5 - v.v0) * v.scale;
+    const m = Math.min(v.width, v.height) * 0.05;
+    if (x < m || y < m || x > v.width - m || y > v.height - m) {
+      this.session.panBy(v.width / 2 - x, v.height / 2 - y);
+    }
+    this.renderView();
     this.readCell(to.col, to.row);
+  }
+
+  /** The map image cell at the view's centre. */
+  centreCell() {
+    const v = this.view;
+    const { width, height } = this.geometry;
+    const clamp = (a, n) => Math.max(0, Math.min(n - 1, Math.floor(a)));
+    return { col: clamp(v.u0 + v.width / (2 * v.scale), width), row: clamp(v.v0 + v.height / (2 * v.scale), height) };
+  }
+
+  /** Reads out the cell under canvas pixel `(x, y)` of the view. */
+  readViewCell(x, y) {
+    const c = this.session?.cellAtView(x, y);
+    if (c) this.showReadout(c);
   }
 
   setCursor(cursor) {
@@ -499,7 +638,12 @@ export class RealLogPanel {
   readCell(col, row) {
     if (col < 0 || row < 0) return;
     const c = this.session.cellAt(col, row);
-    if (!c) return;
+    if (c) this.showReadout(c);
+  }
+
+  showReadout(c) {
+    this.readout.dataset.x = String(c.x);
+    this.readout.dataset.y = String(c.y);
     this.readout.dataset.ix = String(c.ix);
     this.readout.dataset.iy = String(c.iy);
     this.readout.dataset.l = String(c.l);

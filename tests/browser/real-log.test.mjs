@@ -140,12 +140,14 @@ test('hovering the map reads the cell under the pointer from the core', async ()
   assert.ok(Math.abs(expected.p - 1 / (1 + Math.exp(-expected.l))) < 1e-9);
   assert.match(shown.text, /cell \(\d+, \d+\) at \(-?\d+\.\d\d m, -?\d+\.\d\d m\): l = -?\d\.\d{3}, p = \d\.\d{3}, \d+ updates?/);
 
-  // The keyboard: focus the map, then arrows move a cursor from the centre.
+  // The keyboard: focus the map, then arrows move a cursor from the centre,
+  // 16 device pixels (at least a cell) per press, ten times that with Shift.
   await canvas.focus();
+  const step = await page.evaluate(() => Math.max(1, Math.round(16 / window.realLogPanel.view.scale)));
   await page.keyboard.press('ArrowRight');
   await page.keyboard.press('Shift+ArrowUp');
   const keyed = await readout.evaluate((e) => ({ ix: Number(e.dataset.ix), iy: Number(e.dataset.iy) }));
-  assert.deepEqual(keyed, { ix: (width >> 1) + 1, iy: height - 1 - ((height >> 1) - 10) });
+  assert.deepEqual(keyed, { ix: (width >> 1) + step, iy: height - 1 - ((height >> 1) - 10 * step) });
   assert.deepEqual(errors, []);
   await close();
 });
@@ -185,7 +187,7 @@ test('a coarser resolution rebuilds the map at a quarter of the cells', async ()
   await page.waitForFunction(() => window.realLogPanel.geometry?.resolution === 0.1 && window.realLogPanel.root.dataset.state === 'done');
   const after = await page.evaluate(() => window.realLogPanel.geometry);
   assert.ok(Math.abs(after.width - before.width / 2) <= 1 && Math.abs(after.height - before.height / 2) <= 1, JSON.stringify({ before, after }));
-  assert.equal(await page.$eval('.map-weaver-log-map', (c) => c.width), after.width);
+  assert.equal(await page.evaluate(() => window.realLogPanel.view.mapWidth), after.width, 'the view shows the new map');
   assert.deepEqual(errors, []);
   await close();
 });
@@ -334,8 +336,9 @@ test('settings the grid cannot hold are refused with the reason, and the map sta
   assert.equal((await settled(page)).state, 'done');
   const before = await page.evaluate(() => window.realLogPanel.geometry);
   const counts = await page.locator('.map-weaver-log-counts').textContent();
-  // An 80 m range cap widens ACES to about 118 m x 128 m: 24 million cells
-  // at 2.5 cm, over the 16.8 million a map may hold.
+  // An 80 m range cap at 2.5 cm is 3,200 cells of reach: a scan's window
+  // of cells would pass 2^24 (the map's tiles would hold it; the scratch
+  // of one scan would not).
   await page.locator('.map-weaver-log input[name=range-cap]').evaluate((input) => {
     input.value = '80';
     input.dispatchEvent(new Event('input', { bubbles: true }));
@@ -344,7 +347,7 @@ test('settings the grid cannot hold are refused with the reason, and the map sta
   await page.selectOption('.map-weaver-log select[name=resolution]', '0.025');
   const alert = page.locator('.map-weaver-log .occgrid-error');
   await alert.waitFor();
-  assert.match(await alert.textContent(), /settings: invalid width x height: \d+ x \d+ \(expected at most 16777216 cells: a coarser resolution or a shorter range cap\)/);
+  assert.match(await alert.textContent(), /settings: invalid rangeCap: 80 \(expected at most 2045 cells of the resolution \(102 m at 5 cm, 51 m at 2\.5 cm\)\)/);
   assert.equal(await page.locator('.map-weaver-log select[name=resolution]').inputValue(), '0.05', 'the control shows the setting in force');
   const after = await page.evaluate(() => window.realLogPanel.geometry);
   assert.equal(after.resolution, 0.05);
@@ -365,7 +368,7 @@ test('a log read under settings too large for it waits for settings that fit, th
   await page.waitForFunction(() => window.realLogPanel.applied.rangeCap === 80 && window.realLogPanel.applied.resolution === 0.025);
   await page.locator('.map-weaver-log select[name=dataset]').selectOption('aces-corrected.log.gz');
   assert.equal((await settled(page)).state, 'error');
-  assert.match(await page.locator('.map-weaver-log .occgrid-error').textContent(), /aces-corrected\.log\.gz: invalid width x height/);
+  assert.match(await page.locator('.map-weaver-log .occgrid-error').textContent(), /aces-corrected\.log\.gz: invalid rangeCap: 80/);
   assert.match(await page.locator('.map-weaver-log-status').textContent(), /is read; choose a coarser resolution/);
   await page.selectOption('.map-weaver-log select[name=resolution]', '0.1');
   await page.waitForFunction(() => window.realLogPanel.root.dataset.state === 'done');
