@@ -431,12 +431,13 @@ export class RealLogPanel {
     Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
   }
 
-  /** Canvas device pixels of a pointer event. */
+  /** Canvas device pixels of a pointer event (inside the canvas's border). */
   viewPoint(e) {
-    const rect = this.canvas.getBoundingClientRect();
+    const c = this.canvas;
+    const rect = c.getBoundingClientRect();
     return {
-      x: ((e.clientX - rect.left) / Math.max(1, rect.width)) * this.canvas.width,
-      y: ((e.clientY - rect.top) / Math.max(1, rect.height)) * this.canvas.height,
+      x: ((e.clientX - rect.left - c.clientLeft) / Math.max(1, c.clientWidth)) * c.width,
+      y: ((e.clientY - rect.top - c.clientTop) / Math.max(1, c.clientHeight)) * c.height,
     };
   }
 

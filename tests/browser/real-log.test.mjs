@@ -13,6 +13,8 @@ after(shutdown);
 const DATASETS = process.env.OCCGRID_DATASETS || path.resolve(import.meta.dirname, '../../../shared/datasets');
 const INTEL = path.join(DATASETS, 'intel-corrected.log.gz');
 const PAGE = '/test-fixtures/real-log.html';
+/** A doorway of the Infinite Corridor, world metres (picked on the whole map). */
+const DOORWAY = [-158.3, 32.8];
 
 async function openPanel() {
   const opened = await openPage(PAGE);
@@ -375,5 +377,66 @@ test('a log read under settings too large for it waits for settings that fit, th
   assert.match(await page.locator('.map-weaver-log-status').textContent(), /440 of 440 scans, .* at 0\.1 m/);
   assert.equal(await page.locator('.map-weaver-log .occgrid-error').count(), 0);
   assert.equal(errors.length, 1, errors.join('\n'));
+  await close();
+});
+
+test('the Infinite Corridor maps at 5 cm and zooms to one doorway, the readout in metres and cells, the drawn buffer the canvas size', async () => {
+  const { page, errors, close } = await openPanel();
+  // Tall enough that the whole map is on screen, where the pointer can reach it.
+  await page.setViewportSize({ width: 900, height: 1400 });
+  await page.locator('.map-weaver-log select[name=dataset]').selectOption('infinite-corridor-corrected.log.gz');
+  assert.equal((await settled(page, 120_000)).state, 'done');
+  const geometry = await page.evaluate(() => window.realLogPanel.geometry);
+  assert.equal(geometry.resolution, 0.05);
+  assert.ok(geometry.width * geometry.height > 16_777_216, 'past the dense limit');
+  await screenshot(panel(page), 'real-log-infinite-corridor');
+  const canvas = page.locator('.map-weaver-log-map');
+  // A doorway on the corridor, in world metres (picked on the whole map).
+  const target = { x: DOORWAY[0], y: DOORWAY[1] };
+  const toScreen = () => page.evaluate(({ x, y }) => {
+    const p = window.realLogPanel;
+    const g = p.geometry;
+    const v = p.view;
+    const u = (x - g.originX) / g.resolution;
+    const w = g.height - (y - g.originY) / g.resolution;
+    const c = p.canvas;
+    const r = c.getBoundingClientRect();
+    const k = c.clientWidth / c.width;
+    return { x: r.left + c.clientLeft + (u - v.u0) * v.scale * k, y: r.top + c.clientTop + (w - v.v0) * v.scale * k };
+  }, target);
+  let at = await toScreen();
+  await page.mouse.move(at.x, at.y);
+  // The wheel zooms about the pointer: the doorway stays under it.
+  for (let i = 0; i < 9; i++) await page.mouse.wheel(0, -100);
+  await page.waitForFunction(() => Number(window.realLogPanel.root.dataset.viewScale) > 5);
+  at = await toScreen();
+  await page.mouse.move(at.x + 1, at.y + 1);
+  await page.mouse.move(at.x, at.y);
+  const readout = page.locator('.map-weaver-log-readout');
+  const shown = await readout.evaluate((e) => ({ ...e.dataset }));
+  assert.ok(Math.abs(Number(shown.x) - target.x) <= 0.1 && Math.abs(Number(shown.y) - target.y) <= 0.1, JSON.stringify(shown));
+  const expected = await page.evaluate(({ ix, iy }) => {
+    const p = window.realLogPanel;
+    return p.session.cellAt(ix, p.geometry.height - 1 - iy);
+  }, { ix: Number(shown.ix), iy: Number(shown.iy) });
+  assert.equal(Number(shown.l), expected.l);
+  assert.equal(Number(shown.x), expected.x);
+  assert.equal(Number(shown.y), expected.y);
+  // The cell's centre in metres from its indices: origin + (i + 1/2) res.
+  assert.ok(Math.abs(expected.x - (geometry.originX + (Number(shown.ix) + 0.5) * 0.05)) < 1e-9);
+  // What the core drew is the canvas's size, not the map's 24.6 M cells.
+  const view = await page.evaluate(() => ({ ...window.realLogPanel.view, canvas: [window.realLogPanel.canvas.width, window.realLogPanel.canvas.height] }));
+  assert.deepEqual([view.width, view.height], view.canvas);
+  assert.ok(view.width * view.height <= 4_194_304);
+  assert.equal(view.mapWidth, geometry.width);
+  await screenshot(panel(page), 'real-log-infinite-corridor-doorway');
+  // Keyboard: - zooms out about the cursor, 0 shows the whole map again.
+  await canvas.focus();
+  await page.keyboard.press('-');
+  assert.ok(Number(await page.evaluate(() => window.realLogPanel.root.dataset.viewScale)) < view.scale);
+  await page.keyboard.press('0');
+  const fitted = await page.evaluate(() => window.realLogPanel.view);
+  assert.ok(Math.abs(fitted.scale - Math.min(fitted.width / fitted.mapWidth, fitted.height / fitted.mapHeight)) < 1e-12);
+  assert.deepEqual(errors, []);
   await close();
 });
