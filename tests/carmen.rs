@@ -542,7 +542,11 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
         calls += 1;
     }
     assert_eq!(calls, 910 / 37);
-    assert_eq!(chunked.grid().to_dense().unwrap(), whole.grid().to_dense().unwrap(), "bit-identical");
+    assert_eq!(
+        chunked.grid().to_dense().unwrap(),
+        whole.grid().to_dense().unwrap(),
+        "bit-identical"
+    );
     assert_eq!(chunked.progress().cell_updates, p.cell_updates);
     // Every occupied cell of W1 lies inside the log's extent, so the count
     // agrees with BENCHMARKS.md's reference (20,483 for a JavaScript port).
@@ -577,7 +581,11 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
     let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
     b.advance(2);
-    let before = (b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings());
+    let before = (
+        b.grid().to_dense().unwrap().clone(),
+        b.progress(),
+        *b.settings(),
+    );
     let bad = [
         (
             "resolution",
@@ -639,7 +647,14 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     for (field, s) in bad {
         let e = b.configure(s).unwrap_err().to_string();
         assert!(e.contains(field), "{field}: {e}");
-        assert_eq!((b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings()), before);
+        assert_eq!(
+            (
+                b.grid().to_dense().unwrap().clone(),
+                b.progress(),
+                *b.settings()
+            ),
+            before
+        );
     }
     // The same verdicts without building: `check` plans the grid only.
     let huge = LogMapSettings {

@@ -208,7 +208,12 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
     while !s.read(usize::MAX).unwrap().progress.finished {}
     let g = s.geometry().unwrap();
     assert_eq!(g.resolution, 0.05);
-    assert!(g.width * g.height > occgrid::geometry::MAX_CELLS, "{} x {}", g.width, g.height);
+    assert!(
+        g.width * g.height > occgrid::geometry::MAX_CELLS,
+        "{} x {}",
+        g.width,
+        g.height
+    );
     let p = loop {
         let p = s.build_chunk(500).unwrap();
         if p.finished {
@@ -216,7 +221,12 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
         }
     };
     assert_eq!(p.cells, g.width * g.height);
-    assert!(p.cells_allocated * 2 < p.cells, "{} of {} cells allocated", p.cells_allocated, p.cells);
+    assert!(
+        p.cells_allocated * 2 < p.cells,
+        "{} of {} cells allocated",
+        p.cells_allocated,
+        p.cells
+    );
     let c = s.build().unwrap().counts();
     assert_eq!(c.cells, p.cells);
     assert!(c.occupied > 10_000 && c.free > 100_000, "{c:?}");
@@ -242,9 +252,20 @@ fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
     let p2 = s.advance(usize::MAX);
     assert!(!p2.finished && p2.cells_allocated <= budget);
     let e = s.failure().unwrap().to_string();
-    let tiles: usize = e.split("reach ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let tiles: usize = e
+        .split("reach ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     // The estimate walks the grid of tiles: at least what the map allocated.
     assert!(tiles * 4096 >= p.cells_allocated, "{e}");
     assert!(tiles * 4096 <= p.cells_allocated * 3 / 2, "{e}");
-    assert!(e.contains(&format!("budget of {budget} cells")) && e.contains("MiB"), "{e}");
+    assert!(
+        e.contains(&format!("budget of {budget} cells")) && e.contains("MiB"),
+        "{e}"
+    );
 }

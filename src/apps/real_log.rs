@@ -264,7 +264,11 @@ impl LogMapBuild {
 
     /// [`Self::new`] with at most `budget_cells` cells allocated in tiles
     /// (the default is [`DEFAULT_TILE_BUDGET_CELLS`]).
-    pub fn with_tile_budget(scans: LaserScans, settings: LogMapSettings, budget_cells: usize) -> Result<Self> {
+    pub fn with_tile_budget(
+        scans: LaserScans,
+        settings: LogMapSettings,
+        budget_cells: usize,
+    ) -> Result<Self> {
         let (grid, model) = Self::prepare(&scans, &settings, budget_cells)?;
         let target = scans.len();
         Ok(Self {
@@ -309,7 +313,11 @@ impl LogMapBuild {
         Ok(extent)
     }
 
-    fn prepare(scans: &LaserScans, s: &LogMapSettings, budget_cells: usize) -> Result<(TiledGrid, HandCrafted)> {
+    fn prepare(
+        scans: &LaserScans,
+        s: &LogMapSettings,
+        budget_cells: usize,
+    ) -> Result<(TiledGrid, HandCrafted)> {
         let grid = TiledGrid::new(Self::check(scans, s)?, s.filter(), budget_cells)?;
         Ok((grid, HandCrafted::new(s.model_params())?))
     }
@@ -441,16 +449,28 @@ impl LogMapBuild {
         let mut bands = Vec::new();
         let per_tile = 1.0 / (e.resolution() * TILE_SIDE as f64);
         for k in 0..self.scans.len() {
-            let Some(scan) = self.scans.scan(k) else { continue };
+            let Some(scan) = self.scans.scan(k) else {
+                continue;
+            };
             let s = &self.settings;
-            beam_bands(&scan, &self.model, s.no_return_reach, s.walls, e.resolution(), &mut bands);
+            beam_bands(
+                &scan,
+                &self.model,
+                s.no_return_reach,
+                s.walls,
+                e.resolution(),
+                &mut bands,
+            );
             let p = scan.pose();
             let (su, sv) = e.world_to_grid(p.x, p.y);
             let start = (su / TILE_SIDE as f64, sv / TILE_SIDE as f64);
             for (band, &b) in bands.iter().zip(scan.bearings()) {
                 let Some(band) = band else { continue };
                 let (sn, cs) = (p.theta + b).sin_cos();
-                let end = (start.0 + band.reach * per_tile * cs, start.1 + band.reach * per_tile * sn);
+                let end = (
+                    start.0 + band.reach * per_tile * cs,
+                    start.1 + band.reach * per_tile * sn,
+                );
                 if let Some(walk) = Walk::new(tx, ty, start, end) {
                     let mut m = TileMarks {
                         at: walk.start,
@@ -792,7 +812,10 @@ impl RealLogSession {
     /// The cell under output position `(x, y)` (pixels), or `None` off the map.
     pub fn readout_at_view(&self, x: f64, y: f64) -> Result<Option<CellReadout>> {
         let b = self.build()?;
-        Ok(self.view()?.cell_at(x, y).and_then(|(c, r)| b.readout_at_pixel(c, r)))
+        Ok(self
+            .view()?
+            .cell_at(x, y)
+            .and_then(|(c, r)| b.readout_at_pixel(c, r)))
     }
 
     /// Scrubs to `scans` integrated scans; [`Self::build_chunk`] then does

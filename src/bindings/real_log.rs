@@ -135,7 +135,10 @@ impl LogMapSession {
     /// its centre and zoom.
     #[wasm_bindgen(js_name = setViewSize)]
     pub fn set_view_size(&mut self, width: f64, height: f64) -> Result<(), JsError> {
-        let (w, h) = (index_from_js("width", width)?, index_from_js("height", height)?);
+        let (w, h) = (
+            index_from_js("width", width)?,
+            index_from_js("height", height)?,
+        );
         Ok(self.session.set_view_size(w, h)?)
     }
 
@@ -179,7 +182,9 @@ impl LogMapSession {
     #[wasm_bindgen(js_name = cellAtView)]
     pub fn cell_at_view(&self, x: f64, y: f64) -> Result<JsValue, JsError> {
         if !(x.is_finite() && y.is_finite()) {
-            return Err(JsError::new(&format!("invalid view position: ({x}, {y}) (expected finite pixels)")));
+            return Err(JsError::new(&format!(
+                "invalid view position: ({x}, {y}) (expected finite pixels)"
+            )));
         }
         to_js(&self.session.readout_at_view(x, y)?)
     }

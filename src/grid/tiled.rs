@@ -54,7 +54,13 @@ pub struct Extent {
 impl Extent {
     /// Refuses an extent of more than [`MAX_EXTENT_CELLS`] cells, saying how
     /// many it would be and what its export would weigh.
-    pub fn new(width: usize, height: usize, resolution: f64, origin_x: f64, origin_y: f64) -> Result<Self> {
+    pub fn new(
+        width: usize,
+        height: usize,
+        resolution: f64,
+        origin_x: f64,
+        origin_y: f64,
+    ) -> Result<Self> {
         if width == 0 {
             return Err(invalid("width", width, "at least 1 cell"));
         }
@@ -76,8 +82,14 @@ impl Extent {
         error::positive("resolution", resolution)?;
         error::finite("origin_x", origin_x)?;
         error::finite("origin_y", origin_y)?;
-        error::finite("origin_x + width * resolution", origin_x + width as f64 * resolution)?;
-        error::finite("origin_y + height * resolution", origin_y + height as f64 * resolution)?;
+        error::finite(
+            "origin_x + width * resolution",
+            origin_x + width as f64 * resolution,
+        )?;
+        error::finite(
+            "origin_y + height * resolution",
+            origin_y + height as f64 * resolution,
+        )?;
         Ok(Self {
             width,
             height,
@@ -105,7 +117,10 @@ impl Extent {
     /// World point to continuous grid coordinates (cell units).
     #[inline]
     pub fn world_to_grid(&self, x: f64, y: f64) -> (f64, f64) {
-        ((x - self.origin[0]) / self.resolution, (y - self.origin[1]) / self.resolution)
+        (
+            (x - self.origin[0]) / self.resolution,
+            (y - self.origin[1]) / self.resolution,
+        )
     }
     /// World point to image units (north up, row 0 at the top).
     pub fn world_to_image(&self, x: f64, y: f64) -> [f64; 2] {
@@ -130,7 +145,10 @@ impl Extent {
     }
     /// Tiles along x and y.
     pub fn tiles(&self) -> (usize, usize) {
-        (self.width.div_ceil(TILE_SIDE), self.height.div_ceil(TILE_SIDE))
+        (
+            self.width.div_ceil(TILE_SIDE),
+            self.height.div_ceil(TILE_SIDE),
+        )
     }
 }
 
@@ -371,7 +389,8 @@ impl TiledGrid {
     /// grid can hold: at most [`crate::geometry::MAX_CELLS`] cells).
     pub fn to_dense(&self) -> Result<LogOddsGrid> {
         let e = &self.extent;
-        let geometry = GridGeometry::new(e.width, e.height, e.resolution, e.origin[0], e.origin[1])?;
+        let geometry =
+            GridGeometry::new(e.width, e.height, e.resolution, e.origin[0], e.origin[1])?;
         let mut log_odds = vec![self.l0; geometry.len()];
         let mut updates = vec![0; geometry.len()];
         for iy in 0..e.height {
@@ -414,7 +433,10 @@ mod tests {
     fn grid(w: usize, h: usize, budget: usize) -> TiledGrid {
         TiledGrid::new(
             Extent::new(w, h, 0.05, -1.0, 2.0).unwrap(),
-            FilterSettings { prior: 0.5, clamp: 2.0 },
+            FilterSettings {
+                prior: 0.5,
+                clamp: 2.0,
+            },
             budget,
         )
         .unwrap()
@@ -451,13 +473,21 @@ mod tests {
         assert_eq!(g.tiles_allocated(), 1);
         assert_eq!(g.log_odds_at(100, 0), Some(0.0));
         let msg = budget_message(g.extent(), 5, TILE_CELLS);
-        assert!(msg.contains("5 tiles") && msg.contains("20480 cells") && msg.contains("0.2 MiB"), "{msg}");
+        assert!(
+            msg.contains("5 tiles") && msg.contains("20480 cells") && msg.contains("0.2 MiB"),
+            "{msg}"
+        );
     }
 
     #[test]
     fn tiled_extent_refuses_what_its_export_cannot_hold_naming_the_size() {
-        let e = Extent::new(20_000, 20_000, 0.05, 0.0, 0.0).unwrap_err().to_string();
-        assert!(e.contains("20000 x 20000 = 400000000 cells") && e.contains("381.5 MiB"), "{e}");
+        let e = Extent::new(20_000, 20_000, 0.05, 0.0, 0.0)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("20000 x 20000 = 400000000 cells") && e.contains("381.5 MiB"),
+            "{e}"
+        );
         assert!(Extent::new(5009, 4906, 0.05, 0.0, 0.0).is_ok());
         assert!(Extent::new(0, 3, 0.05, 0.0, 0.0).is_err());
         assert!(Extent::new(3, 3, f64::NAN, 0.0, 0.0).is_err());

@@ -176,7 +176,10 @@ pub fn tiled_export_counts(grid: &TiledGrid) -> ExportCounts {
 pub fn tiled_map_server_pair(grid: &TiledGrid, image_name: &str) -> MapServerPair {
     let e = grid.extent();
     let (w, h) = (e.width(), e.height());
-    let header = format!("P5\n# CREATOR: occgrid {:.3} m/pix\n{w} {h}\n255\n", e.resolution());
+    let header = format!(
+        "P5\n# CREATOR: occgrid {:.3} m/pix\n{w} {h}\n255\n",
+        e.resolution()
+    );
     let mut pgm = Vec::with_capacity(header.len() + w * h);
     pgm.extend_from_slice(header.as_bytes());
     let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
@@ -188,17 +191,19 @@ pub fn tiled_map_server_pair(grid: &TiledGrid, image_name: &str) -> MapServerPai
             let span = TILE_SIDE.min(w - tx * TILE_SIDE);
             match grid.tile_log_odds(tx, ty) {
                 None => pgm.extend(std::iter::repeat_n(UNKNOWN_GRAY, span)),
-                Some(t) => pgm.extend(t[row * TILE_SIDE..row * TILE_SIDE + span].iter().map(|&l| {
-                    if l == l0 {
-                        UNKNOWN_GRAY
-                    } else if l > occ_l {
-                        OCCUPIED_GRAY
-                    } else if l < free_l {
-                        FREE_GRAY
-                    } else {
-                        UNKNOWN_GRAY
-                    }
-                })),
+                Some(t) => {
+                    pgm.extend(t[row * TILE_SIDE..row * TILE_SIDE + span].iter().map(|&l| {
+                        if l == l0 {
+                            UNKNOWN_GRAY
+                        } else if l > occ_l {
+                            OCCUPIED_GRAY
+                        } else if l < free_l {
+                            FREE_GRAY
+                        } else {
+                            UNKNOWN_GRAY
+                        }
+                    }))
+                }
             }
         }
     }
@@ -543,7 +548,10 @@ mod tests {
         t.lower(70, 40, -0.1); // between the thresholds
         let dense = t.to_dense().unwrap();
         assert_eq!(t.tiles_allocated(), 3);
-        assert_eq!(tiled_map_server_pair(&t, "m.pgm"), map_server_pair(&dense, "m.pgm"));
+        assert_eq!(
+            tiled_map_server_pair(&t, "m.pgm"),
+            map_server_pair(&dense, "m.pgm")
+        );
         assert_eq!(tiled_export_counts(&t), export_counts(&dense));
         let pgm = read_pgm(&tiled_map_server_pair(&t, "m.pgm").pgm).unwrap();
         assert_eq!((pgm.width, pgm.height), (130, 70));

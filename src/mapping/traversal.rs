@@ -1082,7 +1082,10 @@ mod tests {
         let (w, h, res, ox, oy) = (150, 97, 0.05, -1.0, -1.0);
         for _ in 0..20 {
             let g = GridGeometry::new(w, h, res, ox, oy).unwrap();
-            let settings = FilterSettings { prior: 0.5, clamp: 2.0 };
+            let settings = FilterSettings {
+                prior: 0.5,
+                clamp: 2.0,
+            };
             let mut dense = LogOddsGrid::new(g, settings).unwrap();
             let mut tiled =
                 TiledGrid::new(Extent::new(w, h, res, ox, oy).unwrap(), settings, 1 << 20).unwrap();
@@ -1109,7 +1112,11 @@ mod tests {
             for iy in 0..h {
                 for ix in 0..w {
                     let i = g.index(ix, iy);
-                    assert_eq!(tiled.log_odds_at(ix, iy), Some(dense.log_odds()[i]), "({ix}, {iy})");
+                    assert_eq!(
+                        tiled.log_odds_at(ix, iy),
+                        Some(dense.log_odds()[i]),
+                        "({ix}, {iy})"
+                    );
                     assert_eq!(tiled.updates_at(ix, iy), Some(dense.update_counts()[i]));
                 }
             }

@@ -52,7 +52,11 @@ impl MapViewport {
     /// The whole map, centred in a `width x height` output.
     pub fn new(map_width: usize, map_height: usize, width: usize, height: usize) -> Result<Self> {
         if map_width == 0 || map_height == 0 {
-            return Err(invalid("map", format!("{map_width} x {map_height}"), "at least one cell"));
+            return Err(invalid(
+                "map",
+                format!("{map_width} x {map_height}"),
+                "at least one cell",
+            ));
         }
         check_size(width, height)?;
         let mut v = Self {
@@ -122,7 +126,10 @@ impl MapViewport {
         if !(factor.is_finite() && factor > 0.0) {
             return Err(invalid("factor", factor, "a zoom factor above 0"));
         }
-        let (x, y) = (finite_or_centre(x, self.width), finite_or_centre(y, self.height));
+        let (x, y) = (
+            finite_or_centre(x, self.width),
+            finite_or_centre(y, self.height),
+        );
         let (u, v) = self.image_point(x, y);
         self.scale = (self.scale * factor).clamp(self.min_scale(), MAX_PIXELS_PER_CELL);
         self.u0 = u - x / self.scale;
@@ -134,7 +141,11 @@ impl MapViewport {
     /// Moves the map by `(dx, dy)` output pixels (a drag).
     pub fn pan_by(&mut self, dx: f64, dy: f64) -> Result<()> {
         if !(dx.is_finite() && dy.is_finite()) {
-            return Err(invalid("pan", format!("({dx}, {dy})"), "finite pixel offsets"));
+            return Err(invalid(
+                "pan",
+                format!("({dx}, {dy})"),
+                "finite pixel offsets",
+            ));
         }
         self.u0 -= dx / self.scale;
         self.v0 -= dy / self.scale;
@@ -144,7 +155,10 @@ impl MapViewport {
 
     /// The centre stays over the map: the reader cannot lose it.
     fn keep_in_view(&mut self) {
-        let (hw, hh) = (self.width as f64 / (2.0 * self.scale), self.height as f64 / (2.0 * self.scale));
+        let (hw, hh) = (
+            self.width as f64 / (2.0 * self.scale),
+            self.height as f64 / (2.0 * self.scale),
+        );
         let cu = (self.u0 + hw).clamp(0.0, self.map_width as f64);
         let cv = (self.v0 + hh).clamp(0.0, self.map_height as f64);
         self.u0 = cu - hw;
@@ -302,7 +316,15 @@ mod tests {
     #[test]
     fn viewport_render_is_the_screen_size_and_keeps_thin_walls_when_zoomed_out() {
         let e = Extent::new(1000, 800, 0.05, 0.0, 0.0).unwrap();
-        let mut g = TiledGrid::new(e, FilterSettings { prior: 0.5, clamp: 3.0 }, 1 << 22).unwrap();
+        let mut g = TiledGrid::new(
+            e,
+            FilterSettings {
+                prior: 0.5,
+                clamp: 3.0,
+            },
+            1 << 22,
+        )
+        .unwrap();
         // A one-cell wall along column 500, free space to its left.
         for iy in 0..800 {
             g.raise(500, iy, 3.0);
@@ -315,7 +337,11 @@ mod tests {
         render_tiled_view(&g, &v, &mut out);
         assert_eq!(out.len(), 250 * 200 * 4);
         let px = |x: usize, y: usize| out[(y * 250 + x) * 4];
-        assert_eq!(px(125, 100), gray_level(3.0), "the wall at 4 cells per pixel");
+        assert_eq!(
+            px(125, 100),
+            gray_level(3.0),
+            "the wall at 4 cells per pixel"
+        );
         assert_eq!(px(110, 100), gray_level(-3.0), "free");
         assert_eq!(px(10, 100), UNKNOWN_GRAY, "no tile: unknown");
         // Zoomed far in, off the map is its own colour.
