@@ -611,7 +611,7 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     let mut bad = LogMapSession::new(noise.clone());
     refused(bad.read(10), &["line"]);
     refused(bad.read(10), &["line"]);
-    refused(bad.render(), &["not been read"]);
+    refused(bad.render_view(), &["not been read"]);
     refused(bad.seek(num(3.0)), &["not been read"]);
     refused(bad.build_chunk(usize::MAX), &["not been read"]);
     assert!(bad.geometry().unwrap().is_null());

@@ -5,7 +5,7 @@
 
 use super::{
     budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
-    object_from_js, string_from_js, to_js,
+    number_from_js, object_from_js, string_from_js, to_js,
 };
 use crate::apps::real_log::{LogMapSettings, RealLogSession};
 use crate::bench::intel as workloads;
@@ -134,10 +134,10 @@ impl LogMapSession {
     /// numbers, 1 to 8192 each, at most 4,194,304 in all). The view keeps
     /// its centre and zoom.
     #[wasm_bindgen(js_name = setViewSize)]
-    pub fn set_view_size(&mut self, width: f64, height: f64) -> Result<(), JsError> {
+    pub fn set_view_size(&mut self, width: JsValue, height: JsValue) -> Result<(), JsError> {
         let (w, h) = (
-            index_from_js("width", width)?,
-            index_from_js("height", height)?,
+            index_from_js("width", &width)?,
+            index_from_js("height", &height)?,
         );
         Ok(self.session.set_view_size(w, h)?)
     }
@@ -151,13 +151,19 @@ impl LogMapSession {
     /// Zooms by `factor` (above 1 closer) about output pixel `(x, y)`: the
     /// point under it stays under it.
     #[wasm_bindgen(js_name = zoomAt)]
-    pub fn zoom_at(&mut self, x: f64, y: f64, factor: f64) -> Result<(), JsError> {
+    pub fn zoom_at(&mut self, x: JsValue, y: JsValue, factor: JsValue) -> Result<(), JsError> {
+        let (x, y, factor) = (
+            number_from_js("x", &x)?,
+            number_from_js("y", &y)?,
+            number_from_js("factor", &factor)?,
+        );
         Ok(self.session.zoom_view(x, y, factor)?)
     }
 
     /// Moves the map by `(dx, dy)` output pixels (a drag).
     #[wasm_bindgen(js_name = panBy)]
-    pub fn pan_by(&mut self, dx: f64, dy: f64) -> Result<(), JsError> {
+    pub fn pan_by(&mut self, dx: JsValue, dy: JsValue) -> Result<(), JsError> {
+        let (dx, dy) = (number_from_js("dx", &dx)?, number_from_js("dy", &dy)?);
         Ok(self.session.pan_view(dx, dy)?)
     }
 
@@ -180,7 +186,8 @@ impl LogMapSession {
     /// The cell under output position `(x, y)` of the view (pixels):
     /// `{ ix, iy, x, y, l, p, updates, unknown }`, or `null` off the map.
     #[wasm_bindgen(js_name = cellAtView)]
-    pub fn cell_at_view(&self, x: f64, y: f64) -> Result<JsValue, JsError> {
+    pub fn cell_at_view(&self, x: JsValue, y: JsValue) -> Result<JsValue, JsError> {
+        let (x, y) = (number_from_js("x", &x)?, number_from_js("y", &y)?);
         if !(x.is_finite() && y.is_finite()) {
             return Err(JsError::new(&format!(
                 "invalid view position: ({x}, {y}) (expected finite pixels)"

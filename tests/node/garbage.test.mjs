@@ -166,7 +166,16 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   for (const bad of [42, {}, ['m']]) refuses(() => s.exportMap(bad), 'invalid name');
   assert.match(s.exportMap(undefined).yaml, /^image: map\.pgm/);
   assert.match(s.exportMap('lab').yaml, /^image: lab\.pgm/);
-  assert.ok(s.render() > 0);
+  // The view: sizes, zooms and positions by name; what is drawn is the view's size.
+  for (const bad of [0, -1, 0.5, NaN, 9000, '64']) refuses(() => s.setViewSize(bad, 10), 'width');
+  refuses(() => s.setViewSize(3000, 3000), 'width x height');
+  for (const bad of [0, -2, NaN, Infinity]) refuses(() => s.zoomAt(0, 0, bad), 'factor');
+  refuses(() => s.panBy(NaN, 0), 'pan');
+  refuses(() => s.cellAtView(NaN, 0), 'view position');
+  s.setViewSize(64, 48);
+  assert.ok(s.renderView() > 0);
+  assert.deepEqual([s.view().width, s.view().height], [64, 48]);
+  assert.equal(s.cellAtView(-1e9, 0), null);
   s.free();
   const reading = new core.LogMapSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
   for (const bad of [-1, 0.5, NaN, 'all']) refuses(() => reading.read(bad), 'maxScans');

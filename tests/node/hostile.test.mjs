@@ -118,7 +118,13 @@ test('LogMapSession: throwing getters and proxies in settings, freeing valueOf i
   const done = s.buildChunk(Infinity);
   assert.equal(done.finished, true);
   assert.equal(done.scansDone, 5, 'the build saw every scan: no garbage counts');
-  assert.ok(s.render() > 0);
+  survives(s, [
+    ['setViewSize', [HOSTILE, 10], 'width'],
+    ['zoomAt', [0, 0, HOSTILE], 'factor'],
+    ['panBy', [HOSTILE, 0], 'dx'],
+    ['cellAtView', [0, HOSTILE], 'y'],
+  ], (x, name) => assert.equal(typeof x.view().scale, 'number', `answers after ${name}`));
+  assert.ok(s.renderView() > 0);
   s.free();
 });
 
