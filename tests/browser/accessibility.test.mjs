@@ -434,12 +434,14 @@ test('Map Weaver’s real-log mode is driven by keyboard alone', async () => {
   await operate(page, W, 'canvas.map-weaver-log-map', '');
   assert.match(await w.locator('canvas.map-weaver-log-map').getAttribute('aria-label'),
     /^Occupancy grid map of intel-corrected\.log\.gz, [\d,]+ × [\d,]+ cells of 0\.05 m, after 910 of 910 scans: [\d,]+ cells occupied \(p > 0\.65\), [\d,]+ free \(p < 0\.196\), [\d,]+ unknown\..*Arrow keys/);
+  // A press moves the cursor 16 device pixels of the view (at least a cell).
+  const step = await page.evaluate((s) => Math.max(1, Math.round(16 / document.querySelector(s).realLog.view.scale)), W);
   await page.keyboard.press('ArrowRight');
   const first = await w.locator('.map-weaver-log-readout').evaluate((e) => ({ ix: Number(e.dataset.ix), iy: Number(e.dataset.iy) }));
   await page.keyboard.press('Shift+ArrowUp');
   await page.keyboard.press('ArrowLeft');
   const moved = await w.locator('.map-weaver-log-readout').evaluate((e) => ({ ix: Number(e.dataset.ix), iy: Number(e.dataset.iy), text: e.textContent }));
-  assert.deepEqual([moved.ix - first.ix, moved.iy - first.iy], [-1, 10], moved.text);
+  assert.deepEqual([moved.ix - first.ix, moved.iy - first.iy], [-step, 10 * step], moved.text);
   assert.match(moved.text, /^cell \(\d+, \d+\) at/);
 
   // Settings: the resolution menu and each slider, then the map is rebuilt with them.
