@@ -544,6 +544,7 @@ export class RealLogPanel {
       `as exported: occupied (${occ}) ${count(c.occupied)} · free (${free}) ${count(c.free)} · unknown ${count(c.unknown)} of ${count(c.cells)} cells`;
     Object.assign(this.root.dataset, {
       scans: String(p.scansDone), occupied: String(c.occupied), free: String(c.free), unknown: String(c.unknown), cells: String(c.cells),
+      cellsAllocated: String(p.cellsAllocated),
     });
     this.canvas.setAttribute('aria-label',
       `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${this.geometry.resolution} m, ` +

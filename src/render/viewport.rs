@@ -240,26 +240,48 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
     let cols = samples(w, view.u0, mw);
     let rows = samples(h, view.v0, mh);
     let l0 = grid.l0();
-    let gray = |col: usize, row: usize| -> Option<u8> {
-        // Image row 0 is the grid's top row.
-        let l = grid.log_odds_at(col, mh - 1 - row)?;
-        Some(if l == l0 { UNKNOWN_GRAY } else { gray_level(l) })
-    };
-    let _ = TILE_SIDE;
+    let tile_of = |i: usize| i / TILE_SIDE;
+    let within = |i: usize| i % TILE_SIDE;
     for (py, rs) in rows.iter().enumerate() {
         let line = &mut out[py * w * 4..(py + 1) * w * 4];
+        // Grid rows of this output row's samples (image row 0 is the top).
+        let iys = rs.map(|r| if r == usize::MAX { usize::MAX } else { mh - 1 - r });
+        let (ya, yb) = (iys[0], iys[k - 1]);
+        let one_tile_row = ya != usize::MAX && yb != usize::MAX && tile_of(ya) == tile_of(yb);
         for (px, cs) in cols.iter().enumerate() {
             let mut darkest: Option<u8> = None;
-            for &r in &rs[..k] {
-                if r == usize::MAX {
-                    continue;
-                }
-                for &c in &cs[..k] {
-                    if c == usize::MAX {
+            let (xa, xb) = (cs[0], cs[k - 1]);
+            if one_tile_row && xa != usize::MAX && xb != usize::MAX && tile_of(xa) == tile_of(xb) {
+                // Every sample in one tile (the usual case): one lookup,
+                // and a tile never touched is unknown at once.
+                darkest = Some(match grid.tile_log_odds(tile_of(xa), tile_of(ya)) {
+                    None => UNKNOWN_GRAY,
+                    Some(t) => {
+                        let mut d = u8::MAX;
+                        for &iy in &iys[..k] {
+                            let row = within(iy) * TILE_SIDE;
+                            for &c in &cs[..k] {
+                                let l = t[row + within(c)];
+                                let g = if l == l0 { UNKNOWN_GRAY } else { gray_level(l) };
+                                d = d.min(g);
+                            }
+                        }
+                        d
+                    }
+                });
+            } else {
+                for &iy in &iys[..k] {
+                    if iy == usize::MAX {
                         continue;
                     }
-                    if let Some(g) = gray(c, r) {
-                        darkest = Some(darkest.map_or(g, |d| d.min(g)));
+                    for &c in &cs[..k] {
+                        if c == usize::MAX {
+                            continue;
+                        }
+                        if let Some(l) = grid.log_odds_at(c, iy) {
+                            let g = if l == l0 { UNKNOWN_GRAY } else { gray_level(l) };
+                            darkest = Some(darkest.map_or(g, |d| d.min(g)));
+                        }
                     }
                 }
             }
