@@ -501,7 +501,18 @@ export class RealLogPanel {
     let drawn = performance.now();
     for (;;) {
       const t = performance.now();
-      const p = this.session.buildChunk(n);
+      let p;
+      try {
+        p = this.session.buildChunk(n);
+      } catch (e) {
+        // The map's tiles would pass their budget (the core says how much
+        // the log needs): the map so far stays on screen.
+        this.renderView();
+        this.setState('error');
+        this.status.textContent = 'The map stopped short: choose a coarser resolution.';
+        showError(this.root, e, 'map: ');
+        return null;
+      }
       const ms = performance.now() - t;
       this.trace.push(['build', ms, n]);
       const msPerScan = ms / Math.max(1, n);
