@@ -2,6 +2,7 @@
 // as a ROS map_server pair:
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
+//     [--poses corrected|dead-reckoning] [--seed N]
 //
 // writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
 // PGM beside it) and prints a one-line JSON summary with the paths written.
@@ -12,12 +13,16 @@
 // grid covers the log's poses and readings, Table 9.2 with W1's weights and
 // clamp, no-returns clearing 5 m (--no-return-reach), free evidence that
 // stops at the wall a beam grazes (--walls incidence; table-9.2 for the
-// chapter's model), 0.05 m cells (--resolution).
+// chapter's model), 0.05 m cells (--resolution), at the log's corrected
+// poses; `--poses dead-reckoning` maps it at dead-reckoned ones instead (the
+// log's motion increments with Table 5.6's odometry noise, integrated from
+// the first pose), the noise drawn from `--seed` (default 1; one seed, one
+// map).
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning] [--seed N]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -61,6 +66,21 @@ function parseArgs(argv) {
       [text, i] = optionText(argv, i, '--walls', 'incidence or table-9.2');
       // The core names the field and the value it refuses.
       settings.walls = text;
+    } else if (is(a, '--poses')) {
+      let text;
+      [text, i] = optionText(argv, i, '--poses', 'corrected or dead-reckoning');
+      // The core names the field and the value it refuses.
+      settings.poses = text;
+    } else if (is(a, '--seed')) {
+      const what = 'a whole number from 0 to 9007199254740991, such as 7';
+      let text;
+      [text, i] = optionText(argv, i, '--seed', what);
+      // Digits only: '1e3', '7.0' or '-1' would pass as numbers and then
+      // be refused by the core under a name the command line did not use.
+      if (!/^\d+$/.test(text)) throw new Error(`--seed ${JSON.stringify(text)} is not a whole number: expected ${what}\n${USAGE}`);
+      const seed = Number(text);
+      if (!Number.isSafeInteger(seed)) throw new Error(`--seed ${text} is too large: expected ${what}\n${USAGE}`);
+      settings.seed = seed;
     } else if (a === '--help' || a === '-h') {
       console.log(USAGE);
       process.exit(0);
@@ -106,7 +126,8 @@ async function main() {
     const g = session.geometry();
     const c = session.counts();
     console.log(JSON.stringify({
-      log, warning: read.warning ?? undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected',
+      seed: settings.poses === 'dead-reckoning' ? (settings.seed ?? core.LogMapSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.
       cells_allocated: built.cellsAllocated, bytes_allocated: built.bytesAllocated, cells: built.cells,

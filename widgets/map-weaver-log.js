@@ -4,7 +4,10 @@
 // loop between calls so the page stays responsive and a progress bar
 // moves. The reader then scrubs through the build, hovers cells, changes
 // the resolution and the inverse model (Table 9.2), and exports the map for
-// ROS. The core (LogMapSession) parses the log, finds the grid's extent,
+// ROS. Under dead reckoning (the log's motion increments with Table 5.6's
+// noise, seeded) the dead-reckoned map is shown beside the corrected one,
+// as Map Weaver's two panes are, both at one scale so that a metre is as
+// long on each. The core (LogMapSession) parses the log, finds the grid's extent,
 // integrates the scans and computes every number shown; this module lays
 // out, forwards input and draws. The one figure measured here is the wall
 // time from choosing a file to the finished map, file reading included.
@@ -14,7 +17,7 @@
 // the panel is first on screen); `linkState()` gives them back as they are
 // now; `dispose()` frees the panel. Its control groups are marked
 // `data-controls`: log-source (file picker, dataset menu), log-settings
-// (resolution and the model's sliders) and export.
+// (resolution, the model's sliders, the pose source and its seed) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { arrowCell, exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
@@ -28,10 +31,22 @@ const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
 /**
  * Milliseconds of core work per call before yielding to the event loop:
- * below the 50 ms at which input starts to feel late, and long enough that
- * the cost of each yield stays small.
+ * half the 50 ms at which a task counts as long (and input starts to feel
+ * late), leaving room for a call that runs slower than the last one
+ * predicted, and long enough that the cost of each yield stays small.
+ * Reads are sized in scans, builds in cell updates (`buildSlice`): a scan
+ * down a corridor updates ten times the cells of one in an office, so a
+ * count of scans could not keep a build's calls near the slice.
  */
-const SLICE_MS = 40;
+const SLICE_MS = 25;
+/**
+ * Cell updates of the first build call, before any has been timed: a few
+ * milliseconds here (about 80,000 updates per millisecond), so that a
+ * machine several times slower still stays within the slice, while a short
+ * build is not spent in tiny calls (each yield may wait for a frame). Later
+ * builds start from the budget the last one reached.
+ */
+const FIRST_SLICE_CELLS = 250_000;
 /**
  * Least time between two redraws of the map while it is being built (the
  * first after as long): redrawing a million-cell map costs 10 to 40 ms, so
@@ -39,6 +54,8 @@ const SLICE_MS = 40;
  * few times a second.
  */
 const DRAW_EVERY_MS = 250;
+/** Least time between two updates of the progress bar and status line. */
+const PROGRESS_EVERY_MS = 100;
 /** Share of the progress bar for reading the file; the rest is mapping. */
 const READ_SHARE = 0.3;
 const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
@@ -73,9 +90,13 @@ function yieldToEventLoop() {
   });
 }
 
-/** The next chunk size: aim for SLICE_MS per call, growing at most 2x. */
-function nextChunk(n, ms) {
-  return Math.max(1, Math.min(n * 2, Math.round((n * SLICE_MS) / Math.max(ms, 0.25))));
+/**
+ * The next call's budget: the work the last call did (`done`, in its units)
+ * scaled to SLICE_MS by the last call's duration, and at most twice the last
+ * budget `n`.
+ */
+export function nextChunk(n, ms, done = n) {
+  return Math.max(1, Math.min(n * 2, Math.round((done * SLICE_MS) / Math.max(ms, 0.25))));
 }
 
 /** The fields of `settings` the panel knows (the others are dropped). */
@@ -91,7 +112,9 @@ function mapStem(fileName) {
 }
 
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
-export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls'];
+export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed'];
+/** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
+const SEED_TEXT = /^\d{1,16}$/;
 
 export class RealLogPanel {
   /**
@@ -156,6 +179,8 @@ export class RealLogPanel {
     this.resizer?.disconnect();
     this.session?.free();
     this.session = null;
+    this.reference?.free();
+    this.reference = null;
     this.root.remove();
   }
 
@@ -180,6 +205,8 @@ export class RealLogPanel {
       clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
       noReturnReach: slider({ label: 'no-return reach', min: 1, max: 80, step: 1, value: s.noReturnReach, format: (v) => `${v} m`, onInput: (v) => this.change({ noReturnReach: v }), name: 'no-return-reach' }),
       walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
+      poses: select('Poses', [['corrected', 'corrected (the log’s)'], ['dead-reckoning', 'dead reckoning (Table 5.6 noise)']], s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
+      seed: this.seedControl(s.seed),
     };
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
@@ -192,8 +219,16 @@ export class RealLogPanel {
     this.canvas.addEventListener('blur', () => this.setCursor(null));
     this.listenForViewInput();
     this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
+    // The corrected map beside a dead-reckoned one: drawn whole, not
+    // operated (hover, zoom, cursor, scrub and export act on the map of the
+    // settings).
+    this.refCanvas = el('canvas', { class: 'occgrid-map map-weaver-log-reference-map', role: 'img', 'aria-label': 'The same log mapped at its corrected poses.', width: 1, height: 1 });
+    this.mainCaption = el('figcaption', { class: 'occgrid-caption' });
+    this.refPane = el('figure', { class: 'map-weaver-log-reference', hidden: true },
+      el('figcaption', { class: 'occgrid-caption' }, 'Corrected poses (the log’s own)'), this.refCanvas);
+    this.mainPane = el('figure', { class: 'map-weaver-log-pane' }, this.mainCaption, this.canvas);
     this.stage = el('div', { class: 'map-weaver-log-stage' },
-      this.canvas,
+      this.mainPane, this.refPane,
       el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.'));
     this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' }, READOUT_HINT);
     this.counts = el('p', { class: 'map-weaver-log-counts occgrid-readout' });
@@ -219,7 +254,11 @@ export class RealLogPanel {
         'of Table 9.2: l_occ within α/2 of the reading, l_free in front of it; a reading at or beyond z_max is a ',
         'no-return that only clears space, out to the no-return reach. Near walls, free evidence stops where a beam ',
         'grazing a wall enters its band of cells (res / sin of the incidence), so long logs keep their walls; choose ',
-        'Table 9.2 to see them wear away. Scrub back and the map is rebuilt from the first scan.'));
+        'Table 9.2 to see them wear away. Scrub back and the map is rebuilt from the first scan. ',
+        'Poses: the log’s are corrected (the pose oracle); its odometry fields repeat them, so dead reckoning makes its own: ',
+        'each motion between two scans, split into rotate, translate, rotate, gets the odometry noise of Table 5.6 (and the drift ',
+        'of slightly unequal wheels) drawn from the seed, and the noisy motions are added up from the first pose. The ',
+        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend.'));
 
     const drag = (on) => (e) => {
       e.preventDefault();
@@ -312,9 +351,11 @@ export class RealLogPanel {
         const ms = performance.now() - t;
         this.trace.push(['read', ms, n]);
         n = nextChunk(n, ms);
-        this.progress.value = READ_SHARE * (p.bytesRead / Math.max(1, p.bytesTotal));
-        this.status.textContent = `Reading ${name}: ${count(p.lines)} lines, ${count(p.scans)} scans…`;
-        if (!p.finished) await yieldToEventLoop();
+        if (p.finished || this.progressDue()) {
+          this.progress.value = READ_SHARE * (p.bytesRead / Math.max(1, p.bytesTotal));
+          this.status.textContent = `Reading ${name}: ${count(p.lines)} lines, ${count(p.scans)} scans…`;
+        }
+        if (!p.finished) await this.pause();
         if (run !== this.run) return void session.free();
       } while (!p.finished);
       // Settings moved while the file was read: apply them before mapping.
@@ -351,6 +392,86 @@ export class RealLogPanel {
     }
   }
 
+  /**
+   * True at most every PROGRESS_EVERY_MS: a changed progress bar or status
+   * line costs the next frame a paint of the page, and a frame between
+   * every two slices would cost as much time as the slices themselves.
+   */
+  progressDue() {
+    const now = performance.now();
+    if (this.shownAt !== undefined && now - this.shownAt < PROGRESS_EVERY_MS) return false;
+    this.shownAt = now;
+    return true;
+  }
+
+  /**
+   * Ends the task: the next call into the core runs in a new one (the trace
+   * marks the boundary, so a test can see that no task holds two calls).
+   */
+  pause() {
+    this.trace.push(['yield']);
+    return yieldToEventLoop();
+  }
+
+  /**
+   * The seed of dead reckoning's noise: a whole number typed in (a text that
+   * is not one is refused by name, and the field shows the seed in use).
+   */
+  seedControl(seed) {
+    const id = nextId('real-log-seed');
+    const input = el('input', { type: 'number', id, name: 'seed', min: 0, max: Number.MAX_SAFE_INTEGER, step: 1, value: String(seed), inputmode: 'numeric' });
+    input.addEventListener('change', () => {
+      const text = input.value.trim();
+      const v = Number(text);
+      if (!SEED_TEXT.test(text) || !Number.isSafeInteger(v)) {
+        showError(this.root, new Error(`seed ${JSON.stringify(input.value)} is not a whole number from 0 to ${Number.MAX_SAFE_INTEGER}`), 'settings: ');
+        input.value = String(this.settings.seed);
+        return;
+      }
+      this.change({ seed: v });
+    });
+    const root = el('div', { class: 'occgrid-control' }, el('label', { for: id }, 'Seed of the odometry noise'), input);
+    return { root, input };
+  }
+
+  /** True when the settings map at dead-reckoned poses (so the corrected map is shown beside). */
+  comparing(settings = this.applied) {
+    return settings.poses === 'dead-reckoning';
+  }
+
+  /**
+   * Makes the reference session (the corrected map) follow the main one:
+   * forked from it under dead reckoning, reconfigured on a change of
+   * settings, freed when the poses are the corrected ones.
+   */
+  syncReference() {
+    if (!this.session || !this.geometry || !this.comparing()) {
+      this.reference?.free();
+      this.reference = null;
+      this.refGeometry = null;
+      this.refPane.hidden = true;
+      this.mainCaption.hidden = true;
+      return;
+    }
+    const settings = { ...this.applied, poses: 'corrected' };
+    try {
+      if (this.reference) this.reference.configure(settings);
+      else this.reference = this.session.fork(settings);
+      this.reference.seek(this.session.progress().scansTarget);
+    } catch (e) {
+      // The dead-reckoned map is still shown; say why its companion is not.
+      showError(this.root, e, 'corrected map: ');
+      this.reference?.free();
+      this.reference = null;
+      return this.syncReference();
+    }
+    this.refGeometry = this.reference.geometry();
+    this.refPath = this.reference.pathPixels();
+    this.refPane.hidden = false;
+    this.mainCaption.hidden = false;
+    this.mainCaption.textContent = `Dead reckoning (seed ${this.applied.seed})`;
+  }
+
   /** Makes a fully read session the panel's, freeing the previous one. */
   adopt(session, name) {
     const summary = session.readSummary();
@@ -383,6 +504,7 @@ export class RealLogPanel {
     this.scrub.input.max = String(this.total);
     this.scrub.input.disabled = false;
     this.exportButton.disabled = false;
+    this.syncReference();
     this.fitCanvas();
   }
 
@@ -395,23 +517,51 @@ export class RealLogPanel {
    */
   fitCanvas() {
     if (!this.geometry || !this.session) return;
-    const { width, height } = this.geometry;
-    const avail = Math.max(100, this.stage.clientWidth - 8);
-    const fit = Math.min(avail / width, (0.75 * window.innerHeight) / height);
-    const cssW = Math.max(1, Math.floor(width * fit));
-    const cssH = Math.max(1, Math.floor(height * fit));
-    const dpr = window.devicePixelRatio || 1;
-    const k = Math.min(dpr, Math.sqrt(MAX_VIEW_PIXELS / (cssW * cssH)));
-    const w = Math.max(1, Math.round(cssW * k));
-    const h = Math.max(1, Math.round(cssH * k));
-    this.canvas.style.width = `${Math.floor(cssW)}px`;
-    this.canvas.style.height = `${Math.floor(cssH)}px`;
-    if (this.canvas.width !== w || this.canvas.height !== h) {
-      this.canvas.width = w;
-      this.canvas.height = h;
+    // Beside the corrected map, each pane gets half the width, and both the
+    // same CSS pixels per cell (one log, one resolution: one scale).
+    const panes = [[this.canvas, this.geometry, this.session]];
+    if (this.reference && this.refGeometry) panes.push([this.refCanvas, this.refGeometry, this.reference]);
+    const avail = Math.max(100, (this.stage.clientWidth - 8) / panes.length - (panes.length > 1 ? 8 : 0));
+    const fit = Math.min(...panes.map(([, g]) => Math.min(avail / g.width, (0.75 * window.innerHeight) / g.height)));
+    for (const [canvas, { width, height }, session] of panes) {
+      const cssW = Math.max(1, Math.floor(width * fit));
+      const cssH = Math.max(1, Math.floor(height * fit));
+      const dpr = window.devicePixelRatio || 1;
+      const k = Math.min(dpr, Math.sqrt(MAX_VIEW_PIXELS / (cssW * cssH)));
+      const w = Math.max(1, Math.round(cssW * k));
+      const h = Math.max(1, Math.round(cssH * k));
+      canvas.style.width = `${Math.floor(cssW)}px`;
+      canvas.style.height = `${Math.floor(cssH)}px`;
+      if (canvas.width !== w || canvas.height !== h) {
+        canvas.width = w;
+        canvas.height = h;
+      }
+      session.setViewSize(w, h);
     }
-    this.session.setViewSize(w, h);
+    this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
     this.renderView();
+    this.drawReference();
+  }
+
+  /** The corrected map beside a dead-reckoned one, whole, with its path and robot. */
+  drawReference() {
+    if (!this.reference || !this.refGeometry) return;
+    const ptr = this.reference.renderView();
+    const v = this.reference.view();
+    drawMapImage(this.refCanvas, this.memory, ptr, v.width, v.height);
+    const ctx = this.refCanvas.getContext('2d');
+    ctx.save();
+    ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
+    const dpr = this.refCanvas.width / Math.max(1, this.refCanvas.clientWidth || this.refCanvas.width);
+    const unit = dpr / v.scale;
+    const done = this.reference.progress().scansDone;
+    if (this.refPath && done >= 1) {
+      drawPath(ctx, 1, this.refPath, done, { color: PATH_COLOR, lineWidth: unit });
+      drawRobot(ctx, 1, robotInImageUnits(this.refPath, this.reference, done - 1), {
+        color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
+      });
+    }
+    ctx.restore();
   }
 
   /** Draws the view of the map the core holds (no map-sized image: the view's pixels only). */
@@ -494,46 +644,81 @@ export class RealLogPanel {
     });
   }
 
-  /** Integrates scans towards the session's target, a time slice per call. */
+  /**
+   * Integrates scans towards the session's target (and the corrected map's
+   * beside it, one call each in turn), a time slice per call: each call
+   * does a budget of cell updates sized from the last call's duration
+   * (`buildSlice`), and drawing gets a task of its own (the corrected map's
+   * another).
+   */
   async buildToTarget(run, offset = 0) {
     this.setState('building');
-    let n = 32;
+    const jobs = [{ session: this.session, main: true }];
+    if (this.reference) jobs.push({ session: this.reference, main: false });
+    // Both maps share the budget: one log, one machine, one speed.
+    let cells = this.sliceCells ?? FIRST_SLICE_CELLS;
     let drawn = performance.now();
+    let turn = 0;
+    let main = null;
+    // Setting the map up (reading's last call, or new settings) had a task
+    // of its own.
+    await this.pause();
+    if (run !== this.run) return null;
     for (;;) {
+      const open = jobs.filter((j) => !j.done);
+      const job = open[turn++ % open.length];
+      const last = job.last ?? job.session.progress();
       const t = performance.now();
       let p;
       try {
-        p = this.session.buildChunk(n);
+        p = job.session.buildSlice(cells);
       } catch (e) {
         // The map's tiles would pass their budget (the core says how much
         // the log needs): the map so far stays on screen.
         this.renderView();
+        this.drawReference();
         this.setState('error');
         this.status.textContent = 'The map stopped short: choose a coarser resolution.';
-        showError(this.root, e, 'map: ');
+        showError(this.root, e, job.main ? 'map: ' : 'corrected map: ');
         return null;
       }
       const ms = performance.now() - t;
-      this.trace.push(['build', ms, n]);
-      const msPerScan = ms / Math.max(1, n);
-      n = nextChunk(n, ms);
-      this.progress.value = offset + (1 - offset) * (p.scansTarget ? p.scansDone / p.scansTarget : 1);
-      this.scrub.set(p.scansDone);
+      const did = p.cellUpdates - last.cellUpdates;
+      this.trace.push(['build', ms, cells, did, p.scansDone]);
+      job.msPerScan = ms / Math.max(1, p.scansDone - last.scansDone);
+      cells = nextChunk(cells, ms, did);
+      this.sliceCells = cells;
+      job.last = p;
+      job.done = p.finished;
+      if (job.main) main = p;
+      const finished = jobs.every((j) => j.done);
+      const due = finished || this.progressDue();
+      if (due) {
+        const progress = jobs.reduce((a, j) => a + (j.last ? j.last.scansDone / Math.max(1, j.last.scansTarget) : 0), 0) / jobs.length;
+        this.progress.value = offset + (1 - offset) * (main?.scansTarget === 0 ? 1 : progress);
+        if (main) this.scrub.set(main.scansDone);
+      }
       // No intermediate frame when the build is about to finish anyway.
-      const remaining = (p.scansTarget - p.scansDone) * msPerScan;
-      if (p.finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
-        const t1 = performance.now();
-        this.draw(p);
-        drawn = performance.now();
-        this.trace.push(['draw', drawn - t1]);
-      } else {
-        this.status.textContent = `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+      const remaining = open.reduce((a, j) => a + (j.last ? (j.last.scansTarget - j.last.scansDone) * j.msPerScan : 0), 0);
+      if (finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
+        const steps = [() => this.draw(main ?? this.session.progress())];
+        if (this.reference) steps.push(() => this.drawReference());
+        for (const step of steps) {
+          await this.pause();
+          if (run !== this.run) return null;
+          const t1 = performance.now();
+          step();
+          drawn = performance.now();
+          this.trace.push(['draw', drawn - t1]);
+        }
+      } else if (due) {
+        this.status.textContent = `Mapping: scan ${count(main?.scansDone ?? 0)} of ${count(main?.scansTarget ?? this.total)}…`;
       }
-      if (p.finished) {
+      if (finished) {
         this.setState('done');
-        return p;
+        return main;
       }
-      await yieldToEventLoop();
+      await this.pause();
       if (run !== this.run) return null;
     }
   }
@@ -700,6 +885,8 @@ export class RealLogPanel {
     const s = this.settings;
     this.controls.resolution.input.value = String(s.resolution);
     this.controls.walls.input.value = String(s.walls);
+    this.controls.poses.input.value = String(s.poses);
+    this.controls.seed.input.value = String(s.seed);
     for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach']) this.controls[key].set(s[key]);
   }
 
@@ -708,6 +895,7 @@ export class RealLogPanel {
     const run = ++this.run;
     try {
       this.session.seek(k);
+      this.reference?.seek(k);
     } catch (e) {
       return void showError(this.root, e, 'scrub: ');
     }

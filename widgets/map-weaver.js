@@ -16,7 +16,8 @@
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
 // model, pose, clamp and strength, map-width, controls; for the real-log
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
-// log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls.
+// log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
+// log-poses, log-seed.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import {
@@ -78,6 +79,8 @@ const LOG_FIELDS = {
   'log-clamp': { field: 'clamp', format: (v) => fixed(v, 1) },
   'log-no-return-reach': { field: 'noReturnReach', format: (v) => String(v) },
   'log-walls': { field: 'walls', format: (v) => String(v) },
+  'log-poses': { field: 'poses', format: (v) => String(v) },
+  'log-seed': { field: 'seed', format: (v) => String(v) },
 };
 
 /** A log's file name in the server's /datasets/: one name, no path. */
@@ -123,6 +126,8 @@ class MapWeaverElement extends HTMLElement {
     'log-clamp': { type: number(0.5, 12, { step: 0.5 }), default: '3.5', doc: 'real-log mode: the clamp l_max, log odds' },
     'log-no-return-reach': { type: number(1, 80, { step: 1, unit: 'm' }), default: '5', doc: 'real-log mode: how far a no-return clears free space, metres (at most z_max)' },
     'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: 'incidence', doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
+    'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: 'corrected', doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
+    'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 

@@ -18,11 +18,35 @@ use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::mapping::traversal::{BeamBand, RayMapper, MAX_REACH_CELLS};
 use crate::mapping::walls::{beam_bands, WallModel};
 use crate::render::viewport::{render_tiled_view, MapViewport};
+use crate::sensors::odometry::OdometryParams;
 use std::io::Cursor;
+
+/// Where the scans are put on the map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum PoseSource {
+    /// The log's own (corrected) laser poses: the pose oracle.
+    #[default]
+    #[serde(rename = "corrected")]
+    Corrected,
+    /// Dead reckoning: the log's motion increments between consecutive
+    /// laser poses, each corrupted with the odometry noise of Table 5.6
+    /// ([`OdometryParams::WHEELS`], drawn from `seed`) and integrated from
+    /// the first pose. The corrected logs carry no raw odometry (their
+    /// odometry fields repeat the corrected poses), so the noise is made
+    /// here: the chapter's "pose oracle off" on a real building.
+    #[serde(rename = "dead-reckoning")]
+    DeadReckoning,
+}
+
+impl PoseSource {
+    /// The names a page and the CLI use.
+    pub const NAMES: [&'static str; 2] = ["corrected", "dead-reckoning"];
+}
 
 /// What the reader of a log chooses for its map: the grid's resolution,
 /// the inverse model of Table 9.2, how far a no-return clears, how free
-/// evidence ends near a wall ([`WallModel`]) and the filter's clamp. The
+/// evidence ends near a wall ([`WallModel`]), the filter's clamp and where
+/// the scans are put ([`PoseSource`], with the seed of its noise). The
 /// defaults keep walls and the outside of a building gray
 /// ([`crate::mapping::walls`]); [`Self::chapter`] is Table 9.2 with the
 /// chapter's clamp, exactly workload W1 (BENCHMARKS.md).
@@ -50,11 +74,20 @@ pub struct LogMapSettings {
     pub no_return_reach: f64,
     /// How a beam's free evidence ends before its reading.
     pub walls: WallModel,
+    /// The poses the scans are mapped at.
+    pub poses: PoseSource,
+    /// The seed of dead reckoning's noise (one seed, one path; unused for
+    /// the corrected poses).
+    pub seed: u64,
 }
 
 /// The default no-return reach, metres (Cartographer's
 /// `missing_data_ray_length` default).
 pub const NO_RETURN_REACH: f64 = 5.0;
+
+/// The largest seed: the largest whole number a JavaScript number holds
+/// exactly.
+pub const MAX_SEED: u64 = (1 << 53) - 1;
 
 impl Default for LogMapSettings {
     fn default() -> Self {
@@ -69,13 +102,15 @@ impl Default for LogMapSettings {
             margin: 1.0,
             no_return_reach: NO_RETURN_REACH,
             walls: WallModel::Incidence,
+            poses: PoseSource::Corrected,
+            seed: 1,
         }
     }
 }
 
 impl LogMapSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 9] = [
+    pub const FIELDS: [&'static str; 11] = [
         "resolution",
         "rangeCap",
         "alpha",
@@ -85,6 +120,8 @@ impl LogMapSettings {
         "margin",
         "noReturnReach",
         "walls",
+        "poses",
+        "seed",
     ];
 
     /// Table 9.2 with the chapter's clamp, no-returns carving out to
@@ -162,6 +199,15 @@ impl LogMapSettings {
         error::finite("lFree", self.l_free)?;
         error::non_negative("margin", self.margin)?;
         error::positive("noReturnReach", self.no_return_reach)?;
+        // A page sends the seed as a JavaScript number: past 2^53 two seeds
+        // would be the same number there.
+        if self.seed > MAX_SEED {
+            return Err(invalid(
+                "seed",
+                self.seed,
+                "a whole number from 0 to 9007199254740991 (2^53 - 1)",
+            ));
+        }
         // Free evidence lowers a cell and occupied evidence raises it: the
         // traversal gathers them as two flags.
         // (Compared as the f32 the map stores: 1e-50 is 0 there.)
@@ -239,7 +285,12 @@ pub struct BuildProgress {
 /// keeping snapshots of a million-cell map would cost more memory than the
 /// whole log).
 pub struct LogMapBuild {
+    /// The log's scans, at the poses the settings choose.
     scans: LaserScans,
+    /// The log's own laser poses, kept for a change of pose source.
+    corrected: Vec<crate::geometry::Pose>,
+    /// The odometry noise dead reckoning adds.
+    odometry: OdometryParams,
     settings: LogMapSettings,
     grid: TiledGrid,
     model: HandCrafted,
@@ -269,10 +320,55 @@ impl LogMapBuild {
         settings: LogMapSettings,
         budget_cells: usize,
     ) -> Result<Self> {
-        let (grid, model) = Self::prepare(&scans, &settings, budget_cells)?;
+        Self::try_build(scans, settings, OdometryParams::WHEELS, budget_cells).map_err(|(e, _)| e)
+    }
+
+    /// [`Self::new`] with dead reckoning's noise chosen by the caller
+    /// ([`OdometryParams::EXACT`] maps the corrected poses again, through
+    /// the integration).
+    pub fn with_odometry(
+        scans: LaserScans,
+        settings: LogMapSettings,
+        odometry: OdometryParams,
+    ) -> Result<Self> {
+        Self::try_build(scans, settings, odometry, DEFAULT_TILE_BUDGET_CELLS).map_err(|(e, _)| e)
+    }
+
+    /// [`Self::new`], giving the scans back with the error when the
+    /// settings cannot map them: a session keeps them for settings that
+    /// fit, and the extent is found once, not checked first and found
+    /// again.
+    pub fn try_new(
+        scans: LaserScans,
+        settings: LogMapSettings,
+    ) -> std::result::Result<Self, (OccError, LaserScans)> {
+        Self::try_build(scans, settings, OdometryParams::WHEELS, DEFAULT_TILE_BUDGET_CELLS)
+    }
+
+    fn try_build(
+        mut scans: LaserScans,
+        settings: LogMapSettings,
+        odometry: OdometryParams,
+        budget_cells: usize,
+    ) -> std::result::Result<Self, (OccError, LaserScans)> {
+        if let Err(e) = odometry.validate() {
+            return Err((e, scans));
+        }
+        let corrected = scans.poses().to_vec();
+        // One pose per scan: setting them cannot fail.
+        let _ = scans.set_poses(&Self::poses_for(&corrected, &settings, &odometry));
+        let (grid, model) = match Self::prepare(&scans, &settings, budget_cells) {
+            Ok(prepared) => prepared,
+            Err(e) => {
+                let _ = scans.set_poses(&corrected);
+                return Err((e, scans));
+            }
+        };
         let target = scans.len();
         Ok(Self {
             scans,
+            corrected,
+            odometry,
             settings,
             grid,
             model,
@@ -292,6 +388,31 @@ impl LogMapBuild {
     /// the grid would be too large. A caller can check before handing its
     /// scans over to [`Self::new`].
     pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<Extent> {
+        settings.validate()?;
+        if settings.poses == PoseSource::DeadReckoning {
+            // The dead-reckoned path wanders: its extent is its own.
+            let mut placed = scans.clone();
+            let poses = Self::poses_for(scans.poses(), settings, &OdometryParams::WHEELS);
+            placed.set_poses(&poses)?;
+            return Self::check_placed(&placed, settings);
+        }
+        Self::check_placed(scans, settings)
+    }
+
+    /// The laser poses `settings` put the scans at, given the log's own.
+    fn poses_for(
+        corrected: &[crate::geometry::Pose],
+        settings: &LogMapSettings,
+        odometry: &OdometryParams,
+    ) -> Vec<crate::geometry::Pose> {
+        match settings.poses {
+            PoseSource::Corrected => corrected.to_vec(),
+            PoseSource::DeadReckoning => odometry.dead_reckon_path(corrected, settings.seed),
+        }
+    }
+
+    /// [`Self::check`] for scans already at the settings' poses.
+    fn check_placed(scans: &LaserScans, settings: &LogMapSettings) -> Result<Extent> {
         settings.validate()?;
         let extent = scans.extent(settings.range_cap).ok_or_else(|| {
             invalid(
@@ -318,7 +439,7 @@ impl LogMapBuild {
         s: &LogMapSettings,
         budget_cells: usize,
     ) -> Result<(TiledGrid, HandCrafted)> {
-        let grid = TiledGrid::new(Self::check(scans, s)?, s.filter(), budget_cells)?;
+        let grid = TiledGrid::new(Self::check_placed(scans, s)?, s.filter(), budget_cells)?;
         Ok((grid, HandCrafted::new(s.model_params())?))
     }
 
@@ -326,7 +447,16 @@ impl LogMapBuild {
     /// margin) and a rebuild from the first scan towards the same target.
     /// On error nothing changes.
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<()> {
-        let (grid, model) = Self::prepare(&self.scans, &settings, self.budget_cells)?;
+        let before = self.scans.poses().to_vec();
+        self.scans
+            .set_poses(&Self::poses_for(&self.corrected, &settings, &self.odometry))?;
+        let (grid, model) = match Self::prepare(&self.scans, &settings, self.budget_cells) {
+            Ok(prepared) => prepared,
+            Err(e) => {
+                self.scans.set_poses(&before)?;
+                return Err(e);
+            }
+        };
         self.settings = settings;
         self.grid = grid;
         self.model = model;
@@ -363,9 +493,24 @@ impl LogMapBuild {
     /// whose beams reach past the tile budget stops the build there:
     /// [`Self::failure`] then says how much the whole log would need.
     pub fn advance(&mut self, max_scans: usize) -> BuildProgress {
+        self.advance_within(max_scans, u64::MAX)
+    }
+
+    /// Integrates up to `max_scans` more scans towards the target, and
+    /// stops after the scan whose cell updates bring this call's to
+    /// `max_cells` or more: the work of a call is bounded by what it does
+    /// (a scan down a long corridor updates ten times the cells of one in
+    /// an office), so a page that sizes the next call from the last one's
+    /// duration keeps every call near its time slice. At least one scan is
+    /// integrated when any is left.
+    pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
         let end = self.target.min(self.done.saturating_add(max_scans));
         let cap = self.settings.range_cap;
-        while self.done < end && self.failure.is_none() {
+        let start_updates = self.cell_updates;
+        while self.done < end
+            && self.failure.is_none()
+            && self.cell_updates - start_updates < max_cells
+        {
             let k = self.done;
             if let Some(scan) = self.scans.scan(k) {
                 let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
@@ -489,8 +634,16 @@ impl LogMapBuild {
         &self.grid
     }
 
+    /// The log's scans, at the poses of the settings.
     pub fn scans(&self) -> &LaserScans {
         &self.scans
+    }
+
+    /// The log's scans at its own (corrected) poses.
+    pub fn corrected_scans(&self) -> Result<LaserScans> {
+        let mut scans = self.scans.clone();
+        scans.set_poses(&self.corrected)?;
+        Ok(scans)
     }
 
     pub fn settings(&self) -> &LogMapSettings {
@@ -656,11 +809,13 @@ impl RealLogSession {
                     ));
                     return Err(self.read_failed(e));
                 }
-                if let Err(e) = LogMapBuild::check(&scans, &self.settings) {
-                    self.pending = Some(scans);
-                    return Err(e);
+                match LogMapBuild::try_new(scans, self.settings) {
+                    Ok(build) => self.build = Some(build),
+                    Err((e, scans)) => {
+                        self.pending = Some(scans);
+                        return Err(e);
+                    }
                 }
-                self.build = Some(LogMapBuild::new(scans, self.settings)?);
                 self.refit_view();
             }
         }
@@ -689,11 +844,13 @@ impl RealLogSession {
                 self.refit_view();
             }
         } else if let Some(scans) = self.pending.take() {
-            if let Err(e) = LogMapBuild::check(&scans, &settings) {
-                self.pending = Some(scans);
-                return Err(e);
+            match LogMapBuild::try_new(scans, settings) {
+                Ok(build) => self.build = Some(build),
+                Err((e, scans)) => {
+                    self.pending = Some(scans);
+                    return Err(e);
+                }
             }
-            self.build = Some(LogMapBuild::new(scans, settings)?);
             self.refit_view();
         }
         self.settings = settings;
@@ -816,6 +973,39 @@ impl RealLogSession {
             .view()?
             .cell_at(x, y)
             .and_then(|(c, r)| b.readout_at_pixel(c, r)))
+    }
+
+    /// Integrates scans until this call's cell updates reach `max_cells`
+    /// ([`LogMapBuild::advance_within`]).
+    pub fn build_slice(&mut self, max_cells: u64) -> Result<BuildProgress> {
+        let build = self.build_mut()?;
+        let p = build.advance_within(usize::MAX, max_cells);
+        match build.failure() {
+            Some(e) => Err(e.clone()),
+            None => Ok(p),
+        }
+    }
+
+    /// A second session over the same log, already read, with its own map
+    /// under `settings` (the corrected map beside a dead-reckoned one): the
+    /// scans are copied, not read again.
+    pub fn fork(&self, settings: LogMapSettings) -> Result<RealLogSession> {
+        settings.validate()?;
+        let scans = self.build()?.corrected_scans()?;
+        let build = LogMapBuild::new(scans, settings)?;
+        let mut fork = RealLogSession {
+            loader: None,
+            pending: None,
+            read_summary: self.read_summary.clone(),
+            read_failure: None,
+            bytes_total: self.bytes_total,
+            settings,
+            build: Some(build),
+            view: None,
+            view_size: self.view_size,
+        };
+        fork.refit_view();
+        Ok(fork)
     }
 
     /// Scrubs to `scans` integrated scans; [`Self::build_chunk`] then does

@@ -68,8 +68,8 @@ impl LogMapSession {
         Ok(Self::new(bytes_from_js("bytes", &bytes, LOG_BYTES)?))
     }
 
-    /// The default settings (those of BENCHMARKS.md W1):
-    /// `{ resolution, rangeCap, alpha, lOcc, lFree, clamp, margin }`.
+    /// The real-log defaults: `{ resolution, rangeCap, alpha, lOcc, lFree,
+    /// clamp, margin, noReturnReach, walls, poses, seed }`.
     #[wasm_bindgen(js_name = defaultSettings)]
     pub fn default_settings() -> Result<JsValue, JsError> {
         to_js(&LogMapSettings::default())
@@ -117,6 +117,33 @@ impl LogMapSession {
     #[wasm_bindgen(js_name = buildChunk)]
     pub fn build_chunk_js(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
         self.build_chunk(budget_from_js("maxScans", &max_scans)?)
+    }
+
+    /// Integrates scans until this call has made `maxCells` cell updates
+    /// (a whole number; the scan that reaches it is finished, and at least
+    /// one scan is integrated): a call's work, and so its time, is bounded
+    /// whatever the scans are like. Returns what `buildChunk` returns.
+    #[wasm_bindgen(js_name = buildSlice)]
+    pub fn build_slice_js(&mut self, max_cells: JsValue) -> Result<JsValue, JsError> {
+        let cells = budget_from_js("maxCells", &max_cells)?;
+        // Infinity (usize::MAX) is no limit on any target.
+        let cells = if cells == usize::MAX {
+            u64::MAX
+        } else {
+            cells as u64
+        };
+        to_js(&self.session.build_slice(cells)?)
+    }
+
+    /// A second session over the same log, already read (the scans are
+    /// copied, not read again), mapped under `settings` (a partial object,
+    /// as `configure` takes): the corrected map beside a dead-reckoned one.
+    pub fn fork(&self, settings: JsValue) -> Result<LogMapSession, JsError> {
+        let settings: LogMapSettings = object_from_js("settings", settings)?;
+        Ok(LogMapSession {
+            session: self.session.fork(settings)?,
+            pixels: Pixels::default(),
+        })
     }
 
     /// The build's progress without doing any work.

@@ -868,6 +868,22 @@ impl LaserScans {
         self.poses.get(k).copied()
     }
 
+    /// Every scan's laser pose, in order.
+    pub fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    /// Puts the scans at other poses (a dead-reckoned path), one per scan:
+    /// an error, and nothing changed, when the count differs.
+    pub fn set_poses(&mut self, poses: &[Pose]) -> Result<()> {
+        if poses.len() != self.poses.len() {
+            let given = format!("{} poses for {} scans", poses.len(), self.poses.len());
+            return Err(crate::error::invalid("poses", given, "one pose per scan"));
+        }
+        self.poses.copy_from_slice(poses);
+        Ok(())
+    }
+
     /// The line of the file scan `k` came from.
     pub fn line(&self, k: usize) -> Option<usize> {
         self.lines.get(k).copied()

@@ -8,6 +8,7 @@ use super::noise::standard_normal;
 use crate::error::{self, invalid, Result};
 use crate::geometry::{wrap_angle, Pose};
 use rand::rngs::StdRng;
+use rand::SeedableRng;
 
 /// Odometry noise. `alpha` are the four coefficients of Table 5.6, used as
 /// standard deviations: rotation noise per radian turned (`alpha[0]`) and
@@ -25,6 +26,41 @@ pub struct OdometryParams {
 }
 
 impl OdometryParams {
+    /// The wheels of Map Weaver's apartment robot, also the noise a real
+    /// log's dead reckoning is given: a few percent of every motion, plus
+    /// the drift and turn error of slightly unequal wheels.
+    pub const WHEELS: Self = Self {
+        alpha: [0.05, 0.01, 0.02, 0.01],
+        heading_drift: -0.003,
+        turn_scale: 0.01,
+    };
+
+    /// No noise and no systematic error: the increments as they are.
+    pub const EXACT: Self = Self {
+        alpha: [0.0; 4],
+        heading_drift: 0.0,
+        turn_scale: 0.0,
+    };
+
+    /// The dead-reckoned path of `truth`: it starts at the first true pose
+    /// and is advanced by each noisy increment between consecutive true
+    /// poses ([`Self::dead_reckon`]), the noise drawn from a generator
+    /// seeded with `seed` (one seed, one path).
+    pub fn dead_reckon_path(&self, truth: &[Pose], seed: u64) -> Vec<Pose> {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let mut out = Vec::with_capacity(truth.len());
+        let Some(&first) = truth.first() else {
+            return out;
+        };
+        out.push(first);
+        let mut estimate = first;
+        for w in truth.windows(2) {
+            estimate = self.dead_reckon(&estimate, &w[0], &w[1], &mut rng);
+            out.push(estimate);
+        }
+        out
+    }
+
     pub fn validate(&self) -> Result<()> {
         for (i, &a) in self.alpha.iter().enumerate() {
             error::non_negative(&format!("odometry.alpha[{i}]"), a)?;

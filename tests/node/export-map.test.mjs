@@ -65,3 +65,33 @@ test('random bytes are refused in words', () => {
   assert.match(r.stderr, /neither gzip nor a text log/);
   assert.match(r.stderr, /^[\x20-\x7e\n…]*$/, 'no binary in the message');
 });
+
+test('--poses dead-reckoning maps the ACES log at seeded dead-reckoned poses', () => {
+  const datasets = process.env.OCCGRID_DATASETS || path.resolve(import.meta.dirname, '../../../shared/datasets');
+  const log = path.join(datasets, 'aces-corrected.log.gz');
+  const pgm = (prefix) => fs.readFileSync(`${prefix}.pgm`);
+  const corrected = run(log, path.join(dir, 'aces'));
+  assert.equal(corrected.status, 0, corrected.stderr);
+  assert.equal(JSON.parse(corrected.stdout).poses, 'corrected');
+  const a = run(log, path.join(dir, 'aces-dr7'), '--poses', 'dead-reckoning', '--seed', '7');
+  const again = run(log, path.join(dir, 'aces-dr7b'), '--poses=dead-reckoning', '--seed=7');
+  const other = run(log, path.join(dir, 'aces-dr8'), '--poses', 'dead-reckoning', '--seed', '8');
+  for (const r of [a, again, other]) assert.equal(r.status, 0, r.stderr);
+  const summary = JSON.parse(a.stdout);
+  assert.equal(summary.poses, 'dead-reckoning');
+  assert.equal(summary.seed, 7);
+  assert.ok(pgm(path.join(dir, 'aces-dr7')).equals(pgm(path.join(dir, 'aces-dr7b'))), 'one seed, one map');
+  assert.ok(!pgm(path.join(dir, 'aces-dr7')).equals(pgm(path.join(dir, 'aces-dr8'))), 'another seed, another map');
+  assert.ok(!pgm(path.join(dir, 'aces-dr7')).equals(pgm(path.join(dir, 'aces'))), 'dead reckoning is not the corrected map');
+
+  for (const text of ['-1', '1.5', 'abc', '1e3']) {
+    const r = run(log, path.join(dir, 'bad'), '--poses', 'dead-reckoning', '--seed', text);
+    assert.equal(r.status, 1);
+    assert.match(r.stderr, /--seed .* is not a whole number/, r.stderr);
+  }
+  const big = run(log, path.join(dir, 'bad'), '--seed', '9007199254740993');
+  assert.match(big.stderr, /--seed 9007199254740993 is too large/);
+  const poses = run(log, path.join(dir, 'bad'), '--poses', 'odometry');
+  assert.equal(poses.status, 1);
+  assert.match(poses.stderr, /poses.*odometry/, poses.stderr);
+});

@@ -110,11 +110,19 @@ test('LogMapSession: throwing getters and proxies in settings, freeing valueOf i
   survives(s, [
     ['read', [HOSTILE], 'maxScans'],
     ['buildChunk', [HOSTILE], 'maxScans'],
+    ['buildSlice', [HOSTILE], 'maxCells'],
     ['seek', [HOSTILE], 'scan'],
     ['cellAt', [HOSTILE, 0], 'col'],
     ['cellAt', [0, HOSTILE], 'row'],
     ['heading', [HOSTILE], 'scan'],
   ], (x, name) => assert.equal(typeof x.progress().scansDone, 'number', `answers after ${name}`));
+  // A fork reads its settings as configure does.
+  refuses(() => s.fork(getter), 'invalid settings', 'boom');
+  refuses(() => s.fork({ poses: 'odometry' }), 'poses', 'odometry');
+  refuses(() => s.fork({ seed: 2 ** 53 }), 'seed', '9007199254740992');
+  const fork = s.fork({ poses: 'dead-reckoning', seed: 3 });
+  assert.equal(fork.buildSlice(Infinity).scansDone, 5);
+  fork.free();
   const done = s.buildChunk(Infinity);
   assert.equal(done.finished, true);
   assert.equal(done.scansDone, 5, 'the build saw every scan: no garbage counts');
@@ -144,7 +152,14 @@ test('a getter that frees its own session while configure reads it: freed cleanl
   const later = refuses(() => s.progress(), '');
   assert.doesNotMatch(later, /unreachable|recursive use/);
   assert.equal(other.buildChunk(Infinity).scansDone, 5, 'another session still maps');
-  other.free();
+  // Likewise while fork reads its settings.
+  const forked = { get seed() { other.free(); return 3; } };
+  try {
+    other.fork(forked);
+  } catch (e) {
+    assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), String(e));
+  }
+  assert.doesNotMatch(refuses(() => other.progress(), ''), /unreachable|recursive use/);
 });
 
 test('the doorway trap, the fusion widget, the workbench and the cell filter never coerce a number', () => {

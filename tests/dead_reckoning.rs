@@ -1,0 +1,166 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! Dead reckoning on a real log (SPEC §11): the log's own motion increments
+//! with Table 5.6's noise, integrated from the first pose, seeded; and the
+//! work budget that bounds each call of a map build.
+
+use occgrid::apps::real_log::{LogMapBuild, LogMapSettings, PoseSource, RealLogSession, MAX_SEED};
+use occgrid::io::carmen::LaserScans;
+use occgrid::sensors::odometry::OdometryParams;
+use std::path::PathBuf;
+
+fn dataset(name: &str) -> Vec<u8> {
+    let dir: PathBuf = std::env::var_os("OCCGRID_DATASETS")
+        .map(Into::into)
+        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    std::fs::read(dir.join(name)).unwrap()
+}
+
+fn scans(name: &str) -> LaserScans {
+    LaserScans::read(&dataset(name)[..]).unwrap()
+}
+
+fn dead_reckoning(seed: u64) -> LogMapSettings {
+    LogMapSettings {
+        poses: PoseSource::DeadReckoning,
+        seed,
+        ..LogMapSettings::default()
+    }
+}
+
+fn built(scans: LaserScans, settings: LogMapSettings, odometry: OdometryParams) -> LogMapBuild {
+    let mut b = LogMapBuild::with_odometry(scans, settings, odometry).unwrap();
+    b.advance(usize::MAX);
+    b
+}
+
+/// The grid's state, bit for bit: its geometry and every cell's log odds.
+fn bits(b: &LogMapBuild) -> (String, Vec<u32>) {
+    let g = b.grid().to_dense().unwrap();
+    let cells = g.log_odds().iter().map(|l| l.to_bits()).collect();
+    (format!("{:?}", g.geometry()), cells)
+}
+
+#[test]
+fn one_seed_one_map_bit_for_bit_another_seed_another_map() {
+    let log = scans("aces-corrected.log.gz");
+    let a = built(log.clone(), dead_reckoning(7), OdometryParams::WHEELS);
+    let again = built(log.clone(), dead_reckoning(7), OdometryParams::WHEELS);
+    assert!(bits(&a) == bits(&again), "the same seed gives the same map");
+    assert_eq!(a.scans().poses(), again.scans().poses());
+
+    let other = built(log.clone(), dead_reckoning(8), OdometryParams::WHEELS);
+    assert_ne!(a.scans().poses(), other.scans().poses());
+    assert!(bits(&a) != bits(&other), "another seed, another map");
+
+    let corrected = built(
+        log.clone(),
+        LogMapSettings::default(),
+        OdometryParams::WHEELS,
+    );
+    assert_eq!(
+        corrected.scans().poses(),
+        log.poses(),
+        "the corrected poses are the log's"
+    );
+    // The dead-reckoned path starts where the log does and drifts away.
+    let (dr, truth) = (a.scans().poses(), log.poses());
+    assert_eq!(dr[0], truth[0]);
+    let last = truth.len() - 1;
+    let drift = (dr[last].x - truth[last].x).hypot(dr[last].y - truth[last].y);
+    assert!(drift > 0.5, "the end of the path drifted {drift} m");
+    assert_ne!(corrected.counts(), a.counts());
+}
+
+#[test]
+fn zero_noise_dead_reckoning_reproduces_the_corrected_map_exactly() {
+    let log = scans("intel-corrected.log.gz");
+    let corrected = built(
+        log.clone(),
+        LogMapSettings::default(),
+        OdometryParams::WHEELS,
+    );
+    let exact = built(log, dead_reckoning(3), OdometryParams::EXACT);
+    // Integrating the increments again lands within rounding of each pose…
+    for (p, q) in exact.scans().poses().iter().zip(corrected.scans().poses()) {
+        assert!(
+            (p.x - q.x).abs() < 1e-9 && (p.y - q.y).abs() < 1e-9,
+            "{p:?} vs {q:?}"
+        );
+    }
+    // …and the map is the corrected one, cell for cell.
+    assert!(bits(&exact) == bits(&corrected));
+    assert_eq!(exact.progress(), corrected.progress());
+}
+
+#[test]
+fn a_change_of_pose_source_rebuilds_and_a_fork_maps_the_corrected_log() {
+    let bytes = dataset("aces-corrected.log.gz");
+    let mut s = RealLogSession::new(bytes.clone());
+    s.configure(dead_reckoning(5)).unwrap();
+    while !s.read(usize::MAX).unwrap().progress.finished {}
+    while !s.build_chunk(usize::MAX).unwrap().finished {}
+    let dr = bits(s.build().unwrap());
+
+    // The fork is the corrected map of a session of its own.
+    let mut fork = s.fork(LogMapSettings::default()).unwrap();
+    while !fork.build_chunk(usize::MAX).unwrap().finished {}
+    let corrected = built(
+        scans("aces-corrected.log.gz"),
+        LogMapSettings::default(),
+        OdometryParams::WHEELS,
+    );
+    assert!(bits(fork.build().unwrap()) == bits(&corrected));
+    assert_eq!(fork.read_summary(), s.read_summary());
+
+    // Back to the corrected poses and on to the same seed again.
+    s.configure(LogMapSettings::default()).unwrap();
+    while !s.build_chunk(usize::MAX).unwrap().finished {}
+    assert!(bits(s.build().unwrap()) == bits(&corrected));
+    s.configure(dead_reckoning(5)).unwrap();
+    while !s.build_chunk(usize::MAX).unwrap().finished {}
+    assert!(bits(s.build().unwrap()) == dr);
+}
+
+#[test]
+fn a_seed_past_what_a_page_can_send_is_refused_by_name() {
+    assert!(dead_reckoning(MAX_SEED).validate().is_ok());
+    let e = dead_reckoning(MAX_SEED + 1)
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("seed") && e.contains("9007199254740992"), "{e}");
+}
+
+#[test]
+fn a_slice_stops_after_the_scan_that_reaches_its_cell_budget() {
+    let log = scans("fhw-corrected.log.gz");
+    // What each scan costs, one scan per call.
+    let mut one = LogMapBuild::new(log.clone(), LogMapSettings::default()).unwrap();
+    let mut per_scan = Vec::new();
+    while !one.progress().finished {
+        let before = one.progress().cell_updates;
+        per_scan.push(one.advance(1).cell_updates - before);
+    }
+    let budget = 40_000;
+    let mut b = LogMapBuild::new(log, LogMapSettings::default()).unwrap();
+    let mut calls = 0;
+    while !b.progress().finished {
+        let (k0, u0) = (b.progress().scans_done, b.progress().cell_updates);
+        let p = b.advance_within(usize::MAX, budget);
+        calls += 1;
+        let did = &per_scan[k0..p.scans_done];
+        assert_eq!(p.cell_updates - u0, did.iter().sum::<u64>());
+        // Every scan but the last started below the budget…
+        assert!(
+            did[..did.len() - 1].iter().sum::<u64>() < budget,
+            "call {calls} went on past its budget"
+        );
+        // …and the call went on while it was below.
+        assert!(
+            p.finished || did.iter().sum::<u64>() >= budget,
+            "call {calls} stopped early"
+        );
+    }
+    assert!(bits(&b) == bits(&one), "slicing does not change the map");
+    assert!(calls > 10, "{calls} calls");
+}
