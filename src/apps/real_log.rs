@@ -342,7 +342,12 @@ impl LogMapBuild {
         scans: LaserScans,
         settings: LogMapSettings,
     ) -> std::result::Result<Self, (OccError, LaserScans)> {
-        Self::try_build(scans, settings, OdometryParams::WHEELS, DEFAULT_TILE_BUDGET_CELLS)
+        Self::try_build(
+            scans,
+            settings,
+            OdometryParams::WHEELS,
+            DEFAULT_TILE_BUDGET_CELLS,
+        )
     }
 
     fn try_build(

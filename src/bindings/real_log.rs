@@ -142,7 +142,7 @@ impl LogMapSession {
         let settings: LogMapSettings = object_from_js("settings", settings)?;
         Ok(LogMapSession {
             session: self.session.fork(settings)?,
-            pixels: Pixels::default(),
+            view_pixels: Vec::new(),
         })
     }
 
