@@ -33,7 +33,10 @@ if (native.status !== 0) {
 }
 for (const line of native.stdout.split('\n')) if (line.startsWith('{')) console.log(line);
 
-const { core } = await loadCore();
+// The workloads' entry points live in the bench build of the same core; the
+// shipped one (pkg/, measured by wasm-size) must exist too.
+await loadCore();
+const { core } = await loadCore({ bench: true, rebuild: true });
 for (const rows of await runModules('scripts/bench', core, process.argv.slice(2))) {
   for (const row of rows.filter(keep)) console.log(JSON.stringify(row));
 }

@@ -12,7 +12,7 @@ cargo test --quiet
 cargo check --quiet --benches
 
 echo "== wasm: wasm-pack test --node"
-wasm-pack --log-level warn test --node
+wasm-pack --log-level warn test --node -- --features bench
 
 bash scripts/build.sh
 echo "== node: wasm soak and JS-side garbage"

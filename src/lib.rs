@@ -20,6 +20,9 @@
 //! `bindings` (wasm only) wraps the sessions for JavaScript and holds no algorithm.
 
 pub mod apps;
+// The workloads are compiled natively always, and into the wasm only for
+// the benchmark (`--features bench`): the page does not ship them.
+#[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
 pub mod bench;
 pub mod error;
 pub mod geometry;

@@ -4,9 +4,10 @@
 //! objects whose message names the field and the value.
 
 use js_sys::{Error, Reflect};
+use occgrid::bindings::bench::LaserLog;
 use occgrid::bindings::cell_filter::{run_cell_filter, worked_example};
 use occgrid::bindings::doorway_trap::DoorwayTrap;
-use occgrid::bindings::real_log::{LaserLog, LogMapSession};
+use occgrid::bindings::real_log::LogMapSession;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_answer};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;

@@ -8,11 +8,12 @@
 //! call it refused.
 
 use js_sys::{Array, Error, Object, Reflect, JSON};
+use occgrid::bindings::bench::LaserLog;
 use occgrid::bindings::cell_filter::{run_cell_filter, run_cell_filter_js};
 use occgrid::bindings::doorway_trap::DoorwayTrap;
 use occgrid::bindings::inverse_workbench::{forward_density, InverseWorkbench};
 use occgrid::bindings::map_weaver::MapWeaver;
-use occgrid::bindings::real_log::{zip_map_pair, LaserLog, LogMapSession};
+use occgrid::bindings::real_log::{zip_map_pair, LogMapSession};
 use occgrid::bindings::sensor_fusion::SensorFusion;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_posterior};
 use wasm_bindgen::{JsCast, JsError, JsValue};

@@ -7,12 +7,18 @@ import { fileURLToPath, pathToFileURL } from 'node:url';
 
 export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 
-export async function loadCore() {
-  const wasmPath = path.join(root, 'pkg/occgrid_bg.wasm');
-  if (!fs.existsSync(wasmPath)) {
-    execFileSync('bash', [path.join(root, 'scripts/build.sh')], { stdio: ['ignore', process.stderr, 'inherit'] });
+/**
+ * The core the page ships (pkg/), or with `bench` the same core with the
+ * benchmark workloads' entry points (pkg-bench/), built when missing (and,
+ * with `rebuild`, always: cargo makes that quick when nothing changed).
+ */
+export async function loadCore({ bench = false, rebuild = false } = {}) {
+  const dir = bench ? 'pkg-bench' : 'pkg';
+  const wasmPath = path.join(root, dir, 'occgrid_bg.wasm');
+  if (rebuild || !fs.existsSync(wasmPath)) {
+    execFileSync('bash', [path.join(root, 'scripts/build.sh'), ...(bench ? ['--bench'] : [])], { stdio: ['ignore', process.stderr, 'inherit'] });
   }
-  const core = await import(pathToFileURL(path.join(root, 'pkg/occgrid.js')).href);
+  const core = await import(pathToFileURL(path.join(root, dir, 'occgrid.js')).href);
   const exports = await core.default({ module_or_path: fs.readFileSync(wasmPath) });
   return { core, memory: exports.memory };
 }

@@ -7,8 +7,6 @@ use super::{
     object_or_default, string_from_js, to_js,
 };
 use crate::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
-use crate::bench::apartment::{AllCellsVsTraversal, ApartmentFrame};
-use crate::inverse::training::{self, TrainingConfig};
 use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
@@ -226,73 +224,6 @@ impl MapWeaver {
         let side = if pane == 0 { "left" } else { "right" };
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         map_pair_to_js(&pair)
-    }
-}
-
-/// W2 `apartment-frame` for the benchmark under Node: each call does the
-/// work of one call, the script holds the clock.
-#[wasm_bindgen]
-pub struct ApartmentFrameBench(ApartmentFrame);
-
-#[wasm_bindgen]
-impl ApartmentFrameBench {
-    /// Trains the learned model (default configuration) and simulates the
-    /// lap.
-    #[wasm_bindgen(constructor)]
-    pub fn new() -> Result<ApartmentFrameBench, JsError> {
-        let (learned, _, _) = training::train(&TrainingConfig::default())?;
-        Ok(ApartmentFrameBench(ApartmentFrame::new(learned)?))
-    }
-
-    #[wasm_bindgen(getter)]
-    pub fn scans(&self) -> usize {
-        self.0.scans()
-    }
-
-    /// Empties both maps and starts the lap again.
-    pub fn restart(&mut self) {
-        self.0.restart();
-    }
-
-    /// One frame; returns the cells visited by both traversals together.
-    pub fn frame(&mut self) -> usize {
-        self.0.frame().iter().map(|s| s.cells_visited).sum()
-    }
-
-    /// One `integrate_scan` call into map `map` (0 hand-crafted, 1
-    /// learned); returns the cells visited.
-    pub fn integrate(&mut self, map: JsValue) -> Result<usize, JsError> {
-        Ok(self.0.integrate(index_from_js("map", &map)?)?.cells_visited)
-    }
-}
-
-/// W3 `all-cells-vs-traversal` for the benchmark under Node.
-#[wasm_bindgen]
-pub struct AllCellsVsTraversalBench(AllCellsVsTraversal);
-
-#[wasm_bindgen]
-impl AllCellsVsTraversalBench {
-    #[wasm_bindgen(constructor)]
-    pub fn new(resolution: JsValue) -> Result<AllCellsVsTraversalBench, JsError> {
-        let resolution = number_from_js("resolution", &resolution)?;
-        Ok(AllCellsVsTraversalBench(AllCellsVsTraversal::new(
-            resolution,
-        )?))
-    }
-
-    #[wasm_bindgen(getter)]
-    pub fn scans(&self) -> usize {
-        self.0.scans()
-    }
-
-    /// Scan `k` by ray traversal; returns the cells visited.
-    pub fn traverse(&mut self, k: JsValue) -> Result<usize, JsError> {
-        Ok(self.0.traverse(index_from_js("scan", &k)?)?.cells_visited)
-    }
-
-    /// Scan `k` by the sweep over every cell; returns the cells visited.
-    pub fn sweep(&mut self, k: JsValue) -> Result<usize, JsError> {
-        Ok(self.0.sweep(index_from_js("scan", &k)?)?.cells_visited)
     }
 }
 

@@ -9,6 +9,8 @@
 
 use wasm_bindgen::prelude::*;
 
+#[cfg(feature = "bench")]
+pub mod bench;
 pub mod cell_filter;
 pub mod doorway_trap;
 pub mod inverse_workbench;

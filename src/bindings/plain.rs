@@ -96,6 +96,7 @@ fn message(e: &Error) -> String {
 }
 
 /// `e`, one path segment deeper (`key` or `[i]`).
+#[inline(never)]
 fn under(segment: &str, e: Error) -> Error {
     let text = message(&e);
     let inner = match text.strip_prefix(PATH) {
@@ -121,6 +122,31 @@ pub fn read_strict<T: serde::de::DeserializeOwned>(value: JsValue) -> Result<T, 
     })
 }
 
+/// The fields of a plain object, refusing one the struct does not have.
+/// Kept out of line: it is the same for every settings type, and each
+/// type's reader would otherwise carry its own copy.
+#[inline(never)]
+fn known_fields(value: &JsValue, fields: &[&str]) -> Result<Vec<(String, JsValue)>, Error> {
+    let mut entries = Vec::new();
+    let object: &Object = value.unchecked_ref();
+    for key in Object::keys(object).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !fields.contains(&key.as_str()) {
+            return Err(<Error as de::Error>::custom(format!(
+                "unknown field \"{key}\" (expected {})",
+                fields.join(", ")
+            )));
+        }
+        let Ok(item) = Reflect::get(value, &JsValue::from_str(&key)) else {
+            return Err(<Error as de::Error>::custom(format!(
+                "cannot read field \"{key}\""
+            )));
+        };
+        entries.push((key, item));
+    }
+    Ok(entries)
+}
+
 /// A serde deserializer over a plain copy that refuses unknown fields.
 pub struct Strict(pub JsValue);
 
@@ -131,6 +157,7 @@ impl Strict {
 
     /// "invalid type: ..., expected ...", without handing the value to the
     /// loose deserializer (which would read it a second way, in more code).
+    #[inline(never)]
     fn unexpected(&self, expected: &dyn de::Expected) -> Error {
         let what = super::describe(&self.0);
         <Error as de::Error>::invalid_type(de::Unexpected::Other(&what), expected)
@@ -230,26 +257,7 @@ impl<'de> Deserializer<'de> for Strict {
         if !self.0.is_object() || Array::is_array(&self.0) {
             return Err(self.unexpected(&visitor));
         }
-        let mut entries = Vec::new();
-        let object: &Object = self.0.unchecked_ref();
-        for key in Object::keys(object).iter() {
-            let key = key.as_string().unwrap_or_default();
-            if !fields.contains(&key.as_str()) {
-                return Err(de::Error::custom(format!(
-                    "unknown field \"{key}\" (expected {})",
-                    fields.join(", ")
-                )));
-            }
-            let value = match Reflect::get(&self.0, &JsValue::from_str(&key)) {
-                Ok(v) => v,
-                Err(_) => {
-                    return Err(<Error as de::Error>::custom(format!(
-                        "cannot read field \"{key}\""
-                    )))
-                }
-            };
-            entries.push((key, value));
-        }
+        let entries = known_fields(&self.0, fields)?;
         visitor.visit_map(Fields {
             entries: entries.into_iter(),
             key: String::new(),

@@ -1,6 +1,5 @@
-//! Bindings for real CARMEN logs: the W1 `intel-full` benchmark
-//! ([`LaserLog`]), the chunked map build behind Map Weaver's real-log mode
-//! ([`LogMapSession`]), and the zip packing of an exported map pair that
+//! Bindings for real CARMEN logs: the chunked map build behind Map Weaver's
+//! real-log mode ([`LogMapSession`]), and the zip packing of an exported map pair that
 //! every widget's "Export map" button uses ([`zip_map_pair`]).
 
 use super::{
@@ -8,47 +7,11 @@ use super::{
     number_from_js, object_from_js, string_from_js, to_js,
 };
 use crate::apps::real_log::{LogMapSettings, RealLogSession};
-use crate::bench::intel as workloads;
-use crate::io::carmen::{self, CarmenLog};
 use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// What a log's bytes may come as.
-const LOG_BYTES: &str = "the bytes of a log file: a Uint8Array or an ArrayBuffer";
-
-/// A parsed CARMEN log held in wasm memory.
-#[wasm_bindgen]
-pub struct LaserLog(CarmenLog);
-
-impl LaserLog {
-    /// [`Self::from_bytes_js`] for Rust callers.
-    pub fn from_bytes(bytes: &[u8]) -> Result<LaserLog, JsError> {
-        Ok(LaserLog(carmen::parse_bytes(bytes)?))
-    }
-}
-
-#[wasm_bindgen]
-impl LaserLog {
-    /// Parses a log (a `Uint8Array` or `ArrayBuffer` of gzip or plain
-    /// text). Malformed laser lines are errors naming their line number.
-    #[wasm_bindgen(js_name = fromBytes)]
-    pub fn from_bytes_js(bytes: JsValue) -> Result<LaserLog, JsError> {
-        Self::from_bytes(&bytes_from_js("bytes", &bytes, LOG_BYTES)?)
-    }
-
-    #[wasm_bindgen(getter, js_name = scanCount)]
-    pub fn scan_count(&self) -> usize {
-        self.0.scans.len()
-    }
-
-    /// Workload W1 of BENCHMARKS.md: builds the Intel map and returns
-    /// `{ cell_updates, occupied, free, unknown }`.
-    #[wasm_bindgen(js_name = buildIntelBenchmark)]
-    pub fn build_intel_benchmark(&self) -> Result<JsValue, JsError> {
-        let (_, counts) = workloads::build_intel_map(&self.0);
-        to_js(&counts)
-    }
-}
+pub(crate) const LOG_BYTES: &str = "the bytes of a log file: a Uint8Array or an ArrayBuffer";
 
 /// A log being read and mapped step by step: [`RealLogSession`].
 #[wasm_bindgen]

@@ -245,7 +245,13 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
     for (py, rs) in rows.iter().enumerate() {
         let line = &mut out[py * w * 4..(py + 1) * w * 4];
         // Grid rows of this output row's samples (image row 0 is the top).
-        let iys = rs.map(|r| if r == usize::MAX { usize::MAX } else { mh - 1 - r });
+        let iys = rs.map(|r| {
+            if r == usize::MAX {
+                usize::MAX
+            } else {
+                mh - 1 - r
+            }
+        });
         let (ya, yb) = (iys[0], iys[k - 1]);
         let one_tile_row = ya != usize::MAX && yb != usize::MAX && tile_of(ya) == tile_of(yb);
         for (px, cs) in cols.iter().enumerate() {

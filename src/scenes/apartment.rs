@@ -205,11 +205,7 @@ impl Default for ApartmentScene {
                 sigma: 0.02,
                 first_bearing: 0.0,
             },
-            odometry: OdometryParams {
-                alpha: [0.05, 0.01, 0.02, 0.01],
-                heading_drift: -0.003,
-                turn_scale: 0.01,
-            },
+            odometry: OdometryParams::WHEELS,
             person: WalkerParams {
                 size: 0.5,
                 from: [3.0, 4.35],
