@@ -659,9 +659,9 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     refused(s.seek(num(1e6)), &["scan"]);
     refused(s.seek(num(-1.0)), &["scan", "-1"]);
     refused(s.seek(num(2.5)), &["scan", "2.5"]);
-    refused(s.heading(num(1e9)), &["scan"]);
-    refused(s.heading(num(-1.0)), &["scan", "-1"]);
-    refused(s.heading(num(f64::NAN)), &["scan", "NaN"]);
+    refused(s.robot_at(num(1e9)), &["scan"]);
+    refused(s.robot_at(num(-1.0)), &["scan", "-1"]);
+    refused(s.robot_at(num(f64::NAN)), &["scan", "NaN"]);
     assert!(s.cell_at(num(1e12), num(0.0)).unwrap().is_null());
     assert!(s.cell_at(num(-1.0), num(0.0)).unwrap().is_null());
     refused(s.cell_at(num(0.5), num(0.0)), &["col"]);

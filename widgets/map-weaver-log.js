@@ -557,7 +557,7 @@ export class RealLogPanel {
     const done = this.reference.progress().scansDone;
     if (this.refPath && done >= 1) {
       drawPath(ctx, 1, this.refPath, done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, robotInImageUnits(this.refPath, this.reference, done - 1), {
+      drawRobot(ctx, 1, this.reference.robotAt(done - 1), {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
@@ -765,7 +765,7 @@ export class RealLogPanel {
     const unit = dpr / v.scale;
     if (this.path && this.done >= 1) {
       drawPath(ctx, 1, this.path, this.done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, robotInImageUnits(this.path, this.session, this.done - 1), {
+      drawRobot(ctx, 1, this.session.robotAt(this.done - 1), {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
@@ -914,12 +914,3 @@ export class RealLogPanel {
   }
 }
 
-/**
- * The robot at scan `k`: its place from the path (image units already) and
- * its heading from the session (radians counter-clockwise from east, the
- * world's frame) as an image angle. Deleted once `LogMapSession` gives the
- * heading in image units.
- */
-function robotInImageUnits(path, session, k) {
-  return { x: path[2 * k], y: path[2 * k + 1], heading: -session.heading(k) };
-}

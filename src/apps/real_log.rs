@@ -9,14 +9,18 @@
 
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::raster::{Cursor as RasterCursor, Walk};
+use crate::geometry::GridGeometry;
 use crate::grid::readout::CellReadout;
-use crate::grid::tiled::{budget_message, Extent, TiledGrid, DEFAULT_TILE_BUDGET_CELLS, TILE_SIDE};
+use crate::grid::tiled::{
+    budget_message, tiles_of, TiledGrid, DEFAULT_TILE_BUDGET_CELLS, TILE_SIDE,
+};
 use crate::grid::FilterSettings;
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::mapping::traversal::{BeamBand, RayMapper, MAX_REACH_CELLS};
 use crate::mapping::walls::{beam_bands, WallModel};
+use crate::render::overlay::RobotMark;
 use crate::render::viewport::{render_tiled_view, MapViewport};
 use crate::sensors::odometry::OdometryParams;
 use std::io::Cursor;
@@ -138,8 +142,8 @@ impl LogMapSettings {
     /// margin, its corners on whole multiples of the resolution (so that
     /// maps of one log at one resolution line up cell for cell). Its cells
     /// are allocated in tiles as the beams reach them, so the bounding box
-    /// is limited only by its export ([`Extent::new`]).
-    pub fn geometry(&self, extent: [f64; 4]) -> Result<Extent> {
+    /// is limited only by its export ([`GridGeometry::sparse`]).
+    pub fn geometry(&self, extent: [f64; 4]) -> Result<GridGeometry> {
         let r = error::positive("resolution", self.resolution)?;
         let m = error::non_negative("margin", self.margin)?;
         let [x0, y0, x1, y1] = extent;
@@ -147,7 +151,7 @@ impl LogMapSettings {
         let (i1, j1) = (((x1 + m) / r).floor() + 1.0, ((y1 + m) / r).floor() + 1.0);
         let (w, h) = (i1 - i0, j1 - j0);
         // Written so that a NaN (cells so small that both edges overflow to
-        // the same infinity) is refused too; `Extent::new` then says what
+        // the same infinity) is refused too; `GridGeometry::sparse` then says what
         // the size would weigh.
         if !(w >= 1.0 && h >= 1.0 && w * h <= 1e15) {
             return Err(invalid(
@@ -170,7 +174,7 @@ impl LogMapSettings {
                 "cells small enough that the map's corners are finite numbers of metres",
             ));
         }
-        Extent::new(w as usize, h as usize, r, ox, oy)
+        GridGeometry::sparse(w as usize, h as usize, r, ox, oy)
     }
 
     fn model_params(&self) -> HandCraftedParams {
@@ -392,7 +396,7 @@ impl LogMapBuild {
     /// error if the settings are invalid, the log has no laser scans, or
     /// the grid would be too large. A caller can check before handing its
     /// scans over to [`Self::new`].
-    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<Extent> {
+    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
         settings.validate()?;
         if settings.poses == PoseSource::DeadReckoning {
             // The dead-reckoned path wanders: its extent is its own.
@@ -417,7 +421,7 @@ impl LogMapBuild {
     }
 
     /// [`Self::check`] for scans already at the settings' poses.
-    fn check_placed(scans: &LaserScans, settings: &LogMapSettings) -> Result<Extent> {
+    fn check_placed(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
         settings.validate()?;
         let extent = scans.extent(settings.range_cap).ok_or_else(|| {
             invalid(
@@ -580,7 +584,7 @@ impl LogMapBuild {
             finished: self.done == self.target,
             cells_allocated: self.grid.cells_allocated(),
             bytes_allocated: self.grid.bytes_allocated(),
-            cells: self.grid.extent().cells(),
+            cells: self.grid.extent().len(),
         }
     }
 
@@ -594,7 +598,7 @@ impl LogMapBuild {
     /// the whole log would allocate, said when the budget refuses it.
     fn tiles_reached(&self) -> usize {
         let e = *self.grid.extent();
-        let (tx, ty) = e.tiles();
+        let (tx, ty) = tiles_of(&e);
         let mut marks = vec![false; tx * ty];
         let mut bands = Vec::new();
         let per_tile = 1.0 / (e.resolution() * TILE_SIDE as f64);
@@ -671,6 +675,12 @@ impl LogMapBuild {
             .filter_map(|k| self.scans.pose(k))
             .flat_map(|p| g.world_to_image(p.x, p.y).map(|c| c as f32))
             .collect()
+    }
+
+    /// The robot at scan `k` in image units, heading as an image angle
+    /// (see [`crate::render::overlay`]), or `None` past the last scan.
+    pub fn robot_at(&self, k: usize) -> Option<RobotMark> {
+        Some(RobotMark::at(self.grid.extent(), &self.scans.pose(k)?))
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top, north
@@ -1019,12 +1029,10 @@ impl RealLogSession {
         self.build_mut()?.seek(scans)
     }
 
-    /// The heading of scan `k`'s laser, radians counter-clockwise from east.
-    pub fn heading(&self, k: usize) -> Result<f64> {
+    /// The robot at scan `k` over the map, in image units.
+    pub fn robot_at(&self, k: usize) -> Result<RobotMark> {
         self.build()?
-            .scans()
-            .pose(k)
-            .map(|p| p.theta)
+            .robot_at(k)
             .ok_or_else(|| invalid("scan", k, "a scan of the log"))
     }
 

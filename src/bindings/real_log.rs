@@ -211,9 +211,11 @@ impl LogMapSession {
         Ok(self.session.build()?.path_in_pixels())
     }
 
-    /// The heading of scan `k`'s laser, radians counter-clockwise from east.
-    pub fn heading(&self, k: JsValue) -> Result<f64, JsError> {
-        Ok(self.session.heading(index_from_js("scan", &k)?)?)
+    /// The robot at scan `k` over the map: `{ x, y, heading }` in image
+    /// units, the heading an image angle (radians clockwise on screen).
+    #[wasm_bindgen(js_name = robotAt)]
+    pub fn robot_at(&self, k: JsValue) -> Result<JsValue, JsError> {
+        to_js(&self.session.robot_at(index_from_js("scan", &k)?)?)
     }
 
     /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the

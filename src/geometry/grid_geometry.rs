@@ -4,9 +4,15 @@
 
 use crate::error::{self, invalid, Result};
 
-/// The largest map the core accepts, in cells (4096 x 4096). Larger grids
-/// would not fit a browser tab's memory with their render buffers.
+/// The largest dense map the core accepts, in cells (4096 x 4096). Larger
+/// dense grids would not fit a browser tab's memory with their render
+/// buffers.
 pub const MAX_CELLS: usize = 1 << 24;
+
+/// The largest extent of a sparse (tiled) map, in cells: its export is one
+/// byte per cell (a 256 MiB PGM), and every reader of the map can still
+/// index it with 32 bits.
+pub const MAX_SPARSE_CELLS: usize = 1 << 28;
 
 /// Where the map lies in the world: `width x height` square cells of
 /// `resolution` metres, cell (0, 0)'s lower-left corner at `origin`.
@@ -20,6 +26,7 @@ pub struct GridGeometry {
 }
 
 impl GridGeometry {
+    /// The limits of a dense map: at most [`MAX_CELLS`] cells.
     pub fn new(
         width: usize,
         height: usize,
@@ -27,12 +34,7 @@ impl GridGeometry {
         origin_x: f64,
         origin_y: f64,
     ) -> Result<Self> {
-        if width == 0 {
-            return Err(invalid("width", width, "at least 1 cell"));
-        }
-        if height == 0 {
-            return Err(invalid("height", height, "at least 1 cell"));
-        }
+        Self::check_size(width, height)?;
         match width.checked_mul(height) {
             Some(n) if n <= MAX_CELLS => {}
             _ => {
@@ -43,6 +45,51 @@ impl GridGeometry {
                 ))
             }
         }
+        Self::finish(width, height, resolution, origin_x, origin_y)
+    }
+
+    /// The limits of a sparse map, whose cells exist only where they are
+    /// touched: at most [`MAX_SPARSE_CELLS`] cells, refused saying how many
+    /// it would be and what its export would weigh.
+    pub fn sparse(
+        width: usize,
+        height: usize,
+        resolution: f64,
+        origin_x: f64,
+        origin_y: f64,
+    ) -> Result<Self> {
+        Self::check_size(width, height)?;
+        let cells = width as u128 * height as u128;
+        if cells > MAX_SPARSE_CELLS as u128 {
+            return Err(invalid(
+                "width x height",
+                format!(
+                    "{width} x {height} = {cells} cells ({:.1} MiB of exported image)",
+                    cells as f64 / (1u64 << 20) as f64
+                ),
+                "at most 268435456 cells (a 256 MiB image): a coarser resolution",
+            ));
+        }
+        Self::finish(width, height, resolution, origin_x, origin_y)
+    }
+
+    fn check_size(width: usize, height: usize) -> Result<()> {
+        if width == 0 {
+            return Err(invalid("width", width, "at least 1 cell"));
+        }
+        if height == 0 {
+            return Err(invalid("height", height, "at least 1 cell"));
+        }
+        Ok(())
+    }
+
+    fn finish(
+        width: usize,
+        height: usize,
+        resolution: f64,
+        origin_x: f64,
+        origin_y: f64,
+    ) -> Result<Self> {
         error::positive("resolution", resolution)?;
         error::finite("origin_x", origin_x)?;
         error::finite("origin_y", origin_y)?;

@@ -13,7 +13,7 @@
 //! (its cell count bounds the exported image, one byte per cell) and the
 //! cells allocated in tiles (eight bytes each: log odds and update count).
 
-use crate::error::{self, invalid, Result};
+use crate::error::Result;
 
 use crate::geometry::GridGeometry;
 
@@ -30,126 +30,18 @@ pub const TILE_CELLS: usize = TILE_SIDE * TILE_SIDE;
 /// Bytes a tile holds: an `f32` of log odds and a `u32` update count per cell.
 pub const TILE_BYTES: usize = TILE_CELLS * 8;
 
-/// The largest extent, in cells: its export is one byte per cell (a 256 MiB
-/// PGM), and every reader of the map can still index it with 32 bits.
-pub const MAX_EXTENT_CELLS: u64 = 1 << 28;
 /// The default budget of allocated cells (4,096 tiles, 128 MiB): what a
 /// browser tab holds comfortably beside the rest of the page.
 pub const DEFAULT_TILE_BUDGET_CELLS: usize = 1 << 24;
 
 const NO_TILE: u32 = u32::MAX;
 
-/// Where a tiled map lies: `width x height` square cells of `resolution`
-/// metres, cell (0, 0)'s lower-left corner at `origin`, rows bottom to top
-/// (the conventions of [`crate::geometry::GridGeometry`], without its dense
-/// limit).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Extent {
-    width: usize,
-    height: usize,
-    resolution: f64,
-    origin: [f64; 2],
-}
-
-impl Extent {
-    /// Refuses an extent of more than [`MAX_EXTENT_CELLS`] cells, saying how
-    /// many it would be and what its export would weigh.
-    pub fn new(
-        width: usize,
-        height: usize,
-        resolution: f64,
-        origin_x: f64,
-        origin_y: f64,
-    ) -> Result<Self> {
-        if width == 0 {
-            return Err(invalid("width", width, "at least 1 cell"));
-        }
-        if height == 0 {
-            return Err(invalid("height", height, "at least 1 cell"));
-        }
-        let cells = (width as u64).checked_mul(height as u64);
-        if !cells.is_some_and(|n| n <= MAX_EXTENT_CELLS) {
-            return Err(invalid(
-                "width x height",
-                format!(
-                    "{width} x {height} = {} cells ({} of exported image)",
-                    width as u128 * height as u128,
-                    mebibytes(width as u128 * height as u128)
-                ),
-                "at most 268435456 cells (a 256 MiB image): a coarser resolution",
-            ));
-        }
-        error::positive("resolution", resolution)?;
-        error::finite("origin_x", origin_x)?;
-        error::finite("origin_y", origin_y)?;
-        error::finite(
-            "origin_x + width * resolution",
-            origin_x + width as f64 * resolution,
-        )?;
-        error::finite(
-            "origin_y + height * resolution",
-            origin_y + height as f64 * resolution,
-        )?;
-        Ok(Self {
-            width,
-            height,
-            resolution,
-            origin: [origin_x, origin_y],
-        })
-    }
-
-    pub fn width(&self) -> usize {
-        self.width
-    }
-    pub fn height(&self) -> usize {
-        self.height
-    }
-    /// Cells of the bounding box.
-    pub fn cells(&self) -> usize {
-        self.width * self.height
-    }
-    pub fn resolution(&self) -> f64 {
-        self.resolution
-    }
-    pub fn origin(&self) -> [f64; 2] {
-        self.origin
-    }
-    /// World point to continuous grid coordinates (cell units).
-    #[inline]
-    pub fn world_to_grid(&self, x: f64, y: f64) -> (f64, f64) {
-        (
-            (x - self.origin[0]) / self.resolution,
-            (y - self.origin[1]) / self.resolution,
-        )
-    }
-    /// World point to image units (north up, row 0 at the top).
-    pub fn world_to_image(&self, x: f64, y: f64) -> [f64; 2] {
-        let (u, v) = self.world_to_grid(x, y);
-        [u, self.height as f64 - v]
-    }
-    /// The cell containing world point `(x, y)`, or `None` outside.
-    pub fn world_to_cell(&self, x: f64, y: f64) -> Option<(usize, usize)> {
-        let (u, v) = self.world_to_grid(x, y);
-        if !(u >= 0.0 && v >= 0.0) {
-            return None;
-        }
-        let (ix, iy) = (u.floor() as usize, v.floor() as usize);
-        (ix < self.width && iy < self.height).then_some((ix, iy))
-    }
-    /// World position of the centre of cell `(ix, iy)`, metres.
-    pub fn cell_center(&self, ix: usize, iy: usize) -> (f64, f64) {
-        (
-            self.origin[0] + (ix as f64 + 0.5) * self.resolution,
-            self.origin[1] + (iy as f64 + 0.5) * self.resolution,
-        )
-    }
-    /// Tiles along x and y.
-    pub fn tiles(&self) -> (usize, usize) {
-        (
-            self.width.div_ceil(TILE_SIDE),
-            self.height.div_ceil(TILE_SIDE),
-        )
-    }
+/// Tiles along x and y of a map's extent.
+pub fn tiles_of(extent: &GridGeometry) -> (usize, usize) {
+    (
+        extent.width().div_ceil(TILE_SIDE),
+        extent.height().div_ceil(TILE_SIDE),
+    )
 }
 
 /// `n` bytes in MiB, one decimal.
@@ -168,7 +60,7 @@ struct Tile {
 /// [`super::LogOddsGrid`], with tiles allocated on first touch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TiledGrid {
-    extent: Extent,
+    extent: GridGeometry,
     tiles_x: usize,
     /// Per tile of the extent, its place in `tiles`, or [`NO_TILE`].
     index: Vec<u32>,
@@ -185,9 +77,13 @@ impl TiledGrid {
     /// A fresh map, every cell at the prior, no tile allocated; at most
     /// `budget_cells` cells (rounded down to whole tiles, at least one) will
     /// ever be allocated.
-    pub fn new(extent: Extent, settings: FilterSettings, budget_cells: usize) -> Result<Self> {
+    pub fn new(
+        extent: GridGeometry,
+        settings: FilterSettings,
+        budget_cells: usize,
+    ) -> Result<Self> {
         settings.validate()?;
-        let (tx, ty) = extent.tiles();
+        let (tx, ty) = tiles_of(&extent);
         Ok(Self {
             extent,
             tiles_x: tx,
@@ -200,7 +96,7 @@ impl TiledGrid {
         })
     }
 
-    pub fn extent(&self) -> &Extent {
+    pub fn extent(&self) -> &GridGeometry {
         &self.extent
     }
     pub fn l0(&self) -> f32 {
@@ -251,7 +147,7 @@ impl TiledGrid {
     /// outside the extent.
     #[inline]
     pub fn log_odds_at(&self, ix: usize, iy: usize) -> Option<f32> {
-        if ix >= self.extent.width || iy >= self.extent.height {
+        if ix >= self.extent.width() || iy >= self.extent.height() {
             return None;
         }
         Some(match self.index[self.tile_of(ix, iy)] {
@@ -262,7 +158,7 @@ impl TiledGrid {
 
     /// Updates cell `(ix, iy)` received, `None` outside the extent.
     pub fn updates_at(&self, ix: usize, iy: usize) -> Option<u32> {
-        if ix >= self.extent.width || iy >= self.extent.height {
+        if ix >= self.extent.width() || iy >= self.extent.height() {
             return None;
         }
         Some(match self.index[self.tile_of(ix, iy)] {
@@ -389,12 +285,17 @@ impl TiledGrid {
     /// grid can hold: at most [`crate::geometry::MAX_CELLS`] cells).
     pub fn to_dense(&self) -> Result<LogOddsGrid> {
         let e = &self.extent;
-        let geometry =
-            GridGeometry::new(e.width, e.height, e.resolution, e.origin[0], e.origin[1])?;
+        let geometry = GridGeometry::new(
+            e.width(),
+            e.height(),
+            e.resolution(),
+            e.origin()[0],
+            e.origin()[1],
+        )?;
         let mut log_odds = vec![self.l0; geometry.len()];
         let mut updates = vec![0; geometry.len()];
-        for iy in 0..e.height {
-            for ix in 0..e.width {
+        for iy in 0..e.height() {
+            for ix in 0..e.width() {
                 if let Some(t) = self.tile_log_odds(ix >> TILE_SHIFT, iy >> TILE_SHIFT) {
                     let i = geometry.index(ix, iy);
                     log_odds[i] = t[Self::offset(ix, iy)];
@@ -414,14 +315,14 @@ impl TiledGrid {
 
 /// What a map of `extent` would need beyond `budget_cells`, in words: the
 /// tiles the beams reach (`needed_tiles`), their cells and bytes.
-pub fn budget_message(extent: &Extent, needed_tiles: usize, budget_cells: usize) -> String {
+pub fn budget_message(extent: &GridGeometry, needed_tiles: usize, budget_cells: usize) -> String {
     let need = needed_tiles as u128 * TILE_CELLS as u128;
     format!(
         "the beams of this log reach {needed_tiles} tiles of {TILE_SIDE} x {TILE_SIDE} cells: {need} cells ({}) \
          of a {} x {} bounding box, over the budget of {budget_cells} cells ({}); choose a coarser resolution",
         mebibytes(need * 8),
-        extent.width,
-        extent.height,
+        extent.width(),
+        extent.height(),
         mebibytes(budget_cells as u128 * 8),
     )
 }
@@ -432,7 +333,7 @@ mod tests {
 
     fn grid(w: usize, h: usize, budget: usize) -> TiledGrid {
         TiledGrid::new(
-            Extent::new(w, h, 0.05, -1.0, 2.0).unwrap(),
+            GridGeometry::sparse(w, h, 0.05, -1.0, 2.0).unwrap(),
             FilterSettings {
                 prior: 0.5,
                 clamp: 2.0,
@@ -445,7 +346,7 @@ mod tests {
     #[test]
     fn tiled_cells_read_the_prior_until_touched_and_allocate_one_tile_each() {
         let mut g = grid(200, 130, 1 << 20);
-        assert_eq!(g.extent().tiles(), (4, 3));
+        assert_eq!(tiles_of(g.extent()), (4, 3));
         assert_eq!(g.log_odds_at(199, 129), Some(0.0));
         assert_eq!(g.log_odds_at(200, 0), None);
         assert_eq!(g.tiles_allocated(), 0);
@@ -481,15 +382,15 @@ mod tests {
 
     #[test]
     fn tiled_extent_refuses_what_its_export_cannot_hold_naming_the_size() {
-        let e = Extent::new(20_000, 20_000, 0.05, 0.0, 0.0)
+        let e = GridGeometry::sparse(20_000, 20_000, 0.05, 0.0, 0.0)
             .unwrap_err()
             .to_string();
         assert!(
             e.contains("20000 x 20000 = 400000000 cells") && e.contains("381.5 MiB"),
             "{e}"
         );
-        assert!(Extent::new(5009, 4906, 0.05, 0.0, 0.0).is_ok());
-        assert!(Extent::new(0, 3, 0.05, 0.0, 0.0).is_err());
-        assert!(Extent::new(3, 3, f64::NAN, 0.0, 0.0).is_err());
+        assert!(GridGeometry::sparse(5009, 4906, 0.05, 0.0, 0.0).is_ok());
+        assert!(GridGeometry::sparse(0, 3, 0.05, 0.0, 0.0).is_err());
+        assert!(GridGeometry::sparse(3, 3, f64::NAN, 0.0, 0.0).is_err());
     }
 }

@@ -160,7 +160,7 @@ fn yaml_text(resolution: f64, [ox, oy]: [f64; 2], image_name: &str) -> String {
 /// is unknown.
 pub fn tiled_export_counts(grid: &TiledGrid) -> ExportCounts {
     let (occupied, free) = grid.count_between(OCCUPIED_THRESH, FREE_THRESH);
-    let cells = grid.extent().cells();
+    let cells = grid.extent().len();
     ExportCounts {
         occupied,
         free,
@@ -184,7 +184,7 @@ pub fn tiled_map_server_pair(grid: &TiledGrid, image_name: &str) -> MapServerPai
     pgm.extend_from_slice(header.as_bytes());
     let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
     let l0 = grid.l0();
-    let (tiles_x, _) = e.tiles();
+    let (tiles_x, _) = crate::grid::tiled::tiles_of(e);
     for iy in (0..h).rev() {
         let (ty, row) = (iy / TILE_SIDE, iy % TILE_SIDE);
         for tx in 0..tiles_x {
@@ -540,8 +540,9 @@ mod tests {
 
     #[test]
     fn tiled_export_covers_the_whole_extent_and_matches_the_dense_export() {
-        use crate::grid::tiled::{Extent, TiledGrid};
-        let e = Extent::new(130, 70, 0.05, -2.0, 1.0).unwrap();
+        use crate::geometry::GridGeometry;
+        use crate::grid::tiled::TiledGrid;
+        let e = GridGeometry::sparse(130, 70, 0.05, -2.0, 1.0).unwrap();
         let mut t = TiledGrid::new(e, FilterSettings::default(), 1 << 20).unwrap();
         t.raise(3, 2, 2.0);
         t.lower(129, 69, -2.0);

@@ -1077,7 +1077,8 @@ mod tests {
     /// with the same counts per scan.
     #[test]
     fn tiled_integration_builds_the_dense_map_cell_for_cell() {
-        use crate::grid::tiled::{Extent, TiledGrid};
+        use crate::geometry::GridGeometry;
+        use crate::grid::tiled::TiledGrid;
         let mut rng = StdRng::seed_from_u64(12);
         let (w, h, res, ox, oy) = (150, 97, 0.05, -1.0, -1.0);
         for _ in 0..20 {
@@ -1087,8 +1088,12 @@ mod tests {
                 clamp: 2.0,
             };
             let mut dense = LogOddsGrid::new(g, settings).unwrap();
-            let mut tiled =
-                TiledGrid::new(Extent::new(w, h, res, ox, oy).unwrap(), settings, 1 << 20).unwrap();
+            let mut tiled = TiledGrid::new(
+                GridGeometry::sparse(w, h, res, ox, oy).unwrap(),
+                settings,
+                1 << 20,
+            )
+            .unwrap();
             let (mut a, mut b) = (RayMapper::new(), RayMapper::new());
             for _ in 0..5 {
                 let scan = random_scan(&mut rng);

@@ -303,7 +303,7 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::tiled::Extent;
+    use crate::geometry::GridGeometry;
     use crate::grid::FilterSettings;
 
     #[test]
@@ -343,7 +343,7 @@ mod tests {
 
     #[test]
     fn viewport_render_is_the_screen_size_and_keeps_thin_walls_when_zoomed_out() {
-        let e = Extent::new(1000, 800, 0.05, 0.0, 0.0).unwrap();
+        let e = GridGeometry::sparse(1000, 800, 0.05, 0.0, 0.0).unwrap();
         let mut g = TiledGrid::new(
             e,
             FilterSettings {

@@ -158,7 +158,7 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   refuses(() => s.seek(1e6), 'scan');
   for (const bad of [-1, 0.5, NaN]) {
     refuses(() => s.seek(bad), 'scan');
-    refuses(() => s.heading(bad), 'scan');
+    refuses(() => s.robotAt(bad), 'scan');
     refuses(() => s.buildChunk(bad), 'maxScans');
   }
   assert.equal(s.cellAt(-1, 0), null);

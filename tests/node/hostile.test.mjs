@@ -114,7 +114,7 @@ test('LogMapSession: throwing getters and proxies in settings, freeing valueOf i
     ['seek', [HOSTILE], 'scan'],
     ['cellAt', [HOSTILE, 0], 'col'],
     ['cellAt', [0, HOSTILE], 'row'],
-    ['heading', [HOSTILE], 'scan'],
+    ['robotAt', [HOSTILE], 'scan'],
   ], (x, name) => assert.equal(typeof x.progress().scansDone, 'number', `answers after ${name}`));
   // A fork reads its settings as configure does.
   refuses(() => s.fork(getter), 'invalid settings', 'boom');
