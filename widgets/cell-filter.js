@@ -179,7 +179,7 @@ class CellFilterElement extends HTMLElement {
       copyLinkControl(this, CellFilterElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
-      xLabel: 'step', yLabel: 'log odds l',
+      xLabel: 'step', yLabel: 'log odds l', wholeX: true,
       series: [{ label: 'l', color: COLORS.series[0] }, { label: 'l0', color: COLORS.l0, dash: [6, 4], width: 1.5 }],
       height: 200,
     });
@@ -252,7 +252,8 @@ class CellFilterElement extends HTMLElement {
     for (const b of this.addButtons) b.disabled = full;
     const notes = [];
     if (table.firstAtClamp !== null && table.firstAtClamp !== undefined) {
-      notes.push(['clamp', `At the clamp: from reading ${table.firstAtClamp} on, l is held at ±${fixed(table.clamp, 1)} (p = ${fixed(table.steps[table.firstAtClamp - 1].p, 4)}), ` +
+      const at = table.steps[table.firstAtClamp - 1];
+      notes.push(['clamp', `At the clamp: from reading ${table.firstAtClamp} on, l is held at the clamp of ±${fixed(table.clamp, 1)} (l = ${fixed(at.l, 4)}, p = ${fixed(at.p, 4)}), ` +
         'so that a few contradicting readings can still move the cell; further readings the same way change nothing.']);
     }
     if (table.freeIsEvidenceForOccupied) {

@@ -37,7 +37,7 @@ const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
 /** Densest training maps the core fills (an occupied fraction). */
 const MAX_DENSITY = 0.6;
-const densityText = (d) => (d === 0 ? 'buildings as drawn' : `filled to ${Math.round(100 * d)}% occupied`);
+const densityText = (d) => (d === 0 ? 'buildings as drawn' : `boxes to ${Math.round(100 * d)}%`);
 
 const deg = (rad) => (rad * 180) / Math.PI;
 
@@ -170,7 +170,8 @@ class InverseWorkbenchElement extends HTMLElement {
         el('span', { class: 'occgrid-readout' }, 'learned l0 = ', this.l0Out)),
       this.status,
       el('div', { class: 'inverse-workbench-panes' }, this.panes.map((p) => p.root)),
-      el('div', { class: 'inverse-workbench-scale' }, this.legend, this.scaleText),
+      el('div', { class: 'inverse-workbench-scale' }, this.legend),
+      this.scaleText,
       this.chartTitle,
       this.chartBox,
       el('p', { class: 'occgrid-caption' },
@@ -208,7 +209,7 @@ class InverseWorkbenchElement extends HTMLElement {
 
   /** Retrains the learned model, same seed, on training maps filled to `density`. */
   retrainDensity(density) {
-    this.status.textContent = `Training on maps ${densityText(density)}…`;
+    this.status.textContent = `Training on maps of ${densityText(density)}…`;
     this.later(() => this.train(null, density));
   }
 
@@ -444,7 +445,7 @@ class InverseWorkbenchElement extends HTMLElement {
     ctx.textBaseline = 'top';
     ctx.textAlign = 'center';
     ctx.fillText(`−${fixed(scale, 2)} free`, x0 + 30, 17);
-    ctx.fillText('0 evidence (log odds, fixed scale)', x0 + w / 2, 17);
+    ctx.fillText('0 (log odds)', x0 + w / 2, 17);
     ctx.fillText(`+${fixed(scale, 2)} occupied`, x0 + w - 36, 17);
     this.legend.setAttribute('aria-label', `Colour scale, the same at every reading: white is ${fixed(-scale, 2)} log odds (free), mid-gray 0, black +${fixed(scale, 2)} (occupied)`);
   }

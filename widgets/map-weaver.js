@@ -299,8 +299,8 @@ class MapWeaverElement extends HTMLElement {
         el('summary', {}, 'What the readouts mean'),
         el('ul', {},
           el('li', {}, el('strong', {}, 'Entropy'), ': the sum over all cells of each cell’s binary entropy, in bits: 1 bit for a cell at p = 0.5, near 0 for a cell the map is sure of. It falls as the map fills in.'),
-          el('li', {}, el('strong', {}, 'Brier'), ' score: the mean over all cells of (p − truth)², truth 1 for an occupied cell of the simulated apartment and 0 for a free one. 0 is a perfect map; a map of all 0.5 scores 0.25.'),
-          el('li', {}, el('strong', {}, 'Cells visited per scan'), ': how many cells the last scan’s beams updated (Table 9.1 runs only over the cells in a beam’s perceptual field), the work one scan costs.'),
+          el('li', {}, el('strong', {}, 'Brier'), ' score: the mean of (p − truth)² over the part of the map the lap surveys (the corridor, the two south rooms and their walls), truth 1 for an occupied cell of the simulated apartment and 0 for a free one. 0 is a perfect map; a map still all at p = 0.5 scores 0.25.'),
+          el('li', {}, el('strong', {}, 'Cells visited per scan'), ': how many cells the last scan’s beams looked at (Table 9.1 runs only over the cells in a beam’s perceptual field, not the whole map): the work one scan costs.'),
           el('li', {}, el('strong', {}, 'Core time per frame'), ': milliseconds the core spent integrating the scans of the last animation frame (several per frame at higher speeds), as this browser measured it.'))));
 
     this.logPanel = el('div', { class: 'map-weaver-log-host', hidden: true });

@@ -218,7 +218,7 @@ export class TwoCellTable {
       el('br'),
       '“Both occupied”: truly ', el('strong', { class: 'doorway-trap-occ-true', dataset: { value: String(r.allOccupiedTrue) } }, fixed(r.allOccupiedTrue, 4)),
       ', factored ', el('strong', { class: 'doorway-trap-occ-factored', dataset: { value: String(r.allOccupiedFactored) } }, fixed(r.allOccupiedFactored, 4)),
-      ` — ${fixed(r.allOccupiedRatio, 2)}×.`);
+      ` — ${fixed(r.allOccupiedRatio, 2)}×`, r.allOccupiedRatio >= 1 ? ' too likely.' : ' as likely.');
     this.drawDiagram();
   }
 
