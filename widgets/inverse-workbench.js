@@ -14,7 +14,7 @@
 // by itself; training waits until the widget is first on screen.
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
-// reading, seed, zoom, controls.
+// reading, seed, density, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
@@ -45,6 +45,7 @@ class InverseWorkbenchElement extends HTMLElement {
   static attributeSpec = {
     reading: { type: number(0.2, Z_MAX, { step: 0.05, unit: 'm' }), default: '2.00', doc: `the reading z, metres (at ${Z_MAX}, the sensor’s z_max: a no-return)` },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
+    density: { type: number(0, MAX_DENSITY, { step: 0.05 }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)' },
     zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
   };
@@ -63,6 +64,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.values = this.attrs.read();
     this.z = this.values.reading;
     this.seed = this.values.seed;
+    this.density = this.values.density;
     this.zoom = this.values.zoom;
     this.build();
     applyControls(this, this.values.controls);
@@ -97,6 +99,9 @@ class InverseWorkbenchElement extends HTMLElement {
       this.zoom = v;
       this.zoomToggle.input.checked = v;
       this.requestDraw();
+    } else if (name === 'density') {
+      this.densitySlider.set(v);
+      if (this.bench && v !== this.info?.run.density) this.retrainDensity(v);
     } else if (name === 'seed') {
       this.seed = v;
       this.seedInput.value = String(v);
@@ -110,6 +115,7 @@ class InverseWorkbenchElement extends HTMLElement {
     return {
       reading: this.z.toFixed(2),
       seed: this.info?.run.seed ?? this.seed,
+      density: String(this.info?.run.density ?? this.density),
       zoom: this.zoom ? 'on' : 'off',
       controls: formatControls(this.values.controls, GROUPS),
     };
@@ -133,7 +139,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.status = el('p', { class: 'occgrid-readout inverse-workbench-status', 'aria-live': 'polite' }, 'Training the learned model…');
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
     this.densitySlider = slider({
-      label: 'Training-map density', min: 0, max: MAX_DENSITY, step: 0.05, value: 0,
+      label: 'Training-map density', min: 0, max: MAX_DENSITY, step: 0.05, value: this.density,
       format: densityText, name: 'density',
     });
     // Retraining takes a tenth of a second: on release (or each key press),
