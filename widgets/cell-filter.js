@@ -260,7 +260,7 @@ class CellFilterElement extends HTMLElement {
       notes.push(['inverted', `p(m | free reading) = ${fixed(s.pFree, 2)} is not below p(m | occupied reading) = ${fixed(s.pOcc, 2)}: ` +
         'a “free” reading is now at least as much evidence for occupied as an occupied one.']);
     }
-    if (full) notes.push(['full', `The table holds at most ${MAX_READINGS} readings: undo or clear to add more.`]);
+    if (full) notes.push(['full', `The filter takes at most ${MAX_READINGS} readings: undo or clear to add more.`]);
     this.notices.replaceChildren(...notes.map(([kind, text]) => el('li', { class: `cell-filter-notice cell-filter-notice-${kind}`, dataset: { kind } }, text)));
     this.dataset.notices = notes.map(([k]) => k).join(' ');
     this.summary.textContent =

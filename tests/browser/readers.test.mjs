@@ -144,7 +144,7 @@ test('controls both Map Weaver panes have are named by pane', async () => {
   await close();
 });
 
-test('the cell filter says when the cell reaches the clamp, labels p, caps the table and warns of an inverted model', async () => {
+test('the cell filter says when the cell reaches the clamp, labels p and warns of an inverted model', async () => {
   const { page, errors, close } = await openPage('/');
   const w = await widget(page, 'occgrid-cell-filter', 'l');
   await w.getByRole('button', { name: 'Clear readings' }).click();
@@ -163,10 +163,6 @@ test('the cell filter says when the cell reaches the clamp, labels p, caps the t
   assert.equal(await meter.getAttribute('aria-valuetext'), 'p = 1.0000');
   assert.match(await meter.getAttribute('aria-label'), /probability that the cell is occupied/);
 
-  for (let i = 0; i < 30; i++) if (await occupied.isEnabled()) await occupied.click();
-  assert.equal(await w.locator('.cell-filter-table tbody tr').count(), 41, 'at most 40 readings');
-  assert.ok(await occupied.isDisabled());
-  assert.equal(await w.locator('.cell-filter-notice-full').count(), 1);
 
   await w.getByLabel('p(m | free reading)').fill('0.8');
   const inverted = w.locator('.cell-filter-notice-inverted');
