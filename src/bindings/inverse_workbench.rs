@@ -61,13 +61,14 @@ impl InverseWorkbench {
     /// the occupied fraction `density` (0 to 0.6; 0 keeps the buildings as
     /// drawn) and returns the readout. On an error the current model stays.
     #[wasm_bindgen(js_name = setDensity)]
-    pub fn set_density(&mut self, density: f64) -> Result<JsValue, JsError> {
+    pub fn set_density(&mut self, density: JsValue) -> Result<JsValue, JsError> {
+        let density = number_from_js("density", &density)?;
         self.session.set_density(density, &now_ms)?;
         self.readout()
     }
 
     /// `{ run: { seed, triplets, epochs, maps, mapOccupancy, noReturns,
-    /// occupiedFraction, sampleMs, fitMs, trainMs }, learned: { l0,
+    /// occupiedFraction, sampleMs, fitMs, trainMs, density }, learned: { l0,
     /// shortReading, freeEvidenceShort, freeEvidenceMaxRange, bandEnd },
     /// handL0, zMax, halfWidth, handHalfWidth, learnedHalfWidth, alpha,
     /// weights }`.

@@ -1,7 +1,7 @@
 //! Bindings of the two-cell table (SPEC §6): the exact joint posterior of a
 //! few cells against the product of their marginals.
 
-use super::{object_from_js, to_js};
+use super::{object_from_js, string_from_js, to_js};
 use crate::apps::two_cell_table::{preset, two_cell_report};
 use crate::mapping::joint::{JointPosterior, JointQuery};
 use wasm_bindgen::prelude::*;
@@ -35,6 +35,7 @@ pub fn chapter_two_cell_query() -> Result<JsValue, JsError> {
 /// One of the table's presets (`"side"`, `"collinear"`, `"apart"`) as a
 /// query: the chapter's, with the two cells placed by the preset.
 #[wasm_bindgen(js_name = twoCellPreset)]
-pub fn two_cell_preset(name: &str) -> Result<JsValue, JsError> {
-    to_js(&preset(name)?)
+pub fn two_cell_preset(name: JsValue) -> Result<JsValue, JsError> {
+    let name = string_from_js("preset", &name, "one of side, collinear, apart")?;
+    to_js(&preset(&name)?)
 }
