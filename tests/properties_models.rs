@@ -326,7 +326,8 @@ proptest! {
             Err(e) => assert_names(&e, "clamp"),
         }
         let mut px = vec![1u8; 4 * g.len() + 1];
-        let e = occgrid::render::gray::render_binary_rgba(search.geometry(), search.occupied(), &mut px).unwrap_err();
+        let reached = vec![true; g.len()];
+        let e = occgrid::render::gray::render_binary_rgba(search.geometry(), search.occupied(), &reached, &mut px).unwrap_err();
         assert_names(&e, "pixel buffer");
         prop_assert!(px.iter().all(|&b| b == 1));
     }
@@ -391,13 +392,13 @@ proptest! {
     fn training_configs_are_checked_field_by_field(
         triplets in wild_size(), epochs in wild_size(), learning_rate in wild_f64(),
         sensor in wild_beam_params(), half_width in wild_f64(), sub_rays in wild_size(),
-        resolution in wild_f64(), seed in wild_f64(),
+        resolution in wild_f64(), seed in wild_f64(), density in wild_f64(),
     ) {
         let c = TrainingConfig {
-            seed: 1, triplets, epochs, learning_rate, sensor, half_width, sub_rays, resolution,
+            seed: 1, triplets, epochs, learning_rate, sensor, half_width, sub_rays, resolution, density,
         };
         if let Err(e) = c.validate() {
-            let mut fields = vec!["triplets", "epochs", "learning_rate", "half_width", "sub_rays", "resolution"];
+            let mut fields = vec!["triplets", "epochs", "learning_rate", "half_width", "sub_rays", "resolution", "density"];
             fields.extend(MODEL_FIELDS);
             assert_names_one_of(&e, &fields);
         }
@@ -481,7 +482,7 @@ proptest! {
         let c = TrainingConfig {
             seed, triplets, epochs, learning_rate,
             sensor: BeamModelParams { z_max, ..BeamModelParams::CHAPTER },
-            half_width, sub_rays, resolution,
+            half_width, sub_rays, resolution, density: 0.0,
         };
         let Ok(()) = c.validate() else { return Ok(()) };
         let (model, set, _) = training::train(&c).unwrap();

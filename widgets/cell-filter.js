@@ -137,13 +137,21 @@ class CellFilterElement extends HTMLElement {
     this.tbody = el('tbody');
     this.summary = el('p', { class: 'occgrid-readout', 'aria-live': 'polite' });
     this.bar = el('div');
+    this.barBox = el('div', { class: 'cell-filter-bar', role: 'meter', 'aria-valuemin': '0', 'aria-valuemax': '1', 'aria-label': 'p, the probability that the cell is occupied' }, this.bar);
+    this.barLabel = el('span', { class: 'cell-filter-bar-label' });
+    // What a reader should not miss: the cell at the clamp, a full table,
+    // an inverse model whose "free" answer says occupied.
+    this.notices = el('ul', { class: 'cell-filter-notices', 'aria-live': 'polite' });
+    this.addButtons = [
+      button('Occupied reading', () => this.add(1), { name: 'occupied' }),
+      button('Free reading', () => this.add(0), { name: 'free' }),
+    ];
     this.chartBox = el('div', { class: 'cell-filter-chart', role: 'img', 'aria-label': 'log odds after each reading' });
 
     this.append(
       el('div', { class: 'occgrid-buttons' },
         el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'readings', dataset: { controls: 'readings' } },
-          button('Occupied reading', () => this.add(1), { name: 'occupied' }),
-          button('Free reading', () => this.add(0), { name: 'free' }),
+          ...this.addButtons,
           button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
           button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' })),
         el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'presets', dataset: { controls: 'presets' } },
@@ -154,12 +162,15 @@ class CellFilterElement extends HTMLElement {
         el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'toggles' } }, this.forgetToggle.root)),
       el('div', { class: 'cell-filter-layout' },
         el('div', {},
+          // The table scrolls once it is taller than the chart beside it.
+          el('div', { class: 'occgrid-scroll cell-filter-scroll', tabindex: 0, role: 'region', 'aria-label': 'The cell after each reading' },
           el('table', { class: 'occgrid-table cell-filter-table' },
             el('caption', { class: 'occgrid-sr-only' }, 'The cell after each reading'),
             el('thead', {}, el('tr', {}, el('th', { scope: 'col' }, 'step'), el('th', { scope: 'col' }, 'reading'), el('th', { scope: 'col' }, 'l'), el('th', { scope: 'col' }, 'p'))),
-            this.tbody),
-          el('div', { class: 'cell-filter-bar', role: 'presentation' }, this.bar),
-          this.summary),
+            this.tbody)),
+          el('div', { class: 'cell-filter-bar-row' }, el('span', { 'aria-hidden': 'true' }, 'p(occupied)'), this.barBox, this.barLabel),
+          this.summary,
+          this.notices),
         this.chartBox),
       el('p', { class: 'occgrid-caption' },
         'Each reading adds the inverse model’s log odds and removes the prior l0 once. ',
@@ -168,7 +179,7 @@ class CellFilterElement extends HTMLElement {
       copyLinkControl(this, CellFilterElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
-      xLabel: 'step', yLabel: 'log odds l',
+      xLabel: 'step', yLabel: 'log odds l', wholeX: true,
       series: [{ label: 'l', color: COLORS.series[0] }, { label: 'l0', color: COLORS.l0, dash: [6, 4], width: 1.5 }],
       height: 200,
     });
@@ -234,6 +245,24 @@ class CellFilterElement extends HTMLElement {
     const last = table.steps.at(-1);
     const p = last ? last.p : priorP;
     this.bar.style.width = `${(p * 100).toFixed(1)}%`;
+    this.barLabel.textContent = fixed(p, 4);
+    this.barBox.setAttribute('aria-valuenow', String(p));
+    this.barBox.setAttribute('aria-valuetext', `p = ${fixed(p, 4)}`);
+    const full = s.readings.length >= MAX_READINGS;
+    for (const b of this.addButtons) b.disabled = full;
+    const notes = [];
+    if (table.firstAtClamp !== null && table.firstAtClamp !== undefined) {
+      const at = table.steps[table.firstAtClamp - 1];
+      notes.push(['clamp', `At the clamp: from reading ${table.firstAtClamp} on, l is held at the clamp of ±${fixed(table.clamp, 1)} (l = ${fixed(at.l, 4)}, p = ${fixed(at.p, 4)}), ` +
+        'so that a few contradicting readings can still move the cell; further readings the same way change nothing.']);
+    }
+    if (table.freeIsEvidenceForOccupied) {
+      notes.push(['inverted', `p(m | free reading) = ${fixed(s.pFree, 2)} is not below p(m | occupied reading) = ${fixed(s.pOcc, 2)}: ` +
+        'a “free” reading is now at least as much evidence for occupied as an occupied one.']);
+    }
+    if (full) notes.push(['full', `The filter takes at most ${MAX_READINGS} readings: undo or clear to add more.`]);
+    this.notices.replaceChildren(...notes.map(([kind, text]) => el('li', { class: `cell-filter-notice cell-filter-notice-${kind}`, dataset: { kind } }, text)));
+    this.dataset.notices = notes.map(([k]) => k).join(' ');
     this.summary.textContent =
       `l_occ = ${fixed(table.lOcc, 4)}, l_free = ${fixed(table.lFree, 4)}, l0 = ${fixed(table.l0, 4)}. ` +
       (last ? `After ${last.step} reading${last.step === 1 ? '' : 's'}: l = ${fixed(last.l, 4)}, p = ${fixed(last.p, 4)}.` : 'No readings yet.');

@@ -170,11 +170,11 @@ class DoorwayTrapElement extends HTMLElement {
     this.panes = {
       sweep: pane('sweep', 'Table 9.1, swept', '· every cell, the nearest 22° cone, Table 9.2', 'Export the swept map', [
         sweepStep, this.sweepPlay,
-        button('Reset', () => { this.pause('sweep'); this.trap?.sweepReset(); this.lastScan = null; this.draw(); }, { name: 'sweep-reset', title: 'Back to the empty grid' }),
+        button('Reset sweep', () => { this.pause('sweep'); this.trap?.sweepReset(); this.lastScan = null; this.draw(); }, { name: 'sweep-reset', title: 'Back to the empty grid' }),
       ]),
       map: pane('map', 'MAP, hill climbing', '· Table 9.3, one flip at a time', 'Export the MAP map', [
         mapStep, this.mapPlay,
-        button('Reset', () => { this.pause('map'); this.trap?.mapReset(); this.lastFlip = null; this.draw(); }, { name: 'map-reset', title: 'Back to the all-free start' }),
+        button('Reset MAP', () => { this.pause('map'); this.trap?.mapReset(); this.lastFlip = null; this.draw(); }, { name: 'map-reset', title: 'Back to the all-free start' }),
       ]),
     };
     this.hoverOut = el('p', { class: 'occgrid-readout doorway-trap-hover', 'aria-live': 'polite' }, HOVER_HINT);
@@ -193,12 +193,15 @@ class DoorwayTrapElement extends HTMLElement {
         'The swept grid paints a cone’s whole arc at its reading: a cone that clips a door jamb reads the jamb’s range, so its arc crosses the doorway, and a one-cell wall closes the door. ',
         'The MAP climb asks instead which single binary map makes all readings most probable under the forward model: one occupied jamb cell explains a clipped cone, ',
         'and an occupied doorway cell would contradict the cone that reads the far wall straight through the door. ',
+        'The MAP map holds no uncertainty about the cells it decided: each is free or occupied, nothing in between; ',
+        'gray cells are the ones no cone ever reached, about which it decides nothing (its export marks them unknown). ',
+        'J(m), the objective, is the log posterior of the binary map up to a constant: the sum over every reading of log p(z | x, m) under the forward model, plus l0 for each occupied cell (the prior of independent cells); each flip is the one that raises it most, and the bars show which readings its flip made more or less probable. ',
         'A red square is a cell the climb set occupied, a purple one a cell it cleared again; the yellow square is the latest flip, with the beams it changed (green raised, red dashed lowered).'),
       (this.twoCell = new TwoCellTable(this, this.values)).root,
       copyLinkControl(this, DoorwayTrapElement.attributeSpec, () => this.linkState()),
     );
 
-    this.bars = barChart(this.barBox, { title: 'Δ log p(z | x, m) per beam (stop.sonar), nats', yLabel: 'Δ nats', height: 170 });
+    this.bars = barChart(this.barBox, { title: 'Δ log p(z | x, m) per beam, nats', yLabel: 'Δ nats', height: 170 });
     // Bars are read against zero: keep 0 inside the y range (raised beams
     // above, lowered ones below), whatever the data's own extent.
     this.bars.plot.scales.y.range = (u, min, max) => {
@@ -208,7 +211,7 @@ class DoorwayTrapElement extends HTMLElement {
       return [lo < 0 ? lo - pad : 0, hi > 0 ? hi + pad : 0];
     };
     this.curve = lineChart(this.curveBox, {
-      title: 'Objective J(m) over flips', xLabel: 'flip', yLabel: 'J, nats', height: 170,
+      title: 'Objective J(m) over flips', xLabel: 'flip', yLabel: 'J, nats', height: 170, wholeX: true,
       series: [{ label: 'J(m)', color: COLORS.series[0] }],
     });
     this.resizer = followResize(this.querySelector('.doorway-trap-panes'), () => this.layout());
@@ -240,6 +243,7 @@ class DoorwayTrapElement extends HTMLElement {
       this.trap?.free();
       this.trap = next;
       this.view = next.view();
+      this.unreached = next.unreachedCells();
       clearError(this);
     } catch (e) {
       showError(this, e);
@@ -369,9 +373,10 @@ class DoorwayTrapElement extends HTMLElement {
     map.canvas.setAttribute('aria-label',
       `MAP map (Table 9.3) after ${flips} flip${flips === 1 ? '' : 's'}: ${st.occupied} cells occupied, ${r.mapInDoorway} in the doorway, ` +
       `${r.mapOnFarWall} on the far wall behind it; J = ${fixed(st.objective, 3)} nats${st.converged ? ', a local maximum' : ''}. ` +
-      `White free, black occupied; orange outlines the true walls. ${MAP_HINT}`);
+      `White free, black occupied, gray the ${this.unreached} cells no cone reached; orange outlines the true walls. ${MAP_HINT}`);
 
     Object.assign(this.dataset, {
+      unreached: String(this.unreached),
       scan: String(r.scansDone), sweepClosed: String(r.sweepClosed), doorCells: String(r.doorCells),
       flips: String(flips), objective: String(st.objective), converged: String(st.converged),
       mapInDoorway: String(r.mapInDoorway), mapOnFarWall: String(r.mapOnFarWall),
@@ -393,14 +398,14 @@ class DoorwayTrapElement extends HTMLElement {
     if (f) {
       for (const b of f.beams) {
         const beam = this.view.beams[b.beam];
-        labels.push(`${beam.scan + 1}.${beam.sonar + 1}`);
+        labels.push(`scan ${beam.scan + 1}\nbeam ${beam.sonar + 1}`);
         values.push(b.delta);
       }
       if (f.priorTerm !== 0) { labels.push('prior'); values.push(f.priorTerm); }
     }
     this.bars.setData(labels, values);
     this.barBox.setAttribute('aria-label', f
-      ? `Change of each beam’s log likelihood for flip ${f.number}, nats: ` + labels.map((l, i) => `${l === 'prior' ? 'prior' : `beam ${l}`} ${values[i] >= 0 ? '+' : ''}${fixed(values[i], 3)}`).join(', ') + '.'
+      ? `Change of each beam’s log likelihood for flip ${f.number}, nats: ` + labels.map((l, i) => `${l.replace('\n', ', ')} ${values[i] >= 0 ? '+' : ''}${fixed(values[i], 3)}`).join(', ') + '.'
       : 'Change of each beam’s log likelihood for the latest flip: no flip yet.');
     Object.assign(this.barBox.dataset, { flip: String(f ? f.number : 0), bars: String(values.length), values: JSON.stringify(values) });
     const xs = st.history.map((_, i) => i);

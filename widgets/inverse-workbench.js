@@ -4,15 +4,17 @@
 //
 // Two images over the beam's neighbourhood (range along x, bearing offset
 // along y) show what one reading adds to each cell, in log odds, on one
-// shared scale: white is free, black occupied, mid-gray nothing. Below, both
+// fixed scale (the core's, the same at every reading, stated on the
+// legend): white is free, black occupied, mid-gray nothing. Below, both
 // models' log odds along the beam axis with their priors l0 (blue). The
 // reader moves the reading, tries a max-range reading (a no-return), and
-// retrains the learned model with another seed. The core trains the model
+// retrains the learned model with another seed or on denser training maps
+// (its l0 follows the maps' density). The core trains the model
 // and computes every value drawn; this module lays them out. Nothing moves
 // by itself; training waits until the widget is first on screen.
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
-// reading, seed, zoom, controls.
+// reading, seed, density, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
@@ -33,6 +35,9 @@ const IMAGE_HEIGHT = 150;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
+/** Densest training maps the core fills (an occupied fraction). */
+const MAX_DENSITY = 0.6;
+const densityText = (d) => (d === 0 ? 'buildings as drawn' : `boxes to ${Math.round(100 * d)}%`);
 
 const deg = (rad) => (rad * 180) / Math.PI;
 
@@ -40,6 +45,7 @@ class InverseWorkbenchElement extends HTMLElement {
   static attributeSpec = {
     reading: { type: number(0.2, Z_MAX, { step: 0.05, unit: 'm' }), default: '2.00', doc: `the reading z, metres (at ${Z_MAX}, the sensor’s z_max: a no-return)` },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
+    density: { type: number(0, MAX_DENSITY, { step: 0.05 }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)' },
     zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
   };
@@ -58,6 +64,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.values = this.attrs.read();
     this.z = this.values.reading;
     this.seed = this.values.seed;
+    this.density = this.values.density;
     this.zoom = this.values.zoom;
     this.build();
     applyControls(this, this.values.controls);
@@ -92,6 +99,9 @@ class InverseWorkbenchElement extends HTMLElement {
       this.zoom = v;
       this.zoomToggle.input.checked = v;
       this.requestDraw();
+    } else if (name === 'density') {
+      this.densitySlider.set(v);
+      if (this.bench && v !== this.info?.run.density) this.retrainDensity(v);
     } else if (name === 'seed') {
       this.seed = v;
       this.seedInput.value = String(v);
@@ -105,6 +115,7 @@ class InverseWorkbenchElement extends HTMLElement {
     return {
       reading: this.z.toFixed(2),
       seed: this.info?.run.seed ?? this.seed,
+      density: String(this.info?.run.density ?? this.density),
       zoom: this.zoom ? 'on' : 'off',
       controls: formatControls(this.values.controls, GROUPS),
     };
@@ -127,6 +138,15 @@ class InverseWorkbenchElement extends HTMLElement {
     this.retrainButton = button('Retrain', () => this.retrain(), { name: 'retrain', title: 'Sample 24,000 new training triplets with this seed and fit the model again' });
     this.status = el('p', { class: 'occgrid-readout inverse-workbench-status', 'aria-live': 'polite' }, 'Training the learned model…');
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
+    this.densitySlider = slider({
+      label: 'Training-map density', min: 0, max: MAX_DENSITY, step: 0.05, value: this.density,
+      format: densityText, name: 'density',
+    });
+    // Retraining takes a tenth of a second: on release (or each key press),
+    // not on every pixel of a drag.
+    this.densitySlider.input.addEventListener('change', () => this.retrainDensity(this.densitySlider.value));
+    this.densitySlider.root.dataset.controls = 'retrain';
+    this.scaleText = el('p', { class: 'occgrid-caption inverse-workbench-scale-text' });
 
     const pane = (key, title) => {
       const canvas = el('canvas', { class: 'inverse-workbench-image', role: 'img', 'aria-label': `${title} inverse model: what one reading adds to the cells around the beam; not drawn yet.` });
@@ -152,20 +172,24 @@ class InverseWorkbenchElement extends HTMLElement {
       el('div', { class: 'occgrid-controls' },
         el('div', { class: 'occgrid-control', dataset: { controls: 'retrain' } }, el('label', { for: seedId }, 'Seed'), this.seedInput),
         this.retrainButton,
+        this.densitySlider.root,
         el('span', { class: 'occgrid-readout' }, 'learned l0 = ', this.l0Out)),
       this.status,
       el('div', { class: 'inverse-workbench-panes' }, this.panes.map((p) => p.root)),
       el('div', { class: 'inverse-workbench-scale' }, this.legend),
+      this.scaleText,
       this.chartTitle,
       this.chartBox,
       el('p', { class: 'occgrid-caption' },
         'Each image is one beam seen from above: range to the right, bearing offset up and down (left of the beam is up), ',
         'coloured by the evidence one reading adds to a cell, in log odds net of the model’s prior l0 — white free, black occupied, ',
-        'mid-gray nothing, the same scale for both. Green: the beam axis, the reading, and the edges of each model’s field. ',
+        'mid-gray nothing, one fixed scale for both models and every reading. Green: the beam axis, the reading, and the edges of each model’s field. ',
         'Table 9.2 is a hard-edged cone with a step at the reading. The learned model was never told an obstacle’s thickness or the beam’s width: ',
         'its free-to-occupied ramp is soft, its occupied band sits a little past the reading, its evidence gathers near the axis, ',
         'and its own l0 is negative — the prior of the maps it was trained on. Try a max-range reading: one training reading in twenty was a ',
-        'dropout from a real obstacle, so the learned model hardly trusts a no-return to mean free space.'),
+        'dropout from a real obstacle, so the learned model hardly trusts a no-return to mean free space. ',
+        'The learned l0 is the prior of the training maps: thin-walled buildings are mostly empty floor (about −1.9); ',
+        'fill them with boxes using the density slider and l0 follows — at 45% occupied, the chapter’s dense map prior, it lands near −0.3.'),
       copyLinkControl(this, InverseWorkbenchElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
@@ -189,13 +213,22 @@ class InverseWorkbenchElement extends HTMLElement {
     requestAnimationFrame(() => setTimeout(task, 0));
   }
 
-  /** Trains (or retrains) the learned model with `seed`. */
-  train(seed) {
+  /** Retrains the learned model, same seed, on training maps filled to `density`. */
+  retrainDensity(density) {
+    this.status.textContent = `Training on maps of ${densityText(density)}…`;
+    this.later(() => this.train(null, density));
+  }
+
+  /** Trains (or retrains) the learned model with `seed`, or on maps of `density` when `seed` is null. */
+  train(seed, density) {
     this.retrainButton.disabled = true;
     let trained = false;
     try {
       if (!this.bench) {
         this.bench = new this.core.InverseWorkbench(seed);
+        if (this.densitySlider.value !== 0) this.bench.setDensity(this.densitySlider.value);
+      } else if (seed === null) {
+        this.bench.setDensity(density);
       } else {
         this.bench.retrain(seed);
       }
@@ -216,11 +249,13 @@ class InverseWorkbenchElement extends HTMLElement {
       return;
     }
     const { run, learned } = this.info;
+    this.densitySlider.set(run.density);
+    this.dataset.density = String(run.density);
     this.l0Out.textContent = fixed(learned.l0, 3);
     this.dataset.seed = String(run.seed);
     this.dataset.learnedL0 = String(learned.l0);
     this.status.textContent =
-      `Learned from ${run.triplets.toLocaleString('en')} triplets in ${run.maps} sampled maps (${fixed(100 * run.mapOccupancy, 1)}% occupied), ` +
+      `Learned from ${run.triplets.toLocaleString('en')} triplets in ${run.maps} sampled maps (${densityText(run.density)}: ${fixed(100 * run.mapOccupancy, 1)}% occupied), ` +
       `seed ${run.seed}, ${run.epochs} epochs of SGD: ${fixed(run.trainMs, 0)} ms ` +
       `(sampling ${fixed(run.sampleMs, 0)} ms, fitting ${fixed(run.fitMs, 0)} ms). ` +
       `Mean free evidence along the axis: ${fixed(learned.freeEvidenceShort, 2)} in front of a ${fixed(learned.shortReading, 0)} m reading, ` +
@@ -291,6 +326,10 @@ class InverseWorkbenchElement extends HTMLElement {
         `Prior l0 ${fixed(l0, 3)}; colour scale ±${fixed(v.scale, 2)} log odds, white free, black occupied.`);
     }
     this.colourBar(width, v.scale);
+    this.scaleText.textContent =
+      `Colour scale: ±${fixed(v.scale, 2)} log odds, the same at every reading (white −${fixed(v.scale, 2)}, black +${fixed(v.scale, 2)}); ` +
+      `the strongest evidence at this reading is ${fixed(v.strongest, 2)}` +
+      (v.strongest > v.scale ? ', drawn at the end of the scale.' : '.');
     const xs = Array.from(v.rangeAxis);
     this.chart.setData(xs, Array.from(v.handAxis), Array.from(v.learnedAxis), xs.map(() => v.handL0), xs.map(() => v.learnedL0));
     this.chartTitle.textContent = `Log odds along the beam axis for a reading of ${fixed(this.z, 2)} m${atMax ? ' (max range: a no-return)' : ''}`;
@@ -412,9 +451,9 @@ class InverseWorkbenchElement extends HTMLElement {
     ctx.textBaseline = 'top';
     ctx.textAlign = 'center';
     ctx.fillText(`−${fixed(scale, 2)} free`, x0 + 30, 17);
-    ctx.fillText('0 evidence (log odds)', x0 + w / 2, 17);
+    ctx.fillText('0 (log odds)', x0 + w / 2, 17);
     ctx.fillText(`+${fixed(scale, 2)} occupied`, x0 + w - 36, 17);
-    this.legend.setAttribute('aria-label', `Colour scale: white is ${fixed(-scale, 2)} log odds (free), mid-gray 0, black +${fixed(scale, 2)} (occupied)`);
+    this.legend.setAttribute('aria-label', `Colour scale, the same at every reading: white is ${fixed(-scale, 2)} log odds (free), mid-gray 0, black +${fixed(scale, 2)} (occupied)`);
   }
 }
 

@@ -216,8 +216,10 @@ export class RealLogPanel {
     // Pointer events for drags and pinches, not the browser's own panning.
     this.canvas.style.touchAction = 'none';
     this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
-    this.canvas.addEventListener('blur', () => this.setCursor(null));
+    this.canvas.addEventListener('blur', () => { this.setCursor(null); this.clearCell(); });
     this.listenForViewInput();
+    // The pointer left the map: its last cell would go on being read out.
+    this.canvas.addEventListener('pointerleave', () => { if (!this.cursor) this.clearCell(); });
     this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
     // The corrected map beside a dead-reckoned one: drawn whole, not
     // operated (hover, zoom, cursor, scrub and export act on the map of the
@@ -491,8 +493,7 @@ export class RealLogPanel {
     // so does the last cell read out.
     this.pixels = null;
     this.cursor = null;
-    this.readout.textContent = READOUT_HINT;
-    for (const k of ['ix', 'iy', 'l', 'p', 'updates']) delete this.readout.dataset[k];
+    this.clearCell();
     if (!this.geometry) {
       this.canvas.hidden = true;
       this.scrub.input.disabled = true;
@@ -852,6 +853,18 @@ export class RealLogPanel {
       `${count(c.updates)} update${c.updates === 1 ? '' : 's'}`;
   }
 
+  /** The cell readout with no cell pointed at (its values would be stale). */
+  clearCell() {
+    this.readout.textContent = READOUT_HINT;
+    for (const k of ['x', 'y', 'ix', 'iy', 'l', 'p', 'updates']) delete this.readout.dataset[k];
+  }
+
+  /** After a rebuild or a scrub: the keyboard cursor's cell read again, else no cell. */
+  rereadCell() {
+    if (this.cursor) this.readCell(this.cursor.col, this.cursor.row);
+    else this.clearCell();
+  }
+
   /** A control moved: rebuild with the new settings (the core validates them). */
   change(patch) {
     this.settings = { ...this.settings, ...patch };
@@ -878,7 +891,15 @@ export class RealLogPanel {
       return;
     }
     this.layout();
-    await this.buildToTarget(run);
+    // The load's timing line was for the settings it was mapped with.
+    const t0 = performance.now();
+    this.timing.textContent = '';
+    this.clearCell();
+    const built = await this.buildToTarget(run);
+    if (!built || run !== this.run) return;
+    this.timing.textContent =
+      `Rebuilt with the new settings (${this.applied.resolution} m cells): ${count(built.scansDone)} scans mapped in ${(performance.now() - t0).toFixed(0)} ms.`;
+    this.rereadCell();
   }
 
   syncControls() {
@@ -899,7 +920,9 @@ export class RealLogPanel {
     } catch (e) {
       return void showError(this.root, e, 'scrub: ');
     }
+    this.clearCell();
     await this.buildToTarget(run);
+    if (run === this.run) this.rereadCell();
   }
 
   exportMap() {

@@ -61,6 +61,8 @@ const SPOKEN_POSES = { oracle: 'at the true poses', 'dead-reckoning': 'at the de
 
 /** How a map canvas is operated, for its text alternative. */
 const CURSOR_HINT = 'Gray is unknown, white free, black occupied. Arrow keys move a cursor cell whose values are read out below the maps.';
+/** The hover line while no cell is pointed at. */
+const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.';
 const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'log-source', 'log-settings', 'export', 'link'];
 /** Every pane attribute, per side, and the pane setting it sets. */
 const PANE_FIELDS = { model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength' };
@@ -268,8 +270,7 @@ class MapWeaverElement extends HTMLElement {
     this.loop = frameLoop(this, (dt) => this.tick(dt));
 
     this.panes = SIDES.map((side, k) => this.buildPane(side, k));
-    this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite' },
-      'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.');
+    this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite' }, HOVER_HINT);
     this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart', role: 'img', 'aria-label': 'Map entropy over time: no scans yet.' });
 
     const playback = [
@@ -293,7 +294,14 @@ class MapWeaverElement extends HTMLElement {
         'Switch a pane to dead reckoning and its map is rebuilt from the same scans at the odometry’s poses: walls double and the corridor bends. ',
         'The far halves of the two north rooms and the closet are never seen and stay at the prior. ',
         'Changing a pane’s model or pose source rebuilds it over the scans so far. The sliders act as the lap goes on: ',
-        'a lower clamp pulls saturated cells in at once, a new strength weighs the scans still to come.'));
+        'a lower clamp pulls saturated cells in at once, a new strength weighs the scans still to come.'),
+      el('details', { class: 'occgrid-caption map-weaver-explain' },
+        el('summary', {}, 'What the readouts mean'),
+        el('ul', {},
+          el('li', {}, el('strong', {}, 'Entropy'), ': the sum over all cells of each cell’s binary entropy, in bits: 1 bit for a cell at p = 0.5, near 0 for a cell the map is sure of. It falls as the map fills in.'),
+          el('li', {}, el('strong', {}, 'Brier'), ' score: the mean of (p − truth)² over the part of the map the lap surveys (the corridor, the two south rooms and their walls), truth 1 for an occupied cell of the simulated apartment and 0 for a free one. 0 is a perfect map; a map still all at p = 0.5 scores 0.25.'),
+          el('li', {}, el('strong', {}, 'Cells visited per scan'), ': how many cells the last scan’s beams looked at (Table 9.1 runs only over the cells in a beam’s perceptual field, not the whole map): the work one scan costs.'),
+          el('li', {}, el('strong', {}, 'Core time per frame'), ': milliseconds the core spent integrating the scans of the last animation frame (several per frame at higher speeds), as this browser measured it.'))));
 
     this.logPanel = el('div', { class: 'map-weaver-log-host', hidden: true });
     this.append(modes, this.simPanel, this.logPanel,
@@ -320,6 +328,12 @@ class MapWeaverElement extends HTMLElement {
       label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: o.strength, format: (v) => `${fixed(v, 2)}×`,
       onInput: (v) => this.setPane(k, { strength: v }), name: `strength-${side}`,
     });
+    // Both panes have these controls: their names say which pane.
+    const whose = side === 'left' ? 'left map' : 'right map';
+    learned.input.setAttribute('aria-label', `Learned model, ${whose}`);
+    oracle.input.setAttribute('aria-label', `Pose oracle, ${whose}`);
+    clamp.input.setAttribute('aria-label', `Clamp l_max, ${whose}`);
+    strength.input.setAttribute('aria-label', `Evidence strength, ${whose}`);
     learned.root.dataset.controls = 'toggles';
     oracle.root.dataset.controls = 'toggles';
     clamp.root.dataset.controls = 'sliders';
@@ -346,6 +360,7 @@ class MapWeaverElement extends HTMLElement {
     const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox, layers: this.paneLayers(k) };
     canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
     canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
+    canvas.addEventListener('blur', () => { if (this.cursor?.pane === k) { this.cursor = null; this.draw(); } });
     canvas.addEventListener('keydown', (e) => this.keyCursor(pane, e));
     canvas.addEventListener('focus', () => {
       if (!this.cursor || this.cursor.pane !== k) this.cursor = { pane: k, col: 30, row: 35 };
@@ -626,17 +641,27 @@ class MapWeaverElement extends HTMLElement {
     // The time of each point comes from the core, at the scene's scan rate.
     const times = Array.from(this.weaver.curveTimes());
     const t = (n) => times.slice(0, n);
-    const e0 = this.weaver.entropyCurve(0);
-    const e1 = this.weaver.entropyCurve(1);
-    this.entropyChart.setData(t(e0.length), Array.from(e0), Array.from(e1));
+    // The curves hold one point per scan, taken as the scan came in; a
+    // slider moved since (while paused, say) has changed the maps, so
+    // each curve ends at the core's value now, as the readouts do.
+    const now = (curve, value) => {
+      const a = Array.from(curve);
+      if (a.length) a[a.length - 1] = value;
+      return a;
+    };
+    const e0 = now(this.weaver.entropyCurve(0), r.panes[0].entropyBits);
+    const e1 = now(this.weaver.entropyCurve(1), r.panes[1].entropyBits);
+    this.entropyChart.setData(t(e0.length), e0, e1);
+    this.entropyBox.dataset.last = JSON.stringify([e0[e0.length - 1] ?? null, e1[e1.length - 1] ?? null]);
     this.entropyBox.setAttribute('aria-label',
       `Map entropy over time, after ${fixed(r.time, 1)} s of driving: left map ${bits(r.panes[0].entropyBits)} bits, ` +
       `right map ${bits(r.panes[1].entropyBits)} bits.`);
     r.panes.forEach((pr, k) => {
       const flat = this.weaver.trackedHistory(k);
       const n = flat.length / 3;
-      const series = [0, 1, 2].map((j) => Array.from({ length: n }, (_, i) => flat[3 * i + j]));
+      const series = [0, 1, 2].map((j) => now(Array.from({ length: n }, (_, i) => flat[3 * i + j]), pr.tracked[j]));
       const p = this.panes[k];
+      p.chartBox.dataset.last = JSON.stringify(series.map((a) => a[a.length - 1] ?? null));
       p.chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
       p.chartBox.setAttribute('aria-label',
         `${p.side === 'left' ? 'Left' : 'Right'} map: log odds over time of three cells, now ` +
@@ -662,11 +687,18 @@ class MapWeaverElement extends HTMLElement {
     this.draw();
   }
 
+  /** The hover line with no cell under the pointer or the keyboard cursor. */
+  clearHover() {
+    this.hover.textContent = HOVER_HINT;
+    for (const k of ['l', 'p', 'updates']) delete this.hover.dataset[k];
+  }
+
   readCursor() {
     const c = this.cursor;
-    if (!c) return;
+    // No cell pointed at: say so, rather than keep the last cell's values.
+    if (!c) return this.clearHover();
     const info = this.weaver.cellInfo(c.pane, c.col, c.row);
-    if (!info) return;
+    if (!info) return this.clearHover();
     const side = SIDES[c.pane];
     const state = info.unknown ? 'unknown (at the prior)' : info.p > 0.5 ? 'leaning occupied' : 'leaning free';
     this.hover.textContent =

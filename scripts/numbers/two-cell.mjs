@@ -1,6 +1,7 @@
 // The independence trap (SPEC §6): the chapter's two-cell case — cells A and
 // B side by side at 2 m in one 22° sonar cone, prior 0.5, one reading of
-// 2.0 m — and, with `--joint FILE.json`, any query of the same form:
+// 2.0 m — and the collinear preset (A at 1 m and B at 2 m on the axis) —
+// and, with `--joint FILE.json`, any query of the same form:
 //   { "prior": 0.5, "beta_deg": 22, "cells": [{ "range": 2.0, "bearing_deg": -3 }, ...],
 //     "readings": [2.0], "model": { optional forward-model fields } }
 // answered alone as { joint, marginals, allFreeTrue, allFreeFactored }, the
@@ -25,7 +26,19 @@ export default async function (core, args = []) {
     }
   }
   const a = core.jointAnswer(core.chapterTwoCellQuery());
+  // The collinear preset (the chapter's exercise): A at 1 m and B at 2 m on
+  // the beam axis, reading 2.0 m; its table as the page shows it.
+  const c = core.jointPosterior(core.twoCellPreset('collinear'));
   return {
+    twoCellCollinear: {
+      cells: core.twoCellPreset('collinear').cells,
+      joint: c.joint,
+      marginals: c.marginals,
+      bothOccupiedTrue: c.allOccupiedTrue,
+      bothOccupiedFactored: c.allOccupiedFactored,
+      bothFreeTrue: c.allFreeTrue,
+      bothFreeFactored: c.allFreeFactored,
+    },
     twoCell: {
       joint: a.joint,
       marginals: a.marginals,

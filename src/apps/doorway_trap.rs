@@ -11,6 +11,7 @@ use crate::io::map_server::{map_server_pair, MapServerPair};
 use crate::mapping::map_search::{Flip, MapSearch, MapSearchSettings};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
+use crate::render::gray::render_binary_rgba;
 use crate::render::overlay::{ImageCell, ImagePoint, RayMark};
 use crate::scenes::doorway::DoorwayScene;
 use crate::sensors::beam_model::BeamModelParams;
@@ -209,15 +210,41 @@ pub struct DoorwayTrapSession {
     scene: DoorwayScene,
     sweep: DoorwaySweep,
     search: MapSearch,
+    /// Whether any reading's cone crosses each cell (the search's
+    /// incidence, fixed for the scene).
+    reached: Vec<bool>,
 }
 
 impl DoorwayTrapSession {
     pub fn new(scene: DoorwayScene) -> Result<Self> {
+        let search = map_search(&scene)?;
+        let reached = (0..search.geometry().len())
+            .map(|i| search.beams_through(i) > 0)
+            .collect();
         Ok(Self {
             sweep: DoorwaySweep::new(&scene)?,
-            search: map_search(&scene)?,
+            search,
+            reached,
             scene,
         })
+    }
+
+    /// Draws the MAP map into `out` (RGBA, north up): occupied black, free
+    /// white, and mid-gray where no cone ever reached, as its export marks
+    /// those cells unknown.
+    pub fn map_render(&self, out: &mut Vec<u8>) -> Result<()> {
+        out.resize(self.search.geometry().len() * 4, 0);
+        render_binary_rgba(
+            self.search.geometry(),
+            self.search.occupied(),
+            &self.reached,
+            out,
+        )
+    }
+
+    /// Cells no reading's cone crosses: what the MAP map cannot decide.
+    pub fn unreached_cells(&self) -> usize {
+        self.reached.iter().filter(|&&r| !r).count()
     }
 
     pub fn scene(&self) -> &DoorwayScene {
@@ -411,6 +438,26 @@ pub fn view(scene: &DoorwayScene) -> Result<DoorwayView> {
 mod tests {
     use super::*;
     use crate::geometry::Pose;
+    use crate::render::gray::UNKNOWN_GRAY;
+
+    /// The MAP pane draws the cells no cone reached gray, exactly the cells
+    /// its export marks unknown (584 of 2,000 in the chapter's room).
+    #[test]
+    fn the_map_pane_draws_unreached_cells_as_its_export_marks_them() {
+        let mut s = DoorwayTrapSession::new(DoorwayScene::standard()).unwrap();
+        s.map_run(10_000);
+        let mut px = Vec::new();
+        s.map_render(&mut px).unwrap();
+        let gray = px.chunks(4).filter(|p| p[0] == UNKNOWN_GRAY).count();
+        assert_eq!(gray, s.unreached_cells());
+        let pgm = s.export_map("map").unwrap();
+        let unknown = pgm.pgm[pgm.pgm.len() - px.len() / 4..]
+            .iter()
+            .filter(|&&b| b == 205)
+            .count();
+        assert_eq!(gray, unknown, "the pane and its export agree");
+        assert!(gray > 0, "the room has corners no cone reaches");
+    }
 
     #[test]
     fn scenes_too_large_to_step_interactively_are_refused_before_any_work() {

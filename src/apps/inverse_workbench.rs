@@ -1,6 +1,6 @@
 //! The inverse-model workbench session (Table 9.2 against §9.3): both
 //! models for one beam, trained and timed, with everything the widget shows:
-//! the evidence images rendered on one shared scale, the log odds along the
+//! the evidence images rendered on one fixed scale ([`EVIDENCE_SCALE`]), the log odds along the
 //! beam axis, the mean free evidence in front of the reading, and the
 //! training run's figures.
 
@@ -10,6 +10,15 @@ use crate::inverse::training::{self, ModelSummary, TrainingConfig};
 use crate::inverse::{HandCrafted, InverseModel, LearnedInverse};
 use crate::render::evidence::render_evidence_rgba;
 
+/// The images' colour scale, log odds: `+4` black, `-4` white, whatever the
+/// reading. A scale fitted to each reading's strongest cell would swing
+/// from about 0.8 at a max-range reading to 4 at a short one, and draw a
+/// max-range reading's faint free evidence as strongly white as a short
+/// reading's: the opposite of what the image is for (the learned model
+/// hardly trusts a no-return). Both models' evidence stays within it but
+/// for a few cells next to the sensor, which are drawn at its ends.
+pub const EVIDENCE_SCALE: f32 = 4.0;
+
 /// What the readout says about the last training run.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
@@ -18,6 +27,9 @@ pub struct TrainingRun {
     pub triplets: usize,
     pub epochs: usize,
     pub maps: usize,
+    /// The occupied fraction the training maps were filled to (0: the
+    /// buildings as drawn).
+    pub density: f64,
     pub map_occupancy: f64,
     pub no_returns: f64,
     pub occupied_fraction: f64,
@@ -54,8 +66,12 @@ pub struct WorkbenchView {
     pub images: [Vec<u8>; 2],
     /// Log odds along the axis: hand-crafted, learned.
     pub axes: [Vec<f32>; 2],
-    /// The images' shared colour scale: `+scale` black, `-scale` white.
+    /// The images' colour scale, [`EVIDENCE_SCALE`]: `+scale` black,
+    /// `-scale` white.
     pub scale: f32,
+    /// The largest `|evidence|` of either model at this reading (cells
+    /// beyond `scale` are drawn at its ends).
+    pub strongest: f32,
     pub range_axis: Vec<f32>,
     pub bearing_axis: Vec<f32>,
     /// Mean evidence in front of the reading (`None` when the reading is
@@ -85,6 +101,7 @@ fn train(config: &TrainingConfig, now: &dyn Fn() -> f64) -> Result<(LearnedInver
         triplets: set.triplets.len(),
         epochs: config.epochs,
         maps: set.maps,
+        density: config.density,
         map_occupancy: set.map_occupancy,
         no_returns: set.no_returns,
         occupied_fraction: report.occupied_fraction,
@@ -127,6 +144,23 @@ impl WorkbenchSession {
         Ok(())
     }
 
+    /// Retrains the learned model, same seed, on maps filled to `density`
+    /// (an occupied fraction from 0 to
+    /// [`crate::scenes::floor_plans::MAX_DENSITY`]; 0 keeps the buildings
+    /// as drawn). On an error the current model stays.
+    pub fn set_density(&mut self, density: f64, now: &dyn Fn() -> f64) -> Result<()> {
+        let config = TrainingConfig {
+            density,
+            ..self.config
+        };
+        config.validate()?;
+        let (learned, run) = train(&config, now)?;
+        self.config = config;
+        self.learned = learned;
+        self.run = run;
+        Ok(())
+    }
+
     pub fn run(&self) -> &TrainingRun {
         &self.run
     }
@@ -158,7 +192,7 @@ impl WorkbenchSession {
                 field,
                 lattice.ranges,
                 lattice.bearings,
-                v.scale as f64,
+                EVIDENCE_SCALE as f64,
                 image,
             )?;
         }
@@ -166,7 +200,8 @@ impl WorkbenchSession {
         Ok(WorkbenchView {
             images,
             axes: v.axes,
-            scale: v.scale,
+            scale: EVIDENCE_SCALE,
+            strongest: v.scale,
             range_axis: (0..lattice.ranges)
                 .map(|i| lattice.range(i) as f32)
                 .collect(),
@@ -206,17 +241,39 @@ mod tests {
         assert_eq!((w.run().sample_ms, w.run().fit_ms), (5.0, 5.0));
         let v = w.view(2.0, &lattice()).unwrap();
         assert_eq!(v.images[0].len(), 40 * 9 * 4);
-        // The image is the field on the shared scale: the cell with the
-        // strongest evidence of either model is black or white.
-        let strongest = v
-            .fields
+        // The image is the field on the fixed scale, pixel by pixel.
+        // (Rows are flipped, so compare the sorted grays.)
+        for (field, image) in v.fields.iter().zip(&v.images) {
+            let mut grays: Vec<u8> = image.iter().step_by(4).copied().collect();
+            let mut want: Vec<u8> = field
+                .iter()
+                .map(|e| {
+                    (128.0 - 127.0 * e / EVIDENCE_SCALE)
+                        .round()
+                        .clamp(0.0, 255.0) as u8
+                })
+                .collect();
+            grays.sort_unstable();
+            want.sort_unstable();
+            assert_eq!(grays, want);
+        }
+        // One scale at every reading: a short one, the chapter's, a
+        // no-return. (Fitted to each reading, it swung from 4.2 to 0.8.)
+        let z_max = w.readout().unwrap().z_max;
+        let views: Vec<_> = [0.2, 2.0, z_max]
             .iter()
-            .flatten()
-            .fold(0.0f32, |m, &e| m.max(e.abs()));
-        assert_eq!(strongest, v.scale);
-        let darkest = v.images.iter().flatten().step_by(4).min().copied().unwrap();
-        let lightest = v.images.iter().flatten().step_by(4).max().copied().unwrap();
-        assert!(darkest <= 1 || lightest == 255, "{darkest} {lightest}");
+            .map(|&z| w.view(z, &lattice()).unwrap())
+            .collect();
+        assert!(views.iter().all(|v| v.scale == EVIDENCE_SCALE));
+        // A no-return's free evidence is faint on that scale: no pixel of
+        // the learned image comes near white.
+        let lightest = views[2].images[1].iter().step_by(4).max().copied().unwrap();
+        assert!(lightest < 200, "max-range reading drawn {lightest}");
+        assert!(
+            views[2].strongest < 0.5 * EVIDENCE_SCALE,
+            "{}",
+            views[2].strongest
+        );
         assert!(
             v.free[1].is_some() && v.free[1].unwrap() < 0.0,
             "free space in front"
@@ -225,5 +282,21 @@ mod tests {
         w.retrain(10, &now).unwrap();
         assert_eq!(w.run().seed, 10);
         assert_ne!(w.learned(), &before, "another seed, another model");
+        // The density of the training maps moves l0 (SPEC §5).
+        let thin = w.learned().own_l0();
+        w.set_density(0.45, &now).unwrap();
+        assert_eq!((w.run().seed, w.run().density), (10, 0.45));
+        assert!(
+            w.learned().own_l0() > thin + 1.0,
+            "{thin} {}",
+            w.learned().own_l0()
+        );
+        let kept = w.learned().clone();
+        assert!(w
+            .set_density(0.9, &now)
+            .unwrap_err()
+            .to_string()
+            .contains("density"));
+        assert_eq!(w.learned(), &kept, "a bad density keeps the model");
     }
 }

@@ -6,7 +6,10 @@ use wasm_bindgen::prelude::*;
 
 /// Runs one cell's filter over `readings` (a `Uint8Array` or an array of
 /// numbers, 1 = occupied, 0 = free) and returns `{ lOcc, lFree, l0, steps:
-/// [{ step, occupied, l, p }] }`.
+/// [{ step, occupied, l, p }], clamp, firstAtClamp, freeIsEvidenceForOccupied }`:
+/// `firstAtClamp` the first step whose `l` sits at `±clamp` (null if none),
+/// `freeIsEvidenceForOccupied` whether `p_free >= p_occ`, so that a "free"
+/// reading raises the cell at least as much as an occupied one.
 #[wasm_bindgen(js_name = runCellFilter)]
 pub fn run_cell_filter_js(
     p_occ: JsValue,
@@ -88,11 +91,18 @@ pub fn run_cell_filter(
         l_free: f64,
         l0: f64,
         steps: Vec<cell_filter::CellStep>,
+        clamp: f64,
+        first_at_clamp: Option<usize>,
+        free_is_evidence_for_occupied: bool,
     }
+    let first_at_clamp = steps.iter().find(|s| s.l.abs() >= clamp).map(|s| s.step);
     to_js(&Table {
         l_occ: lo.l_occ,
         l_free: lo.l_free,
         l0: lo.l0,
+        first_at_clamp,
+        free_is_evidence_for_occupied: p_free >= p_occ,
+        clamp,
         steps,
     })
 }

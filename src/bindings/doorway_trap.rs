@@ -7,7 +7,6 @@ use super::{
     Pixels,
 };
 use crate::apps::doorway_trap::DoorwayTrapSession;
-use crate::render::gray::render_binary_rgba;
 use crate::scenes::doorway::DoorwayScene;
 use wasm_bindgen::prelude::*;
 
@@ -90,14 +89,18 @@ impl DoorwayTrap {
         Ok(self.map_run(u32::try_from(max_flips).unwrap_or(u32::MAX)))
     }
 
-    /// Renders the MAP map (black occupied, white free) and returns the
-    /// address of its RGBA bytes.
+    /// Renders the MAP map (black occupied, white free, mid-gray where no
+    /// cone reached) and returns the address of its RGBA bytes.
     #[wasm_bindgen(js_name = mapRender)]
     pub fn map_render(&mut self) -> Result<usize, JsError> {
-        let search = self.session.search();
-        self.map_pixels.resize(search.geometry().len() * 4, 0);
-        render_binary_rgba(search.geometry(), search.occupied(), &mut self.map_pixels)?;
+        self.session.map_render(&mut self.map_pixels)?;
         Ok(self.map_pixels.as_ptr() as usize)
+    }
+
+    /// Cells no reading's cone crosses (drawn gray in the MAP pane).
+    #[wasm_bindgen(js_name = unreachedCells)]
+    pub fn unreached_cells(&self) -> usize {
+        self.session.unreached_cells()
     }
 
     /// `{ flips: [...], history: [J_0, J_1, ...], objective, converged,

@@ -57,8 +57,18 @@ impl InverseWorkbench {
         self.readout()
     }
 
+    /// Retrains the learned model, same seed, on training maps filled to
+    /// the occupied fraction `density` (0 to 0.6; 0 keeps the buildings as
+    /// drawn) and returns the readout. On an error the current model stays.
+    #[wasm_bindgen(js_name = setDensity)]
+    pub fn set_density(&mut self, density: JsValue) -> Result<JsValue, JsError> {
+        let density = number_from_js("density", &density)?;
+        self.session.set_density(density, &now_ms)?;
+        self.readout()
+    }
+
     /// `{ run: { seed, triplets, epochs, maps, mapOccupancy, noReturns,
-    /// occupiedFraction, sampleMs, fitMs, trainMs }, learned: { l0,
+    /// occupiedFraction, sampleMs, fitMs, trainMs, density }, learned: { l0,
     /// shortReading, freeEvidenceShort, freeEvidenceMaxRange, bandEnd },
     /// handL0, zMax, halfWidth, handHalfWidth, learnedHalfWidth, alpha,
     /// weights }`.
@@ -73,8 +83,9 @@ impl InverseWorkbench {
     /// `{ handImage, learnedImage }` the addresses in wasm memory of their
     /// RGBA images (`ranges x bearings`, `+maxBearing` on top, on the
     /// shared scale), `{ handAxis, learnedAxis }` log odds along the axis
-    /// (`Float32Array`), `scale`: the largest `|evidence|` of the two
-    /// (their shared colour scale), `{ handL0, learnedL0 }`,
+    /// (`Float32Array`), `scale`: the images' fixed colour scale (log
+    /// odds, the same at every reading), `strongest`: the largest
+    /// `|evidence|` of the two at this reading, `{ handL0, learnedL0 }`,
     /// `{ rangeAxis, bearingAxis }` (the lattice's ranges and bearings) and
     /// `{ handFree, learnedFree }`: the mean evidence on the axis in front
     /// of the reading (null when the reading is too short to have any).
@@ -104,6 +115,7 @@ impl InverseWorkbench {
         set("handAxis", array(&v.axes[0]))?;
         set("learnedAxis", array(&v.axes[1]))?;
         set("scale", JsValue::from_f64(v.scale as f64))?;
+        set("strongest", JsValue::from_f64(v.strongest as f64))?;
         set("rangeAxis", array(&v.range_axis))?;
         set("bearingAxis", array(&v.bearing_axis))?;
         set("handFree", number(v.free[0]))?;

@@ -38,7 +38,9 @@ use super::learned::{
 use super::probes::mean_free_evidence;
 use super::HandCraftedParams;
 use crate::error::{self, invalid, Result};
-use crate::scenes::floor_plans::{is_clear_around, sample_floor_plan, POSE_CLEARANCE};
+use crate::scenes::floor_plans::{
+    add_clutter, is_clear_around, sample_floor_plan, MAX_DENSITY, POSE_CLEARANCE,
+};
 use crate::sensors::beam_model::{expected_range_along, BeamModel, BeamModelParams, BeamShape};
 use crate::world::World;
 use rand::rngs::StdRng;
@@ -67,6 +69,10 @@ pub struct TrainingConfig {
     pub sub_rays: usize,
     /// Cell size of the sampled maps, metres.
     pub resolution: f64,
+    /// Occupied fraction the sampled maps are filled to with solid boxes
+    /// ([`crate::scenes::floor_plans::add_clutter`]); 0, the default,
+    /// keeps the thin-walled buildings as drawn (about 17% occupied).
+    pub density: f64,
 }
 
 /// The default seed: chapter 9.
@@ -101,6 +107,7 @@ impl Default for TrainingConfig {
             half_width: 2.5f64.to_radians(),
             sub_rays: 3,
             resolution: 0.1,
+            density: 0.0,
         }
     }
 }
@@ -152,6 +159,13 @@ impl TrainingConfig {
         self.frame().validate()?;
         BeamShape::cone(self.half_width, self.sub_rays)?;
         error::positive("resolution", self.resolution)?;
+        if !(0.0..=MAX_DENSITY).contains(&self.density) {
+            return Err(invalid(
+                "density",
+                self.density,
+                "an occupied fraction between 0 and 0.6",
+            ));
+        }
         let cells = (self.map_side() / self.resolution).ceil();
         if !(cells * cells <= MAX_MAP_CELLS as f64) {
             return Err(invalid(
@@ -226,7 +240,9 @@ pub struct TrainingSet {
 /// [`TrainingConfig::map_side`] metres at the configured resolution.
 pub fn sample_map<R: Rng + ?Sized>(config: &TrainingConfig, rng: &mut R) -> Result<World> {
     config.validate()?;
-    sample_floor_plan(config.map_side(), config.resolution, rng)
+    let mut world = sample_floor_plan(config.map_side(), config.resolution, rng)?;
+    add_clutter(&mut world, config.density, rng)?;
+    Ok(world)
 }
 
 /// Samples the training set of `config` (step 2 of the module's recipe).
@@ -532,5 +548,47 @@ mod tests {
             e.contains("triplets x epochs") && e.contains("200000000"),
             "{e}"
         );
+    }
+
+    /// SPEC §5: the learned `l0` is the prior of the sampled maps, so a
+    /// denser prior must give a larger one, and the chapter's dense prior
+    /// (random boxes) one near -0.3 against the buildings' -1.9.
+    #[test]
+    fn the_learned_l0_follows_the_density_of_the_training_maps() {
+        let mut l0s = Vec::new();
+        for density in [0.0, 0.3, 0.45] {
+            let config = TrainingConfig {
+                density,
+                ..TrainingConfig::default()
+            };
+            let set = sample_triplets(&config).unwrap();
+            let (model, _) = fit(&config, &set).unwrap();
+            eprintln!(
+                "density {density}: occupancy {:.3} l0 {:.3}",
+                set.map_occupancy,
+                model.own_l0()
+            );
+            if density > 0.0 {
+                assert!(
+                    set.map_occupancy >= density,
+                    "{density} {}",
+                    set.map_occupancy
+                );
+            }
+            l0s.push(model.own_l0());
+        }
+        assert!(l0s.windows(2).all(|w| w[0] < w[1]), "{l0s:?}");
+        assert!(l0s[0] < -1.5, "buildings: {l0s:?}");
+        assert!(
+            (l0s[2] - -0.3).abs() < 0.35,
+            "the chapter's dense prior: {l0s:?}"
+        );
+        for bad in [-0.1, 0.61, f64::NAN] {
+            let c = TrainingConfig {
+                density: bad,
+                ..TrainingConfig::default()
+            };
+            assert!(c.validate().unwrap_err().to_string().contains("density"));
+        }
     }
 }

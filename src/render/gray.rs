@@ -41,13 +41,33 @@ pub fn render_grid_rgba(grid: &LogOddsGrid, out: &mut [u8]) -> Result<()> {
 }
 
 /// Draws a binary map (the MAP search's, Table 9.3) into RGBA pixels, north
-/// up: occupied black, free white.
+/// up: occupied black, free white, and [`UNKNOWN_GRAY`] for the free cells
+/// no reading ever `reached` (the search decided nothing about them: they
+/// are free only because it starts all-free, and its export marks them
+/// unknown).
 pub fn render_binary_rgba(
     geometry: &GridGeometry,
     occupied: &[bool],
+    reached: &[bool],
     out: &mut [u8],
 ) -> Result<()> {
-    render_gray_rgba(geometry, occupied, out, |o| if o { 0 } else { 255 })
+    if reached.len() != occupied.len() {
+        return Err(OccError::LengthMismatch {
+            field: "reached".into(),
+            expected: occupied.len(),
+            found: reached.len(),
+        });
+    }
+    let cells: Vec<(bool, bool)> = occupied
+        .iter()
+        .copied()
+        .zip(reached.iter().copied())
+        .collect();
+    render_gray_rgba(geometry, &cells, out, |(o, r)| match (o, r) {
+        (true, _) => 0,
+        (false, true) => 255,
+        (false, false) => UNKNOWN_GRAY,
+    })
 }
 
 /// Writes one gray level per cell (`gray(cell)`) into RGBA pixels, north up:
@@ -109,5 +129,15 @@ mod tests {
         assert_eq!(px[0], 128, "unknown is mid-gray even with prior 0.2");
         assert_eq!(m.update_counts()[0], 1);
         assert!(render_grid_rgba(&m, &mut [0u8; 3]).is_err());
+    }
+
+    #[test]
+    fn a_binary_map_draws_cells_no_reading_reached_unknown() {
+        let geometry = GridGeometry::new(3, 1, 1.0, 0.0, 0.0).unwrap();
+        let mut px = vec![0u8; 3 * 4];
+        let (occupied, reached) = ([true, false, false], [true, true, false]);
+        render_binary_rgba(&geometry, &occupied, &reached, &mut px).unwrap();
+        assert_eq!((px[0], px[4], px[8]), (0, 255, UNKNOWN_GRAY));
+        assert!(render_binary_rgba(&geometry, &occupied, &reached[..2], &mut px).is_err());
     }
 }

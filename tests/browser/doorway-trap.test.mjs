@@ -155,21 +155,30 @@ test('the two-cell table shows the chapter’s numbers and follows a moved cell 
   assert.equal(t.ratioText, '23.9×');
   await screenshot(w.locator('.doorway-trap-two-cell'), 'doorway-trap-two-cell-side-by-side');
 
-  // Collinear: B behind A hides, and keeps its prior.
+  // Collinear, the chapter's exercise: A at 1 m and B at 2 m on the axis.
+  // A free A and an occupied B explain the echo; the factored map finds
+  // "both occupied" about twice too likely.
   await w.getByRole('button', { name: 'Collinear' }).click();
   t = await joint(w);
   near(t.joint.reduce((a, b) => a + b, 0), 1, 1e-12, 'sum of the joint');
-  assert.ok(t.pa > 0.95, `p_A ${t.pa}`);
-  near(t.pb, 0.5, 0.02, 'p_B behind A');
+  assert.ok(t.pa < 0.05, `A in front of the echo is free: p_A ${t.pa}`);
+  assert.ok(t.pb > 0.95, `B at the echo: p_B ${t.pb}`);
+  const occ = await w.evaluate((el) => ({
+    truly: Number(el.querySelector('.doorway-trap-occ-true').dataset.value),
+    factored: Number(el.querySelector('.doorway-trap-occ-factored').dataset.value),
+  }));
+  near(occ.truly, t.joint[3], 1e-12, '"both occupied" is the table\'s 11 row');
+  assert.ok(occ.factored / occ.truly > 1.5 && occ.factored / occ.truly < 2.5, `both occupied: ${occ.factored} vs ${occ.truly}`);
   assert.equal(await w.getByRole('button', { name: 'Collinear' }).getAttribute('aria-pressed'), 'true');
+  await screenshot(w.locator('.doorway-trap-two-cell'), 'doorway-trap-two-cell-collinear');
 
-  // Drag B (now behind A at 2.5 m) in front of the echo, to about 1.2 m.
+  // Drag A (at 1 m) behind B, to about 2.5 m: it hides, and keeps its prior.
   const [from, to] = await w.evaluate((el) => {
     const f = el.twoCell.diagramFrame();
     const rect = el.querySelector('.doorway-trap-diagram').getBoundingClientRect();
     const k = rect.width / f.W;
     const at = (r, b) => { const [x, y] = f.toXY(r, b); return { x: rect.left + x * k, y: rect.top + y * k }; };
-    return [at(2.5, 0), at(1.2, 4)];
+    return [at(1.0, 0), at(2.5, 0)];
   });
   await page.mouse.move(from.x, from.y);
   await page.mouse.down();
@@ -177,8 +186,8 @@ test('the two-cell table shows the chapter’s numbers and follows a moved cell 
   await page.mouse.move(to.x, to.y, { steps: 4 });
   await page.mouse.up();
   t = await joint(w);
-  assert.ok(t.pb < 0.05, `B in front of the echo is free: p_B ${t.pb}`);
-  assert.ok(t.pa > 0.9, `A still explains the echo: p_A ${t.pa}`);
+  near(t.pa, 0.5, 0.03, 'p_A behind B');
+  assert.ok(t.pb > 0.9, `B still explains the echo: p_B ${t.pb}`);
   assert.equal(await w.getByRole('button', { name: 'Collinear' }).getAttribute('aria-pressed'), 'false');
   await screenshot(w.locator('.doorway-trap-two-cell'), 'doorway-trap-two-cell-dragged');
 

@@ -122,6 +122,8 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   assert.ok(t.exportMap('map').pgm.length > 0);
   t.free();
   refuses(() => core.jointPosterior([]), 'joint query', '[]');
+  refuses(() => core.twoCellPreset('diagonal'), 'invalid preset', 'side, collinear, apart');
+  refuses(() => core.twoCellPreset(7), 'invalid preset', 'side, collinear, apart');
   refuses(() => core.forwardDensity(1, 2, [1, 2]), 'params');
   refuses(() => core.forwardDensity(1, 2, { z_max: 'far' }), 'params.z_max');
 

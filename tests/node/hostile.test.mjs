@@ -188,6 +188,7 @@ test('the doorway trap, the fusion widget, the workbench and the cell filter nev
     ['retrain', [HOSTILE], 'seed'],
     ['view', [HOSTILE, lattice], 'z'],
     ['benchmarkTraining', [HOSTILE], 'seed'],
+    ['setDensity', [HOSTILE], 'density'],
   ], (x) => assert.ok(x.readout().run));
   refuses(() => b.view(2, { get ranges() { throw new Error('lattice trap'); } }), 'invalid lattice', 'lattice trap');
   assert.ok(b.view(2, lattice).hand.length > 0);

@@ -50,15 +50,25 @@ function followWidth(container, plot, height) {
 }
 
 /**
- * A line chart. `series` is a list of `{ label, color, dash }`; `setData(x,
- * ...ys)` replaces the data. Returns `{ plot, setData }`.
+ * Tick steps of an axis that counts (flips, steps, scans): whole numbers
+ * only, so that a short run is not labelled "2.5".
  */
-export function lineChart(container, { title, xLabel, yLabel, series, height = 180, yRange }) {
+export const WHOLE_INCRS = [1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000];
+
+/**
+ * A line chart. `series` is a list of `{ label, color, dash }`; `setData(x,
+ * ...ys)` replaces the data; `wholeX` keeps the x ticks on whole numbers.
+ * Returns `{ plot, setData }`.
+ */
+export function lineChart(container, { title, xLabel, yLabel, series, height = 180, yRange, wholeX = false }) {
+  const x = { label: xLabel };
+  if (wholeX) x.incrs = WHOLE_INCRS;
   const opts = {
     title,
     ...sizeOf(container, height),
-    scales: { x: { time: false }, y: yRange ? { range: yRange } : {} },
-    axes: [{ label: xLabel }, { label: yLabel, size: fitAxis }],
+    // A counting axis of one point still spans a whole step.
+    scales: { x: wholeX ? { time: false, range: (u, lo, hi) => [Math.floor(lo ?? 0), Math.max(Math.ceil(hi ?? 1), Math.floor(lo ?? 0) + 1)] } : { time: false }, y: yRange ? { range: yRange } : {} },
+    axes: [x, { label: yLabel, size: fitAxis }],
     legend: { live: false },
     cursor: { drag: { x: false, y: false } },
     series: [

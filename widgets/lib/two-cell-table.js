@@ -15,11 +15,8 @@ import { el, slider, button, showError, clearError, hiDpiCanvas, fixed } from '.
 import { invalidValue } from './attributes.js';
 import { drawCones } from './layers.js';
 
-/** Cell arrangements of the two-cell table (range in metres, bearing in degrees). */
-const ARRANGEMENTS = {
-  collinear: [{ range: 2.0, bearing_deg: 0 }, { range: 2.5, bearing_deg: 0 }],
-  apart: [{ range: 2.0, bearing_deg: -7 }, { range: 1.2, bearing_deg: 7 }],
-};
+/** The core's presets of the two cells (`twoCellPreset`). */
+const PRESETS = ['side', 'collinear', 'apart'];
 /** The diagram's reach, metres. */
 const DIAGRAM_RANGE = 3.1;
 /** The two-cell diagram, CSS pixels: the cone lies on its side, sensor at the left. */
@@ -138,7 +135,9 @@ export class TwoCellTable {
           el('p', { class: 'occgrid-caption' },
             'Both cells start at the prior. One echo from inside the cone says that something in it is occupied, not which cell: ',
             'the exact posterior puts almost no mass on “both free”, while the factored map, which keeps only p_A and p_B, ',
-            'multiplies them and finds “both free” many times too likely. Put B behind A and it hides; move it in front of the echo and it is simply free.'))));
+            'multiplies them and finds “both free” many times too likely. Put B behind A and it hides; move it in front of the echo and it is simply free. ',
+            '“Collinear” is the chapter’s exercise: A at 1 m and B at 2 m on the axis, reading 2.0 m. A free A and an occupied B explain the echo; ',
+            'an occupied A would have answered at 1 m, so “both occupied” is unlikely, yet the product of marginals finds it about twice too likely.'))));
   }
 
   /** Sets up the table from the attributes `arrangement`, `cells`, `reading` and `prior`. */
@@ -159,7 +158,13 @@ export class TwoCellTable {
       return;
     }
     // Cells placed where a preset puts them count as that preset.
-    const presets = { side: this.query.cells, ...ARRANGEMENTS };
+    let presets;
+    try {
+      presets = Object.fromEntries(PRESETS.map((k) => [k, this.core.twoCellPreset(k).cells]));
+    } catch (e) {
+      showError(this.host, e);
+      return;
+    }
     const same = (a, b) => a.every((c, j) => Math.abs(c.range - b[j].range) < 1e-9 && Math.abs(c.bearing_deg - b[j].bearing_deg) < 1e-9);
     const preset = Object.keys(presets).find((k) => same(v.cells, presets[k]));
     if (preset) this.setArrangement(preset);
@@ -173,7 +178,7 @@ export class TwoCellTable {
     if (!this.core) return;
     let cells;
     try {
-      cells = key === 'side' ? this.core.chapterTwoCellQuery().cells : ARRANGEMENTS[key];
+      cells = this.core.twoCellPreset(key).cells;
       if (!this.query) this.query = this.core.chapterTwoCellQuery();
     } catch (e) {
       showError(this.host, e);
@@ -203,12 +208,17 @@ export class TwoCellTable {
     this.marginalsOut.replaceChildren(
       'Marginals: p_A = ', el('output', { class: 'doorway-trap-pa', dataset: { value: String(pa) } }, fixed(pa, 4)),
       ', p_B = ', el('output', { class: 'doorway-trap-pb', dataset: { value: String(pb) } }, fixed(pb, 4)),
-      ` · shared information ${fixed(r.mutualInformationBits, 3)} bits.`);
+      ` · shared information ${fixed(r.mutualInformationBits, 3)} bits`,
+      el('span', { class: 'occgrid-caption' }, ' (how much knowing one cell tells about the other: 0 when the factored map loses nothing).'));
     this.trapOut.replaceChildren(
       '“Both free”: truly ', el('strong', { class: 'doorway-trap-free-true', dataset: { value: String(r.allFreeTrue) } }, fixed(r.allFreeTrue, 4)),
       ', factored ', el('strong', { class: 'doorway-trap-free-factored', dataset: { value: String(r.allFreeFactored) } }, fixed(r.allFreeFactored, 4)),
       ' — ', el('strong', { class: 'doorway-trap-ratio', dataset: { value: String(r.allFreeRatio) } }, `${fixed(r.allFreeRatio, r.allFreeRatio >= 10 ? 1 : 2)}×`),
-      r.allFreeRatio >= 1 ? ' too likely under the product of marginals.' : ' as likely under the product of marginals.');
+      r.allFreeRatio >= 1 ? ' too likely under the product of marginals.' : ' as likely under the product of marginals.',
+      el('br'),
+      '“Both occupied”: truly ', el('strong', { class: 'doorway-trap-occ-true', dataset: { value: String(r.allOccupiedTrue) } }, fixed(r.allOccupiedTrue, 4)),
+      ', factored ', el('strong', { class: 'doorway-trap-occ-factored', dataset: { value: String(r.allOccupiedFactored) } }, fixed(r.allOccupiedFactored, 4)),
+      ` — ${fixed(r.allOccupiedRatio, 2)}×`, r.allOccupiedRatio >= 1 ? ' too likely.' : ' as likely.');
     this.drawDiagram();
   }
 
