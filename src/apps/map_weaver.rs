@@ -108,7 +108,7 @@ pub enum SensorKind {
 pub const PANE_RESOLUTIONS: [f64; 2] = [0.10, 0.05];
 /// The cone's opening angle range, degrees.
 pub const CONE_BETA_DEG: (f64, f64) = (1.0, 30.0);
-/// How many recent scans a pane's "core time per scan" is the median of.
+/// How many recent scans a pane's "core time per scan" is the mean of.
 const SCAN_TIME_WINDOW: usize = 31;
 
 /// One pane's knobs.
@@ -575,8 +575,8 @@ pub struct PaneReadout {
     /// The pane's map size, cells (= its image's pixels).
     pub width: usize,
     pub height: usize,
-    /// Median core milliseconds per scan for this pane (its mapper and
-    /// view), when a clock is set.
+    /// Mean core milliseconds per scan for this pane over its recent scans
+    /// (its mapper and view), when a clock is set.
     pub scan_ms: Option<f64>,
     pub ghost: GhostReadout,
     /// The map's prior, log odds (the chart's reference line).
@@ -1167,7 +1167,11 @@ impl Weaver {
             forget_l0: p.settings.forget_l0,
             width: p.geometry.width(),
             height: p.geometry.height(),
-            scan_ms: median(&p.scan_ms),
+            // A mean, not a median: the page's clock may tick in steps
+            // coarser than a traversal scan, and only the mean of the
+            // rounded times keeps the small ones.
+            scan_ms: (!p.scan_ms.is_empty())
+                .then(|| p.scan_ms.iter().sum::<f64>() / p.scan_ms.len() as f64),
             ghost: self.ghost_readout(p),
             l0: p.grid.l0(),
             model_l0: p.model.l0(),
