@@ -14,7 +14,8 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
-// model, pose, clamp and strength, map-width, controls; for the real-log
+// model, pose, clamp, strength, mapper, sensor, beta, beams, resolution and
+// forget-l0, map-width, controls; for the real-log
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed.
@@ -156,7 +157,7 @@ class MapWeaverElement extends HTMLElement {
     'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: 'incidence', doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
     'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: 'corrected', doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
     'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
-    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
   static observedAttributes = Object.keys(MapWeaverElement.attributeSpec);
