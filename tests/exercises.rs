@@ -267,7 +267,7 @@ fn pane_settings_are_checked_field_by_field() {
         ),
         (
             PaneSettings {
-                resolution: 0.2,
+                resolution: Some(0.2),
                 ..ok
             },
             "panes[1].resolution",
