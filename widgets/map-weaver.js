@@ -14,7 +14,8 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
-// model, pose, clamp and strength, map-width, controls; for the real-log
+// model, pose, clamp, strength, mapper, sensor, beta, beams, resolution and
+// forget-l0, map-width, controls; for the real-log
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed.
@@ -65,7 +66,18 @@ const CURSOR_HINT = 'Gray is unknown, white free, black occupied. Arrow keys mov
 const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.';
 const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'log-source', 'log-settings', 'export', 'link'];
 /** Every pane attribute, per side, and the pane setting it sets. */
-const PANE_FIELDS = { model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength' };
+const PANE_FIELDS = {
+  model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength',
+  mapper: 'mapper', sensor: 'sensor', beta: 'betaDeg', beams: 'beams', resolution: 'resolution', 'forget-l0': 'forgetL0',
+};
+/** The pane settings only the core's setPane takes (each change rebuilds the pane). */
+const REBUILD_FIELDS = ['mapper', 'sensor', 'betaDeg', 'beams', 'resolution', 'forgetL0'];
+/** How a link writes a pane setting back, as its attribute's default is written. */
+const orAbsent = (v) => (v === null || v === undefined ? null : String(v));
+const PANE_FORMATS = { forgetL0: (v) => (v ? 'on' : 'off'), beams: orAbsent, resolution: orAbsent };
+const MAPPER_NAMES = { traversal: 'ray traversal', sweep: 'every-cell sweep' };
+/** Beam counts offered for the chapter's 60-beam LiDAR (divisors of 60; an attribute may ask for any divisor). */
+const BEAM_CHOICES = [60, 30, 20, 15, 12, 10, 6];
 
 /**
  * The real-log panel's attributes: the panel setting each sets, and how a
@@ -96,6 +108,15 @@ const logName = {
 };
 
 const count = (n) => Number(n).toLocaleString('en-US');
+
+/** Exercise 5's readout: how long the person's ghost took to fade, from the core's count. */
+function ghostText(g) {
+  const scans = (n) => `${count(n)} scan${n === 1 ? '' : 's'}`;
+  const lingering = g.lingering ? `; ${count(g.lingering)} ghost cell${g.lingering === 1 ? '' : 's'} still at p ≥ 0.5` : '';
+  if (!g.faded) return `Ghost: none has faded back below p = 0.5 yet${lingering}.`;
+  return `Ghost fade (person gone → p < 0.5): last ${scans(g.lastScans)} (${fixed(g.lastSeconds, 2)} s), ` +
+    `slowest ${scans(g.longestScans)} (${fixed(g.longestSeconds, 2)} s) over ${count(g.faded)} cell${g.faded === 1 ? '' : 's'}${lingering}.`;
+}
 const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 
@@ -104,6 +125,12 @@ const paneSpec = (side, model) => ({
   [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), default: 'oracle', doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
   [`${side}-clamp`]: { type: number(1, 16, { step: 0.5 }), default: '12', doc: `the ${side} map’s clamp l_max, log odds` },
   [`${side}-strength`]: { type: number(0.25, 3, { step: 0.25 }), default: '1', doc: `factor on the ${side} map’s evidence` },
+  [`${side}-mapper`]: { type: oneOf(['traversal', 'sweep']), default: 'traversal', doc: `how the ${side} map applies Table 9.1: along each beam’s cells (traversal) or over every cell of the map (sweep)` },
+  [`${side}-sensor`]: { type: oneOf(['lidar', 'cone']), default: 'lidar', doc: `how the ${side} map reads each range: a thin LiDAR beam, or a cone of opening ${side}-beta (Table 9.2’s β)` },
+  [`${side}-beta`]: { type: number(1, 30, { step: 1, unit: '°' }), default: '22', doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
+  [`${side}-beams`]: { type: whole(1, 4096), doc: `beams of each scan the ${side} map uses, evenly spaced: a divisor of the LiDAR’s 60; absent: all of them` },
+  [`${side}-resolution`]: { type: oneOf(['0.1', '0.05'], Number), doc: `the ${side} map’s cell size, metres; absent: the scene’s (0.1 for the chapter’s apartment)` },
+  [`${side}-forget-l0`]: { type: flag(), default: 'off', doc: `the ${side} map adds the learned model’s scores without removing its l0 (exercise 8’s mistake)` },
 });
 
 class MapWeaverElement extends HTMLElement {
@@ -130,7 +157,7 @@ class MapWeaverElement extends HTMLElement {
     'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: 'incidence', doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
     'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: 'corrected', doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
     'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
-    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model and pose source), sliders (clamp, strength), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
   static observedAttributes = Object.keys(MapWeaverElement.attributeSpec);
@@ -174,6 +201,8 @@ class MapWeaverElement extends HTMLElement {
   paneOptions(side) {
     const o = {};
     for (const [attr, field] of Object.entries(PANE_FIELDS)) o[field] = this.values[`${side}-${attr}`];
+    o.beams ??= null;
+    o.resolution ??= null;
     return o;
   }
 
@@ -199,7 +228,7 @@ class MapWeaverElement extends HTMLElement {
     } else if (/^(left|right)-/.test(name)) {
       const k = name.startsWith('left') ? 0 : 1;
       const field = PANE_FIELDS[name.replace(/^(left|right)-/, '')];
-      this.setPane(k, { [field]: value });
+      this.setPane(k, { [field]: value ?? (field === 'beams' || field === 'resolution' ? null : value) });
     } else if (['seed', 'laps', 'scene', 'scans'].includes(name) && this.weaver) this.create();
   }
 
@@ -217,7 +246,10 @@ class MapWeaverElement extends HTMLElement {
       controls: formatControls(this.values.controls, GROUPS),
     };
     SIDES.forEach((side, k) => {
-      for (const [attr, field] of Object.entries(PANE_FIELDS)) state[`${side}-${attr}`] = o.panes[k][field];
+      for (const [attr, field] of Object.entries(PANE_FIELDS)) {
+        const v = o.panes[k][field];
+        state[`${side}-${attr}`] = PANE_FORMATS[field] ? PANE_FORMATS[field](v) : v;
+      }
     });
     return { ...state, ...this.logLinkState() };
   }
@@ -328,20 +360,44 @@ class MapWeaverElement extends HTMLElement {
       label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: o.strength, format: (v) => `${fixed(v, 2)}×`,
       onInput: (v) => this.setPane(k, { strength: v }), name: `strength-${side}`,
     });
+    const mapper = select('Mapper', [['traversal', 'Ray traversal'], ['sweep', 'Every-cell sweep (Table 9.1)']], o.mapper,
+      (v) => this.setPane(k, { mapper: v }), { name: `mapper-${side}` });
+    const sensor = select('Sensor', [['lidar', 'Thin LiDAR beams'], ['cone', 'Cone of opening β']], o.sensor,
+      (v) => this.setPane(k, { sensor: v }), { name: `sensor-${side}` });
+    const beta = slider({
+      label: 'Cone opening β', min: 1, max: 30, step: 1, value: o.betaDeg, format: (v) => `${fixed(v, 0)}°`,
+      onInput: (v) => this.setPane(k, { betaDeg: v }), name: `beta-${side}`,
+    });
+    const beamChoices = BEAM_CHOICES.includes(o.beams ?? 60) ? BEAM_CHOICES : [...BEAM_CHOICES, o.beams];
+    const beams = select('Beams', beamChoices.map((b) => [String(b), `${b}`]), String(o.beams ?? 60),
+      (v) => this.setPane(k, { beams: Number(v) === 60 ? null : Number(v) }), { name: `beams-${side}` });
+    const resolution = select('Cells', [['0.1', '0.10 m'], ['0.05', '0.05 m']], String(o.resolution ?? 0.1),
+      (v) => this.setPane(k, { resolution: Number(v) }), { name: `resolution-${side}` });
+    const forget = toggle('Forget to subtract l0', o.forgetL0, (on) => this.setPane(k, { forgetL0: on }), { name: `forget-l0-${side}` });
     // Both panes have these controls: their names say which pane.
     const whose = side === 'left' ? 'left map' : 'right map';
     learned.input.setAttribute('aria-label', `Learned model, ${whose}`);
     oracle.input.setAttribute('aria-label', `Pose oracle, ${whose}`);
     clamp.input.setAttribute('aria-label', `Clamp l_max, ${whose}`);
     strength.input.setAttribute('aria-label', `Evidence strength, ${whose}`);
+    mapper.input.setAttribute('aria-label', `Mapper, ${whose}`);
+    sensor.input.setAttribute('aria-label', `Sensor, ${whose}`);
+    beta.input.setAttribute('aria-label', `Cone opening β, ${whose}`);
+    beams.input.setAttribute('aria-label', `Beams, ${whose}`);
+    resolution.input.setAttribute('aria-label', `Cell size, ${whose}`);
+    forget.input.setAttribute('aria-label', `Forget to subtract l0, ${whose}`);
     learned.root.dataset.controls = 'toggles';
     oracle.root.dataset.controls = 'toggles';
     clamp.root.dataset.controls = 'sliders';
     strength.root.dataset.controls = 'sliders';
+    for (const c of [mapper.root, sensor.root, beams.root, resolution.root, forget.root]) c.dataset.controls = 'toggles';
+    beta.root.dataset.controls = 'sliders';
     const out = (cls) => el('output', { class: `map-weaver-value map-weaver-${cls}` }, '–');
     const entropy = out('entropy');
     const brier = out('brier');
     const visited = out('visited');
+    const scanMs = out('scan-ms');
+    const ghost = el('p', { class: 'occgrid-readout map-weaver-ghost' }, 'Ghost: none has faded yet.');
     const save = exportButton({
       name: `export-${side}`, title: `Save the ${side} map as a ROS map_server PGM + YAML pair`,
       spoken: side, onClick: () => this.exportMap(k),
@@ -353,11 +409,17 @@ class MapWeaverElement extends HTMLElement {
       el('div', { class: 'map-weaver-readouts occgrid-readout' },
         el('span', {}, 'Entropy ', entropy, ' bits'),
         el('span', {}, 'Brier ', brier),
-        el('span', {}, 'Cells visited ', visited, ' per scan')),
-      el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root),
+        el('span', {}, 'Cells visited ', visited, ' per scan'),
+        el('span', {}, 'Core time ', scanMs, ' ms per scan')),
+      ghost,
+      el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root,
+        mapper.root, sensor.root, beta.root, beams.root, resolution.root, forget.root),
       chartBox,
       el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, save));
-    const pane = { side, k, root, canvas, note, learned, oracle, clamp, strength, entropy, brier, visited, chartBox, layers: this.paneLayers(k) };
+    const pane = {
+      side, k, root, canvas, note, learned, oracle, clamp, strength, mapper, sensor, beta, beams, resolution, forget,
+      entropy, brier, visited, scanMs, ghost, chartBox, layers: this.paneLayers(k),
+    };
     canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
     canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
     canvas.addEventListener('blur', () => { if (this.cursor?.pane === k) { this.cursor = null; this.draw(); } });
@@ -406,7 +468,7 @@ class MapWeaverElement extends HTMLElement {
         { label: 'right map', color: COLORS.series[1], dash: [6, 3] },
       ],
     });
-    const names = this.tracked.map((t) => t.name);
+    const names = this.tracked[0].map((t) => t.name);
     for (const p of this.panes) {
       p.chart = lineChart(p.chartBox, {
         title: `${p.side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds`, xLabel: 'time (s)', yLabel: 'log odds', height: 230,
@@ -452,7 +514,7 @@ class MapWeaverElement extends HTMLElement {
       }
       this.weaver?.free();
       this.weaver = next;
-      this.tracked = this.weaver.trackedCells();
+      this.readTracked();
       clearError(this);
     } catch (e) {
       if (next && next !== this.weaver) next.free();
@@ -488,6 +550,17 @@ class MapWeaverElement extends HTMLElement {
     return true;
   }
 
+  /** Each pane's tracked cells, in its own image units (a pane may map at 0.05 m). */
+  readTracked() {
+    this.tracked = [0, 1].map((k) => this.weaver.trackedCells(k));
+  }
+
+  /** Pane `k`'s image size in cells. */
+  paneSize(k) {
+    const [w, h] = this.weaver.paneSize(k);
+    return { w, h };
+  }
+
   /** Puts the controls in line with the options. */
   syncControls() {
     this.personToggle.input.checked = this.options.person;
@@ -498,6 +571,13 @@ class MapWeaverElement extends HTMLElement {
       p.oracle.input.checked = o.pose === 'oracle';
       p.clamp.set(o.clamp);
       p.strength.set(o.strength);
+      p.mapper.input.value = o.mapper;
+      p.sensor.input.value = o.sensor;
+      p.beta.set(o.betaDeg);
+      p.beta.root.hidden = o.sensor !== 'cone';
+      p.beams.input.value = String(o.beams ?? 60);
+      p.resolution.input.value = String(o.resolution ?? this.reading?.panes[p.k].resolution ?? 0.1);
+      p.forget.input.checked = o.forgetL0;
     }
   }
 
@@ -526,6 +606,10 @@ class MapWeaverElement extends HTMLElement {
       if ('pose' in patch) this.weaver.setPoseSource(k, o.pose);
       if ('clamp' in patch) this.weaver.setClamp(k, o.clamp);
       if ('strength' in patch) this.weaver.setStrength(k, o.strength);
+      if (REBUILD_FIELDS.some((f) => f in patch)) {
+        this.weaver.setPane(k, { ...o });
+        this.readTracked();
+      }
     });
   }
 
@@ -597,13 +681,22 @@ class MapWeaverElement extends HTMLElement {
     let r;
     try {
       r = this.weaver.readout();
-      const { width: w, height: h } = this.weaver;
       r.panes.forEach((pr, k) => {
         const p = this.panes[k];
         if (!p.ctx) return;
+        const { width: w, height: h } = pr;
         drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
-        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked } });
-        p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]}`;
+        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });
+        const sensor = pr.sensor === 'cone' ? `${fixed(pr.betaDeg, 0)}° cone` : 'LiDAR';
+        p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
+          `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`;
+        p.scanMs.textContent = pr.scanMs === null || pr.scanMs === undefined ? '–' : fixed(pr.scanMs, 2);
+        p.ghost.textContent = ghostText(pr.ghost);
+        Object.assign(p.root.dataset, {
+          mapper: pr.mapper, sensor: pr.sensor, betaDeg: String(pr.betaDeg), beams: String(pr.beams),
+          resolution: String(pr.resolution), forgetL0: String(pr.forgetL0), cellsVisited: String(pr.cellsVisited),
+          scanMs: String(pr.scanMs ?? ''), ghostFaded: String(pr.ghost.faded), ghostLongest: String(pr.ghost.longestScans ?? ''),
+        });
         p.entropy.textContent = bits(pr.entropyBits);
         p.brier.textContent = fixed(pr.brier, 4);
         p.visited.textContent = count(pr.cellsVisited);
@@ -665,7 +758,7 @@ class MapWeaverElement extends HTMLElement {
       p.chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
       p.chartBox.setAttribute('aria-label',
         `${p.side === 'left' ? 'Left' : 'Right'} map: log odds over time of three cells, now ` +
-        this.tracked.map((c, i) => `${c.name} ${signed(pr.tracked[i], 2)}`).join(', ') + `; the prior l0 is ${fixed(pr.l0, 2)}.`);
+        this.tracked[k].map((c, i) => `${c.name} ${signed(pr.tracked[i], 2)}`).join(', ') + `; the prior l0 is ${fixed(pr.l0, 2)}.`);
     });
   }
 
@@ -673,14 +766,16 @@ class MapWeaverElement extends HTMLElement {
 
   pointAt(p, e) {
     if (!this.weaver) return;
-    this.cursor = { pane: p.k, ...pointerCell(p.canvas, e, this.weaver.width, this.weaver.height) };
+    const { w, h } = this.paneSize(p.k);
+    this.cursor = { pane: p.k, ...pointerCell(p.canvas, e, w, h) };
     this.draw();
   }
 
   keyCursor(p, e) {
     if (!this.weaver) return;
     const c = this.cursor && this.cursor.pane === p.k ? this.cursor : { pane: p.k, col: 30, row: 35 };
-    const to = arrowCell(e, c, this.weaver.width, this.weaver.height);
+    const { w, h } = this.paneSize(p.k);
+    const to = arrowCell(e, c, w, h);
     if (!to) return;
     e.preventDefault();
     this.cursor = { pane: p.k, ...to };

@@ -26,6 +26,7 @@ use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::training::{self, TrainingConfig};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse};
+use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::{RayMapper, ScanStats};
 use crate::render::map_view::MapView;
 use crate::render::overlay::{ImagePoint, RobotMark};
@@ -78,9 +79,41 @@ pub enum PoseSource {
     DeadReckoning,
 }
 
+/// How a pane applies Table 9.1 to a scan (SPEC §3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MapperKind {
+    /// Each beam's raster only ([`RayMapper`]): the production path.
+    Traversal,
+    /// Every cell of the map against its nearest beam
+    /// ([`crate::mapping::sweep::sweep_scan`]), as Table 9.1 is printed.
+    Sweep,
+}
+
+/// The sensor a pane reads each range as: the opening angle `beta` of
+/// Table 9.2. The readings are the simulated LiDAR's either way; a cone
+/// pane interprets each one as a sonar would (evidence over the whole
+/// cone), which is what makes the two mappers part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SensorKind {
+    /// Thin beams: Table 9.2's `beta` as the hand-crafted parameters set
+    /// it (one degree).
+    Lidar,
+    /// A cone of opening [`PaneSettings::beta_deg`].
+    Cone,
+}
+
+/// The resolutions a pane may map at, metres per cell (exercise 6).
+pub const PANE_RESOLUTIONS: [f64; 2] = [0.10, 0.05];
+/// The cone's opening angle range, degrees.
+pub const CONE_BETA_DEG: (f64, f64) = (1.0, 30.0);
+/// How many recent scans a pane's "core time per scan" is the mean of.
+const SCAN_TIME_WINDOW: usize = 31;
+
 /// One pane's knobs.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
+#[serde(default, rename_all = "camelCase")]
 pub struct PaneSettings {
     pub model: ModelKind,
     pub pose: PoseSource,
@@ -88,6 +121,21 @@ pub struct PaneSettings {
     pub clamp: f64,
     /// Factor on the model's evidence (1 = as designed or learned).
     pub strength: f64,
+    pub mapper: MapperKind,
+    pub sensor: SensorKind,
+    /// The cone's opening angle `beta`, degrees (1 to 30); used by the
+    /// hand-crafted model when `sensor` is the cone (the learned model
+    /// has the width it learned).
+    pub beta_deg: f64,
+    /// Beams of each scan the pane uses, evenly spaced: a divisor of the
+    /// LiDAR's beam count. `None`: every beam.
+    pub beams: Option<usize>,
+    /// Metres per cell: 0.10 or 0.05. `None`: the scene's own.
+    pub resolution: Option<f64>,
+    /// The mistake of exercise 8: the learned model's scores are added
+    /// without removing its `l0` (the hand-crafted model's `l0` is 0, so
+    /// there it changes nothing).
+    pub forget_l0: bool,
 }
 
 impl Default for PaneSettings {
@@ -97,7 +145,27 @@ impl Default for PaneSettings {
             pose: PoseSource::Oracle,
             clamp: FilterSettings::default().clamp,
             strength: 1.0,
+            mapper: MapperKind::Traversal,
+            sensor: SensorKind::Lidar,
+            beta_deg: 22.0,
+            beams: None,
+            resolution: None,
+            forget_l0: false,
         }
+    }
+}
+
+impl PaneSettings {
+    /// True when going from `self` to `other` changes how scans are turned
+    /// into evidence, so the pane must be built again over the scans so
+    /// far (clamp and strength act on the run as it goes).
+    fn needs_rebuild(&self, other: &Self) -> bool {
+        let live = |p: &Self| Self {
+            clamp: 0.0,
+            strength: 0.0,
+            ..*p
+        };
+        live(self) != live(other)
     }
 }
 
@@ -150,7 +218,7 @@ impl WeaverSettings {
         }
         self.hand_crafted.validate()?;
         for (k, p) in self.panes.iter().enumerate() {
-            validate_pane(k, p)?;
+            validate_pane(k, p, self.scene.lidar.beams)?;
         }
         // Checked before the training's own rules so that the message
         // names the fields as this settings object spells them.
@@ -188,7 +256,7 @@ fn default_right_model() -> ModelKind {
     ModelKind::Learned
 }
 
-fn validate_pane(k: usize, p: &PaneSettings) -> Result<()> {
+fn validate_pane(k: usize, p: &PaneSettings, lidar_beams: usize) -> Result<()> {
     // The pane's grid (prior 0.5) must accept the clamp; say so under the
     // pane's own name.
     FilterSettings {
@@ -197,7 +265,31 @@ fn validate_pane(k: usize, p: &PaneSettings) -> Result<()> {
     }
     .validate()
     .map_err(|e| pane_clamp_error(k, e))?;
-    check_strength(k, p.strength)
+    check_strength(k, p.strength)?;
+    if !(p.beta_deg >= CONE_BETA_DEG.0 && p.beta_deg <= CONE_BETA_DEG.1) {
+        return Err(invalid(
+            &format!("panes[{k}].betaDeg"),
+            error::show(p.beta_deg),
+            "an opening angle of 1 to 30 degrees",
+        ));
+    }
+    if let Some(r) = p.resolution.filter(|r| !PANE_RESOLUTIONS.contains(r)) {
+        return Err(invalid(
+            &format!("panes[{k}].resolution"),
+            error::show(r),
+            "0.1 or 0.05 metres per cell",
+        ));
+    }
+    if let Some(b) = p.beams {
+        if b == 0 || b > lidar_beams || lidar_beams % b != 0 {
+            return Err(invalid(
+                &format!("panes[{k}].beams"),
+                b,
+                "a divisor of the LiDAR's beam count (60: 1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 or 60)",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A grid's clamp error, renamed to pane `k`'s field.
@@ -263,30 +355,51 @@ enum PaneModel {
 }
 
 impl PaneModel {
-    fn build(
-        kind: ModelKind,
-        base: &HandCraftedParams,
-        learned: &LearnedInverse,
-        strength: f64,
-    ) -> Result<Self> {
-        Ok(match kind {
+    /// The model pane settings `p` ask for: the kind, its strength, the
+    /// cone's opening for Table 9.2, and `l0` forgotten or not.
+    fn build(p: &PaneSettings, base: &HandCraftedParams, learned: &LearnedInverse) -> Result<Self> {
+        Ok(match p.model {
             ModelKind::HandCrafted => {
-                Self::HandCrafted(HandCrafted::with_strength(*base, strength)?)
+                let mut params = *base;
+                if p.sensor == SensorKind::Cone {
+                    params.beta = p.beta_deg.to_radians();
+                }
+                if p.forget_l0 {
+                    // Evidence l - 0 instead of l - l0.
+                    let l0 = params.l0;
+                    params.l_occ -= l0;
+                    params.l_free -= l0;
+                }
+                Self::HandCrafted(HandCrafted::with_strength(params, p.strength)?)
             }
             ModelKind::Learned => Self::Learned(Scaled {
-                model: learned.clone(),
-                factor: strength as f32,
+                model: if p.forget_l0 {
+                    learned.with_l0(0.0)
+                } else {
+                    learned.clone()
+                },
+                factor: p.strength as f32,
             }),
         })
     }
 
-    fn integrate(&self, mapper: &mut RayMapper, grid: &mut LogOddsGrid, scan: &Scan) -> ScanStats {
-        match self {
-            Self::HandCrafted(m) => mapper.integrate(grid, m, scan),
-            Self::Learned(m) => mapper.integrate(grid, m, scan),
+    fn integrate(
+        &self,
+        kind: MapperKind,
+        mapper: &mut RayMapper,
+        grid: &mut LogOddsGrid,
+        scan: &Scan,
+    ) -> ScanStats {
+        match (self, kind) {
+            (Self::HandCrafted(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
+            (Self::Learned(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
+            (Self::HandCrafted(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
+            (Self::Learned(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
         }
     }
 
+    /// The prior the model removes from its scores (0 when `l0` is
+    /// forgotten).
     fn l0(&self) -> f32 {
         match self {
             Self::HandCrafted(m) => m.l0(),
@@ -295,11 +408,77 @@ impl PaneModel {
     }
 }
 
+/// The ghost of exercise 5, per pane: cells the person stood on that were
+/// above p = 0.5 when they left, and how many scans each took to fall
+/// back below p = 0.5.
+#[derive(Debug, Clone, Default)]
+struct GhostTracker {
+    /// The cells under the person after the last scan, and whether each
+    /// was above p = 0.5 then.
+    under: Vec<(usize, bool)>,
+    /// Ghost cells not yet faded: (cell, the last scan that saw the
+    /// person on it, counted from 1).
+    pending: Vec<(usize, usize)>,
+    /// Scans each completed fade took, in the order they completed.
+    fades: Vec<usize>,
+}
+
+impl GhostTracker {
+    /// After scan `scan` (counted from 1) was integrated, with the person
+    /// over `now` (sorted cell indices) and the map's log odds `l`.
+    fn observe(&mut self, scan: usize, now: &[usize], l: &[f32]) {
+        let under_now = |c: usize| now.binary_search(&c).is_ok();
+        for &(c, ghost) in &self.under {
+            if ghost && !under_now(c) {
+                self.pending.push((c, scan - 1));
+            }
+        }
+        let fades = &mut self.fades;
+        self.pending.retain(|&(c, left)| {
+            if under_now(c) {
+                // Back under the person: the ghost is refreshed, not faded.
+                return false;
+            }
+            if l[c] < 0.0 {
+                fades.push(scan - left);
+                return false;
+            }
+            true
+        });
+        self.under = now.iter().map(|&c| (c, l[c] > 0.0)).collect();
+    }
+
+    fn clear(&mut self) {
+        *self = Self::default();
+    }
+}
+
+/// Exercise 5's readout: how long the person's ghost took to fade.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GhostReadout {
+    /// Ghost cells that have faded so far.
+    pub faded: usize,
+    /// Ghost cells still at p >= 0.5 since the person left them.
+    pub lingering: usize,
+    /// Scans and seconds the most recent fade took.
+    pub last_scans: Option<usize>,
+    pub last_seconds: Option<f64>,
+    /// The slowest fade so far.
+    pub longest_scans: Option<usize>,
+    pub longest_seconds: Option<f64>,
+}
+
 /// One map and everything the widget shows about it.
 #[derive(Debug, Clone)]
 struct Pane {
     settings: PaneSettings,
     model: PaneModel,
+    /// The pane's own grid limits (its resolution may differ from the
+    /// other pane's), the ground truth at them and the tracked cells.
+    geometry: GridGeometry,
+    truth: Vec<bool>,
+    tracked_cells: [usize; 3],
     grid: LogOddsGrid,
     mapper: RayMapper,
     view: MapView,
@@ -314,6 +493,68 @@ struct Pane {
     last: ScanStats,
     /// The pose the last scan was integrated at.
     pose: Pose,
+    ghost: GhostTracker,
+    /// Core milliseconds of the pane's recent scans (mapping and view).
+    scan_ms: Vec<f64>,
+}
+
+/// The apartment scene rastered at `resolution` metres per cell (same
+/// extent, same boxes).
+fn scene_at(scene: &ApartmentScene, resolution: f64) -> ApartmentScene {
+    if resolution == scene.resolution {
+        return scene.clone();
+    }
+    let scale = scene.resolution / resolution;
+    ApartmentScene {
+        width: (scene.width as f64 * scale).round() as usize,
+        height: (scene.height as f64 * scale).round() as usize,
+        resolution,
+        ..scene.clone()
+    }
+}
+
+/// The cells of `g` whose centres lie in `r`, in increasing order (the
+/// same rule as [`ApartmentScene::cells_in`], over the box's cells only).
+fn cells_under(g: &GridGeometry, r: &crate::world::Rect) -> Vec<usize> {
+    let [ox, oy] = g.origin();
+    let res = g.resolution();
+    let span = |lo: f64, hi: f64, o: f64, n: usize| {
+        let a = ((lo - o) / res).floor().max(0.0) as usize;
+        let b = (((hi - o) / res).ceil().max(0.0) as usize).min(n);
+        a..b
+    };
+    let mut out = Vec::new();
+    for iy in span(r.min_y, r.max_y, oy, g.height()) {
+        for ix in span(r.min_x, r.max_x, ox, g.width()) {
+            let (x, y) = g.cell_center(ix, iy);
+            if r.contains(x, y) {
+                out.push(g.index(ix, iy));
+            }
+        }
+    }
+    out
+}
+
+/// Median of a few numbers, if any.
+fn median(v: &[f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// A monotonic clock in milliseconds. Natively the standard library's;
+/// in the browser the bindings hand in `performance.now`.
+pub type Clock = fn() -> f64;
+
+#[cfg(not(target_arch = "wasm32"))]
+fn native_clock() -> f64 {
+    use std::sync::OnceLock;
+    use std::time::Instant;
+    static START: OnceLock<Instant> = OnceLock::new();
+    START.get_or_init(Instant::now).elapsed().as_secs_f64() * 1e3
 }
 
 /// The readout of one pane (plain numbers for the page).
@@ -324,6 +565,20 @@ pub struct PaneReadout {
     pub pose: PoseSource,
     pub clamp: f64,
     pub strength: f64,
+    pub mapper: MapperKind,
+    pub sensor: SensorKind,
+    pub beta_deg: f64,
+    /// Beams of each scan the pane uses.
+    pub beams: usize,
+    pub resolution: f64,
+    pub forget_l0: bool,
+    /// The pane's map size, cells (= its image's pixels).
+    pub width: usize,
+    pub height: usize,
+    /// Mean core milliseconds per scan for this pane over its recent scans
+    /// (its mapper and view), when a clock is set.
+    pub scan_ms: Option<f64>,
+    pub ghost: GhostReadout,
     /// The map's prior, log odds (the chart's reference line).
     pub l0: f32,
     /// The model's own prior, log odds.
@@ -424,6 +679,20 @@ impl PoseScans {
     }
 }
 
+/// Every `stride`-th beam of `scan` (stride 1: the scan itself).
+fn thinned(scan: &Scan, stride: usize) -> Result<std::borrow::Cow<'_, Scan>> {
+    if stride <= 1 {
+        return Ok(std::borrow::Cow::Borrowed(scan));
+    }
+    let ranges = scan.ranges().iter().step_by(stride).copied().collect();
+    let bearings = scan.bearings().iter().step_by(stride).copied().collect();
+    Ok(std::borrow::Cow::Owned(Scan::new(
+        scan.pose(),
+        ranges,
+        bearings,
+    )?))
+}
+
 /// A Map Weaver run.
 #[derive(Debug, Clone)]
 pub struct Weaver {
@@ -437,6 +706,8 @@ pub struct Weaver {
     history: Vec<SimScan>,
     panes: [Pane; 2],
     frame_ms: Vec<f64>,
+    /// Times each pane's scans when set.
+    clock: Option<Clock>,
 }
 
 impl Weaver {
@@ -456,40 +727,14 @@ impl Weaver {
         let sim = ApartmentSim::new(settings.scene.clone(), settings.seed, settings.person)?;
         let geometry = *sim.ground_truth().geometry();
         let tracked_cells = settings.scene.tracked_cells()?;
-        let region = settings
-            .scene
-            .cells_in(&geometry, &[settings.scene.surveyed]);
-        let truth = sim.ground_truth().occupied().to_vec();
-        let start = settings.scene.path.pose_at(0.0);
-        let make_pane = |p: &PaneSettings| -> Result<Pane> {
-            let grid = LogOddsGrid::new(
-                geometry,
-                FilterSettings {
-                    prior: 0.5,
-                    clamp: p.clamp,
-                },
-            )?;
-            let mut view = MapView::new(&geometry, &truth, &region)?;
-            view.sync(&grid);
-            let model = PaneModel::build(p.model, &settings.hand_crafted, &learned, p.strength)?;
-            let first = tracked_cells.map(|i| grid.log_odds()[i]);
-            Ok(Pane {
-                settings: *p,
-                model,
-                entropy_curve: vec![view.entropy_bits()],
-                brier_curve: vec![view.brier_region()],
-                tracked: vec![first],
-                grid,
-                mapper: RayMapper::new(),
-                view,
-                last: ScanStats::default(),
-                pose: start,
-            })
-        };
         let panes = [
-            make_pane(&settings.panes[0])?,
-            make_pane(&settings.panes[1])?,
+            Self::make_pane(&settings, &learned, 0, &settings.panes[0])?,
+            Self::make_pane(&settings, &learned, 1, &settings.panes[1])?,
         ];
+        #[cfg(not(target_arch = "wasm32"))]
+        let clock: Option<Clock> = Some(native_clock);
+        #[cfg(target_arch = "wasm32")]
+        let clock: Option<Clock> = None;
         Ok(Self {
             scans_per_lap: settings.scene.scans_per_lap(),
             learned,
@@ -499,8 +744,70 @@ impl Weaver {
             history: Vec::new(),
             panes,
             frame_ms: Vec::new(),
+            clock,
             settings,
         })
+    }
+
+    /// An empty pane with settings `p` (pane `k` of `settings`).
+    fn make_pane(
+        settings: &WeaverSettings,
+        learned: &LearnedInverse,
+        k: usize,
+        p: &PaneSettings,
+    ) -> Result<Pane> {
+        validate_pane(k, p, settings.scene.lidar.beams)?;
+        let scene = match p.resolution {
+            Some(r) => scene_at(&settings.scene, r),
+            None => settings.scene.clone(),
+        };
+        let world = scene.ground_truth().map_err(|e| match e {
+            crate::OccError::InvalidParameter {
+                value, expected, ..
+            } => crate::OccError::InvalidParameter {
+                field: format!("panes[{k}].resolution (the scene's width x height at it)"),
+                value,
+                expected,
+            },
+            other => other,
+        })?;
+        let geometry = *world.geometry();
+        let truth = world.occupied().to_vec();
+        let tracked_cells = scene.tracked_cells()?;
+        let region = scene.cells_in(&geometry, &[scene.surveyed]);
+        let grid = LogOddsGrid::new(
+            geometry,
+            FilterSettings {
+                prior: 0.5,
+                clamp: p.clamp,
+            },
+        )?;
+        let mut view = MapView::new(&geometry, &truth, &region)?;
+        view.sync(&grid);
+        let model = PaneModel::build(p, &settings.hand_crafted, learned)?;
+        let first = tracked_cells.map(|i| grid.log_odds()[i]);
+        Ok(Pane {
+            settings: *p,
+            model,
+            geometry,
+            truth,
+            tracked_cells,
+            entropy_curve: vec![view.entropy_bits()],
+            brier_curve: vec![view.brier_region()],
+            tracked: vec![first],
+            grid,
+            mapper: RayMapper::new(),
+            view,
+            last: ScanStats::default(),
+            pose: settings.scene.path.pose_at(0.0),
+            ghost: GhostTracker::default(),
+            scan_ms: Vec::new(),
+        })
+    }
+
+    /// Sets the clock that times each pane's scans (`None`: no timing).
+    pub fn set_clock(&mut self, clock: Option<Clock>) {
+        self.clock = clock;
     }
 
     /// Starts the run again from scan 0 with the current settings (the
@@ -508,7 +815,9 @@ impl Weaver {
     pub fn reset(&mut self) -> Result<()> {
         let mut settings = self.settings.clone();
         settings.person = self.sim.person();
+        let clock = self.clock;
         *self = Self::with_learned(settings, self.learned.clone())?;
+        self.clock = clock;
         Ok(())
     }
 
@@ -519,8 +828,22 @@ impl Weaver {
     pub fn learned(&self) -> &LearnedInverse {
         &self.learned
     }
+    /// The scene's grid limits (a pane at another resolution has its own:
+    /// [`Weaver::pane_geometry`]).
     pub fn geometry(&self) -> &GridGeometry {
         &self.geometry
+    }
+    /// Pane `pane`'s grid limits.
+    pub fn pane_geometry(&self, pane: usize) -> Result<&GridGeometry> {
+        Ok(&self.pane(pane)?.geometry)
+    }
+    /// The ground truth at pane `pane`'s resolution.
+    pub fn pane_truth(&self, pane: usize) -> Result<&[bool]> {
+        Ok(&self.pane(pane)?.truth)
+    }
+    /// The three tracked cells of pane `pane` (indices into its grid).
+    pub fn pane_tracked_cells(&self, pane: usize) -> Result<[usize; 3]> {
+        Ok(self.pane(pane)?.tracked_cells)
     }
     pub fn scans_per_lap(&self) -> usize {
         self.scans_per_lap
@@ -537,6 +860,7 @@ impl Weaver {
     pub fn history(&self) -> &[SimScan] {
         &self.history
     }
+    /// The ground truth at the scene's resolution.
     pub fn ground_truth(&self) -> &[bool] {
         self.sim.ground_truth().occupied()
     }
@@ -550,7 +874,6 @@ impl Weaver {
     pub fn view(&self, pane: usize) -> Result<&MapView> {
         Ok(&self.pane(pane)?.view)
     }
-    /// Entropy (bits) after each scan, from the empty map on.
     /// Seconds of driving that `scans` scans take at the scene's scan rate:
     /// the readout's time and the charts' x axis, both from here.
     pub fn seconds_after(&self, scans: usize) -> f64 {
@@ -565,6 +888,7 @@ impl Weaver {
             .collect()
     }
 
+    /// Entropy (bits) after each scan, from the empty map on.
     pub fn entropy_curve(&self, pane: usize) -> Result<&[f64]> {
         Ok(&self.pane(pane)?.entropy_curve)
     }
@@ -575,6 +899,11 @@ impl Weaver {
     /// The tracked cells' log odds after each scan, from the empty map on.
     pub fn tracked_history(&self, pane: usize) -> Result<&[[f32; 3]]> {
         Ok(&self.pane(pane)?.tracked)
+    }
+    /// Scans each of pane `pane`'s completed ghost fades took, in the order
+    /// they completed (exercise 5).
+    pub fn ghost_fades(&self, pane: usize) -> Result<&[usize]> {
+        Ok(&self.pane(pane)?.ghost.fades)
     }
 
     fn pane(&self, pane: usize) -> Result<&Pane> {
@@ -595,8 +924,9 @@ impl Weaver {
         while taken < n && !self.done() {
             let scan = self.sim.next_scan();
             let scans = PoseScans::new(&scan, self.sim.bearings())?;
+            let count = self.history.len() + 1;
             for pane in &mut self.panes {
-                Self::integrate(pane, &scans, self.tracked_cells)?;
+                Self::integrate(pane, &scans, &scan, count, self.clock)?;
             }
             self.history.push(scan);
             taken += 1;
@@ -604,15 +934,27 @@ impl Weaver {
         Ok(taken)
     }
 
-    /// The most cells one scan visits, both panes together: beams x the
-    /// cells along a beam at the LiDAR's range (one per `resolution`), x 2.
-    /// The unit of [`MAX_FAST_FORWARD_WORK`]: an estimate, but one that
-    /// grows as the real work does with finer grids and more beams.
+    /// The most cells one scan visits, both panes together: for a pane by
+    /// ray traversal, its beams x the cells along a beam at the LiDAR's
+    /// range (one per the pane's resolution); for a pane by the sweep,
+    /// every cell of its map. The unit of [`MAX_FAST_FORWARD_WORK`]: an
+    /// estimate, but one that grows as the real work does with finer
+    /// grids, more beams and the sweep.
     pub fn work_per_scan(&self) -> u64 {
         let lidar = &self.settings.scene.lidar;
-        let cells = (lidar.z_max / self.geometry.resolution()).ceil().max(1.0);
-        // Finite and at most z_max / resolution: `as` cannot wrap here.
-        2 * lidar.beams as u64 * cells as u64
+        self.panes
+            .iter()
+            .map(|p| match p.settings.mapper {
+                MapperKind::Sweep => p.geometry.len() as u64,
+                MapperKind::Traversal => {
+                    let cells = (lidar.z_max / p.geometry.resolution()).ceil().max(1.0);
+                    let beams = p.settings.beams.unwrap_or(lidar.beams);
+                    // Finite and at most z_max / resolution: `as` cannot
+                    // wrap here.
+                    beams as u64 * cells as u64
+                }
+            })
+            .sum()
     }
 
     /// How many scans [`Weaver::advance`] will take for a request of `scans`
@@ -635,16 +977,40 @@ impl Weaver {
         Ok(taken)
     }
 
-    /// Integrates one scan into `pane` at the pose the pane's settings ask
-    /// for, then updates its view and its curves.
-    fn integrate(pane: &mut Pane, scans: &PoseScans, tracked: [usize; 3]) -> Result<()> {
-        let s = scans.at(pane.settings.pose)?;
-        pane.last = pane.model.integrate(&mut pane.mapper, &mut pane.grid, s);
+    /// Integrates one scan (number `count`, from 1) into `pane` at the pose
+    /// and with the beams the pane's settings ask for, then updates its
+    /// view, its curves and its ghost watch.
+    fn integrate(
+        pane: &mut Pane,
+        scans: &PoseScans,
+        sim: &SimScan,
+        count: usize,
+        clock: Option<Clock>,
+    ) -> Result<()> {
+        let started = clock.map(|c| c());
+        let full = scans.at(pane.settings.pose)?;
+        let stride = pane.settings.beams.map_or(1, |b| full.len() / b.max(1));
+        let s = thinned(full, stride)?;
+        pane.last =
+            pane.model
+                .integrate(pane.settings.mapper, &mut pane.mapper, &mut pane.grid, &s);
         pane.pose = s.pose();
         pane.view.sync(&pane.grid);
+        if let (Some(c), Some(t0)) = (clock, started) {
+            if pane.scan_ms.len() == SCAN_TIME_WINDOW {
+                pane.scan_ms.remove(0);
+            }
+            pane.scan_ms.push((c() - t0).max(0.0));
+        }
         pane.entropy_curve.push(pane.view.entropy_bits());
         pane.brier_curve.push(pane.view.brier_region());
-        pane.tracked.push(tracked.map(|i| pane.grid.log_odds()[i]));
+        pane.tracked
+            .push(pane.tracked_cells.map(|i| pane.grid.log_odds()[i]));
+        let under = sim
+            .person
+            .map(|r| cells_under(&pane.geometry, &r))
+            .unwrap_or_default();
+        pane.ghost.observe(count, &under, pane.grid.log_odds());
         Ok(())
     }
 
@@ -652,7 +1018,7 @@ impl Weaver {
     /// current settings.
     fn rebuild(&mut self, pane: usize) -> Result<()> {
         let bearings = self.sim.bearings().to_vec();
-        let tracked = self.tracked_cells;
+        let clock = self.clock;
         let history = std::mem::take(&mut self.history);
         let result = (|| {
             let p = self.pane_mut(pane)?;
@@ -665,8 +1031,10 @@ impl Weaver {
             p.brier_curve.truncate(1);
             p.tracked.truncate(1);
             p.last = ScanStats::default();
-            for scan in &history {
-                Self::integrate(p, &PoseScans::new(scan, &bearings)?, tracked)?;
+            p.ghost.clear();
+            p.scan_ms.clear();
+            for (i, scan) in history.iter().enumerate() {
+                Self::integrate(p, &PoseScans::new(scan, &bearings)?, scan, i + 1, clock)?;
             }
             Ok(())
         })();
@@ -674,31 +1042,46 @@ impl Weaver {
         result
     }
 
+    /// Changes every knob of pane `pane` at once. Clamp and strength act on
+    /// the run as it goes; any other change (model, pose source, mapper,
+    /// sensor, cone opening, beams, resolution, `l0` forgotten) rebuilds
+    /// the pane over the scans so far. Nothing changes when `settings` is
+    /// refused.
+    pub fn set_pane(&mut self, pane: usize, settings: PaneSettings) -> Result<()> {
+        validate_pane(pane, &settings, self.settings.scene.lidar.beams)?;
+        let current = self.pane(pane)?.settings;
+        if current.needs_rebuild(&settings) {
+            let mut fresh = Self::make_pane(&self.settings, &self.learned, pane, &settings)?;
+            std::mem::swap(&mut fresh, &mut self.panes[pane]);
+            self.settings.panes[pane] = settings;
+            if let Err(e) = self.rebuild(pane) {
+                self.panes[pane] = fresh;
+                self.settings.panes[pane] = current;
+                return Err(e);
+            }
+            return Ok(());
+        }
+        if settings.strength != current.strength {
+            self.set_strength(pane, settings.strength)?;
+        }
+        if settings.clamp != current.clamp {
+            self.set_clamp(pane, settings.clamp)?;
+        }
+        Ok(())
+    }
+
     /// Switches a pane's inverse model and rebuilds it over the scans so
     /// far.
     pub fn set_model(&mut self, pane: usize, model: ModelKind) -> Result<()> {
-        let base = self.settings.hand_crafted;
-        let learned = self.learned.clone();
-        let p = self.pane_mut(pane)?;
-        if p.settings.model == model {
-            return Ok(());
-        }
-        p.model = PaneModel::build(model, &base, &learned, p.settings.strength)?;
-        p.settings.model = model;
-        self.settings.panes[pane].model = model;
-        self.rebuild(pane)
+        let s = self.pane(pane)?.settings;
+        self.set_pane(pane, PaneSettings { model, ..s })
     }
 
     /// Switches a pane between the pose oracle and dead reckoning and
     /// rebuilds it over the scans so far.
     pub fn set_pose_source(&mut self, pane: usize, pose: PoseSource) -> Result<()> {
-        let p = self.pane_mut(pane)?;
-        if p.settings.pose == pose {
-            return Ok(());
-        }
-        p.settings.pose = pose;
-        self.settings.panes[pane].pose = pose;
-        self.rebuild(pane)
+        let s = self.pane(pane)?.settings;
+        self.set_pane(pane, PaneSettings { pose, ..s })
     }
 
     /// Changes a pane's clamp now: cells beyond it are pulled in at once,
@@ -720,7 +1103,11 @@ impl Weaver {
         let base = self.settings.hand_crafted;
         let learned = self.learned.clone();
         let p = self.pane_mut(pane)?;
-        p.model = PaneModel::build(p.settings.model, &base, &learned, strength)?;
+        let settings = PaneSettings {
+            strength,
+            ..p.settings
+        };
+        p.model = PaneModel::build(&settings, &base, &learned)?;
         p.settings.strength = strength;
         self.settings.panes[pane].strength = strength;
         Ok(())
@@ -747,21 +1134,45 @@ impl Weaver {
 
     /// Median of the recent frame times, milliseconds.
     pub fn frame_ms(&self) -> Option<f64> {
-        if self.frame_ms.is_empty() {
-            return None;
+        median(&self.frame_ms)
+    }
+
+    fn ghost_readout(&self, p: &Pane) -> GhostReadout {
+        let g = &p.ghost;
+        let last = g.fades.last().copied();
+        let longest = g.fades.iter().copied().max();
+        GhostReadout {
+            faded: g.fades.len(),
+            lingering: g.pending.len(),
+            last_scans: last,
+            last_seconds: last.map(|n| self.seconds_after(n)),
+            longest_scans: longest,
+            longest_seconds: longest.map(|n| self.seconds_after(n)),
         }
-        let mut v = self.frame_ms.clone();
-        v.sort_by(f64::total_cmp);
-        Some(v[v.len() / 2])
     }
 
     pub fn readout(&self) -> Readout {
         let scans = self.history.len();
+        let lidar_beams = self.settings.scene.lidar.beams;
         let pane = |p: &Pane| PaneReadout {
             model: p.settings.model,
             pose: p.settings.pose,
             clamp: p.settings.clamp,
             strength: p.settings.strength,
+            mapper: p.settings.mapper,
+            sensor: p.settings.sensor,
+            beta_deg: p.settings.beta_deg,
+            beams: p.settings.beams.unwrap_or(lidar_beams),
+            resolution: p.geometry.resolution(),
+            forget_l0: p.settings.forget_l0,
+            width: p.geometry.width(),
+            height: p.geometry.height(),
+            // A mean, not a median: the page's clock may tick in steps
+            // coarser than a traversal scan, and only the mean of the
+            // rounded times keeps the small ones.
+            scan_ms: (!p.scan_ms.is_empty())
+                .then(|| p.scan_ms.iter().sum::<f64>() / p.scan_ms.len() as f64),
+            ghost: self.ghost_readout(p),
             l0: p.grid.l0(),
             model_l0: p.model.l0(),
             entropy_bits: p.view.entropy_bits(),
@@ -769,7 +1180,7 @@ impl Weaver {
             brier_all: p.view.brier_all(),
             cells_visited: p.last.cells_visited,
             cells_updated: p.last.cells_updated,
-            tracked: self.tracked_cells.map(|i| p.grid.log_odds()[i]),
+            tracked: p.tracked_cells.map(|i| p.grid.log_odds()[i]),
         };
         Readout {
             scans,
@@ -784,12 +1195,12 @@ impl Weaver {
         }
     }
 
-    /// The cell under image column `col`, row `row` (row 0 at the top: the
-    /// image is north up), or `None` outside the map.
+    /// The cell under image column `col`, row `row` of pane `pane` (row 0
+    /// at the top: the image is north up), or `None` outside the map.
     pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<Option<CellInfo>> {
         let p = self.pane(pane)?;
         Ok(readout_at_pixel(&p.grid, col, row).map(|cell| CellInfo {
-            occupied: self.ground_truth()[self.geometry.index(cell.ix, cell.iy)],
+            occupied: p.truth[p.geometry.index(cell.ix, cell.iy)],
             cell,
         }))
     }
@@ -801,11 +1212,16 @@ impl Weaver {
         let pose = p.pose;
         let z_max = self.settings.scene.lidar.z_max;
         let last = self.history.last();
-        let g = &self.geometry;
+        let g = &p.geometry;
+        let stride = p
+            .settings
+            .beams
+            .map_or(1, |b| self.sim.bearings().len() / b.max(1))
+            .max(1);
         let mut beams = Vec::new();
         let mut hits = Vec::new();
         if let Some(scan) = last {
-            for (&z, &b) in scan.ranges.iter().zip(self.sim.bearings()) {
+            for (&z, &b) in scan.ranges.iter().zip(self.sim.bearings()).step_by(stride) {
                 let (x, y) = pose.point_at(z.min(z_max), b);
                 beams.extend(g.world_to_image(x, y));
                 hits.push(z < z_max);

@@ -4,15 +4,27 @@
 
 use super::{
     budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, number_from_js,
-    object_or_default, string_from_js, to_js,
+    object_from_js, object_or_default, string_from_js, to_js,
 };
-use crate::apps::map_weaver::{ModelKind, PoseSource, Weaver, WeaverSettings};
+use crate::apps::map_weaver::{ModelKind, PaneSettings, PoseSource, Weaver, WeaverSettings};
 use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// A Map Weaver run held in wasm memory.
 #[wasm_bindgen]
 pub struct MapWeaver(Weaver);
+
+#[wasm_bindgen]
+extern "C" {
+    /// The page's monotonic clock (browsers and Node both have one).
+    #[wasm_bindgen(js_namespace = performance, js_name = now)]
+    fn performance_now() -> f64;
+}
+
+/// Milliseconds from the page's clock: the core's "time per scan" per pane.
+fn page_clock() -> f64 {
+    performance_now()
+}
 
 #[wasm_bindgen]
 impl MapWeaver {
@@ -23,7 +35,29 @@ impl MapWeaver {
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
         let settings: WeaverSettings =
             object_or_default("settings", settings, WeaverSettings::default)?;
-        Ok(MapWeaver(Weaver::new(settings)?))
+        let mut weaver = Weaver::new(settings)?;
+        weaver.set_clock(Some(page_clock));
+        Ok(MapWeaver(weaver))
+    }
+
+    /// Pane `pane`'s map size in cells, `[width, height]` (a pane at 0.05 m
+    /// has four times the cells of one at 0.10 m).
+    #[wasm_bindgen(js_name = paneSize)]
+    pub fn pane_size(&self, pane: JsValue) -> Result<Vec<usize>, JsError> {
+        let g = self.0.pane_geometry(pane_from_js(&pane)?)?;
+        Ok(vec![g.width(), g.height()])
+    }
+
+    /// Sets every knob of pane `pane` from a settings object `{ model,
+    /// pose, clamp, strength, mapper, sensor, betaDeg, beams, resolution,
+    /// forgetL0 }` (a field left out takes its default). Clamp and strength
+    /// act at once; any other change rebuilds the pane over the scans so
+    /// far. A refused object changes nothing.
+    #[wasm_bindgen(js_name = setPane)]
+    pub fn set_pane(&mut self, pane: JsValue, settings: JsValue) -> Result<(), JsError> {
+        let pane = pane_from_js(&pane)?;
+        let settings: PaneSettings = object_from_js("pane settings", settings)?;
+        Ok(self.0.set_pane(pane, settings)?)
     }
 
     /// Map width in cells (= image width in pixels).
@@ -102,10 +136,16 @@ impl MapWeaver {
             .collect())
     }
 
-    /// The tracked cells: `[{ name, at: [x, y], ix, iy, col, row }]` (world
-    /// metres, grid indices, and the image cell, row 0 at the top).
+    /// The tracked cells of pane `pane` (0 when left out): `[{ name, at:
+    /// [x, y], ix, iy, col, row }]` (world metres, grid indices, and the
+    /// image cell, row 0 at the top).
     #[wasm_bindgen(js_name = trackedCells)]
-    pub fn tracked_cells(&self) -> Result<JsValue, JsError> {
+    pub fn tracked_cells(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = if pane.is_undefined() {
+            0
+        } else {
+            pane_from_js(&pane)?
+        };
         #[derive(serde::Serialize)]
         struct Tracked<'a> {
             name: &'a str,
@@ -115,8 +155,8 @@ impl MapWeaver {
             col: usize,
             row: usize,
         }
-        let g = self.0.geometry();
-        let cells = self.0.tracked_cells();
+        let g = self.0.pane_geometry(pane)?;
+        let cells = self.0.pane_tracked_cells(pane)?;
         let list: Vec<Tracked> = self
             .0
             .settings()
