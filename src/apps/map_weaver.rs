@@ -702,11 +702,9 @@ pub struct Weaver {
     tracked_cells: [usize; 3],
     scans_per_lap: usize,
     /// The learned model, trained once per run and kept across resets.
-    /// (Boxed, like the panes: the model holds its tables inline, and a
-    /// session that sat on the stack would take tens of kilobytes of it.)
-    learned: Box<LearnedInverse>,
+    learned: LearnedInverse,
     history: Vec<SimScan>,
-    panes: Box<[Pane; 2]>,
+    panes: [Pane; 2],
     frame_ms: Vec<f64>,
     /// Times each pane's scans when set.
     clock: Option<Clock>,
@@ -729,17 +727,17 @@ impl Weaver {
         let sim = ApartmentSim::new(settings.scene.clone(), settings.seed, settings.person)?;
         let geometry = *sim.ground_truth().geometry();
         let tracked_cells = settings.scene.tracked_cells()?;
-        let panes = Box::new([
+        let panes = [
             Self::make_pane(&settings, &learned, 0, &settings.panes[0])?,
             Self::make_pane(&settings, &learned, 1, &settings.panes[1])?,
-        ]);
+        ];
         #[cfg(not(target_arch = "wasm32"))]
         let clock: Option<Clock> = Some(native_clock);
         #[cfg(target_arch = "wasm32")]
         let clock: Option<Clock> = None;
         Ok(Self {
             scans_per_lap: settings.scene.scans_per_lap(),
-            learned: Box::new(learned),
+            learned,
             geometry,
             sim,
             tracked_cells,
@@ -818,7 +816,7 @@ impl Weaver {
         let mut settings = self.settings.clone();
         settings.person = self.sim.person();
         let clock = self.clock;
-        *self = Self::with_learned(settings, (*self.learned).clone())?;
+        *self = Self::with_learned(settings, self.learned.clone())?;
         self.clock = clock;
         Ok(())
     }
@@ -927,7 +925,7 @@ impl Weaver {
             let scan = self.sim.next_scan();
             let scans = PoseScans::new(&scan, self.sim.bearings())?;
             let count = self.history.len() + 1;
-            for pane in self.panes.iter_mut() {
+            for pane in &mut self.panes {
                 Self::integrate(pane, &scans, &scan, count, self.clock)?;
             }
             self.history.push(scan);
@@ -1103,7 +1101,7 @@ impl Weaver {
     pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<()> {
         check_strength(pane, strength)?;
         let base = self.settings.hand_crafted;
-        let learned = (*self.learned).clone();
+        let learned = self.learned.clone();
         let p = self.pane_mut(pane)?;
         let settings = PaneSettings {
             strength,
