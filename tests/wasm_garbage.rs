@@ -390,24 +390,33 @@ fn weaver_settings() -> JsValue {
     json(r#"{"laps": 1, "training": {"triplets": 400, "epochs": 1}}"#)
 }
 
+/// Builds a Map Weaver and drops it at once, in a frame of its own: a
+/// session is tens of kilobytes (the learned model's tables are inline),
+/// and a test that kept every attempt's result in one frame would overrun
+/// the wasm stack of a debug build.
+#[inline(never)]
+fn weaver_from(settings: JsValue) -> Result<(), JsError> {
+    MapWeaver::new(settings).map(drop)
+}
+
 #[wasm_bindgen_test]
 fn map_weaver_refuses_bad_settings_by_field() {
     let s = weaver_settings;
-    refused(MapWeaver::new(JsValue::from_str("weave")), &["settings"]);
+    refused(weaver_from(JsValue::from_str("weave")), &["settings"]);
     refused(
-        MapWeaver::new(with(&s(), "laps", JsValue::from_f64(0.0))),
+        weaver_from(with(&s(), "laps", JsValue::from_f64(0.0))),
         &["laps"],
     );
     refused(
-        MapWeaver::new(with(&s(), "laps", JsValue::from_f64(-1.0))),
+        weaver_from(with(&s(), "laps", JsValue::from_f64(-1.0))),
         &["settings"],
     );
     refused(
-        MapWeaver::new(with(&s(), "seed", JsValue::from_str("x"))),
+        weaver_from(with(&s(), "seed", JsValue::from_str("x"))),
         &["settings"],
     );
     refused(
-        MapWeaver::new(with(&s(), "panes", json(r#"[{"clamp": 0}, {}]"#))),
+        weaver_from(with(&s(), "panes", json(r#"[{"clamp": 0}, {}]"#))),
         &["panes[0].clamp"],
     );
     let nan_pane = with(&json("{}"), "strength", JsValue::from_f64(f64::NAN));
@@ -415,27 +424,27 @@ fn map_weaver_refuses_bad_settings_by_field() {
         .into_iter()
         .collect();
     refused(
-        MapWeaver::new(with(&s(), "panes", panes.into())),
+        weaver_from(with(&s(), "panes", panes.into())),
         &["panes[1].strength", "NaN"],
     );
     refused(
-        MapWeaver::new(with(&s(), "panes", json(r#"[{"model": "oracle"}, {}]"#))),
+        weaver_from(with(&s(), "panes", json(r#"[{"model": "oracle"}, {}]"#))),
         &["settings", "oracle"],
     );
     refused(
-        MapWeaver::new(with(&s(), "training.triplets", JsValue::from_f64(0.0))),
+        weaver_from(with(&s(), "training.triplets", JsValue::from_f64(0.0))),
         &["triplets"],
     );
     refused(
-        MapWeaver::new(with(&s(), "scene.width", JsValue::from_f64(100_000.0))),
+        weaver_from(with(&s(), "scene.width", JsValue::from_f64(100_000.0))),
         &["width"],
     );
     refused(
-        MapWeaver::new(with(&s(), "scene.resolution", JsValue::from_f64(-0.1))),
+        weaver_from(with(&s(), "scene.resolution", JsValue::from_f64(-0.1))),
         &["resolution"],
     );
     refused(
-        MapWeaver::new(with(
+        weaver_from(with(
             &s(),
             "scene.scan_rate",
             JsValue::from_f64(f64::INFINITY),
@@ -443,7 +452,7 @@ fn map_weaver_refuses_bad_settings_by_field() {
         &["scan_rate"],
     );
     refused(
-        MapWeaver::new(with(
+        weaver_from(with(
             &s(),
             "scene.lidar",
             json(r#"{"beams": 0, "z_max": 8, "sigma": 0, "first_bearing": 0}"#),
@@ -451,7 +460,7 @@ fn map_weaver_refuses_bad_settings_by_field() {
         &["lidar.beams"],
     );
     refused(
-        MapWeaver::new(with(
+        weaver_from(with(
             &s(),
             "handCrafted",
             json(
@@ -461,11 +470,11 @@ fn map_weaver_refuses_bad_settings_by_field() {
         &["l_occ"],
     );
     refused(
-        MapWeaver::new(with(&s(), "handCrafted", json(r#"{"alpha": 0.1}"#))),
+        weaver_from(with(&s(), "handCrafted", json(r#"{"alpha": 0.1}"#))),
         &["settings", "beta"],
     );
     refused(
-        MapWeaver::new(with(&s(), "person", JsValue::from_str("yes"))),
+        weaver_from(with(&s(), "person", JsValue::from_str("yes"))),
         &["settings"],
     );
 }
