@@ -10,7 +10,7 @@
 // as pressing Play on a finished run does. Every so often a knob is
 // turned (clamp, strength, model, pose source) and a map exported.
 //
-// Usage: node scripts/soak.mjs [--scans 100000] [--laps 20] [--every 1000]
+// Usage: node scripts/soak.mjs [--scans 200000] [--laps 20] [--every 1000]
 // Prints one JSON object: memory (MB) at the start and after 1k, 10k, ...
 // scans, the samples, and the wall time. Exits non-zero if the memory grew
 // by more than one 64 KiB page over the last 60 % of the run.
@@ -24,7 +24,7 @@ const FRAME_SCANS = [1, 2, 4, 8, 16, 4, 2, 1, 16, 8];
  * all; `laps`: laps per run (a run is restarted when done); `every`: scans
  * between two memory samples.
  */
-export async function runSoak({ scans = 100_000, laps = 20, every = 1000, core, memory } = {}) {
+export async function runSoak({ scans = 200_000, laps = 20, every = 1000, core, memory } = {}) {
   if (!core) ({ core, memory } = await loadCore());
   const started = performance.now();
   const weaver = new core.MapWeaver({ laps });
@@ -128,7 +128,7 @@ function arg(name, fallback) {
 
 if (import.meta.url === `file://${process.argv[1]}`) {
   const figures = await runSoak({
-    scans: arg('scans', 100_000),
+    scans: arg('scans', 200_000),
     laps: arg('laps', 20),
     every: arg('every', 1000),
   });
