@@ -29,7 +29,7 @@ use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInvers
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::{RayMapper, ScanStats};
 use crate::render::map_view::MapView;
-use crate::render::overlay::{ImagePoint, RobotMark};
+use crate::render::overlay::{ImageCell, ImagePoint, RobotMark};
 use crate::scenes::apartment::{ApartmentScene, ApartmentSim, SimScan};
 use crate::sensors::Scan;
 
@@ -557,6 +557,18 @@ fn native_clock() -> f64 {
     START.get_or_init(Instant::now).elapsed().as_secs_f64() * 1e3
 }
 
+/// A tracked cell: its name, the world point it was chosen by (metres), its
+/// grid cell and its cell in the north-up image.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TrackedCell {
+    pub name: String,
+    pub at: [f64; 2],
+    pub ix: usize,
+    pub iy: usize,
+    pub col: usize,
+    pub row: usize,
+}
+
 /// The readout of one pane (plain numbers for the page).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
@@ -845,6 +857,32 @@ impl Weaver {
     pub fn pane_tracked_cells(&self, pane: usize) -> Result<[usize; 3]> {
         Ok(self.pane(pane)?.tracked_cells)
     }
+    /// The tracked cells of pane `pane` as the chart's legend and the map
+    /// outline show them: name, world point, grid cell and image cell.
+    pub fn tracked_readout(&self, pane: usize) -> Result<Vec<TrackedCell>> {
+        let g = self.pane_geometry(pane)?;
+        let cells = self.pane_tracked_cells(pane)?;
+        Ok(self
+            .settings
+            .scene
+            .tracked
+            .iter()
+            .zip(cells)
+            .map(|(t, i)| {
+                let (ix, iy) = g.cell_of_index(i);
+                let image = ImageCell::of(g, ix, iy);
+                TrackedCell {
+                    name: t.name.clone(),
+                    at: t.at,
+                    ix,
+                    iy,
+                    col: image.col,
+                    row: image.row,
+                }
+            })
+            .collect())
+    }
+
     pub fn scans_per_lap(&self) -> usize {
         self.scans_per_lap
     }

@@ -146,37 +146,7 @@ impl MapWeaver {
         } else {
             pane_from_js(&pane)?
         };
-        #[derive(serde::Serialize)]
-        struct Tracked<'a> {
-            name: &'a str,
-            at: [f64; 2],
-            ix: usize,
-            iy: usize,
-            col: usize,
-            row: usize,
-        }
-        let g = self.0.pane_geometry(pane)?;
-        let cells = self.0.pane_tracked_cells(pane)?;
-        let list: Vec<Tracked> = self
-            .0
-            .settings()
-            .scene
-            .tracked
-            .iter()
-            .zip(cells)
-            .map(|(t, i)| {
-                let (ix, iy) = g.cell_of_index(i);
-                Tracked {
-                    name: &t.name,
-                    at: t.at,
-                    ix,
-                    iy,
-                    col: ix,
-                    row: g.height() - 1 - iy,
-                }
-            })
-            .collect();
-        to_js(&list)
+        to_js(&self.0.tracked_readout(pane)?)
     }
 
     /// The cell under image column `col`, row `row` (whole numbers) of

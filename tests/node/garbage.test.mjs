@@ -7,23 +7,11 @@
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { loadCore } from '../../scripts/lib/load-core.mjs';
+import { refuses } from './refuses.mjs';
 
 const { core } = await loadCore();
 // The W1 benchmark's log parser ships only in the bench build.
 const bench = (await loadCore({ bench: true })).core;
-
-/** Asserts that `f` throws an Error whose message names every word. */
-function refuses(f, ...words) {
-  let error;
-  try {
-    f();
-  } catch (e) {
-    error = e;
-  }
-  assert.ok(error instanceof Error, `expected an Error naming ${words.join(', ')}, got ${error}`);
-  for (const w of words) assert.ok(error.message.includes(w), `${JSON.stringify(error.message)} should name ${w}`);
-  return error.message;
-}
 
 test('the cell filter refuses strings, undefined and objects for its numbers', () => {
   refuses(() => core.runCellFilter('0.7x', 0.3, 0.5, 12, new Uint8Array([1]), true), 'p_occ');

@@ -7,24 +7,12 @@
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { loadCore } from '../../scripts/lib/load-core.mjs';
+import { refuses } from './refuses.mjs';
 
 const { core } = await loadCore();
 
 const FLASER = new TextEncoder().encode(
   'FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n'.repeat(5));
-
-/** Asserts that `f` throws an Error whose message names every word. */
-function refuses(f, ...words) {
-  let error;
-  try {
-    f();
-  } catch (e) {
-    error = e;
-  }
-  assert.ok(error instanceof Error, `expected an Error naming ${words.join(', ')}, got ${error}`);
-  for (const w of words) assert.ok(error.message.includes(w), `${JSON.stringify(error.message)} should name ${w}`);
-  return error.message;
-}
 
 /**
  * A number-to-be whose `valueOf` (and `toString`) frees `target()`: the
