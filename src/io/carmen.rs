@@ -68,6 +68,7 @@
 //! text ([`LogBudget`]), so a file of blank lines is read in bounded steps
 //! like any other.
 
+use super::gzip::GzipReader;
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::sensors::Scan;
@@ -221,7 +222,7 @@ enum Source<R: Read> {
     /// Not yet read from: gzip or plain is decided on the first read.
     Unopened(R),
     Plain(BufReader<Head<R>>),
-    Gzip(BufReader<flate2::read::MultiGzDecoder<Head<R>>>),
+    Gzip(BufReader<GzipReader<BufReader<Head<R>>>>),
     /// After the end of the file or an error.
     Closed,
 }
@@ -248,7 +249,7 @@ impl<R: Read> Source<R> {
         Ok(if gzip {
             Source::Gzip(BufReader::with_capacity(
                 BUFFER,
-                flate2::read::MultiGzDecoder::new(head),
+                GzipReader::new(BufReader::with_capacity(BUFFER, head)),
             ))
         } else {
             Source::Plain(BufReader::with_capacity(BUFFER, head))
@@ -258,7 +259,7 @@ impl<R: Read> Source<R> {
     fn bytes_read(&self) -> Option<u64> {
         match self {
             Source::Plain(b) => Some(b.get_ref().get_ref().1.count),
-            Source::Gzip(b) => Some(b.get_ref().get_ref().get_ref().1.count),
+            Source::Gzip(b) => Some(b.get_ref().get_ref().get_ref().get_ref().1.count),
             _ => None,
         }
     }

@@ -311,8 +311,7 @@ fn stored_zip(entries: &[(String, &[u8])]) -> Vec<u8> {
     let mut out = Vec::new();
     let mut central = Vec::new();
     for (name, data) in entries {
-        let mut crc = flate2::Crc::new();
-        crc.update(data);
+        let crc = super::gzip::crc32(data);
         let offset = out.len() as u32;
         // Version 1.0, no flags, method 0 (stored), time 0, date, crc,
         // sizes, name length, no extra field.
@@ -322,7 +321,7 @@ fn stored_zip(entries: &[(String, &[u8])]) -> Vec<u8> {
             u16le(out, 0);
             u16le(out, 0);
             u16le(out, DOS_DATE);
-            u32le(out, crc.sum());
+            u32le(out, crc);
             u32le(out, data.len() as u32);
             u32le(out, data.len() as u32);
             u16le(out, name.len() as u16);
