@@ -1,4 +1,4 @@
-//! Files in and out: CARMEN laser logs, and ROS `map_server` PGM + YAML.
+//! Files in and out: gzip, CARMEN laser logs, and ROS `map_server` PGM + YAML.
 
 pub mod carmen;
 pub mod gzip;
