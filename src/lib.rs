@@ -7,7 +7,7 @@
 //! * [`error`] — `OccError`, the validators, strict settings objects.
 //! * [`geometry`] — poses, the grid's limits (world ↔ cell), the supercover raster.
 //! * [`world`] — ground truth as a binary grid, and the one ray caster.
-//! * [`sensors`] — scans, LiDAR, odometry (Table 5.6), noise, the beam model (Table 6.1).
+//! * [`sensors`] — scans, the LiDAR, the sonar ring, odometry (Table 5.6), noise, the beam model (Table 6.1).
 //! * [`scenes`] — the apartment, the doorway, the table, training floor plans.
 //! * [`grid`] — the log-odds map (Table 9.1's state), entropy, Brier score, counts.
 //! * [`inverse`] — inverse sensor models: Table 9.2 and the learned one (§9.3).

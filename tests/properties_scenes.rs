@@ -25,7 +25,7 @@ use occgrid::scenes::apartment::{ApartmentScene, ApartmentSim};
 use occgrid::scenes::doorway::DoorwayScene;
 use occgrid::scenes::paths::{LapPath, WalkerParams};
 use occgrid::scenes::table::TableScene;
-use occgrid::sensors::lidar::LidarParams;
+use occgrid::sensors::lidar::Lidar;
 use occgrid::sensors::odometry::OdometryParams;
 use occgrid::world::{Rect, World};
 use properties_support::*;
@@ -90,7 +90,8 @@ fn doorway_mutations() -> Vec<Mutation<DoorwayScene>> {
         mutation!(&["sonar.beta_deg"], |s, v| s.sonar.beta_deg = v.real),
         mutation!(&["sonar.z_max", "beams x sub_rays"], |s, v| s.sonar.z_max =
             v.real),
-        mutation!(&["sonar.noise_sigma"], |s, v| s.sonar.noise_sigma = v.real),
+        mutation!(&["sonar.sigma"], |s, v| s.sonar.sigma = v.real),
+        mutation!(&["sonar.count"], |s, v| s.sonar.count = v.count),
         mutation!(&["sonar.sub_rays", "beams x sub_rays"], |s, v| s
             .sonar
             .sub_rays =
@@ -139,13 +140,15 @@ fn table_mutations() -> Vec<Mutation<TableScene>> {
         mutation!(&["step"], |s, v| s.step = v.real),
         mutation!(&["laps", "step"], |s, v| s.laps = v.count),
         mutation!(&["sonar.count"], |s, v| s.sonar.count = v.count),
-        mutation!(&["sonar.beta"], |s, v| s.sonar.beta = v.real),
+        mutation!(&["sonar.beta_deg"], |s, v| s.sonar.beta_deg = v.real),
         mutation!(&["sonar.z_max"], |s, v| s.sonar.z_max = v.real),
         mutation!(&["sonar.sigma"], |s, v| s.sonar.sigma = v.real),
         mutation!(&["sonar.sub_rays"], |s, v| s.sonar.sub_rays = v.count),
         mutation!(&["lidar.beams"], |s, v| s.lidar.beams = v.count),
         mutation!(&["lidar.z_max"], |s, v| s.lidar.z_max = v.real),
         mutation!(&["lidar.sigma"], |s, v| s.lidar.sigma = v.real),
+        mutation!(&["lidar.first_bearing"], |s, v| s.lidar.first_bearing =
+            v.real),
         mutation!(&[], |s, v| s.seed = v.count as u64),
     ]
 }
@@ -356,7 +359,7 @@ proptest! {
             }
             Err(e) => assert_names_one_of(&e, &["path.waypoints", "path.speed", "path.turn_rate"]),
         }
-        let lidar = LidarParams { beams, z_max, sigma, first_bearing: first };
+        let lidar = Lidar { beams, z_max, sigma, first_bearing: first };
         let mut rng = StdRng::seed_from_u64(seed);
         match lidar.validate() {
             Ok(()) => {

@@ -139,6 +139,17 @@ fn misspelt_scene_and_settings_fields_are_errors_naming_them() {
         .unwrap(),
     );
     assert!(msg.contains("beems") && msg.contains("lidar"), "{msg}");
+    // The table's sonar spoke of `beta` in radians; the one sonar type
+    // speaks of `beta_deg`, and the old name is refused, not misread.
+    let msg = js_error_message(
+        SensorFusion::new(parse(r#"{"sonar": {"beta": 0.44}}"#), JsValue::UNDEFINED)
+            .err()
+            .unwrap(),
+    );
+    assert!(
+        msg.contains("sonar") && msg.contains("\"beta\"") && msg.contains("beta_deg"),
+        "{msg}"
+    );
     let msg = js_error_message(
         MapWeaver::new(parse(r#"{"scene": {"scan_rat": 6}}"#))
             .err()

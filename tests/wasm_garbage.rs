@@ -254,13 +254,15 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
         DoorwayTrap::new(scene(r#"{"sonar": {"z_max": 1e300}}"#)),
         &["z_max"],
     );
+    // The old spelling `noise_sigma` still reads; the error names the one
+    // field both spellings set.
     refused(
         DoorwayTrap::new(with(
             &json("{}"),
             "sonar.noise_sigma",
             JsValue::from_f64(f64::NEG_INFINITY),
         )),
-        &["sonar.noise_sigma"],
+        &["sonar.sigma"],
     );
     let bearings: Array = [0.0, f64::NAN]
         .iter()

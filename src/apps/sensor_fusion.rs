@@ -86,7 +86,7 @@ impl FusionModels {
             self.sonar_p_free,
             self.prior,
             self.sonar_alpha,
-            scene.sonar.beta,
+            scene.sonar.beta(),
             scene.sonar.z_max,
         )?)
     }
@@ -360,7 +360,7 @@ impl TableFusion {
         let last = self.next.checked_sub(1);
         let pose = self.readout().pose;
         let t = self.run.scene().table.top();
-        let half_width = 0.5 * self.run.scene().sonar.beta;
+        let half_width = self.run.scene().sonar.half_width();
         let sonar = last
             .and_then(|k| self.run.sonar().get(k))
             .map(|scan| {
@@ -401,7 +401,7 @@ impl TableFusion {
             steps: self.run.len(),
             lidar_beams: scene.lidar.beams,
             sonar_count: scene.sonar.count,
-            sonar_cone_degrees: scene.sonar.beta.to_degrees(),
+            sonar_cone_degrees: scene.sonar.beta_deg,
             footprint_cells: self.run.footprint().len(),
             footprint: self.footprint_means(),
             pose: self.run.poses().get(last).copied().unwrap_or_default(),

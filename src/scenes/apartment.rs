@@ -36,7 +36,7 @@ use super::paths::{LapPath, WalkerParams};
 use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
-use crate::sensors::lidar::LidarParams;
+use crate::sensors::lidar::{Lidar, LidarPatch};
 use crate::sensors::odometry::OdometryParams;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
@@ -103,7 +103,10 @@ pub struct ApartmentScene {
     pub path: LapPath,
     /// Scans per second.
     pub scan_rate: f64,
-    pub lidar: LidarParams,
+    /// A partial `lidar` keeps the fields it does not name from
+    /// [`ApartmentScene::LIDAR`].
+    #[serde(deserialize_with = "read_lidar")]
+    pub lidar: Lidar,
     pub odometry: OdometryParams,
     pub person: WalkerParams,
 }
@@ -199,12 +202,7 @@ impl Default for ApartmentScene {
                 turn_rate: 1.5,
             },
             scan_rate: 12.0,
-            lidar: LidarParams {
-                beams: 60,
-                z_max: 8.0,
-                sigma: 0.02,
-                first_bearing: 0.0,
-            },
+            lidar: Self::LIDAR,
             odometry: OdometryParams::WHEELS,
             person: WalkerParams {
                 size: 0.5,
@@ -218,7 +216,21 @@ impl Default for ApartmentScene {
     }
 }
 
+/// A scene object's `lidar`, over the apartment's own.
+fn read_lidar<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Lidar, D::Error> {
+    Ok(<LidarPatch as serde::Deserialize>::deserialize(d)?.over(ApartmentScene::LIDAR))
+}
+
 impl ApartmentScene {
+    /// The robot's LiDAR: 60 beams, the first along the heading, 8 m range,
+    /// 2 cm noise.
+    pub const LIDAR: Lidar = Lidar {
+        beams: 60,
+        z_max: 8.0,
+        sigma: 0.02,
+        first_bearing: 0.0,
+    };
+
     /// The map's limits: `width × height` cells of `resolution` metres,
     /// lower-left corner at the origin.
     pub fn geometry(&self) -> Result<GridGeometry> {
@@ -370,7 +382,7 @@ pub struct SimScan {
     /// increment since.
     pub odometry: Pose,
     /// One range per beam, metres, in the order of
-    /// [`LidarParams::bearings`].
+    /// [`Lidar::bearings`].
     pub ranges: Vec<f64>,
     /// The person's footprint while they were in the world for this scan.
     pub person: Option<Rect>,
@@ -517,6 +529,28 @@ mod tests {
         // About 12 scans a second over a lap of about a minute.
         let n = scene.scans_per_lap();
         assert!((500..800).contains(&n), "{n}");
+    }
+
+    #[test]
+    fn a_partial_lidar_keeps_the_scenes_other_values() {
+        let read = |json: &str| serde_json::from_str::<ApartmentScene>(json);
+        let s = read(r#"{"lidar": {"sigma": 0.05}}"#).unwrap();
+        assert_eq!(
+            s.lidar,
+            Lidar {
+                sigma: 0.05,
+                ..ApartmentScene::LIDAR
+            }
+        );
+        assert_eq!(
+            s,
+            ApartmentScene {
+                lidar: s.lidar,
+                ..ApartmentScene::default()
+            }
+        );
+        let e = read(r#"{"lidar": {"beems": 90}}"#).unwrap_err().to_string();
+        assert!(e.contains("beems"), "{e}");
     }
 
     #[test]

@@ -11,15 +11,16 @@
 //! ([`crate::map_search`]).
 //!
 //! The scene is data (serde): walls, poses, sonar bearings, noise and seed.
-//! Readings are the exact cone cast of [`World::cast_cone`] plus seeded
-//! Gaussian noise, so the same scene gives the same readings bit for bit.
+//! Readings are the sonar's ([`Sonar::read`]: the exact cone cast of
+//! [`World::cast_cone`] plus seeded Gaussian noise), so the same scene gives
+//! the same readings bit for bit.
 
 use crate::error::{self, invalid, Result};
 use crate::geometry::raster::{raster_work, MAX_RASTER_WORK};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
-use crate::sensors::noise::standard_normal;
 use crate::sensors::scan::ConeBeam;
+use crate::sensors::sonar::{Sonar, SonarPatch};
 use crate::sensors::Scan;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
@@ -37,30 +38,9 @@ pub const MAX_READINGS: usize = 4096;
 /// [`GridGeometry`] would hold the widget for minutes.
 pub const MAX_SCENE_CELLS: usize = super::MAX_WIDGET_SCENE_CELLS;
 
-/// The sonar: cone, range, and how its readings are generated.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct Sonar {
-    /// Full opening angle of the cone, degrees.
-    pub beta_deg: f64,
-    /// Maximum range, metres: no echo within it reads exactly `z_max`.
-    pub z_max: f64,
-    /// Sub-rays across the cone for the expected range (SPEC §4). Enough
-    /// that neighbouring sub-rays are less than a cell apart at `z_max`, so
-    /// the cone's raster has no holes.
-    pub sub_rays: usize,
-    /// Standard deviation of the range noise, metres.
-    pub noise_sigma: f64,
-}
-
-impl Default for Sonar {
-    fn default() -> Self {
-        DoorwayScene::standard().sonar
-    }
-}
-
 /// The whole scene, as data. Missing fields (when read with serde) take the
-/// chapter's scene, so a page may override only the seed.
+/// chapter's scene, so a page may override only the seed; a nested `sonar`
+/// overrides only the fields it names.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct DoorwayScene {
@@ -79,8 +59,12 @@ pub struct DoorwayScene {
     pub far_wall: Rect,
     /// Where the robot stops to read its sonars; heading in radians.
     pub poses: Vec<Pose>,
-    /// Sonar axes relative to the heading, degrees.
+    /// Sonar axes relative to the heading, degrees: the robot carries one
+    /// sonar (a ring of one, facing the heading) per bearing.
     pub bearings_deg: Vec<f64>,
+    /// A partial `sonar` keeps the fields it does not name from
+    /// [`DoorwayScene::SONAR`].
+    #[serde(deserialize_with = "read_sonar")]
     pub sonar: Sonar,
     /// Prior occupancy of a cell, for both the grid and the MAP objective.
     pub prior: f64,
@@ -93,7 +77,23 @@ impl Default for DoorwayScene {
     }
 }
 
+/// A scene object's `sonar`, over the doorway's own.
+fn read_sonar<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Sonar, D::Error> {
+    Ok(<SonarPatch as serde::Deserialize>::deserialize(d)?.over(DoorwayScene::SONAR))
+}
+
 impl DoorwayScene {
+    /// The chapter's sonar: a 22° cone, 3 m range, 2 cm noise, 13 sub-rays
+    /// (enough that neighbouring sub-rays are less than a cell apart at
+    /// `z_max`, so the cone's raster has no holes).
+    pub const SONAR: Sonar = Sonar {
+        count: 1,
+        beta_deg: 22.0,
+        z_max: 3.0,
+        sigma: 0.02,
+        sub_rays: 13,
+    };
+
     /// The chapter's scene: a 5 m x 4 m room at 0.10 m (2,000 cells). The
     /// north wall (y = 2.4–2.5 m) has a 0.7 m door at x = 2.1–2.8 m; the far
     /// wall (y = 3.5–3.6 m) stands 2.5 m from the robot's line, inside the
@@ -130,12 +130,7 @@ impl DoorwayScene {
                 })
                 .collect(),
             bearings_deg: (0..9).map(|i| -60.0 + 15.0 * i as f64).collect(),
-            sonar: Sonar {
-                beta_deg: 22.0,
-                z_max: 3.0,
-                sub_rays: 13,
-                noise_sigma: 0.02,
-            },
+            sonar: Self::SONAR,
             prior: 0.5,
             seed: 7,
         }
@@ -175,21 +170,22 @@ impl DoorwayScene {
                 error::finite("walls", v)?;
             }
         }
-        error::positive("sonar.beta_deg", self.sonar.beta_deg)?;
+        self.sonar.validate()?;
+        // The bearings place the doorway's sonars; a ring around each
+        // bearing would be a reading the widget cannot show.
+        if self.sonar.count != 1 {
+            return Err(invalid(
+                "sonar.count",
+                self.sonar.count,
+                "1: the doorway's robot carries one sonar per entry of bearings_deg",
+            ));
+        }
+        // The MAP search needs a half-angle below a right angle.
         if self.sonar.beta_deg >= 180.0 {
             return Err(invalid(
                 "sonar.beta_deg",
                 self.sonar.beta_deg,
                 "an opening angle below 180 degrees",
-            ));
-        }
-        error::positive("sonar.z_max", self.sonar.z_max)?;
-        error::non_negative("sonar.noise_sigma", self.sonar.noise_sigma)?;
-        if self.sonar.sub_rays == 0 || self.sonar.sub_rays > 1024 {
-            return Err(invalid(
-                "sonar.sub_rays",
-                self.sonar.sub_rays,
-                "between 1 and 1024 rays",
             ));
         }
         // The MAP search's own limit, checked here before the readings are
@@ -234,36 +230,21 @@ impl DoorwayScene {
 
     /// Half the cone's opening angle, radians.
     pub fn half_width(&self) -> f64 {
-        0.5 * self.sonar.beta_deg.to_radians()
+        self.sonar.half_width()
     }
 
-    /// Every reading, pose by pose and sonar by sonar: the exact cone cast
-    /// plus Gaussian noise (Box–Muller, seeded), clipped to `[0, z_max]`.
-    /// A cone with no echo reads exactly `z_max`, without noise.
+    /// Every reading, pose by pose and sonar by sonar: the sonar's noisy
+    /// cone reading ([`Sonar::read`], seeded), in `[0, z_max]`.
     pub fn beams(&self) -> Result<Vec<ConeBeam>> {
         let world = self.world()?;
         let mut rng = StdRng::seed_from_u64(self.seed);
-        let z_max = self.sonar.z_max;
         let mut beams = Vec::with_capacity(self.poses.len() * self.bearings_deg.len());
         for pose in &self.poses {
             for &b in &self.bearings_deg {
                 let bearing = b.to_radians();
-                let truth = world.cast_cone(
-                    pose.x,
-                    pose.y,
-                    pose.theta + bearing,
-                    self.half_width(),
-                    self.sonar.sub_rays,
-                    z_max,
-                )?;
-                // Draw the noise even for a no-return, so that every reading
-                // keeps its own draw whatever the others saw.
-                let noise = self.sonar.noise_sigma * standard_normal(&mut rng);
-                let range = if truth >= z_max {
-                    z_max
-                } else {
-                    (truth + noise).clamp(0.0, z_max)
-                };
+                let range =
+                    self.sonar
+                        .read(&world, pose.x, pose.y, pose.theta + bearing, &mut rng)?;
                 beams.push(ConeBeam {
                     pose: *pose,
                     bearing,
@@ -343,6 +324,31 @@ mod tests {
         .unwrap();
         assert_ne!(a, other);
         assert!(a.iter().all(|b| (0.0..=3.0).contains(&b.range)));
+    }
+
+    #[test]
+    fn a_partial_sonar_keeps_the_scenes_other_values_and_noise_sigma_reads() {
+        let read = |json: &str| serde_json::from_str::<DoorwayScene>(json).unwrap();
+        let s = read(r#"{"sonar": {"z_max": 2.5}}"#);
+        assert_eq!(
+            s.sonar,
+            Sonar {
+                z_max: 2.5,
+                ..DoorwayScene::SONAR
+            }
+        );
+        assert_eq!(
+            read(r#"{"sonar": {"noise_sigma": 0.05}}"#).sonar.sigma,
+            0.05
+        );
+        assert_eq!(read(r#"{"sonar": {}}"#), DoorwayScene::standard());
+        // The doorway's robot carries one sonar per bearing, not a ring.
+        let e = read(r#"{"sonar": {"count": 4}}"#).validate().unwrap_err();
+        assert!(e.to_string().contains("sonar.count"), "{e}");
+        let e = read(r#"{"sonar": {"beta_deg": 180}}"#)
+            .validate()
+            .unwrap_err();
+        assert!(e.to_string().contains("below 180"), "{e}");
     }
 
     #[test]

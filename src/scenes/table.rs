@@ -21,7 +21,8 @@
 use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
-use crate::sensors::noise::standard_normal;
+use crate::sensors::lidar::{Lidar, LidarPatch};
+use crate::sensors::sonar::{Sonar, SonarPatch};
 use crate::sensors::Scan;
 use crate::world::{Rect, World};
 use rand::rngs::StdRng;
@@ -107,61 +108,6 @@ impl TableSpec {
     }
 }
 
-/// A ring of sonar transducers at table height, evenly spaced around the
-/// robot, each a wide cone.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct SonarSpec {
-    /// Number of transducers in the ring.
-    pub count: usize,
-    /// Opening angle of each cone `beta`, radians.
-    pub beta: f64,
-    /// Maximum range, metres; no echo reads exactly this.
-    pub z_max: f64,
-    /// Standard deviation of the range noise, metres.
-    pub sigma: f64,
-    /// Rays cast across each cone to find its nearest echo (SPEC §4).
-    pub sub_rays: usize,
-}
-
-impl Default for SonarSpec {
-    /// Sixteen transducers 22.5° apart, each with a 25° cone (so that
-    /// neighbouring cones overlap and every bearing is covered), 5 m range,
-    /// 3 cm noise: a Pioneer-style ring.
-    fn default() -> Self {
-        Self {
-            count: 16,
-            beta: 25f64.to_radians(),
-            z_max: 5.0,
-            sigma: 0.03,
-            sub_rays: 25,
-        }
-    }
-}
-
-/// A 360° LiDAR at shin height.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct LidarSpec {
-    /// Beams per scan, evenly spread over a full turn.
-    pub beams: usize,
-    /// Maximum range, metres; no return reads exactly this.
-    pub z_max: f64,
-    /// Standard deviation of the range noise, metres.
-    pub sigma: f64,
-}
-
-impl Default for LidarSpec {
-    /// 360 beams (one per degree), 8 m range, 1 cm noise.
-    fn default() -> Self {
-        Self {
-            beams: 360,
-            z_max: 8.0,
-            sigma: 0.01,
-        }
-    }
-}
-
 /// The whole scene as data: room, table, the robot's path, both sensors and
 /// the seed. The same scene gives the same scans, bit for bit.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -182,8 +128,14 @@ pub struct TableScene {
     pub step: f64,
     /// How many times the loop is driven.
     pub laps: usize,
-    pub sonar: SonarSpec,
-    pub lidar: LidarSpec,
+    /// The ring at table height. A partial `sonar` keeps the fields it does
+    /// not name from [`TableScene::SONAR`].
+    #[serde(deserialize_with = "read_sonar")]
+    pub sonar: Sonar,
+    /// The LiDAR at shin height. A partial `lidar` keeps the fields it does
+    /// not name from [`TableScene::LIDAR`].
+    #[serde(deserialize_with = "read_lidar")]
+    pub lidar: Lidar,
     pub seed: u64,
 }
 
@@ -209,14 +161,44 @@ impl Default for TableScene {
             path,
             step: 0.1,
             laps: 1,
-            sonar: SonarSpec::default(),
-            lidar: LidarSpec::default(),
+            sonar: Self::SONAR,
+            lidar: Self::LIDAR,
             seed: 7,
         }
     }
 }
 
+/// A scene object's `sonar`, over the table scene's own.
+fn read_sonar<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Sonar, D::Error> {
+    Ok(<SonarPatch as serde::Deserialize>::deserialize(d)?.over(TableScene::SONAR))
+}
+
+/// A scene object's `lidar`, over the table scene's own.
+fn read_lidar<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Lidar, D::Error> {
+    Ok(<LidarPatch as serde::Deserialize>::deserialize(d)?.over(TableScene::LIDAR))
+}
+
 impl TableScene {
+    /// Sixteen transducers 22.5° apart, each with a 25° cone (so that
+    /// neighbouring cones overlap and every bearing is covered), 5 m range,
+    /// 3 cm noise: a Pioneer-style ring.
+    pub const SONAR: Sonar = Sonar {
+        count: 16,
+        beta_deg: 25.0,
+        z_max: 5.0,
+        sigma: 0.03,
+        sub_rays: 25,
+    };
+
+    /// 360 beams (one per degree, the first straight behind the robot),
+    /// 8 m range, 1 cm noise.
+    pub const LIDAR: Lidar = Lidar {
+        beams: 360,
+        z_max: 8.0,
+        sigma: 0.01,
+        first_bearing: -PI,
+    };
+
     /// The same scene with a LiDAR of `beams` beams and nothing else changed.
     pub fn with_lidar_beams(&self, beams: usize) -> Result<Self> {
         let mut s = self.clone();
@@ -323,29 +305,20 @@ impl TableScene {
             ));
         }
 
+        // The scene's own budgets first, then the sensors' ranges.
         let s = &self.sonar;
         if s.count == 0 || s.count > MAX_SONARS {
             return Err(invalid("sonar.count", s.count, "1 to 256 transducers"));
         }
-        error::positive("sonar.beta", s.beta)?;
-        if s.beta > PI {
-            return Err(invalid(
-                "sonar.beta",
-                s.beta,
-                "a cone of at most pi radians",
-            ));
-        }
-        error::positive("sonar.z_max", s.z_max)?;
-        error::non_negative("sonar.sigma", s.sigma)?;
         if s.sub_rays == 0 || s.sub_rays > MAX_SUB_RAYS {
             return Err(invalid("sonar.sub_rays", s.sub_rays, "1 to 256 rays"));
         }
+        s.validate()?;
         let l = &self.lidar;
         if l.beams == 0 || l.beams > MAX_LIDAR_BEAMS {
             return Err(invalid("lidar.beams", l.beams, "1 to 2048 beams"));
         }
-        error::positive("lidar.z_max", l.z_max)?;
-        error::non_negative("lidar.sigma", l.sigma)?;
+        l.validate()?;
         self.check_work(steps as usize, g.len())
     }
 
@@ -497,16 +470,12 @@ impl TableScene {
     fn sonar_scans(&self, top: &World, poses: &[Pose]) -> Result<Vec<Scan>> {
         let s = self.sonar;
         let mut rng = StdRng::seed_from_u64(self.seed);
-        let spacing = TAU / s.count as f64;
+        let spacing = s.spacing();
         poses
             .iter()
             .map(|p| {
                 let ranges = (0..s.count)
-                    .map(|j| {
-                        let a = p.theta + j as f64 * spacing;
-                        let z = top.cast_cone(p.x, p.y, a, 0.5 * s.beta, s.sub_rays, s.z_max)?;
-                        Ok(noisy(z, s.z_max, s.sigma, &mut rng))
-                    })
+                    .map(|j| s.read(top, p.x, p.y, p.theta + j as f64 * spacing, &mut rng))
                     .collect::<Result<Vec<f64>>>()?;
                 Scan::uniform(*p, ranges, 0.0, spacing)
             })
@@ -518,32 +487,14 @@ impl TableScene {
     fn lidar_scans(&self, shins: &World, poses: &[Pose]) -> Result<Vec<Scan>> {
         let l = self.lidar;
         let mut rng = StdRng::seed_from_u64(self.seed.wrapping_add(LIDAR_STREAM));
-        let spacing = TAU / l.beams as f64;
         poses
             .iter()
             .map(|p| {
-                let ranges = (0..l.beams)
-                    .map(|j| {
-                        let z = shins.cast(p.x, p.y, p.theta - PI + j as f64 * spacing, l.z_max);
-                        noisy(z, l.z_max, l.sigma, &mut rng)
-                    })
-                    .collect();
-                Scan::uniform(*p, ranges, -PI, spacing)
+                let mut ranges = Vec::with_capacity(l.beams);
+                l.scan_into(shins, p, &mut rng, &mut ranges);
+                Scan::uniform(*p, ranges, l.first_bearing, l.spacing())
             })
             .collect()
-    }
-}
-
-/// A reading: the true range plus Gaussian noise, kept in `[0, z_max]`. A
-/// no-return stays exactly `z_max` (nothing echoed, so nothing to blur), but
-/// its noise sample is still drawn so that every beam consumes the same
-/// random numbers whatever the world holds.
-fn noisy(z: f64, z_max: f64, sigma: f64, rng: &mut StdRng) -> f64 {
-    let n = standard_normal(rng);
-    if z >= z_max {
-        z_max
-    } else {
-        (z + sigma * n).clamp(0.0, z_max)
     }
 }
 
@@ -699,6 +650,83 @@ mod tests {
     }
 
     #[test]
+    fn a_partial_sensor_keeps_the_scenes_other_values_and_beta_is_refused() {
+        let read = |json: &str| serde_json::from_str::<TableScene>(json);
+        let s = read(r#"{"sonar": {"z_max": 3}, "lidar": {"beams": 90}}"#).unwrap();
+        assert_eq!(
+            s.sonar,
+            Sonar {
+                z_max: 3.0,
+                ..TableScene::SONAR
+            }
+        );
+        assert_eq!(
+            s.lidar,
+            Lidar {
+                beams: 90,
+                ..TableScene::LIDAR
+            }
+        );
+        assert_eq!(read("{}").unwrap(), TableScene::default());
+        // The old `beta` was radians: read as degrees it would shrink the
+        // cone 57-fold without a word, so it is refused by name.
+        let e = read(r#"{"sonar": {"beta": 0.44}}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`beta`") && e.contains("beta_deg"), "{e}");
+    }
+
+    /// The scans as the scene computed them before it held the shared
+    /// sensor types (its own cone and beam loops, the beam's world angle as
+    /// `theta - pi + j * spacing`, readings clamped to `[0, z_max]`): the
+    /// shared types give every default reading bit for bit.
+    #[test]
+    fn default_scans_are_those_of_the_scenes_former_loops_bit_for_bit() {
+        use crate::sensors::noise::standard_normal;
+        let scene = TableScene::default();
+        let run = scene.build().unwrap();
+        let noisy = |z: f64, z_max: f64, sigma: f64, rng: &mut StdRng| {
+            let n = standard_normal(rng);
+            if z >= z_max {
+                z_max
+            } else {
+                (z + sigma * n).clamp(0.0, z_max)
+            }
+        };
+        let (s, l) = (scene.sonar, scene.lidar);
+        let mut rng = StdRng::seed_from_u64(scene.seed);
+        let spacing = TAU / s.count as f64;
+        let beta = 25f64.to_radians();
+        for (scan, p) in run.sonar().iter().zip(run.poses()) {
+            for (j, &got) in scan.ranges().iter().enumerate() {
+                let a = p.theta + j as f64 * spacing;
+                let z = run
+                    .top()
+                    .cast_cone(p.x, p.y, a, 0.5 * beta, s.sub_rays, s.z_max)
+                    .unwrap();
+                assert_eq!(
+                    got.to_bits(),
+                    noisy(z, s.z_max, s.sigma, &mut rng).to_bits()
+                );
+            }
+        }
+        let mut rng = StdRng::seed_from_u64(scene.seed.wrapping_add(LIDAR_STREAM));
+        let spacing = TAU / l.beams as f64;
+        for (scan, p) in run.lidar().iter().zip(run.poses()) {
+            for (j, (&got, &b)) in scan.ranges().iter().zip(scan.bearings()).enumerate() {
+                let z = run
+                    .shins()
+                    .cast(p.x, p.y, p.theta - PI + j as f64 * spacing, l.z_max);
+                assert_eq!(
+                    got.to_bits(),
+                    noisy(z, l.z_max, l.sigma, &mut rng).to_bits()
+                );
+                assert_eq!(b.to_bits(), (-PI + j as f64 * spacing).to_bits());
+            }
+        }
+    }
+
+    #[test]
     fn rejects_bad_scenes_naming_the_field() {
         let e = |s: TableScene| s.build().unwrap_err().to_string();
         let d = TableScene::default;
@@ -720,8 +748,8 @@ mod tests {
             .to_string()
             .contains("lidar.beams"));
         let mut s = d();
-        s.sonar.beta = f64::NAN;
-        assert!(e(s).contains("sonar.beta"));
+        s.sonar.beta_deg = f64::NAN;
+        assert!(e(s).contains("sonar.beta_deg"));
         let mut s = d();
         s.table.center = [0.2, 0.2];
         assert!(e(s).contains("table.center"));
