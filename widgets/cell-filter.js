@@ -12,20 +12,12 @@ import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, fixed } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
+import { CELL_FILTER_DEFAULTS as DEFAULTS } from './lib/defaults.js';
 
-/**
- * The chapter's worked example before the core has loaded (the attributes'
- * defaults say the same). Once it has, the preset takes its readings from
- * the core (`workedExample()`); the inverse model's two answers and the
- * prior stay here, because the core gives them only as log odds.
- */
-const WORKED_EXAMPLE = { pOcc: 0.7, pFree: 0.3, prior: 0.5, readings: [1, 1, 0] };
-// The l0 lesson: a prior of 0.2 and an inverse model whose two answers sit
-// symmetrically around it in log odds (logit 0.37 and logit 0.10 are about
-// l0 + 0.85 and l0 - 0.85), so alternating readings keep the cell near l0 —
-// until the update forgets to remove l0.
-const L0_LESSON = { pOcc: 0.37, pFree: 0.1, prior: 0.2, readings: [1, 0, 1, 0, 1, 0, 1, 0], forget: true };
-const CLAMP = 12;
+// The two presets (the chapter's worked example, the l0 lesson) and the
+// clamp are the core's (`constants().cellFilter`). The attributes' defaults
+// are the worked example, written in lib/defaults.js because the sliders
+// are built before the core has loaded.
 const GROUPS = ['readings', 'presets', 'sliders', 'toggles', 'link'];
 
 /**
@@ -63,11 +55,11 @@ const FIELDS = { 'p-occ': 'pOcc', 'p-free': 'pFree', prior: 'prior', readings: '
 
 class CellFilterElement extends HTMLElement {
   static attributeSpec = {
-    'p-occ': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: '0.70', doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
-    'p-free': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: '0.30', doc: 'p(m | free reading): its answer to a free reading' },
-    prior: { type: probability({ min: 0.05, max: 0.95, step: 0.05 }), default: '0.50', doc: 'the prior p(m), whose log odds is l0' },
-    readings: { type: readingsType, default: 'oof', doc: 'the readings so far, in order' },
-    'forget-l0': { type: flag(), default: 'off', doc: 'start with the update that forgets to subtract l0' },
+    'p-occ': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-occ'], doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
+    'p-free': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-free'], doc: 'p(m | free reading): its answer to a free reading' },
+    prior: { type: probability({ min: 0.05, max: 0.95, step: 0.05 }), default: DEFAULTS.prior, doc: 'the prior p(m), whose log odds is l0' },
+    readings: { type: readingsType, default: DEFAULTS.readings, doc: 'the readings so far, in order' },
+    'forget-l0': { type: flag(), default: DEFAULTS['forget-l0'], doc: 'start with the update that forgets to subtract l0' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: readings (the two reading buttons, undo, clear), presets (worked example, l0 lesson), sliders, toggles, link' },
   };
 
@@ -75,7 +67,8 @@ class CellFilterElement extends HTMLElement {
 
   constructor() {
     super();
-    this.state = { ...WORKED_EXAMPLE, readings: [...WORKED_EXAMPLE.readings], forget: false };
+    // Filled from the attributes (their defaults: the worked example).
+    this.state = {};
     this.ready = false;
   }
 
@@ -86,6 +79,8 @@ class CellFilterElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core } = await loadCore());
+      this.presets = this.core.constants().cellFilter;
+      this.describeLesson();
       this.ready = true;
       this.render();
     } catch (e) {
@@ -155,8 +150,8 @@ class CellFilterElement extends HTMLElement {
           button('Undo', () => this.set({ readings: this.state.readings.slice(0, -1) }), { name: 'undo' }),
           button('Clear readings', () => this.set({ readings: [] }), { name: 'clear' })),
         el('div', { class: 'occgrid-buttons cell-filter-group', role: 'group', 'aria-label': 'presets', dataset: { controls: 'presets' } },
-          button('Worked example', () => this.set({ ...WORKED_EXAMPLE, readings: this.workedReadings(), forget: false }), { name: 'worked-example' }),
-          button('The l0 lesson', () => this.set({ ...L0_LESSON, readings: [...L0_LESSON.readings] }), { name: 'l0-lesson', title: 'prior 0.2, alternating readings, without subtracting l0' }))),
+          button('Worked example', () => this.preset('workedExample'), { name: 'worked-example' }),
+          this.lessonButton = button('The l0 lesson', () => this.preset('l0Lesson'), { name: 'l0-lesson' }))),
       el('div', { class: 'occgrid-controls' },
         el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'sliders' } }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root),
         el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'toggles' } }, this.forgetToggle.root)),
@@ -175,7 +170,7 @@ class CellFilterElement extends HTMLElement {
       el('p', { class: 'occgrid-caption' },
         'Each reading adds the inverse model’s log odds and removes the prior l0 once. ',
         'The inverse model answers with a posterior, which already contains the prior; forget to remove l0 and every reading counts the prior once more. ',
-        '“The l0 lesson” uses a prior of 0.2 and answers of 0.37 / 0.10, symmetric around it: alternating readings keep the cell near l0 = −1.386, but without the subtraction each reading adds another −1.386 and the cell drifts toward free.'),
+        this.lessonText = el('span')),
       copyLinkControl(this, CellFilterElement.attributeSpec, () => this.linkState()),
     );
     this.chart = lineChart(this.chartBox, {
@@ -185,15 +180,20 @@ class CellFilterElement extends HTMLElement {
     });
   }
 
-  /** The worked example's readings (1 occupied, 0 free), from the core once it has loaded. */
-  workedReadings() {
-    if (!this.core) return [...WORKED_EXAMPLE.readings];
-    try {
-      return this.core.workedExample().steps.map((st) => (st.occupied ? 1 : 0));
-    } catch (e) {
-      showError(this, e);
-      return [...WORKED_EXAMPLE.readings];
-    }
+  /** Sets the core's preset `name` (nothing before the core has loaded). */
+  preset(name) {
+    const p = this.presets?.[name];
+    if (!p) return;
+    this.set({ pOcc: p.pOcc, pFree: p.pFree, prior: p.prior, readings: [...p.readings], forget: !p.subtractPrior });
+  }
+
+  /** The l0 lesson's caption and button title, in the core's numbers. */
+  describeLesson() {
+    const p = this.presets.l0Lesson;
+    const l0 = fixed(this.core.runCellFilter(p.pOcc, p.pFree, p.prior, p.clamp, new Uint8Array(0), true).l0, 3).replace('-', '−');
+    this.lessonButton.title = `prior ${p.prior}, alternating readings, without subtracting l0`;
+    this.lessonText.textContent = `“The l0 lesson” uses a prior of ${p.prior} and answers of ${fixed(p.pOcc, 2)} / ${fixed(p.pFree, 2)}, symmetric around it: ` +
+      `alternating readings keep the cell near l0 = ${l0}, but without the subtraction each reading adds another ${l0} and the cell drifts toward free.`;
   }
 
   syncControls() {
@@ -223,7 +223,7 @@ class CellFilterElement extends HTMLElement {
     const s = this.state;
     let table;
     try {
-      table = this.core.runCellFilter(s.pOcc, s.pFree, s.prior, CLAMP, new Uint8Array(s.readings), !s.forget);
+      table = this.core.runCellFilter(s.pOcc, s.pFree, s.prior, this.presets.workedExample.clamp, new Uint8Array(s.readings), !s.forget);
       clearError(this);
     } catch (e) {
       showError(this, e);

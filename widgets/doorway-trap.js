@@ -28,7 +28,7 @@ import {
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
-import { TwoCellTable, cellsType } from './lib/two-cell-table.js';
+import { MIN_RANGE, TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
 /** Sweep scans and MAP flips per second while playing. */
 const SCANS_PER_SECOND = 1.5;
@@ -54,8 +54,16 @@ class DoorwayTrapElement extends HTMLElement {
     scans: { type: whole(0, 4096), default: '0', doc: 'sweep scans done before the first frame' },
     flips: { type: whole(0, 100_000), default: '0', doc: 'MAP flips done before the first frame (the climb stops at its local maximum)' },
     arrangement: { type: oneOf(['side', 'collinear', 'apart']), default: 'side', doc: 'the two cells of the two-cell table: side by side, one behind the other, or apart' },
-    cells: { type: cellsType, doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement' },
-    reading: { type: number(0.1, 3, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (3 = no echo)' },
+    // The cone's reach and half-width are the core's
+    // (`constants().twoCellTable`), taken once it has loaded.
+    cells: {
+      type: cellsType({ maxRange: Infinity, halfConeDeg: 180 }), doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement',
+      core: (k) => ({ type: cellsType(k.twoCellTable) }),
+    },
+    reading: {
+      type: number(MIN_RANGE, Infinity, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (at the sonar’s z_max: no echo)',
+      core: (k) => ({ type: number(MIN_RANGE, k.twoCellTable.maxRange, { step: 0.01, unit: 'm' }) }),
+    },
     prior: { type: number(0.05, 0.95, { step: 0.05 }), default: '0.50', doc: 'the two-cell table’s prior occupancy p₀' },
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (step, play, reset of both halves), arrangements, sliders (reading, prior), export, link' },
@@ -81,6 +89,8 @@ class DoorwayTrapElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      // The two cells and the reading checked against the core's cone.
+      this.values = this.attrs.resolve(this.core.constants());
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;

@@ -21,8 +21,9 @@ import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVis
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 
-/** The sensor's maximum range, metres (the core's training sensor: z_max = 8 m). */
-const Z_MAX = 8;
+// The reading's and the density's upper bounds are the core's
+// (`constants().inverseWorkbench`: the training sensor's z_max, the densest
+// training maps it fills); the sliders take them once the core has loaded.
 /** Samples of the lattice: one column per 2.5 cm of the full range, bearings every ~1/6 degree. */
 const RANGES = 369;
 const BEARINGS = 61;
@@ -35,17 +36,20 @@ const IMAGE_HEIGHT = 150;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
-/** Densest training maps the core fills (an occupied fraction). */
-const MAX_DENSITY = 0.6;
 const densityText = (d) => (d === 0 ? 'buildings as drawn' : `boxes to ${Math.round(100 * d)}%`);
 
 const deg = (rad) => (rad * 180) / Math.PI;
 
 class InverseWorkbenchElement extends HTMLElement {
   static attributeSpec = {
-    reading: { type: number(0.2, Z_MAX, { step: 0.05, unit: 'm' }), default: '2.00', doc: `the reading z, metres (at ${Z_MAX}, the sensor’s z_max: a no-return)` },
+    reading: {
+      type: number(0.2, Infinity, { step: 0.05, unit: 'm' }), default: '2.00', doc: 'the reading z, metres (at the sensor’s z_max: a no-return)',
+      core: (k) => ({ type: number(0.2, k.inverseWorkbench.zMax, { step: 0.05, unit: 'm' }) }),
+    },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
-    density: { type: number(0, MAX_DENSITY, { step: 0.05 }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)' },
+    density: {
+      type: number(0, 1, { step: 0.05 }), core: (k) => ({ type: number(0, k.inverseWorkbench.maxDensity, { step: 0.05 }) }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)',
+    },
     zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
   };
@@ -56,7 +60,7 @@ class InverseWorkbenchElement extends HTMLElement {
     super();
     this.bench = null;
     this.frame = 0;
-    this.zMax = Z_MAX;
+    this.zMax = null;
   }
 
   async connectedCallback() {
@@ -70,6 +74,15 @@ class InverseWorkbenchElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      const constants = this.core.constants();
+      this.zMax = constants.inverseWorkbench.zMax;
+      this.readingSlider.input.max = String(this.zMax);
+      this.densitySlider.input.max = String(constants.inverseWorkbench.maxDensity);
+      // The reading and density checked against the core's bounds.
+      this.values = this.attrs.resolve(constants);
+      this.density = this.values.density;
+      this.densitySlider.set(this.density);
+      this.setReading(this.values.reading);
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
@@ -123,12 +136,13 @@ class InverseWorkbenchElement extends HTMLElement {
 
   build() {
     this.readingSlider = slider({
-      label: 'Reading z', min: 0.2, max: Z_MAX, step: 0.05, value: this.z,
+      // The maximum is the core's z_max, set once the core has loaded.
+      label: 'Reading z', min: 0.2, step: 0.05, value: this.z,
       format: (v) => `${v.toFixed(2)} m`,
       onInput: (v) => { this.z = v; this.requestDraw(); },
       name: 'reading',
     });
-    this.maxButton = button('Max-range reading', () => this.setReading(this.zMax), {
+    this.maxButton = button('Max-range reading', () => { if (this.zMax) this.setReading(this.zMax); }, {
       name: 'max-range', title: 'A no-return: the reading sits at the sensor’s maximum range', pressed: false,
     });
     this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, this.zoom, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
@@ -139,7 +153,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.status = el('p', { class: 'occgrid-readout inverse-workbench-status', 'aria-live': 'polite' }, 'Training the learned model…');
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
     this.densitySlider = slider({
-      label: 'Training-map density', min: 0, max: MAX_DENSITY, step: 0.05, value: this.density,
+      label: 'Training-map density', min: 0, step: 0.05, value: this.density,
       format: densityText, name: 'density',
     });
     // Retraining takes a tenth of a second: on release (or each key press),

@@ -29,11 +29,10 @@ import {
   applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
+import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS, MAP_WEAVER_MODELS, MAP_WEAVER_PANE_DEFAULTS as PANE_DEFAULTS } from './lib/defaults.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 
-/** Playback rate at speed 1: 12 scans per second. */
-const SCANS_PER_SECOND = 12;
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /**
  * The clock budget of one slice of the scans a link asks for before the
@@ -120,14 +119,14 @@ function ghostText(g) {
 const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 
-const paneSpec = (side, model) => ({
-  [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), default: model, doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
+const paneSpec = (side) => ({
+  [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), default: MAP_WEAVER_MODELS[side], doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
   [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), default: 'oracle', doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
-  [`${side}-clamp`]: { type: number(1, 16, { step: 0.5 }), default: '12', doc: `the ${side} map’s clamp l_max, log odds` },
-  [`${side}-strength`]: { type: number(0.25, 3, { step: 0.25 }), default: '1', doc: `factor on the ${side} map’s evidence` },
+  [`${side}-clamp`]: { type: number(1, 16, { step: 0.5 }), default: PANE_DEFAULTS.clamp, doc: `the ${side} map’s clamp l_max, log odds` },
+  [`${side}-strength`]: { type: number(0.25, 3, { step: 0.25 }), default: PANE_DEFAULTS.strength, doc: `factor on the ${side} map’s evidence` },
   [`${side}-mapper`]: { type: oneOf(['traversal', 'sweep']), default: 'traversal', doc: `how the ${side} map applies Table 9.1: along each beam’s cells (traversal) or over every cell of the map (sweep)` },
   [`${side}-sensor`]: { type: oneOf(['lidar', 'cone']), default: 'lidar', doc: `how the ${side} map reads each range: a thin LiDAR beam, or a cone of opening ${side}-beta (Table 9.2’s β)` },
-  [`${side}-beta`]: { type: number(1, 30, { step: 1, unit: '°' }), default: '22', doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
+  [`${side}-beta`]: { type: number(1, 30, { step: 1, unit: '°' }), default: PANE_DEFAULTS.beta, doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
   [`${side}-beams`]: { type: whole(1, 4096), doc: `beams of each scan the ${side} map uses, evenly spaced: a divisor of the LiDAR’s 60; absent: all of them` },
   [`${side}-resolution`]: { type: oneOf(['0.1', '0.05'], Number), doc: `the ${side} map’s cell size, metres; absent: the scene’s (0.1 for the chapter’s apartment)` },
   [`${side}-forget-l0`]: { type: flag(), default: 'off', doc: `the ${side} map adds the learned model’s scores without removing its l0 (exercise 8’s mistake)` },
@@ -139,24 +138,24 @@ class MapWeaverElement extends HTMLElement {
     laps: { type: whole(1, 20), default: '3', doc: 'laps in the run' },
     scene: { type: jsonObject('{"scan_rate": 12}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
     person: { type: flag(), default: 'on', doc: 'a person walking the corridor' },
-    speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed, × 12 scans per second' },
+    speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed: 1 is real time, at the scene’s scan rate' },
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
     scans: { type: whole(0, 1_000_000), default: '0', doc: 'scans integrated before the first frame (the run stops at its last lap)' },
     mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
-    ...paneSpec('left', 'hand-crafted'),
-    ...paneSpec('right', 'learned'),
+    ...paneSpec('left'),
+    ...paneSpec('right'),
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
     log: { type: logName, doc: 'real-log mode: the log of the server’s /datasets/ to load when the panel first comes into view; absent: the reader picks one' },
-    'log-resolution': { type: oneOf(['0.025', '0.05', '0.1', '0.2'], Number), default: '0.05', doc: 'real-log mode: metres per cell' },
-    'log-range-cap': { type: number(2, 80, { step: 1, unit: 'm' }), default: '30', doc: 'real-log mode: z_max, metres; a reading at or beyond it is a no-return' },
-    'log-alpha': { type: number(0.02, 0.5, { step: 0.01, unit: 'm' }), default: '0.10', doc: 'real-log mode: obstacle depth α of Table 9.2, metres' },
-    'log-l-occ': { type: number(0.05, 3, { step: 0.05 }), default: '0.85', doc: 'real-log mode: l_occ, log odds added at the reading' },
-    'log-l-free': { type: number(-3, -0.05, { step: 0.05 }), default: '-0.40', doc: 'real-log mode: l_free, log odds added in front of the reading' },
-    'log-clamp': { type: number(0.5, 12, { step: 0.5 }), default: '3.5', doc: 'real-log mode: the clamp l_max, log odds' },
-    'log-no-return-reach': { type: number(1, 80, { step: 1, unit: 'm' }), default: '5', doc: 'real-log mode: how far a no-return clears free space, metres (at most z_max)' },
-    'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: 'incidence', doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
-    'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: 'corrected', doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
-    'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
+    'log-resolution': { type: oneOf(['0.025', '0.05', '0.1', '0.2'], Number), default: LOG_DEFAULTS['log-resolution'], doc: 'real-log mode: metres per cell' },
+    'log-range-cap': { type: number(2, 80, { step: 1, unit: 'm' }), default: LOG_DEFAULTS['log-range-cap'], doc: 'real-log mode: z_max, metres; a reading at or beyond it is a no-return' },
+    'log-alpha': { type: number(0.02, 0.5, { step: 0.01, unit: 'm' }), default: LOG_DEFAULTS['log-alpha'], doc: 'real-log mode: obstacle depth α of Table 9.2, metres' },
+    'log-l-occ': { type: number(0.05, 3, { step: 0.05 }), default: LOG_DEFAULTS['log-l-occ'], doc: 'real-log mode: l_occ, log odds added at the reading' },
+    'log-l-free': { type: number(-3, -0.05, { step: 0.05 }), default: LOG_DEFAULTS['log-l-free'], doc: 'real-log mode: l_free, log odds added in front of the reading' },
+    'log-clamp': { type: number(0.5, 12, { step: 0.5 }), default: LOG_DEFAULTS['log-clamp'], doc: 'real-log mode: the clamp l_max, log odds' },
+    'log-no-return-reach': { type: number(1, 80, { step: 1, unit: 'm' }), default: LOG_DEFAULTS['log-no-return-reach'], doc: 'real-log mode: how far a no-return clears free space, metres (at most z_max)' },
+    'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: LOG_DEFAULTS['log-walls'], doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
+    'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: LOG_DEFAULTS['log-poses'], doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
+    'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: LOG_DEFAULTS['log-seed'], doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
@@ -166,7 +165,9 @@ class MapWeaverElement extends HTMLElement {
     super();
     this.weaver = null;
     this.playing = false;
-    this.pace = pacer(SCANS_PER_SECOND, MAX_SCANS_PER_FRAME);
+    // Speed 1 is real time: the rate is the session's scans per second
+    // (`scanRate`), passed with each frame, since a new scene may change it.
+    this.pace = pacer(1, MAX_SCANS_PER_FRAME);
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
@@ -639,7 +640,7 @@ class MapWeaverElement extends HTMLElement {
   tick(dt) {
     if (!this.playing) return false;
     if (this.mode !== 'sim') return true;
-    const n = this.pace.take(dt, this.options.speed);
+    const n = this.pace.take(dt, this.options.speed * this.weaver.scanRate);
     if (n > 0 && !this.advance(n)) {
       this.pause();
       return false;

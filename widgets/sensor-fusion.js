@@ -24,7 +24,6 @@ import { copyLinkControl, firstConnection } from './lib/state.js';
 
 /** Beam counts the slider offers (an attribute may add another). */
 const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
-const DEFAULT_BEAMS = 360;
 /** Scans per second while playing. */
 const STEPS_PER_SECOND = 12;
 /** Never more steps per animation frame than this (a slow frame catches up later). */
@@ -45,7 +44,12 @@ const GROUPS = ['playback', 'sliders', 'export', 'link'];
 
 class SensorFusionElement extends HTMLElement {
   static attributeSpec = {
-    'lidar-beams': { type: whole(1, 2048), default: String(DEFAULT_BEAMS), doc: 'beams of the LiDAR’s 360° scan' },
+    // The chapter's beam count and the scene's cap are the core's
+    // (`constants().sensorFusion`), taken once it has loaded.
+    'lidar-beams': {
+      type: whole(1, Number.MAX_SAFE_INTEGER), doc: 'beams of the LiDAR’s 360° scan',
+      core: (k) => ({ type: whole(1, k.sensorFusion.maxLidarBeams), default: String(k.sensorFusion.defaultLidarBeams) }),
+    },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), doc: 'seed of the range noise; absent: the chapter’s' },
     scene: { type: jsonObject('{"laps": 2}'), doc: 'fields of the table scene to override (the core checks each); absent: the chapter’s room and table' },
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
@@ -71,6 +75,11 @@ class SensorFusionElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      const constants = this.core.constants();
+      this.defaultBeams = constants.sensorFusion.defaultLidarBeams;
+      this.values = this.attrs.resolve(constants);
+      this.beams = this.values['lidar-beams'];
+      this.syncSlider();
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
@@ -118,7 +127,8 @@ class SensorFusionElement extends HTMLElement {
     this.beamSlider = slider({
       label: 'LiDAR beams',
       min: 0, max: this.steps.length - 1, step: 1,
-      value: this.steps.indexOf(DEFAULT_BEAMS),
+      // At the core's beam count once it has loaded (syncSlider).
+      value: this.beams === undefined ? 0 : this.steps.indexOf(this.beams),
       format: (i) => String(this.steps[i] ?? ''),
       onInput: (i) => this.requestBeams(this.steps[i]),
       name: 'lidar-beams',
@@ -189,7 +199,7 @@ class SensorFusionElement extends HTMLElement {
       let scene;
       if (v.scene || v.seed !== undefined) scene = { ...(v.scene ?? {}), ...(v.seed !== undefined ? { seed: v.seed } : {}) };
       const next = new this.core.SensorFusion(scene, undefined);
-      if (this.beams !== DEFAULT_BEAMS) next.setLidarBeams(this.beams);
+      if (this.beams !== this.defaultBeams) next.setLidarBeams(this.beams);
       // A link may open the lap part-way through.
       for (let i = 0; i < v.scans && next.step(); i++);
       this.sim?.free();

@@ -19,6 +19,25 @@ use crate::render::evidence::render_evidence_rgba;
 /// for a few cells next to the sensor, which are drawn at its ends.
 pub const EVIDENCE_SCALE: f32 = 4.0;
 
+/// What the widget's reading and density keep to: the training sensor's
+/// maximum range (a reading there is a no-return) and the densest training
+/// maps the core fills.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct WorkbenchLimits {
+    pub z_max: f64,
+    pub max_density: f64,
+}
+
+impl WorkbenchLimits {
+    pub fn chapter() -> Self {
+        Self {
+            z_max: TrainingConfig::default().sensor.z_max,
+            max_density: crate::scenes::floor_plans::MAX_DENSITY,
+        }
+    }
+}
+
 /// What the readout says about the last training run.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]

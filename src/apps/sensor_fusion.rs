@@ -18,6 +18,24 @@ use crate::mapping::traversal::RayMapper;
 use crate::render::overlay::{RayMark, RobotMark};
 use crate::scenes::table::{TableRun, TableScene};
 
+/// What the widget's beam count keeps to: the chapter's LiDAR and the
+/// scene's cap.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FusionLimits {
+    pub default_lidar_beams: usize,
+    pub max_lidar_beams: usize,
+}
+
+impl FusionLimits {
+    pub fn chapter() -> Self {
+        Self {
+            default_lidar_beams: TableScene::default().lidar.beams,
+            max_lidar_beams: crate::scenes::table::MAX_LIDAR_BEAMS,
+        }
+    }
+}
+
 /// The hand-crafted inverse models (Table 9.2) of the two modalities, and
 /// the settings of every map. Probabilities rather than log odds, because
 /// that is how a reader thinks about them.

@@ -23,6 +23,26 @@ pub struct TwoCellReport {
     pub all_occupied_ratio: f64,
 }
 
+/// What a page's cells and the drag keep to in the chapter's query: ranges
+/// up to the sonar's `z_max` (a reading there is no echo), bearings within
+/// the cone's half-width, degrees.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TwoCellLimits {
+    pub max_range: f64,
+    pub half_cone_deg: f64,
+}
+
+impl TwoCellLimits {
+    pub fn chapter() -> Self {
+        let q = JointQuery::chapter_two_cells();
+        Self {
+            max_range: q.model.z_max,
+            half_cone_deg: 0.5 * q.beta_deg,
+        }
+    }
+}
+
 /// The table's presets, by name: the chapter's query with the two cells
 /// placed `side` by side (A and B at 2 m, 3 degrees either side of the
 /// axis), `collinear` (the chapter's exercise: A at 1 m and B at 2 m on

@@ -1,7 +1,7 @@
 //! Bindings of `<occgrid-cell-filter>`: one cell's filter.
 
 use super::{number_from_js, to_js};
-use crate::mapping::cell_filter::{self, CellFilterParams};
+use crate::mapping::cell_filter::{self, CellFilterParams, CellFilterPreset};
 use wasm_bindgen::prelude::*;
 
 /// Runs one cell's filter over `readings` (a `Uint8Array` or an array of
@@ -111,6 +111,13 @@ pub fn run_cell_filter(
 /// inverse model of 0.7 / 0.3 and a prior of 0.5.
 #[wasm_bindgen(js_name = workedExample)]
 pub fn worked_example() -> Result<JsValue, JsError> {
-    let p = CellFilterParams::WORKED_EXAMPLE;
-    run_cell_filter(p.p_occ, p.p_free, p.prior, p.clamp, &[1, 1, 0], true)
+    let p = CellFilterPreset::WORKED_EXAMPLE;
+    run_cell_filter(
+        p.p_occ,
+        p.p_free,
+        p.prior,
+        p.clamp,
+        p.readings,
+        p.subtract_prior,
+    )
 }

@@ -106,6 +106,12 @@ impl MapWeaver {
 
     /// The time of each point of the curves, seconds (the empty map, then
     /// after each scan), at the scene's scan rate.
+    /// Scans per second of driving: playback at speed 1 is real time.
+    #[wasm_bindgen(getter, js_name = scanRate)]
+    pub fn scan_rate(&self) -> f64 {
+        self.0.settings().scene.scan_rate
+    }
+
     #[wasm_bindgen(js_name = curveTimes)]
     pub fn curve_times(&self) -> Vec<f64> {
         self.0.curve_times()

@@ -27,6 +27,16 @@ fn start() {
     console_error_panic_hook::set_once();
 }
 
+/// The model values the widgets keep to (`crate::apps::Constants`): `{
+/// cellFilter: { workedExample, l0Lesson }, inverseWorkbench: { zMax,
+/// maxDensity }, sensorFusion: { defaultLidarBeams, maxLidarBeams },
+/// twoCellTable: { maxRange, halfConeDeg } }`, each preset `{ pOcc, pFree,
+/// prior, clamp, readings, subtractPrior }`.
+#[wasm_bindgen]
+pub fn constants() -> Result<JsValue, JsError> {
+    to_js(&crate::apps::Constants::chapter())
+}
+
 /// Serialises a small readout for JavaScript (plain objects, not Maps).
 pub(crate) fn to_js<T: serde::Serialize>(value: &T) -> Result<JsValue, JsError> {
     let serializer = serde_wasm_bindgen::Serializer::json_compatible();

@@ -49,8 +49,24 @@ impl CellFilterParams {
         p_occ: 0.7,
         p_free: 0.3,
         prior: 0.5,
-        clamp: 12.0,
+        clamp: Self::CLAMP,
     };
+
+    /// The lesson on the prior: a prior of 0.2 and an inverse model whose
+    /// two answers sit symmetrically around it in log odds (logit 0.37 and
+    /// logit 0.10 are about l0 + 0.85 and l0 - 0.85), so that alternating
+    /// readings keep the cell near l0 until the update forgets to remove it.
+    pub const L0_LESSON: Self = Self {
+        p_occ: 0.37,
+        p_free: 0.1,
+        prior: 0.2,
+        clamp: Self::CLAMP,
+    };
+
+    /// The widget's saturation: far enough out that the lesson's drift and
+    /// a long run of agreeing readings both show, near enough that a few
+    /// contradicting readings still move the cell.
+    pub const CLAMP: f64 = 12.0;
 
     pub fn validate(&self) -> Result<()> {
         error::open_probability("p_occ", self.p_occ)?;
@@ -58,6 +74,50 @@ impl CellFilterParams {
         error::open_probability("prior", self.prior)?;
         error::positive("clamp", self.clamp)?;
         Ok(())
+    }
+}
+
+/// A preset of the widget: the model, the readings (1 occupied, 0 free)
+/// and whether the update subtracts the prior.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct CellFilterPreset {
+    pub p_occ: f64,
+    pub p_free: f64,
+    pub prior: f64,
+    pub clamp: f64,
+    pub readings: &'static [u8],
+    pub subtract_prior: bool,
+}
+
+impl CellFilterPreset {
+    /// The chapter's worked example: occupied, occupied, free.
+    pub const WORKED_EXAMPLE: Self = Self::of(CellFilterParams::WORKED_EXAMPLE, &[1, 1, 0], true);
+    /// The lesson on the prior: alternating readings, without subtracting l0.
+    pub const L0_LESSON: Self = Self::of(
+        CellFilterParams::L0_LESSON,
+        &[1, 0, 1, 0, 1, 0, 1, 0],
+        false,
+    );
+
+    const fn of(p: CellFilterParams, readings: &'static [u8], subtract_prior: bool) -> Self {
+        Self {
+            p_occ: p.p_occ,
+            p_free: p.p_free,
+            prior: p.prior,
+            clamp: p.clamp,
+            readings,
+            subtract_prior,
+        }
+    }
+
+    pub fn params(&self) -> CellFilterParams {
+        CellFilterParams {
+            p_occ: self.p_occ,
+            p_free: self.p_free,
+            prior: self.prior,
+            clamp: self.clamp,
+        }
     }
 }
 
@@ -157,5 +217,26 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("clamp"));
+    }
+
+    #[test]
+    fn the_l0_lesson_stays_near_the_prior_only_when_the_update_removes_it() {
+        let lesson = CellFilterPreset::L0_LESSON;
+        let readings: Vec<bool> = lesson.readings.iter().map(|&r| r == 1).collect();
+        let l0 = logit(lesson.prior);
+        let kept = run(&lesson.params(), &readings, true).unwrap();
+        assert!((kept.last().unwrap().l - l0).abs() < 0.5, "{kept:?}");
+        // The preset itself forgets: every reading adds l0 once more.
+        assert!(!lesson.subtract_prior);
+        let drifted = run(&lesson.params(), &readings, lesson.subtract_prior).unwrap();
+        assert!(drifted.last().unwrap().l < 5.0 * l0, "{drifted:?}");
+    }
+
+    #[test]
+    fn the_worked_example_preset_is_the_worked_example() {
+        let w = CellFilterPreset::WORKED_EXAMPLE;
+        assert_eq!(w.params(), CellFilterParams::WORKED_EXAMPLE);
+        assert_eq!(w.readings, &[1, 1, 0]);
+        assert!(w.subtract_prior);
     }
 }

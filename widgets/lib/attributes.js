@@ -11,6 +11,13 @@
 //   static observedAttributes = Object.keys(MyElement.attributeSpec);
 //   this.attrs = new AttributeReader(this, MyElement.attributeSpec);
 //   const values = this.attrs.read();   // every name → parsed value (default when absent)
+//
+// An attribute whose bounds or default are the model's (a sensor's range,
+// a scene's cap) says so with `core: (constants) => ({ type, default })`,
+// read from the core's `constants()`. Until the widget has the core and
+// calls `this.attrs.resolve(constants)`, its value is read with the
+// table's own `type` (a looser one) and a bad value is not yet reported;
+// after, the core's type checks it and a bad value is reported as any other.
 import { el } from './ui.js';
 
 /**
@@ -187,7 +194,7 @@ export class AttributeReader {
     this.last = {};
     this.errors = [];
     this.logged = new Set();
-    for (const [name, s] of Object.entries(spec)) this.last[name] = s.default === undefined ? undefined : s.type.parse(s.default, name);
+    for (const name of Object.keys(spec)) this.last[name] = this.parseDefault(name);
     // Names outside the table are not observed attributes: watch for them
     // coming and going (the widget hears about its own names itself).
     if ('MutationObserver' in window) {
@@ -195,6 +202,29 @@ export class AttributeReader {
         if (records.some((r) => !(r.attributeName in spec) && !isGlobal(r.attributeName))) this.report(this.errors, this.unknown());
       }).observe(host, { attributes: true });
     }
+  }
+
+  parseDefault(name) {
+    const s = this.spec[name];
+    return s.default === undefined ? undefined : s.type.parse(s.default, name);
+  }
+
+  /**
+   * Takes the model's bounds and defaults from the core's `constants()`
+   * (once per page: every element of the tag shares the table) and reads
+   * the attributes again, now checked against them.
+   */
+  resolve(constants) {
+    for (const [name, s] of Object.entries(this.spec)) {
+      if (!s.core) continue;
+      if (!s.fromCore) {
+        Object.assign(s, s.core(constants));
+        s.fromCore = true;
+      }
+      // A value the looser type let through is not a last good value.
+      this.last[name] = this.parseDefault(name);
+    }
+    return this.read();
   }
 
   /** Attribute names of the host that neither the table nor HTML knows. */
@@ -212,13 +242,14 @@ export class AttributeReader {
     for (const [name, s] of Object.entries(this.spec)) {
       const text = this.host.getAttribute(name);
       if (text === null) {
-        this.last[name] = s.default === undefined ? undefined : s.type.parse(s.default, name);
+        this.last[name] = this.parseDefault(name);
         continue;
       }
       try {
         this.last[name] = s.type.parse(text, name);
       } catch (e) {
-        errors.push(e.message);
+        // Bounds the core has not given yet: reported once it has.
+        if (!s.core || s.fromCore) errors.push(e.message);
       }
     }
     this.errors = errors;

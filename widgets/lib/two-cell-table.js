@@ -24,28 +24,28 @@ const DIAGRAM_W = 440;
 const DIAGRAM_H = 200;
 const POSE_COLOR = COLORS.series[1];
 
-/**
- * The limits a page's `cells` and the drag keep to: ranges in metres up to
- * the sonar's z_max, bearings within the cone's half-width in degrees (a
- * 22° sonar). They restate the core's chapter query (`z_max`, `beta_deg /
- * 2`) because attributes are checked before the core has loaded; the
- * drawing itself takes the cone from the core's query.
- */
-export const TWO_CELL_LIMITS = { minRange: 0.1, maxRange: 3.0, halfConeDeg: 11 };
-const { minRange: MIN_RANGE, maxRange: MAX_RANGE, halfConeDeg: HALF_CONE_DEG } = TWO_CELL_LIMITS;
+/** The nearest a cell may be placed, metres: the diagram's first tick. */
+export const MIN_RANGE = 0.1;
 
-/** The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres, degrees). */
-export const cellsType = {
-  describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${MIN_RANGE} to ${MAX_RANGE} m, bearings from -${HALF_CONE_DEG} to ${HALF_CONE_DEG}°`,
-  parse(text, name) {
-    const v = text.split(/[\s,;]+/).filter(Boolean).map(Number);
-    const ok = v.length === 4 && v.every(Number.isFinite) &&
-      [v[0], v[2]].every((r) => r >= MIN_RANGE && r <= MAX_RANGE) &&
-      [v[1], v[3]].every((b) => Math.abs(b) <= HALF_CONE_DEG);
-    if (!ok) throw invalidValue(name, text, this.describe);
-    return [{ range: v[0], bearing_deg: v[1] }, { range: v[2], bearing_deg: v[3] }];
-  },
-};
+/**
+ * The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres,
+ * degrees), ranges up to the sonar's z_max and bearings within the cone's
+ * half-width: the core's `constants().twoCellTable` ({ maxRange,
+ * halfConeDeg }).
+ */
+export function cellsType({ maxRange, halfConeDeg }) {
+  return {
+    describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${MIN_RANGE} to ${maxRange} m, bearings from -${halfConeDeg} to ${halfConeDeg}°`,
+    parse(text, name) {
+      const v = text.split(/[\s,;]+/).filter(Boolean).map(Number);
+      const ok = v.length === 4 && v.every(Number.isFinite) &&
+        [v[0], v[2]].every((r) => r >= MIN_RANGE && r <= maxRange) &&
+        [v[1], v[3]].every((b) => Math.abs(b) <= halfConeDeg);
+      if (!ok) throw invalidValue(name, text, this.describe);
+      return [{ range: v[0], bearing_deg: v[1] }, { range: v[2], bearing_deg: v[3] }];
+    },
+  };
+}
 
 const bits = (occupied) => occupied.map((o) => (o ? '1' : '0')).join(' ');
 
@@ -87,8 +87,9 @@ export class TwoCellTable {
       return b;
     });
     this.readingSlider = slider({
-      label: 'Reading z', min: 0.1, max: 3.0, step: 0.01, value: reading,
-      format: (v) => (v >= MAX_RANGE ? `${v.toFixed(2)} m (no echo)` : `${v.toFixed(2)} m`),
+      // Up to the query's z_max, set once the core has given it.
+      label: 'Reading z', min: MIN_RANGE, step: 0.01, value: reading,
+      format: (v) => (this.query && v >= this.query.model.z_max ? `${v.toFixed(2)} m (no echo)` : `${v.toFixed(2)} m`),
       onInput: (v) => { if (this.query) { this.query.readings = [v]; this.updateJoint(); } },
       name: 'reading',
     });
@@ -151,6 +152,7 @@ export class TwoCellTable {
     }
     this.query.readings = [v.reading];
     this.query.prior = v.prior;
+    this.readingSlider.input.max = String(this.query.model.z_max);
     this.readingSlider.set(v.reading);
     this.priorSlider.set(v.prior);
     if (!v.cells) {
@@ -241,7 +243,7 @@ export class TwoCellTable {
     const { W, H, scale, ox, oy, toXY } = this.diagramFrame();
     const q = this.query;
     const half = (q.beta_deg / 2) * (Math.PI / 180);
-    const zMax = (q.model && q.model.z_max) || MAX_RANGE;
+    const zMax = q.model.z_max;
     const z = q.readings[0];
     ctx.clearRect(0, 0, W, H);
     ctx.fillStyle = '#ffffff';
@@ -323,7 +325,7 @@ export class TwoCellTable {
     const fwd = (x - ox) / scale;
     const left = (oy - y) / scale;
     const half = this.query.beta_deg / 2;
-    const range = Math.min(MAX_RANGE, Math.max(MIN_RANGE, Math.hypot(fwd, left)));
+    const range = Math.min(this.query.model.z_max, Math.max(MIN_RANGE, Math.hypot(fwd, left)));
     const bearing = Math.max(-half, Math.min(half, (Math.atan2(left, fwd) * 180) / Math.PI));
     return { x, y, range: Math.round(range * 100) / 100, bearing_deg: Math.round(bearing * 10) / 10 };
   }
@@ -378,7 +380,7 @@ export class TwoCellTable {
     const m = moves[ev.key];
     if (!m) return;
     ev.preventDefault();
-    const range = Math.min(MAX_RANGE, Math.max(MIN_RANGE, Math.round((b.range + m[0]) * 100) / 100));
+    const range = Math.min(this.query.model.z_max, Math.max(MIN_RANGE, Math.round((b.range + m[0]) * 100) / 100));
     const bearing = Math.max(-half, Math.min(half, Math.round((b.bearing_deg + m[1]) * 10) / 10));
     this.moveCell(j, range, bearing);
   }
