@@ -178,7 +178,7 @@ class DoorwayTrapElement extends HTMLElement {
     for (const [b, what] of [[this.sweepPlay, 'the sweep'], [this.mapPlay, 'the MAP climb']]) b.setAttribute('aria-label', `Play ${what}`);
     mapStep.setAttribute('aria-label', 'Step the MAP climb by one flip');
     this.panes = {
-      sweep: pane('sweep', 'Table 9.1, swept', '· every cell, the nearest 22° cone, Table 9.2', 'Export the swept map', [
+      sweep: pane('sweep', 'Table 9.1, swept', '· every cell, the nearest cone, Table 9.2', 'Export the swept map', [
         sweepStep, this.sweepPlay,
         button('Reset sweep', () => { this.pause('sweep'); this.trap?.sweepReset(); this.lastScan = null; this.draw(); }, { name: 'sweep-reset', title: 'Back to the empty grid' }),
       ]),
@@ -254,6 +254,8 @@ class DoorwayTrapElement extends HTMLElement {
       this.trap = next;
       this.view = next.view();
       this.unreached = next.unreachedCells();
+      this.panes.sweep.root.querySelector('.doorway-trap-note').textContent =
+        `· every cell, the nearest ${this.view.betaDeg}° cone, Table 9.2`;
       clearError(this);
     } catch (e) {
       showError(this, e);

@@ -353,6 +353,9 @@ pub struct DoorwayView {
     pub far_wall: [f64; 4],
     /// Half the cone's opening angle, radians.
     pub half_width: f64,
+    /// The cone's full opening angle, degrees (as the scene states it, for
+    /// captions).
+    pub beta_deg: f64,
     /// Maximum range, cells.
     pub z_max: f64,
     pub beams_per_scan: usize,
@@ -422,6 +425,7 @@ pub fn view(scene: &DoorwayScene) -> Result<DoorwayView> {
         door,
         far_wall: image(&scene.far_wall),
         half_width: scene.half_width(),
+        beta_deg: scene.sonar.beta_deg,
         z_max: scene.sonar.z_max / g.resolution(),
         beams_per_scan: per_pose,
         beams,

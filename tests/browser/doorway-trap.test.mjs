@@ -230,3 +230,15 @@ test('without reduced motion the widget plays both halves on its own', async () 
   assert.deepEqual(errors, []);
   await close();
 });
+
+test('the swept pane’s caption names the scene’s own cone opening', async () => {
+  const { page, errors, close } = await openPage('/');
+  const w = await ready(page);
+  const note = () => w.locator('.doorway-trap-sweep .doorway-trap-note').textContent();
+  assert.equal(await note(), '· every cell, the nearest 22° cone, Table 9.2');
+  await w.evaluate((el) => el.setAttribute('scene', '{"sonar": {"beta_deg": 30}}'));
+  await page.waitForFunction((s) => /30°/.test(document.querySelector(`${s} .doorway-trap-sweep .doorway-trap-note`).textContent), SELECTOR);
+  assert.equal(await note(), '· every cell, the nearest 30° cone, Table 9.2');
+  assert.deepEqual(errors, []);
+  await close();
+});
