@@ -436,7 +436,7 @@ proptest! {
         z in prop_oneof![3 => 0.0..30.0f64, 1 => prop::sample::select(vec![0.0, 5e-324, 1e300, f64::MAX])],
         offsets in prop::collection::vec(-3i64..3, 8),
     ) {
-        let params = HandCraftedParams { alpha, beta: 0.1, z_max, l_occ: 0.85, l_free: -0.4, l0: 0.0 };
+        let params = HandCraftedParams { alpha, beta: 0.1, ..HandCraftedParams::laser(z_max) };
         let Ok(m) = HandCrafted::new(params) else { return Ok(()) };
         let Some(profile) = m.axis_profile(z) else { return Ok(()) };
         // Probe the band's edges to the ulp, where the two could disagree.

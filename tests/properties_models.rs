@@ -369,7 +369,7 @@ proptest! {
     ) {
         let learned = LearnedInverse::new(frame, [0.3; FEATURES]).unwrap();
         let hand = HandCrafted::new(HandCraftedParams {
-            alpha: 0.2, beta: 0.1, z_max: frame.z_max, l_occ: 0.85, l_free: -0.4, l0: 0.0,
+            alpha: 0.2, beta: 0.1, ..HandCraftedParams::laser(frame.z_max)
         }).unwrap();
         match side_by_side(&hand, &learned, z, &lat) {
             Ok(v) => {

@@ -48,10 +48,7 @@ fn lidar(beta_deg: f64) -> HandCrafted {
     HandCrafted::new(HandCraftedParams {
         alpha: 0.2,
         beta: beta_deg.to_radians(),
-        z_max: 8.0,
-        l_occ: 0.85,
-        l_free: -0.4,
-        l0: 0.0,
+        ..HandCraftedParams::laser(8.0)
     })
     .unwrap()
 }

@@ -225,10 +225,7 @@ mod tests {
         HandCrafted::new(HandCraftedParams {
             alpha: 0.2,
             beta: 0.1,
-            z_max: 5.0,
-            l_occ: 0.85,
-            l_free: -0.4,
-            l0: 0.0,
+            ..HandCraftedParams::laser(5.0)
         })
         .unwrap()
     }

@@ -244,7 +244,7 @@ impl<R: Read> Source<R> {
                 Err(e) => return Err(e),
             }
         }
-        let gzip = n == 2 && magic == [0x1f, 0x8b];
+        let gzip = n == 2 && magic == super::gzip::MAGIC;
         let head = Cursor::new(magic[..n].to_vec()).chain(counting);
         Ok(if gzip {
             Source::Gzip(BufReader::with_capacity(

@@ -15,7 +15,7 @@ use miniz_oxide::{DataFormat, MZError, MZFlush, MZStatus};
 use std::io::{self, BufRead, Read};
 
 /// The CRC-32 of gzip (and zip, and PNG).
-pub static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
 
 /// The CRC-32 of `bytes` (the checksum a zip entry carries).
 pub fn crc32(bytes: &[u8]) -> u32 {

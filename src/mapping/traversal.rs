@@ -1143,10 +1143,7 @@ mod tests {
         HandCrafted::new(HandCraftedParams {
             alpha: 0.15,
             beta: 0.02,
-            z_max: 8.0,
-            l_occ: 0.85,
-            l_free: -0.4,
-            l0: 0.0,
+            ..HandCraftedParams::laser(8.0)
         })
         .unwrap()
     }

@@ -14,7 +14,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { openPage, SCREENSHOTS, serveForeign, shutdown } from './harness.mjs';
+import { canvasColours, openPage, SCREENSHOTS, serveForeign, shutdown } from './harness.mjs';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const dist = path.join(root, 'dist');
@@ -118,14 +118,6 @@ function python(dir, { cors = false, corp = false } = {}) {
   });
 }
 
-/** Distinct colours of each canvas matching `selector` (a blank canvas has one). */
-const colours = (widget, selector) => widget.evaluate((w, sel) => [...w.querySelectorAll(sel)].map((c) => {
-  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-  const seen = new Set();
-  for (let i = 0; i < d.length; i += 4 * 5) seen.add((d[i] << 24) | (d[i + 1] << 16) | (d[i + 2] << 8) | d[i + 3]);
-  return seen.size;
-}), selector);
-
 /**
  * Opens `url` and checks that all five widgets draw: numbers from the core
  * in their readouts, pictures on their canvases, no console error. Returns
@@ -146,7 +138,7 @@ async function checkFive(url, shot) {
         if (numbers.length >= 2 && numbers.every(Number.isFinite)) break;
       }
       assert.ok(numbers.length >= 2 && numbers.every(Number.isFinite), `occgrid-${name} shows numbers from the core: ${numbers}`);
-      const c = await colours(w, spec.canvases);
+      const c = await canvasColours(w, spec.canvases);
       assert.ok(c.length >= 1 && c.every((n) => n > 2), `occgrid-${name} canvases hold pictures: ${c}`);
       // The widget's own stylesheet applies (found beside the module).
       assert.equal(await w.evaluate((el) => getComputedStyle(el).borderTopStyle), 'solid', `occgrid-${name} is styled`);

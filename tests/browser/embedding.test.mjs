@@ -12,7 +12,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { baseUrl, openPage, screenshot, serveForeign, shutdown } from './harness.mjs';
+import { canvasColours, baseUrl, openPage, screenshot, serveForeign, shutdown } from './harness.mjs';
 
 let project; // the project's server: http://127.0.0.1:PORT
 let foreign; // the instructor's server, another origin
@@ -132,14 +132,6 @@ after(async () => {
   await shutdown();
 });
 
-/** Distinct colours of each canvas matching `selector` (a blank canvas has one). */
-const colours = (widget, selector) => widget.evaluate((w, sel) => [...w.querySelectorAll(sel)].map((c) => {
-  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-  const seen = new Set();
-  for (let i = 0; i < d.length; i += 4 * 5) seen.add((d[i] << 24) | (d[i + 1] << 16) | (d[i + 2] << 8) | d[i + 3]);
-  return seen.size;
-}), selector);
-
 for (const [name, spec] of Object.entries(WIDGETS)) {
   test(`${name} embedded alone in a page on another origin under a strict CSP finds its wasm and styles and draws`, async () => {
     const { page: p, errors, close } = await openPage(`${foreign.origin}/${name}.html`, { viewport: { width: 1000, height: 900 } });
@@ -155,7 +147,7 @@ for (const [name, spec] of Object.entries(WIDGETS)) {
     }
     assert.ok(ready, `${tag} became ready`);
     // Every canvas holds a picture, every number is a number.
-    const c = await colours(w, spec.canvases);
+    const c = await canvasColours(w, spec.canvases);
     assert.ok(c.length >= 1, 'the widget has canvases');
     assert.ok(c.every((n) => n > 2), `non-blank canvases: ${c}`);
     const numbers = await w.evaluate(spec.numbers);

@@ -93,6 +93,17 @@ export async function serveForeign(pages, { headers = {} } = {}) {
 }
 
 /** Saves a screenshot of a locator or page under tests/browser/screenshots/. */
+/**
+ * How many distinct colours (RGBA) each canvas matching `selector` inside
+ * `widget` holds, sampling every `step`-th pixel: a blank canvas has one.
+ */
+export const canvasColours = (widget, selector, step = 5) => widget.evaluate((w, [sel, k]) => [...w.querySelectorAll(sel)].map((c) => {
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  const seen = new Set();
+  for (let i = 0; i < d.length; i += 4 * k) seen.add((d[i] << 24) | (d[i + 1] << 16) | (d[i + 2] << 8) | d[i + 3]);
+  return seen.size;
+}), [selector, step]);
+
 export async function screenshot(target, name) {
   fs.mkdirSync(SCREENSHOTS, { recursive: true });
   const file = path.join(SCREENSHOTS, `${name}.png`);

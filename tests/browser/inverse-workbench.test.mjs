@@ -6,7 +6,7 @@
 // current one.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { openPage, screenshot, shutdown } from './harness.mjs';
+import { canvasColours, openPage, screenshot, shutdown } from './harness.mjs';
 
 after(shutdown);
 
@@ -19,14 +19,6 @@ const state = (widget) => widget.evaluate((w) => ({
   freeText: [...w.querySelectorAll('.inverse-workbench-free')].map((o) => o.textContent),
   pressed: w.querySelector('button[name=max-range]').getAttribute('aria-pressed'),
   status: w.querySelector('.inverse-workbench-status').textContent,
-}));
-
-/** Distinct colours on each of the two model images (a blank canvas has one). */
-const colours = (widget) => widget.evaluate((w) => [...w.querySelectorAll('canvas.inverse-workbench-image')].map((c) => {
-  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-  const seen = new Set();
-  for (let i = 0; i < d.length; i += 4 * 3) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-  return seen.size;
 }));
 
 /** Waits until the widget has drawn with `key` equal to `value`. */
@@ -51,7 +43,7 @@ test('both models are drawn and the max-range button weakens the learned free sp
   assert.ok(learnedShort < -1.5, `learned free evidence for a 2 m reading: ${learnedShort}`);
   assert.ok(Math.abs(handShort + 0.4) < 1e-6, `Table 9.2's l_free: ${handShort}`);
   assert.deepEqual(short.freeText, [handShort.toFixed(3), learnedShort.toFixed(3)]);
-  const [hand, learned] = await colours(w);
+  const [hand, learned] = await canvasColours(w, 'canvas.inverse-workbench-image', 3);
   assert.ok(hand > 3 && learned > 20, `colours on the images: ${hand}, ${learned}`);
   assert.ok((await w.locator('.u-over').count()) === 1, 'the axis chart is drawn');
   await screenshot(w, 'inverse-workbench-2m');

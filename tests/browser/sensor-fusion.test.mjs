@@ -4,7 +4,7 @@
 // one stays.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { openPage, screenshot, shutdown } from './harness.mjs';
+import { canvasColours, openPage, screenshot, shutdown } from './harness.mjs';
 
 after(shutdown);
 
@@ -18,14 +18,6 @@ const means = (widget) => widget.evaluate((w) => {
   };
   return { max: read('max'), sum: read('sum'), beams: Number(w.dataset.lidarBeams), step: Number(w.dataset.step) };
 });
-
-/** How many distinct colours each map canvas holds (a blank canvas has one). */
-const colours = (widget) => widget.evaluate((w) => [...w.querySelectorAll('canvas')].map((c) => {
-  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-  const seen = new Set();
-  for (let i = 0; i < d.length; i += 4 * 7) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
-  return seen.size;
-}));
 
 async function ready(page) {
   const w = page.locator(SELECTOR);
@@ -52,7 +44,7 @@ test('the lap ends with the table kept by max fusion and erased by summation; fe
   assert.ok(m.max.value > 0.55, `max fusion at 360 beams: ${m.max.value}`);
   assert.ok(m.sum.value < 0.10, `summation at 360 beams: ${m.sum.value}`);
   assert.equal(m.max.text, m.max.value.toFixed(3), 'the printed value is the core’s');
-  assert.ok((await colours(w)).every((n) => n > 3), 'all four maps are drawn');
+  assert.ok((await canvasColours(w, 'canvas', 7)).every((n) => n > 3), 'all four maps are drawn');
   await screenshot(w, 'sensor-fusion-360-beams');
 
   // Move the slider with the keyboard: Home is 4 beams, one step right 6.
