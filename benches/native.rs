@@ -162,7 +162,7 @@ fn intel_real_log() {
         .expect("default settings");
         let p = b.advance(usize::MAX);
         build.push(t.elapsed().as_secs_f64() * 1e3);
-        last = Some((p, b.counts(), *b.grid().extent()));
+        last = Some((p, b.counts(), *b.grid().geometry()));
     }
     let (p, c, g) = last.expect("at least one run");
     println!(

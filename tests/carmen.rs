@@ -670,7 +670,7 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     );
     assert_eq!(
         LogMapBuild::check(b.scans(), b.settings()).unwrap(),
-        *b.grid().extent()
+        *b.grid().geometry()
     );
     assert!(b.seek(4).is_err(), "only 3 scans");
     assert_eq!(b.progress(), before.1);

@@ -344,7 +344,7 @@ proptest! {
         for row in 0..h {
             for col in 0..w {
                 let i = g.index(col, h - 1 - row);
-                prop_assert_eq!(pgm.at(col, row), Some(trinary_gray(&grid, i)));
+                prop_assert_eq!(pgm.at(col, row), Some(trinary_gray(grid.model(), grid.log_odds()[i])));
             }
         }
         let stem = file_stem(&name);

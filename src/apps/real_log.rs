@@ -11,17 +11,16 @@ use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::raster::{Cursor as RasterCursor, Walk};
 use crate::geometry::GridGeometry;
 use crate::grid::readout::CellReadout;
-use crate::grid::tiled::{
-    budget_message, tiles_of, TiledGrid, DEFAULT_TILE_BUDGET_CELLS, TILE_SIDE,
-};
+use crate::grid::storage::{budget_message, tiles_of, DEFAULT_TILE_BUDGET_CELLS, TILE_SIDE};
 use crate::grid::FilterSettings;
+use crate::grid::TiledGrid;
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::mapping::traversal::{BeamBand, RayMapper, MAX_REACH_CELLS};
 use crate::mapping::walls::{beam_bands, WallModel};
 use crate::render::overlay::RobotMark;
-use crate::render::viewport::{render_tiled_view, MapViewport};
+use crate::render::viewport::{render_view, MapViewport};
 use crate::sensors::odometry::OdometryParams;
 use std::io::Cursor;
 
@@ -536,7 +535,7 @@ impl LogMapBuild {
                     })
                     .flatten();
                 let model = short.as_ref().unwrap_or(&self.model);
-                let res = self.grid.extent().resolution();
+                let res = self.grid.geometry().resolution();
                 let s = &self.settings;
                 beam_bands(
                     &scan,
@@ -550,19 +549,16 @@ impl LogMapBuild {
                     (s.l_free - model.params().l0) as f32,
                     (s.l_occ - model.params().l0) as f32,
                 );
-                let stats = self.mapper.integrate_bands_tiled(
-                    &mut self.grid,
-                    &scan,
-                    &self.bands,
-                    free,
-                    occupied,
-                );
+                let stats =
+                    self.mapper
+                        .integrate_bands(&mut self.grid, &scan, &self.bands, free, occupied);
                 if self.grid.refused() {
                     let needed = self.tiles_reached();
                     self.failure = Some(OccError::State(budget_message(
-                        self.grid.extent(),
+                        self.grid.geometry(),
                         needed,
                         self.budget_cells,
+                        8,
                     )));
                     break;
                 }
@@ -584,7 +580,7 @@ impl LogMapBuild {
             finished: self.done == self.target,
             cells_allocated: self.grid.cells_allocated(),
             bytes_allocated: self.grid.bytes_allocated(),
-            cells: self.grid.extent().len(),
+            cells: self.grid.geometry().len(),
         }
     }
 
@@ -597,7 +593,7 @@ impl LogMapBuild {
     /// (a tile holding a cell a beam crosses is one the beam crosses): what
     /// the whole log would allocate, said when the budget refuses it.
     fn tiles_reached(&self) -> usize {
-        let e = *self.grid.extent();
+        let e = *self.grid.geometry();
         let (tx, ty) = tiles_of(&e);
         let mut marks = vec![false; tx * ty];
         let mut bands = Vec::new();
@@ -663,14 +659,14 @@ impl LogMapBuild {
     /// thresholds of the exported file (what the PGM would show and
     /// `map_server` load), which the counts carry.
     pub fn counts(&self) -> ExportCounts {
-        map_server::tiled_export_counts(&self.grid)
+        map_server::export_counts(&self.grid)
     }
 
     /// The laser positions of all scans in image units (x to the right, y
     /// down, pixel `(c, r)` spanning `[c, c+1) x [r, r+1)`), as
     /// `[x0, y0, x1, y1, ...]`: a page draws the robot's path from it.
     pub fn path_in_pixels(&self) -> Vec<f32> {
-        let g = self.grid.extent();
+        let g = self.grid.geometry();
         (0..self.scans.len())
             .filter_map(|k| self.scans.pose(k))
             .flat_map(|p| g.world_to_image(p.x, p.y).map(|c| c as f32))
@@ -680,17 +676,17 @@ impl LogMapBuild {
     /// The robot at scan `k` in image units, heading as an image angle
     /// (see [`crate::render::overlay`]), or `None` past the last scan.
     pub fn robot_at(&self, k: usize) -> Option<RobotMark> {
-        Some(RobotMark::at(self.grid.extent(), &self.scans.pose(k)?))
+        Some(RobotMark::at(self.grid.geometry(), &self.scans.pose(k)?))
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top, north
     /// up), or `None` outside the map.
     pub fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
-        let h = self.grid.extent().height();
+        let h = self.grid.geometry().height();
         if row >= h {
             return None;
         }
-        self.grid.readout_at_cell(col, h - 1 - row)
+        crate::grid::readout::readout_at_cell(&self.grid, col, h - 1 - row)
     }
 }
 
@@ -853,9 +849,9 @@ impl RealLogSession {
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
         settings.validate()?;
         if let Some(build) = self.build.as_mut() {
-            let before = *build.grid().extent();
+            let before = *build.grid().geometry();
             build.configure(settings)?;
-            if *build.grid().extent() != before {
+            if *build.grid().geometry() != before {
                 self.refit_view();
             }
         } else if let Some(scans) = self.pending.take() {
@@ -889,7 +885,7 @@ impl RealLogSession {
     /// The map's limits, or `None` before the log is read.
     pub fn geometry(&self) -> Option<GeometryReport> {
         self.build.as_ref().map(|b| {
-            let g = b.grid().extent();
+            let g = b.grid().geometry();
             let [origin_x, origin_y] = g.origin();
             GeometryReport {
                 width: g.width(),
@@ -928,7 +924,7 @@ impl RealLogSession {
     /// The whole map in a view of the current output size.
     fn refit_view(&mut self) {
         self.view = self.build.as_ref().and_then(|b| {
-            let e = b.grid().extent();
+            let e = b.grid().geometry();
             MapViewport::new(e.width(), e.height(), self.view_size.0, self.view_size.1).ok()
         });
     }
@@ -977,7 +973,7 @@ impl RealLogSession {
 
     /// Draws the view into `out` (its `width * height * 4` RGBA bytes).
     pub fn render_view(&self, out: &mut Vec<u8>) -> Result<()> {
-        render_tiled_view(self.build()?.grid(), self.view()?, out);
+        render_view(self.build()?.grid(), self.view()?, out);
         Ok(())
     }
 
@@ -1040,7 +1036,7 @@ impl RealLogSession {
     /// `NAME.pgm` (`map.pgm` without a name).
     pub fn export_map(&self, name: Option<&str>) -> Result<MapServerPair> {
         let stem = map_server::file_stem(name.unwrap_or(""));
-        Ok(map_server::tiled_map_server_pair(
+        Ok(map_server::map_server_pair(
             self.build()?.grid(),
             &format!("{stem}.pgm"),
         ))

@@ -6,16 +6,25 @@
 //! evidence *net of the prior* `l0`, because the inverse model returns a
 //! posterior and the prior must be counted once, not once per scan.
 //!
-//! The map's limits are [`GridGeometry`] (geometry layer); [`LogOddsGrid`]
-//! is the filter itself, with the map-wide scores a widget reads (entropy,
-//! Brier score) and, in [`stats`], the state counts of an exported map.
+//! One map type, [`Grid`], for every consumer: the map's limits
+//! ([`GridGeometry`], geometry layer), where its cells live
+//! ([`storage`]: one array, or tiles allocated on first touch) and what a
+//! cell believes ([`cell`]: the cell model) are three separate ideas, and
+//! the update pass, the renderers, the readout ([`readout`]), the counts
+//! ([`stats`]), the entropy and the export read and write every map through
+//! the same methods. [`LogOddsGrid`] is the dense log-odds map of the
+//! chapter's widgets, [`TiledGrid`] the tiled one of real logs.
 
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::GridGeometry;
 
+pub mod cell;
 pub mod readout;
 pub mod stats;
-pub mod tiled;
+pub mod storage;
+
+pub use cell::{CellModel, LogOdds};
+pub use storage::{Dense, Store, Tiled, Window};
 
 /// Log odds of a probability, `ln(p / (1 - p))`.
 pub fn logit(p: f64) -> f64 {
@@ -84,187 +93,302 @@ impl FilterSettings {
     }
 }
 
-/// The cells of a [`LogOddsGrid`], borrowed for a run of updates.
-pub struct CellsMut<'a> {
-    log_odds: &'a mut [f32],
-    updates: &'a mut [u32],
-    clamp: f32,
-}
-
-impl CellsMut<'_> {
-    /// [`LogOddsGrid::apply`].
-    #[inline(always)]
-    pub fn apply(&mut self, i: usize, evidence: f32) {
-        // Comparisons rather than f32::clamp, which re-checks its bounds
-        // on every call (the clamp is positive by construction).
-        let c = self.clamp;
-        let l = &mut self.log_odds[i];
-        let v = *l + evidence;
-        *l = if v > c {
-            c
-        } else if v < -c {
-            -c
-        } else {
-            v
-        };
-        self.updates[i] += 1;
-    }
-
-    /// [`LogOddsGrid::apply`] for evidence known to be `>= 0`: only the
-    /// upper clamp can bind (the log odds are within the clamp already).
-    #[inline(always)]
-    pub fn raise(&mut self, i: usize, evidence: f32) {
-        debug_assert!(evidence >= 0.0);
-        let c = self.clamp;
-        let l = &mut self.log_odds[i];
-        let v = *l + evidence;
-        *l = if v > c { c } else { v };
-        self.updates[i] += 1;
-    }
-
-    /// [`LogOddsGrid::apply`] for evidence known to be `<= 0`: only the
-    /// lower clamp can bind.
-    #[inline(always)]
-    pub fn lower(&mut self, i: usize, evidence: f32) {
-        debug_assert!(evidence <= 0.0);
-        let c = -self.clamp;
-        let l = &mut self.log_odds[i];
-        let v = *l + evidence;
-        *l = if v < c { c } else { v };
-        self.updates[i] += 1;
-    }
-}
-
-/// The occupancy grid map: log odds per cell, and how often each cell was
-/// updated (for the reader's hover readout).
+/// An occupancy grid map: its limits, its cells and their model. `M` says
+/// what a cell believes ([`CellModel`]), `S` where cells live ([`Store`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct LogOddsGrid {
+pub struct Grid<M: CellModel, S: Store<M::Cell>> {
     geometry: GridGeometry,
-    log_odds: Vec<f32>,
-    updates: Vec<u32>,
-    l0: f32,
-    clamp: f32,
+    model: M,
+    store: S,
 }
 
-impl LogOddsGrid {
-    /// A fresh map: every cell at the prior's log odds `l0`.
-    pub fn new(geometry: GridGeometry, settings: FilterSettings) -> Result<Self> {
-        settings.validate()?;
-        let l0 = logit(settings.prior) as f32;
+/// The chapter's map: log odds in one array over the whole map.
+pub type LogOddsGrid = Grid<LogOdds, Dense<f32>>;
+
+/// A log-odds map whose memory follows the area the beams saw: tiles of
+/// [`storage::TILE_SIDE`] cells allocated on first touch, within a budget
+/// of allocated cells (a real log's map).
+pub type TiledGrid = Grid<LogOdds, Tiled<f32>>;
+
+impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
+    /// A fresh map of `model`'s cells, every one unknown; a store that
+    /// allocates keeps within `budget_cells` cells.
+    pub fn with_model(geometry: GridGeometry, model: M, budget_cells: usize) -> Result<Self> {
+        let store = S::fresh(&geometry, model.unknown(), budget_cells)?;
         Ok(Self {
             geometry,
-            log_odds: vec![l0; geometry.len()],
-            updates: vec![0; geometry.len()],
-            l0,
-            clamp: settings.clamp as f32,
+            model,
+            store,
         })
     }
 
+    /// The map's limits.
     pub fn geometry(&self) -> &GridGeometry {
         &self.geometry
     }
-    /// The prior's log odds.
-    pub fn l0(&self) -> f32 {
-        self.l0
+    /// What a cell believes.
+    pub fn model(&self) -> &M {
+        &self.model
     }
-    pub fn clamp(&self) -> f32 {
-        self.clamp
+    /// Where the cells live.
+    pub fn store(&self) -> &S {
+        &self.store
     }
-    /// Changes the saturation. Cells beyond the new clamp are pulled in, as
-    /// the next update would do anyway.
-    pub fn set_clamp(&mut self, clamp: f64) -> Result<()> {
-        FilterSettings {
-            prior: probability(self.l0 as f64),
-            clamp,
-        }
-        .validate()?;
-        self.clamp = clamp as f32;
-        let c = self.clamp;
-        for l in &mut self.log_odds {
-            *l = l.clamp(-c, c);
-        }
-        Ok(())
-    }
-
-    /// Log odds of every cell, row-major from the bottom row.
-    pub fn log_odds(&self) -> &[f32] {
-        &self.log_odds
-    }
-    /// How many updates each cell has received.
-    pub fn update_counts(&self) -> &[u32] {
-        &self.updates
-    }
-    pub fn probability_at(&self, i: usize) -> f64 {
-        probability(self.log_odds[i] as f64)
-    }
-    /// True when the cell holds exactly the prior: the third state, neither
-    /// free nor occupied.
-    pub fn is_unknown(&self, i: usize) -> bool {
-        self.log_odds[i] == self.l0
-    }
-
-    /// One step of the cell's binary Bayes filter (Table 9.1, line 4):
-    /// `l <- clamp(l + evidence)`, where `evidence` is the inverse model's
-    /// log odds already net of its `l0`. The caller has validated `evidence`.
+    /// The model and the cells at once, for the update pass.
     #[inline(always)]
-    pub fn apply(&mut self, i: usize, evidence: f32) {
-        self.cells_mut().apply(i, evidence);
+    pub fn model_and_store(&mut self) -> (&M, &mut S) {
+        (&self.model, &mut self.store)
     }
 
-    /// The cells, for a caller that updates many of them in a row.
-    pub fn cells_mut(&mut self) -> CellsMut<'_> {
-        let n = self.log_odds.len();
-        CellsMut {
-            log_odds: &mut self.log_odds,
-            // The same length as the log odds, and the compiler sees it: a
-            // cell's index is then checked once for both.
-            updates: &mut self.updates[..n],
-            clamp: self.clamp,
+    /// Cell `(ix, iy)` (row 0 at the bottom), `None` outside the map.
+    #[inline]
+    pub fn cell_at(&self, ix: usize, iy: usize) -> Option<M::Cell> {
+        self.cell_and_updates_at(ix, iy).map(|(c, _)| c)
+    }
+
+    /// Cell `(ix, iy)` and how often it was updated, `None` outside the map.
+    #[inline]
+    pub fn cell_and_updates_at(&self, ix: usize, iy: usize) -> Option<(M::Cell, u32)> {
+        if ix >= self.geometry.width() || iy >= self.geometry.height() {
+            return None;
+        }
+        Some(self.store.get(ix, iy).unwrap_or((self.model.unknown(), 0)))
+    }
+
+    /// Log odds of cell `(ix, iy)`, `None` outside the map.
+    pub fn log_odds_at(&self, ix: usize, iy: usize) -> Option<f32> {
+        Some(self.model.log_odds(self.cell_at(ix, iy)?))
+    }
+
+    /// Updates cell `(ix, iy)` received, `None` outside the map.
+    pub fn updates_at(&self, ix: usize, iy: usize) -> Option<u32> {
+        Some(self.cell_and_updates_at(ix, iy)?.1)
+    }
+
+    /// One step of Table 9.1 for cell `(ix, iy)` with evidence of either
+    /// sign ([`CellModel::add`]); nothing outside the map or past the
+    /// store's budget ([`Self::refused`] then says so).
+    pub fn apply_at(&mut self, ix: usize, iy: usize, evidence: f32) {
+        let unknown = self.model.unknown();
+        if let Some((c, n)) = self.store.slot(ix, iy, unknown) {
+            self.model.add(c, evidence);
+            *n += 1;
         }
     }
 
-    /// Puts every cell back to the prior.
+    /// Every cell back to unknown (a tiled store frees its tiles).
     pub fn reset(&mut self) {
-        self.log_odds.fill(self.l0);
-        self.updates.fill(0);
+        self.store.reset(self.model.unknown());
+    }
+
+    /// Cells with storage (every cell of a dense map).
+    pub fn cells_allocated(&self) -> usize {
+        self.store.cells_allocated()
+    }
+    /// Bytes the allocated cells hold: the cell and its update count.
+    pub fn bytes_allocated(&self) -> usize {
+        self.cells_allocated() * (std::mem::size_of::<M::Cell>() + 4)
+    }
+    /// True once a cell's evidence was dropped for want of storage.
+    pub fn refused(&self) -> bool {
+        self.store.refused()
     }
 
     /// Entropy of the map, `sum_i H_b(p_i)`, in bits. A fresh map with
-    /// `p0 = 0.5` holds exactly one bit per cell.
+    /// `p0 = 0.5` holds exactly one bit per cell; a cell no storage holds
+    /// counts as unknown.
     pub fn entropy_bits(&self) -> f64 {
-        self.log_odds
-            .iter()
-            .map(|&l| binary_entropy_bits(probability(l as f64)))
-            .sum()
+        let m = &self.model;
+        let mut bits = 0.0;
+        let mut held = 0;
+        self.store.allocated(|cells| {
+            held += cells.len();
+            bits += cells
+                .iter()
+                .map(|&c| binary_entropy_bits(m.probability(c)))
+                .sum::<f64>();
+        });
+        // Cells of edge tiles beyond the map are unknown too: take them
+        // back out.
+        let unheld = self.geometry.len() as f64 - held as f64;
+        bits + unheld * binary_entropy_bits(m.probability(m.unknown()))
     }
 
     /// Brier score `mean_i (p_i - m_i)^2` against a ground-truth binary map
-    /// (`true` = occupied), over every cell or over the cells listed in
-    /// `region`.
+    /// (`true` = occupied, row-major like the map), over every cell or over
+    /// the cells listed in `region`.
     pub fn brier_score(&self, truth: &[bool], region: Option<&[usize]>) -> Result<f64> {
-        if truth.len() != self.log_odds.len() {
+        let n = self.geometry.len();
+        if truth.len() != n {
             return Err(OccError::LengthMismatch {
                 field: "truth".into(),
-                expected: self.log_odds.len(),
+                expected: n,
                 found: truth.len(),
             });
         }
         let sq = |i: usize| {
+            let (ix, iy) = self.geometry.cell_of_index(i);
+            let p = self
+                .cell_at(ix, iy)
+                .map_or(0.5, |c| self.model.probability(c));
             let m = if truth[i] { 1.0 } else { 0.0 };
-            (self.probability_at(i) - m).powi(2)
+            (p - m).powi(2)
         };
         match region {
-            None => Ok((0..truth.len()).map(sq).sum::<f64>() / truth.len() as f64),
+            None => Ok((0..n).map(sq).sum::<f64>() / n as f64),
             Some(cells) => {
                 if cells.is_empty() {
                     return Err(invalid("region", "[]", "at least one cell"));
                 }
-                if let Some(&bad) = cells.iter().find(|&&i| i >= truth.len()) {
+                if let Some(&bad) = cells.iter().find(|&&i| i >= n) {
                     return Err(invalid("region", bad, "cell indices inside the map"));
                 }
                 Ok(cells.iter().map(|&i| sq(i)).sum::<f64>() / cells.len() as f64)
             }
         }
+    }
+
+    /// The same map in one array (for a map the dense store can hold: at
+    /// most [`crate::geometry::MAX_CELLS`] cells).
+    pub fn to_dense(&self) -> Result<Grid<M, Dense<M::Cell>>> {
+        let g = &self.geometry;
+        let geometry = GridGeometry::new(
+            g.width(),
+            g.height(),
+            g.resolution(),
+            g.origin()[0],
+            g.origin()[1],
+        )?;
+        let mut dense = Grid::<M, Dense<M::Cell>>::with_model(geometry, self.model.clone(), 0)?;
+        let unknown = self.model.unknown();
+        for iy in 0..g.height() {
+            self.store.row_runs(iy, |run| {
+                if let Some((cells, updates)) = run.cells {
+                    for (k, (&c, &u)) in cells.iter().zip(updates).enumerate() {
+                        if let Some((d, n)) = dense.store.slot(run.x0 + k, iy, unknown) {
+                            *d = c;
+                            *n = u;
+                        }
+                    }
+                }
+            });
+        }
+        Ok(dense)
+    }
+}
+
+impl<S: Store<f32>> Grid<LogOdds, S> {
+    /// A fresh log-odds map, every cell at the prior's log odds `l0`; a
+    /// store that allocates keeps within `budget_cells` cells.
+    pub fn with_budget(
+        geometry: GridGeometry,
+        settings: FilterSettings,
+        budget_cells: usize,
+    ) -> Result<Self> {
+        settings.validate()?;
+        Self::with_model(
+            geometry,
+            LogOdds::new(settings.prior, settings.clamp),
+            budget_cells,
+        )
+    }
+
+    /// The prior's log odds.
+    pub fn l0(&self) -> f32 {
+        self.model.l0
+    }
+    pub fn clamp(&self) -> f32 {
+        self.model.clamp
+    }
+
+    /// Changes the saturation. Cells beyond the new clamp are pulled in, as
+    /// the next update would do anyway.
+    pub fn set_clamp(&mut self, clamp: f64) -> Result<()> {
+        FilterSettings {
+            prior: probability(self.model.l0 as f64),
+            clamp,
+        }
+        .validate()?;
+        self.model.clamp = clamp as f32;
+        let c = self.model.clamp;
+        let (w, h) = (self.geometry.width(), self.geometry.height());
+        for iy in 0..h {
+            for ix in 0..w {
+                if let Some((l, _)) = self.store.get(ix, iy) {
+                    if l.abs() > c {
+                        if let Some((cell, _)) = self.store.slot(ix, iy, self.model.l0) {
+                            *cell = l.clamp(-c, c);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl LogOddsGrid {
+    /// A fresh dense map: every cell at the prior's log odds `l0`.
+    pub fn new(geometry: GridGeometry, settings: FilterSettings) -> Result<Self> {
+        Self::with_budget(geometry, settings, geometry.len())
+    }
+}
+
+impl TiledGrid {
+    /// A fresh tiled map, every cell at the prior, no tile allocated; at
+    /// most `budget_cells` cells (rounded down to whole tiles, at least
+    /// one) will ever be allocated.
+    pub fn new(
+        geometry: GridGeometry,
+        settings: FilterSettings,
+        budget_cells: usize,
+    ) -> Result<Self> {
+        Self::with_budget(geometry, settings, budget_cells)
+    }
+
+    /// Tiles allocated so far.
+    pub fn tiles_allocated(&self) -> usize {
+        self.store.tiles_allocated()
+    }
+    /// Most tiles the budget allows.
+    pub fn max_tiles(&self) -> usize {
+        self.store.max_tiles()
+    }
+}
+
+/// Index-based access to a dense map (its cells are one row-major array,
+/// bottom row first): what the chapter's widgets use.
+impl<M: CellModel> Grid<M, Dense<M::Cell>> {
+    /// Every cell, row-major from the bottom row.
+    pub fn cells(&self) -> &[M::Cell] {
+        self.store.cells()
+    }
+    /// How many updates each cell has received.
+    pub fn update_counts(&self) -> &[u32] {
+        self.store.updates()
+    }
+    pub fn probability_at(&self, i: usize) -> f64 {
+        self.model.probability(self.store.cells()[i])
+    }
+    /// True when cell `i` still holds the unknown value: the third state,
+    /// neither free nor occupied.
+    pub fn is_unknown(&self, i: usize) -> bool {
+        self.model.is_unknown(self.store.cells()[i])
+    }
+    /// One step of the cell's filter (Table 9.1) for cell `i`:
+    /// [`CellModel::add`]. The caller has validated `evidence`.
+    #[inline(always)]
+    pub fn apply(&mut self, i: usize, evidence: f32) {
+        let (cells, updates) = self.store.cells_mut();
+        self.model.add(&mut cells[i], evidence);
+        updates[i] += 1;
+    }
+}
+
+impl LogOddsGrid {
+    /// Log odds of every cell, row-major from the bottom row.
+    pub fn log_odds(&self) -> &[f32] {
+        self.store.cells()
     }
 }
 

@@ -4,7 +4,7 @@
 //! exported map counts its cells with the thresholds its YAML states
 //! (`crate::io::map_server::export_counts`).
 
-use super::{logit, LogOddsGrid};
+use super::{logit, CellModel, Grid, Store};
 
 /// Cells above this probability count as occupied (W1).
 pub const OCCUPIED_ABOVE: f64 = 0.65;
@@ -26,7 +26,7 @@ pub struct StateCounts {
 
 /// Counts the three states of a map. A cell still at the prior is unknown,
 /// whatever the thresholds say of `l0`.
-pub fn count_states(grid: &LogOddsGrid) -> StateCounts {
+pub fn count_states<M: CellModel, S: Store<M::Cell>>(grid: &Grid<M, S>) -> StateCounts {
     count_states_between(grid, OCCUPIED_ABOVE, FREE_BELOW)
 }
 
@@ -38,50 +38,60 @@ pub fn log_odds_thresholds(occupied_above: f64, free_below: f64) -> (f32, f32) {
 }
 
 /// Counts the three states of a map with `p > occupied_above` occupied and
-/// `p < free_below` free (a cell still at the prior is unknown either way;
-/// one between the thresholds is in none of the three).
-pub fn count_states_between(
-    grid: &LogOddsGrid,
+/// `p < free_below` free (a cell still unknown is unknown either way; one
+/// between the thresholds is in none of the three). Cells no storage holds
+/// are unknown.
+pub fn count_states_between<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
     occupied_above: f64,
     free_below: f64,
 ) -> StateCounts {
     // Compared in log odds: no exp per cell.
     let (occ_l, free_l) = log_odds_thresholds(occupied_above, free_below);
-    let l0 = grid.l0();
+    let model = grid.model();
+    let unknown_l = model.log_odds(model.unknown());
     let mut tally = Tally {
-        l0,
+        model,
         occ_l,
         free_l,
         at_prior: 0,
         above: 0,
         below: 0,
     };
-    // Eight cells per loop turn: under Node the loop's own bookkeeping is
-    // otherwise most of this short body.
-    let mut chunks = grid.log_odds().chunks_exact(8);
-    for c in &mut chunks {
-        for &l in c {
-            tally.add(l);
+    let mut held = 0;
+    grid.store().allocated(|cells| {
+        held += cells.len();
+        // Eight cells per loop turn: under Node the loop's own bookkeeping
+        // is otherwise most of this short body.
+        let mut chunks = cells.chunks_exact(8);
+        for c in &mut chunks {
+            for &cell in c {
+                tally.add(cell);
+            }
         }
-    }
-    for &l in chunks.remainder() {
-        tally.add(l);
-    }
-    // Take the cells still at the prior back out of the band l0 falls in.
-    let unknown = tally.at_prior;
+        for &cell in chunks.remainder() {
+            tally.add(cell);
+        }
+    });
+    // Take the cells still unknown back out of the band their log odds
+    // fall in.
+    let at_prior = tally.at_prior;
+    let cells = grid.geometry().len();
     StateCounts {
-        occupied: tally.above - if l0 > occ_l { unknown } else { 0 },
-        free: tally.below - if l0 < free_l { unknown } else { 0 },
-        unknown,
-        cells: grid.geometry().len(),
+        occupied: tally.above - if unknown_l > occ_l { at_prior } else { 0 },
+        free: tally.below - if unknown_l < free_l { at_prior } else { 0 },
+        // Every cell not held (and every held cell beyond the map, at the
+        // edge of a tile) is unknown.
+        unknown: cells - (held - at_prior),
+        cells,
     }
 }
 
 /// Three independent counts per cell, with no branch between them (a
 /// branch on "still at the prior" is mispredicted all over a half-explored
 /// map).
-struct Tally {
-    l0: f32,
+struct Tally<'m, M> {
+    model: &'m M,
     occ_l: f32,
     free_l: f32,
     at_prior: usize,
@@ -89,10 +99,11 @@ struct Tally {
     below: usize,
 }
 
-impl Tally {
+impl<M: CellModel> Tally<'_, M> {
     #[inline(always)]
-    fn add(&mut self, l: f32) {
-        self.at_prior += (l == self.l0) as usize;
+    fn add(&mut self, cell: M::Cell) {
+        let l = self.model.log_odds(cell);
+        self.at_prior += self.model.is_unknown(cell) as usize;
         self.above += (l > self.occ_l) as usize;
         self.below += (l < self.free_l) as usize;
     }
@@ -102,7 +113,7 @@ impl Tally {
 mod tests {
     use super::*;
     use crate::geometry::GridGeometry;
-    use crate::grid::FilterSettings;
+    use crate::grid::{FilterSettings, LogOddsGrid};
 
     /// The state count, cell by cell as W1 defines it, against the
     /// branch-free tally: with the prior inside the band (W1's), above

@@ -2,7 +2,7 @@
 //! YAML file that tells `map_server` (ROS 1) or `nav2_map_server` how to read
 //! it (SPEC §11).
 //!
-//! This is the last step of the data flow: any [`LogOddsGrid`] a widget has
+//! This is the last step of the data flow: any [`Grid`] a widget has
 //! built (a simulated lap, a real log) leaves the project through
 //! [`map_server_pair`]; [`zip_pair`] packs the two files into one download
 //! whose names agree with the YAML. [`read_pgm`] reads such an image back,
@@ -23,8 +23,7 @@
 
 use crate::error::{OccError, Result};
 use crate::grid::stats::{count_states_between, log_odds_thresholds};
-use crate::grid::tiled::{TiledGrid, TILE_SIDE};
-use crate::grid::LogOddsGrid;
+use crate::grid::{CellModel, Grid, Store};
 
 /// `occupied_thresh` of the YAML: a cell with `p > 0.65` is exported as
 /// occupied.
@@ -60,23 +59,23 @@ pub struct MapServerPair {
     pub yaml: String,
 }
 
-/// The trinary gray level of cell `i`: unknown if the cell still holds the
+/// The trinary gray level of a cell: unknown if the cell still holds the
 /// prior (whatever the prior is: a cell nobody measured is not free just
 /// because the prior was low), else occupied above [`OCCUPIED_THRESH`],
 /// free below [`FREE_THRESH`], unknown in between. The comparisons are
 /// strict, as in the loader, and made in log odds exactly as
 /// [`export_counts`] makes them.
-pub fn trinary_gray(grid: &LogOddsGrid, i: usize) -> u8 {
+pub fn trinary_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
     let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
-    gray_of(grid, i, occ_l, free_l)
+    gray_of(model, cell, occ_l, free_l)
 }
 
 #[inline]
-fn gray_of(grid: &LogOddsGrid, i: usize, occ_l: f32, free_l: f32) -> u8 {
-    if grid.is_unknown(i) {
+fn gray_of<M: CellModel>(model: &M, cell: M::Cell, occ_l: f32, free_l: f32) -> u8 {
+    if model.is_unknown(cell) {
         return UNKNOWN_GRAY;
     }
-    let l = grid.log_odds()[i];
+    let l = model.log_odds(cell);
     if l > occ_l {
         OCCUPIED_GRAY
     } else if l < free_l {
@@ -103,7 +102,7 @@ pub struct ExportCounts {
 }
 
 /// The cells of `grid` as its export would show them ([`map_server_pair`]).
-pub fn export_counts(grid: &LogOddsGrid) -> ExportCounts {
+pub fn export_counts<M: CellModel, S: Store<M::Cell>>(grid: &Grid<M, S>) -> ExportCounts {
     let s = count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH);
     ExportCounts {
         occupied: s.occupied,
@@ -117,9 +116,13 @@ pub fn export_counts(grid: &LogOddsGrid) -> ExportCounts {
 
 /// Exports `grid` as a `map_server` pair whose YAML points at
 /// `image_name` (an empty name becomes `map.pgm`; a name that is not a
-/// plain YAML scalar is written quoted). Cannot fail: every grid has a
-/// valid size, resolution and origin by construction.
-pub fn map_server_pair(grid: &LogOddsGrid, image_name: &str) -> MapServerPair {
+/// plain YAML scalar is written quoted). The image covers the whole map;
+/// cells no storage holds are unknown gray 205. Cannot fail: every grid has
+/// a valid size, resolution and origin by construction.
+pub fn map_server_pair<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    image_name: &str,
+) -> MapServerPair {
     let g = grid.geometry();
     let (w, h) = (g.width(), g.height());
     let header = format!(
@@ -129,9 +132,13 @@ pub fn map_server_pair(grid: &LogOddsGrid, image_name: &str) -> MapServerPair {
     let mut pgm = Vec::with_capacity(header.len() + w * h);
     pgm.extend_from_slice(header.as_bytes());
     let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
+    let model = grid.model();
     // Image rows run north to south, grid rows south to north.
     for iy in (0..h).rev() {
-        pgm.extend((0..w).map(|ix| gray_of(grid, g.index(ix, iy), occ_l, free_l)));
+        grid.store().row_runs(iy, |run| match run.cells {
+            None => pgm.extend(std::iter::repeat_n(UNKNOWN_GRAY, run.len)),
+            Some((cells, _)) => pgm.extend(cells.iter().map(|&c| gray_of(model, c, occ_l, free_l))),
+        });
     }
     let yaml = yaml_text(g.resolution(), g.origin(), image_name);
     MapServerPair { pgm, yaml }
@@ -154,61 +161,6 @@ fn yaml_text(resolution: f64, [ox, oy]: [f64; 2], image_name: &str) -> String {
         yaml_number(OCCUPIED_THRESH),
         yaml_number(FREE_THRESH),
     )
-}
-
-/// [`export_counts`] of a tiled map: every cell of a tile never allocated
-/// is unknown.
-pub fn tiled_export_counts(grid: &TiledGrid) -> ExportCounts {
-    let (occupied, free) = grid.count_between(OCCUPIED_THRESH, FREE_THRESH);
-    let cells = grid.extent().len();
-    ExportCounts {
-        occupied,
-        free,
-        unknown: cells - occupied - free,
-        cells,
-        occupied_thresh: OCCUPIED_THRESH,
-        free_thresh: FREE_THRESH,
-    }
-}
-
-/// [`map_server_pair`] of a tiled map: the image covers the whole extent,
-/// the cells of tiles never allocated unknown gray 205.
-pub fn tiled_map_server_pair(grid: &TiledGrid, image_name: &str) -> MapServerPair {
-    let e = grid.extent();
-    let (w, h) = (e.width(), e.height());
-    let header = format!(
-        "P5\n# CREATOR: occgrid {:.3} m/pix\n{w} {h}\n255\n",
-        e.resolution()
-    );
-    let mut pgm = Vec::with_capacity(header.len() + w * h);
-    pgm.extend_from_slice(header.as_bytes());
-    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
-    let l0 = grid.l0();
-    let (tiles_x, _) = crate::grid::tiled::tiles_of(e);
-    for iy in (0..h).rev() {
-        let (ty, row) = (iy / TILE_SIDE, iy % TILE_SIDE);
-        for tx in 0..tiles_x {
-            let span = TILE_SIDE.min(w - tx * TILE_SIDE);
-            match grid.tile_log_odds(tx, ty) {
-                None => pgm.extend(std::iter::repeat_n(UNKNOWN_GRAY, span)),
-                Some(t) => {
-                    pgm.extend(t[row * TILE_SIDE..row * TILE_SIDE + span].iter().map(|&l| {
-                        if l == l0 {
-                            UNKNOWN_GRAY
-                        } else if l > occ_l {
-                            OCCUPIED_GRAY
-                        } else if l < free_l {
-                            FREE_GRAY
-                        } else {
-                            UNKNOWN_GRAY
-                        }
-                    }))
-                }
-            }
-        }
-    }
-    let yaml = yaml_text(e.resolution(), e.origin(), image_name);
-    MapServerPair { pgm, yaml }
 }
 
 /// A number as YAML reads it back exactly: Rust's shortest round-trip
@@ -473,6 +425,7 @@ mod tests {
     use super::*;
     use crate::geometry::GridGeometry;
     use crate::grid::FilterSettings;
+    use crate::grid::LogOddsGrid;
 
     #[test]
     fn yaml_numbers_keep_a_decimal_point_and_round_trip() {
@@ -509,7 +462,9 @@ mod tests {
         m.apply(1, 3.0); // p = 0.69
         m.apply(2, 2.0); // p = 0.45
         m.apply(3, -1.0); // p = 0.04
-        let grays: Vec<u8> = (0..4).map(|i| trinary_gray(&m, i)).collect();
+        let grays: Vec<u8> = (0..4)
+            .map(|i| trinary_gray(m.model(), m.log_odds()[i]))
+            .collect();
         assert_eq!(grays, [205, 0, 205, 254]);
     }
 
@@ -540,20 +495,20 @@ mod tests {
     #[test]
     fn tiled_export_covers_the_whole_extent_and_matches_the_dense_export() {
         use crate::geometry::GridGeometry;
-        use crate::grid::tiled::TiledGrid;
+        use crate::grid::TiledGrid;
         let e = GridGeometry::sparse(130, 70, 0.05, -2.0, 1.0).unwrap();
         let mut t = TiledGrid::new(e, FilterSettings::default(), 1 << 20).unwrap();
-        t.raise(3, 2, 2.0);
-        t.lower(129, 69, -2.0);
-        t.lower(70, 40, -0.1); // between the thresholds
+        t.apply_at(3, 2, 2.0);
+        t.apply_at(129, 69, -2.0);
+        t.apply_at(70, 40, -0.1); // between the thresholds
         let dense = t.to_dense().unwrap();
         assert_eq!(t.tiles_allocated(), 3);
         assert_eq!(
-            tiled_map_server_pair(&t, "m.pgm"),
+            map_server_pair(&t, "m.pgm"),
             map_server_pair(&dense, "m.pgm")
         );
-        assert_eq!(tiled_export_counts(&t), export_counts(&dense));
-        let pgm = read_pgm(&tiled_map_server_pair(&t, "m.pgm").pgm).unwrap();
+        assert_eq!(export_counts(&t), export_counts(&dense));
+        let pgm = read_pgm(&map_server_pair(&t, "m.pgm").pgm).unwrap();
         assert_eq!((pgm.width, pgm.height), (130, 70));
         assert_eq!(pgm.at(100, 10), Some(UNKNOWN_GRAY), "a tile never touched");
         assert_eq!(pgm.at(3, 67), Some(OCCUPIED_GRAY));

@@ -19,8 +19,8 @@
 //!   map (what a wide cone needs).
 
 use crate::geometry::raster::{Cursor, Walk};
-use crate::grid::tiled::TiledGrid;
-use crate::grid::{CellsMut, LogOddsGrid};
+use crate::geometry::{GridGeometry, Pose};
+use crate::grid::{CellModel, Grid, Store, Window};
 use crate::inverse::{AxisProfile, InverseModel};
 
 use crate::sensors::Scan;
@@ -75,14 +75,21 @@ impl RayMapper {
     /// along the beam axis (the projection of its centre), at bearing offset
     /// zero: a thin beam's raster *is* its footprint. Every input was
     /// validated when the scan and model were built, so this cannot fail.
-    pub fn integrate<M: InverseModel + ?Sized>(
+    pub fn integrate<M: InverseModel + ?Sized, C: CellModel, S: Store<C::Cell>>(
         &mut self,
-        grid: &mut LogOddsGrid,
+        grid: &mut Grid<C, S>,
         model: &M,
         scan: &Scan,
     ) -> ScanStats {
         self.cache_bearing_trig(scan.bearings());
-        let frame = BeamFrame::new(grid, scan);
+        let reach = scan
+            .ranges()
+            .iter()
+            .map(|&z| model.reach(z))
+            .fold(0.0, f64::max);
+        let Some(frame) = BeamFrame::new::<C, S>(grid.geometry(), &scan.pose(), reach) else {
+            return ScanStats::default();
+        };
         match self.step_profiles(model, scan.ranges()) {
             Some(bands) => self.integrate_step_profiles(grid, &frame, bands),
             None => self.integrate_general(grid, model, scan, &frame),
@@ -138,18 +145,13 @@ impl RayMapper {
     /// (free, occupied) in a byte per cell, and "occupied wins" is reading
     /// the occupied flag first. A map of bytes is a quarter of a map of
     /// floats, and stays in cache.
-    fn integrate_step_profiles(
+    fn integrate_step_profiles<C: CellModel, S: Store<C::Cell>>(
         &mut self,
-        grid: &mut LogOddsGrid,
+        grid: &mut Grid<C, S>,
         frame: &BeamFrame,
         bands: Bands,
     ) -> ScanStats {
-        let len = Gathered::<u8>::len_for(grid.geometry().len());
-        if self.codes.len() != len {
-            self.codes = vec![Code::Untouched as u8; len];
-        }
-        ensure_len(&mut self.touched, len);
-        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
+        let mut gathered = frame.codes(&mut self.codes, &mut self.touched);
         let mut visits = 0;
         for (profile, &trig) in self.profiles.iter().zip(&self.bearing_trig) {
             let Some((reach, p)) = *profile else { continue };
@@ -162,7 +164,7 @@ impl RayMapper {
         }
 
         let count = gathered.count;
-        gathered.settle(grid, bands);
+        gathered.settle(grid, &frame.window, bands);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -171,19 +173,14 @@ impl RayMapper {
 
     /// The general path: each cell's evidence is gathered as a float (the
     /// larger wins per cell), then every touched cell is updated once.
-    fn integrate_general<M: InverseModel + ?Sized>(
+    fn integrate_general<M: InverseModel + ?Sized, C: CellModel, S: Store<C::Cell>>(
         &mut self,
-        grid: &mut LogOddsGrid,
+        grid: &mut Grid<C, S>,
         model: &M,
         scan: &Scan,
         frame: &BeamFrame,
     ) -> ScanStats {
-        let len = Gathered::<f32>::len_for(grid.geometry().len());
-        if self.pending.len() != len {
-            self.pending = vec![UNTOUCHED; len];
-        }
-        ensure_len(&mut self.touched, len);
-        let mut gathered = Pending::new(&mut self.pending, &mut self.touched);
+        let mut gathered = frame.pending(&mut self.pending, &mut self.touched);
         let mut visits = 0;
         for (&z, &trig) in scan.ranges().iter().zip(&self.bearing_trig) {
             let reach = model.reach(z);
@@ -210,6 +207,7 @@ impl RayMapper {
         // (The floats are the evidence: no bands to look them up in.)
         gathered.settle(
             grid,
+            &frame.window,
             Bands {
                 free: 0.0,
                 occupied: 0.0,
@@ -262,10 +260,13 @@ impl RayMapper {
     /// log odds net of `l0`. Cells are gathered and updated once per scan,
     /// occupied winning, as in [`Self::integrate`]; with each band built
     /// from Table 9.2's axis profile (no gap) the map is bit for bit the
-    /// one `integrate` makes.
-    pub fn integrate_bands(
+    /// one `integrate` makes. On a store that gathers in a window around
+    /// the sensor ([`Store::WINDOWED`]), a beam reaching more than
+    /// [`MAX_REACH_CELLS`] is not walked (the caller's settings refuse it
+    /// first).
+    pub fn integrate_bands<C: CellModel, S: Store<C::Cell>>(
         &mut self,
-        grid: &mut LogOddsGrid,
+        grid: &mut Grid<C, S>,
         scan: &Scan,
         bands: &[Option<BeamBand>],
         free: f32,
@@ -276,113 +277,23 @@ impl RayMapper {
             // settings): no update rather than a wrong one.
             return ScanStats::default();
         }
-        self.cache_bearing_trig(scan.bearings());
-        let frame = BeamFrame::new(grid, scan);
-        let len = Gathered::<u8>::len_for(grid.geometry().len());
-        if self.codes.len() != len {
-            self.codes = vec![Code::Untouched as u8; len];
-        }
-        ensure_len(&mut self.touched, len);
-        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
-        let mut visits = 0;
-        for (band, &trig) in bands.iter().zip(&self.bearing_trig) {
-            let Some(b) = *band else { continue };
-            if !(b.reach > 0.0) {
-                continue;
-            }
-            let Some((walk, at)) = frame.beam(trig, b.reach) else {
-                continue;
-            };
-            let n;
-            (n, gathered) = trace(walk, at, BandCodes(b), gathered);
-            visits += n;
-        }
-        let count = gathered.count;
-        gathered.settle(grid, Bands { free, occupied });
-        ScanStats {
-            cells_visited: visits,
-            cells_updated: count,
-        }
-    }
-}
-
-/// The most cells a beam of a tiled map may reach from its sensor (range
-/// cap over resolution): the scan's window of `(2 n + 5)^2` cells then
-/// stays within 2^24, its scratch within 80 MiB.
-pub const MAX_REACH_CELLS: f64 = 2045.0;
-
-impl RayMapper {
-    /// [`Self::integrate_bands`] into a [`TiledGrid`]: the verdicts are
-    /// gathered in a window around the sensor (as far as the scan's longest
-    /// beam reaches), the walks made in the map's own frame, and each
-    /// touched cell then updated in its tile, allocated on first touch. The
-    /// map is cell for cell the one a dense grid of the same extent would
-    /// hold. A beam reaching more than [`MAX_REACH_CELLS`] is not walked
-    /// (the caller's settings refuse it first).
-    pub fn integrate_bands_tiled(
-        &mut self,
-        grid: &mut TiledGrid,
-        scan: &Scan,
-        bands: &[Option<BeamBand>],
-        free: f32,
-        occupied: f32,
-    ) -> ScanStats {
-        if !(free < 0.0 && occupied > 0.0) {
-            return ScanStats::default();
-        }
-        let e = *grid.extent();
-        let res = e.resolution();
+        let res = grid.geometry().resolution();
+        let walkable = |r: f64| r > 0.0 && (!S::WINDOWED || r / res <= MAX_REACH_CELLS);
         let reach = bands
             .iter()
             .flatten()
             .map(|b| b.reach)
-            .filter(|&r| r > 0.0 && r / res <= MAX_REACH_CELLS)
+            .filter(|&r| walkable(r))
             .fold(0.0, f64::max);
-        let pose = scan.pose();
-        let (su, sv) = e.world_to_grid(pose.x, pose.y);
-        if !(reach > 0.0 && su.is_finite() && sv.is_finite()) {
+        let Some(frame) = BeamFrame::new::<C, S>(grid.geometry(), &scan.pose(), reach) else {
             return ScanStats::default();
-        }
-        // Every cell a beam visits lies within its reach of the sensor, plus
-        // the cell the sensor is in.
-        let rc = reach / res + 2.0;
-        let span = |s: f64, n: usize| {
-            let lo = (s - rc).floor().clamp(0.0, n as f64) as usize;
-            let hi = ((s + rc).ceil() + 1.0).clamp(0.0, n as f64) as usize;
-            (lo, hi)
         };
-        let ((x0, x1), (y0, y1)) = (span(su, e.width()), span(sv, e.height()));
-        if x0 >= x1 || y0 >= y1 {
-            return ScanStats::default();
-        }
-        let stride = x1 - x0;
         self.cache_bearing_trig(scan.bearings());
-        let (sin_t, cos_t) = pose.theta.sin_cos();
-        let frame = BeamFrame {
-            su,
-            sv,
-            res,
-            per_metre: 1.0 / res,
-            width: e.width(),
-            height: e.height(),
-            sin_t,
-            cos_t,
-            x0,
-            y0,
-            stride,
-        };
-        // Grown, never shrunk: windows differ from scan to scan near the
-        // map's edges.
-        let len = Gathered::<u8>::len_for(stride * (y1 - y0));
-        if self.codes.len() < len {
-            self.codes = vec![Code::Untouched as u8; len];
-        }
-        ensure_len(&mut self.touched, self.codes.len());
-        let mut gathered = Codes::new(&mut self.codes, &mut self.touched);
+        let mut gathered = frame.codes(&mut self.codes, &mut self.touched);
         let mut visits = 0;
         for (band, &trig) in bands.iter().zip(&self.bearing_trig) {
             let Some(b) = *band else { continue };
-            if !(b.reach > 0.0 && b.reach <= reach) {
+            if !walkable(b.reach) {
                 continue;
             }
             let Some((walk, at)) = frame.beam(trig, b.reach) else {
@@ -393,23 +304,7 @@ impl RayMapper {
             visits += n;
         }
         let count = gathered.count;
-        let Gathered {
-            slots,
-            touched,
-            mask,
-            ..
-        } = gathered;
-        for &w in &touched[..count] {
-            let w = w as usize;
-            let (ix, iy) = (x0 + w % stride, y0 + w / stride);
-            let slot = &mut slots[w & mask];
-            if *slot & Code::Occupied as u8 != 0 {
-                grid.raise(ix, iy, occupied);
-            } else {
-                grid.lower(ix, iy, free);
-            }
-            *slot = Code::Untouched as u8;
-        }
+        gathered.settle(grid, &frame.window, Bands { free, occupied });
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -417,12 +312,10 @@ impl RayMapper {
     }
 }
 
-/// Makes `buffer` `len` long (its contents are scratch).
-fn ensure_len(buffer: &mut Vec<u32>, len: usize) {
-    if buffer.len() != len {
-        *buffer = vec![0; len];
-    }
-}
+/// The most cells a beam of a windowed (tiled) map may reach from its
+/// sensor (range cap over resolution): the scan's window of `(2 n + 5)^2`
+/// cells then stays within 2^24, its scratch within 80 MiB.
+pub const MAX_REACH_CELLS: f64 = 2045.0;
 
 /// A model's evidence is finite by contract. Should one return NaN, it is
 /// read as "no information"; minus infinity as the most negative finite
@@ -455,7 +348,8 @@ impl Bands {
 }
 
 /// What every beam of a scan shares: the sensor in grid coordinates, the
-/// grid's size and resolution, and the heading.
+/// grid's size and resolution, the heading, and the window of the map the
+/// scan's verdicts are gathered in.
 struct BeamFrame {
     su: f64,
     sv: f64,
@@ -466,34 +360,78 @@ struct BeamFrame {
     height: usize,
     sin_t: f64,
     cos_t: f64,
-    /// The cell of index 0 and the cells per row of the index space the
-    /// verdicts are gathered in: the whole grid for a dense map, a window
-    /// around the sensor for a tiled one. The walk itself is always in the
-    /// map's own frame, so both visit the same cells.
-    x0: usize,
-    y0: usize,
-    stride: usize,
+    /// The index space the verdicts are gathered in: the whole grid for a
+    /// dense map, a window around the sensor for a windowed one. The walk
+    /// itself is always in the map's own frame, so both visit the same
+    /// cells.
+    window: Window,
 }
 
 impl BeamFrame {
-    fn new(grid: &LogOddsGrid, scan: &Scan) -> Self {
-        let g = grid.geometry();
-        let pose = scan.pose();
+    /// The frame of a scan taken at `pose` whose longest beam reaches
+    /// `reach` metres; `None` when no cell can be reached (a pose that is
+    /// not a number, or a window that misses the map).
+    fn new<C: CellModel, S: Store<C::Cell>>(
+        g: &GridGeometry,
+        pose: &Pose,
+        reach: f64,
+    ) -> Option<Self> {
         let (su, sv) = g.world_to_grid(pose.x, pose.y);
+        let res = g.resolution();
+        let window = if S::WINDOWED {
+            if !(reach > 0.0 && su.is_finite() && sv.is_finite()) {
+                return None;
+            }
+            // Every cell a beam visits lies within its reach of the sensor,
+            // plus the cell the sensor is in.
+            let rc = reach / res + 2.0;
+            let span = |s: f64, n: usize| {
+                let lo = (s - rc).floor().clamp(0.0, n as f64) as usize;
+                let hi = ((s + rc).ceil() + 1.0).clamp(0.0, n as f64) as usize;
+                (lo, hi)
+            };
+            let ((x0, x1), (y0, y1)) = (span(su, g.width()), span(sv, g.height()));
+            if x0 >= x1 || y0 >= y1 {
+                return None;
+            }
+            Window {
+                x0,
+                y0,
+                stride: x1 - x0,
+                rows: y1 - y0,
+            }
+        } else {
+            Window::whole(g)
+        };
         let (sin_t, cos_t) = pose.theta.sin_cos();
-        Self {
+        Some(Self {
             su,
             sv,
-            res: g.resolution(),
-            per_metre: 1.0 / g.resolution(),
+            res,
+            per_metre: 1.0 / res,
             width: g.width(),
             height: g.height(),
             sin_t,
             cos_t,
-            x0: 0,
-            y0: 0,
-            stride: g.width(),
-        }
+            window,
+        })
+    }
+
+    /// Scratch slots for the window's verdicts as codes, grown to fit
+    /// (never shrunk below the window, so that windows which differ from
+    /// scan to scan near a map's edges reuse them; a buffer far larger than
+    /// the window, left by a larger map, is given back).
+    fn codes<'a>(&self, codes: &'a mut Vec<u8>, touched: &'a mut Vec<u32>) -> Codes<'a> {
+        fit(codes, Code::Untouched as u8, self.window.len());
+        same_length(touched, codes.len());
+        Codes::new(codes, touched)
+    }
+
+    /// As [`Self::codes`], for verdicts as log odds.
+    fn pending<'a>(&self, pending: &'a mut Vec<f32>, touched: &'a mut Vec<u32>) -> Pending<'a> {
+        fit(pending, UNTOUCHED, self.window.len());
+        same_length(touched, pending.len());
+        Pending::new(pending, touched)
     }
 
     /// The walk along the beam of bearing `(sin, cos)` from the sensor out
@@ -515,16 +453,34 @@ impl BeamFrame {
         // steps point along the beam, so both range steps are >= 0.
         let (ix, iy) = walk.start;
         let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
+        let w = &self.window;
         let at = BeamState {
-            index: (iy - self.y0) * self.stride + (ix - self.x0),
+            index: (iy - w.y0) * w.stride + (ix - w.x0),
             range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
             index_step: (
                 walk.step.0 as isize,
-                walk.step.1 as isize * self.stride as isize,
+                walk.step.1 as isize * w.stride as isize,
             ),
             range_step: (step_x * res * c, step_y * res * s),
         };
         Some((walk, at))
+    }
+}
+
+/// Makes the touched list as long as the slots (its contents are scratch).
+fn same_length(touched: &mut Vec<u32>, len: usize) {
+    if touched.len() != len {
+        *touched = vec![0; len];
+    }
+}
+
+/// Makes `buffer` a power-of-two length above `cells` (its contents are
+/// scratch, every slot `clear` between scans): grown when too short, and
+/// cut back when more than four times too long.
+fn fit<T: Copy>(buffer: &mut Vec<T>, clear: T, cells: usize) {
+    let len = Gathered::<u8>::len_for(cells);
+    if buffer.len() < len || buffer.len() > 4 * len {
+        *buffer = vec![clear; len];
     }
 }
 
@@ -556,8 +512,8 @@ trait Slot: Copy + PartialEq {
     /// A cell's verdicts so far, `self`, merged with a beam's verdict `v`.
     fn merge(self, v: Self) -> Self;
     /// Applies the evidence this verdict stands for (given the scan's
-    /// `bands`) to cell `i` of `grid`.
-    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands);
+    /// `bands`) to a cell of the model `model`, and counts the update.
+    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, bands: Bands);
 }
 
 /// [`Code`] flags (step-profile path).
@@ -570,12 +526,13 @@ impl Slot for u8 {
     /// (The bands' signs are known, see [`RayMapper::step_profiles`], so
     /// each update needs one side of the clamp only.)
     #[inline(always)]
-    fn apply(self, cells: &mut CellsMut, i: usize, bands: Bands) {
+    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, bands: Bands) {
         if self & Code::Occupied as u8 != 0 {
-            cells.raise(i, bands.occupied)
+            model.hit(cell, bands.occupied)
         } else {
-            cells.lower(i, bands.free)
+            model.miss(cell, bands.free)
         }
+        *updates += 1;
     }
 }
 
@@ -592,8 +549,9 @@ impl Slot for f32 {
         }
     }
     #[inline(always)]
-    fn apply(self, cells: &mut CellsMut, i: usize, _: Bands) {
-        cells.apply(i, self);
+    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, _: Bands) {
+        model.add(cell, self);
+        *updates += 1;
     }
 }
 
@@ -655,43 +613,58 @@ impl<'a, T: Slot> Gathered<'a, T> {
         self.count += (old == T::UNTOUCHED && new != T::UNTOUCHED) as usize;
     }
 
-    /// Table 9.1, line 4, once per touched cell; every slot is clear again
-    /// afterwards, so no map-sized clearing is ever needed. Four cells per
-    /// loop turn: under Node the loop's own bookkeeping (a stack check and
-    /// a counter per turn) is a sizeable share of this short body.
+    /// Table 9.1's update, once per touched cell, written through the
+    /// map's store (window index `w` is a dense map's cell index); every
+    /// slot is clear again afterwards, so no map-sized clearing is ever
+    /// needed. Four cells per loop turn: under Node the loop's own
+    /// bookkeeping (a stack check and a counter per turn) is a sizeable
+    /// share of this short body. A cell its store cannot hold (past a
+    /// tiled map's budget) is left out; the store says so.
     #[inline(always)]
-    fn settle(self, grid: &mut LogOddsGrid, bands: Bands) {
+    fn settle<C: CellModel, S: Store<C::Cell>>(
+        self,
+        grid: &mut Grid<C, S>,
+        window: &Window,
+        bands: Bands,
+    ) {
         let Self {
             slots,
             touched,
             mask,
             count,
         } = self.narrowed();
-        let cells = &mut grid.cells_mut();
+        let (model, store) = grid.model_and_store();
+        let unknown = model.unknown();
         // (A function rather than a closure: at opt-level "s" a closure
         // called from several places stays a call.)
         #[inline(always)]
-        fn settle_one<T: Slot>(
+        #[allow(clippy::too_many_arguments)]
+        fn settle_one<T: Slot, C: CellModel, S: Store<C::Cell>>(
             slots: &mut [T],
             mask: usize,
-            cells: &mut CellsMut,
+            model: &C,
+            store: &mut S,
+            window: &Window,
+            unknown: C::Cell,
             bands: Bands,
-            i: u32,
+            w: u32,
         ) {
-            let i = i as usize;
-            let slot = &mut slots[i & mask];
-            slot.apply(cells, i, bands);
+            let w = w as usize;
+            let slot = &mut slots[w & mask];
+            if let Some((cell, updates)) = store.window_slot(window, w, unknown) {
+                slot.apply(model, cell, updates, bands);
+            }
             *slot = T::UNTOUCHED;
         }
         let mut fours = touched[..count].chunks_exact(4);
         for four in &mut fours {
-            settle_one(slots, mask, cells, bands, four[0]);
-            settle_one(slots, mask, cells, bands, four[1]);
-            settle_one(slots, mask, cells, bands, four[2]);
-            settle_one(slots, mask, cells, bands, four[3]);
+            settle_one(slots, mask, model, store, window, unknown, bands, four[0]);
+            settle_one(slots, mask, model, store, window, unknown, bands, four[1]);
+            settle_one(slots, mask, model, store, window, unknown, bands, four[2]);
+            settle_one(slots, mask, model, store, window, unknown, bands, four[3]);
         }
-        for &i in fours.remainder() {
-            settle_one(slots, mask, cells, bands, i);
+        for &w in fours.remainder() {
+            settle_one(slots, mask, model, store, window, unknown, bands, w);
         }
     }
 }
@@ -835,6 +808,7 @@ mod tests {
     use crate::geometry::GridGeometry;
     use crate::geometry::Pose;
     use crate::grid::FilterSettings;
+    use crate::grid::LogOddsGrid;
     use crate::inverse::{HandCrafted, HandCraftedParams};
     use rand::rngs::StdRng;
     use rand::{Rng, SeedableRng};
@@ -1078,7 +1052,7 @@ mod tests {
     #[test]
     fn tiled_integration_builds_the_dense_map_cell_for_cell() {
         use crate::geometry::GridGeometry;
-        use crate::grid::tiled::TiledGrid;
+        use crate::grid::TiledGrid;
         let mut rng = StdRng::seed_from_u64(12);
         let (w, h, res, ox, oy) = (150, 97, 0.05, -1.0, -1.0);
         for _ in 0..20 {
@@ -1111,7 +1085,7 @@ mod tests {
                     })
                     .collect();
                 let sd = a.integrate_bands(&mut dense, &scan, &bands, -0.4, 0.85);
-                let st = b.integrate_bands_tiled(&mut tiled, &scan, &bands, -0.4, 0.85);
+                let st = b.integrate_bands(&mut tiled, &scan, &bands, -0.4, 0.85);
                 assert_eq!(sd, st);
             }
             for iy in 0..h {

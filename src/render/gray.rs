@@ -1,13 +1,18 @@
-//! The one gray ramp every map is drawn with, and the one north-up raster
-//! every renderer writes through.
+//! The one gray ramp every map is drawn with, and the one look of a cell
+//! on screen ([`cell_gray`]) that every renderer uses.
 //!
-//! SPEC §1's drawing convention: white free, black occupied, a linear gray
-//! ramp on `p` in between, and cells still exactly at the prior mid-gray
-//! whatever the prior is, because "unknown" is a state of its own.
+//! The drawing convention (docs/ARCHITECTURE.md, "Drawing"): white free,
+//! black occupied, a linear gray ramp on `p` in between, and cells still
+//! unknown mid-gray whatever the prior is, because "unknown" is a state of
+//! its own. A whole map is drawn by the view renderer
+//! ([`super::viewport::render_view`]) at one pixel per cell.
 
 use crate::error::{OccError, Result};
 use crate::geometry::GridGeometry;
-use crate::grid::{probability, LogOddsGrid};
+use crate::grid::{probability, CellModel, Grid, Store};
+use std::sync::OnceLock;
+
+use super::viewport::{render_view_into, MapViewport};
 
 /// The gray level of a cell still exactly at the prior: "unknown".
 pub const UNKNOWN_GRAY: u8 = 128;
@@ -20,6 +25,62 @@ pub fn ramp_gray(l: f32) -> u8 {
     (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
 }
 
+/// Orders finite `f32`s as integers, so that a bisection can walk them.
+pub(crate) fn key(f: f32) -> i32 {
+    let b = f.to_bits() as i32;
+    b ^ (((b >> 31) as u32) >> 1) as i32
+}
+pub(crate) fn unkey(k: i32) -> f32 {
+    f32::from_bits((k ^ (((k >> 31) as u32) >> 1) as i32) as u32)
+}
+
+/// `THRESHOLDS[k - 1]` is the smallest `f32` log odds whose gray level is
+/// below `k` (k = 1..=255). The ramp falls as `l` grows, so the thresholds
+/// fall too, and the gray level of `l` is the number of thresholds above
+/// `l`.
+pub(crate) fn thresholds() -> &'static [f32; 255] {
+    static T: OnceLock<[f32; 255]> = OnceLock::new();
+    T.get_or_init(|| {
+        let mut t = [0.0f32; 255];
+        // Beyond +-100 the ramp is flat at 0 and 255.
+        let (lo, hi) = (key(-100.0) as i64, key(100.0) as i64);
+        for (j, slot) in t.iter_mut().enumerate() {
+            let k = (j + 1) as u8;
+            // Smallest key in [lo, hi] with ramp < k (ramp(hi) = 0 < k).
+            let (mut a, mut b) = (lo, hi);
+            while a < b {
+                let m = a + (b - a) / 2;
+                if ramp_gray(unkey(m as i32)) < k {
+                    b = m;
+                } else {
+                    a = m + 1;
+                }
+            }
+            *slot = unkey(a as i32);
+        }
+        t
+    })
+}
+
+/// [`ramp_gray`] of log odds `l`, bit for bit, found without an
+/// exponential (a binary search over the ramp's 255 thresholds).
+#[inline]
+pub fn gray_level(l: f32) -> u8 {
+    // Thresholds are decreasing: those above `l` come first.
+    thresholds().partition_point(|&t| l < t) as u8
+}
+
+/// A cell's gray level on screen: [`UNKNOWN_GRAY`] while it is unknown,
+/// the ramp of its log odds otherwise.
+#[inline(always)]
+pub fn cell_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
+    if model.is_unknown(cell) {
+        UNKNOWN_GRAY
+    } else {
+        gray_level(model.log_odds(cell))
+    }
+}
+
 /// The gray level of probability `p` on the same ramp, for maps that hold
 /// probabilities (max fusion, eq. 9.9) rather than log odds.
 #[inline]
@@ -27,17 +88,28 @@ pub fn probability_gray(p: f64) -> u8 {
     (255.0 * (1.0 - p) + 0.5) as u8
 }
 
-/// Draws a log-odds map into RGBA pixels, north up (the top pixel row is the
-/// grid's last row), on the ramp with unknown cells mid-gray.
-pub fn render_grid_rgba(grid: &LogOddsGrid, out: &mut [u8]) -> Result<()> {
-    let l0 = grid.l0();
-    render_gray_rgba(grid.geometry(), grid.log_odds(), out, |l| {
-        if l == l0 {
-            UNKNOWN_GRAY
-        } else {
-            ramp_gray(l)
-        }
-    })
+/// Draws a whole map into RGBA pixels at one pixel per cell, north up (the
+/// top pixel row is the grid's last row), unknown cells mid-gray.
+pub fn render_grid_rgba<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    out: &mut [u8],
+) -> Result<()> {
+    let g = grid.geometry();
+    check_pixels(g, out)?;
+    render_view_into(grid, &MapViewport::identity(g.width(), g.height()), out);
+    Ok(())
+}
+
+fn check_pixels(g: &GridGeometry, out: &[u8]) -> Result<()> {
+    let n = g.width() * g.height() * 4;
+    if out.len() != n {
+        return Err(OccError::LengthMismatch {
+            field: "pixel buffer".into(),
+            expected: n,
+            found: out.len(),
+        });
+    }
+    Ok(())
 }
 
 /// Draws a binary map (the MAP search's, Table 9.3) into RGBA pixels, north
@@ -109,6 +181,7 @@ pub fn render_gray_rgba<T: Copy>(
 mod tests {
     use super::*;
     use crate::grid::FilterSettings;
+    use crate::grid::LogOddsGrid;
 
     #[test]
     fn render_puts_north_up_and_unknown_mid_gray() {

@@ -8,9 +8,9 @@
 //! tenth of the map, so this costs far less than redrawing and rescoring
 //! every cell, and needs no exponential or logarithm per cell:
 //!
-//! * pixels come from [`gray_level`], which finds the grid's gray level by
-//!   a binary search over the 255 exact log-odds thresholds of its ramp
-//!   (bit for bit what [`LogOddsGrid::render_rgba`] draws);
+//! * pixels come from [`gray_level`], which finds a cell's gray level by
+//!   a binary search over the 255 exact log-odds thresholds of the ramp
+//!   (bit for bit what [`super::gray::ramp_gray`] gives);
 //! * `p` and `H_b(p)` come from a table over the log odds, linearly
 //!   interpolated ([`cell_look`]; error below 1e-6 per cell, see the
 //!   test). The same table holds each bin's gray level and the one ramp
@@ -18,60 +18,10 @@
 
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::GridGeometry;
-use crate::grid::{binary_entropy_bits, probability, LogOddsGrid};
+use crate::grid::{binary_entropy_bits, probability, CellModel, Dense, Grid};
 use std::sync::OnceLock;
 
-/// The grid's gray level for log odds `l` (grid.rs, `render_rgba`): a
-/// linear ramp `round(255 (1 - p))`, white free, black occupied. (Unknown
-/// cells, exactly at the prior, are mid-gray; the caller checks that.)
-fn ramp(l: f32) -> u8 {
-    (255.0 * (1.0 - probability(l as f64)) + 0.5) as u8
-}
-
-/// Orders finite `f32`s as integers, so that a bisection can walk them.
-fn key(f: f32) -> i32 {
-    let b = f.to_bits() as i32;
-    b ^ (((b >> 31) as u32) >> 1) as i32
-}
-fn unkey(k: i32) -> f32 {
-    f32::from_bits((k ^ (((k >> 31) as u32) >> 1) as i32) as u32)
-}
-
-/// `THRESHOLDS[k - 1]` is the smallest `f32` log odds whose gray level is
-/// below `k` (k = 1..=255). The ramp falls as `l` grows, so the thresholds
-/// fall too, and the gray level of `l` is the number of thresholds above
-/// `l`.
-fn thresholds() -> &'static [f32; 255] {
-    static T: OnceLock<[f32; 255]> = OnceLock::new();
-    T.get_or_init(|| {
-        let mut t = [0.0f32; 255];
-        // Beyond +-100 the ramp is flat at 0 and 255.
-        let (lo, hi) = (key(-100.0) as i64, key(100.0) as i64);
-        for (j, slot) in t.iter_mut().enumerate() {
-            let k = (j + 1) as u8;
-            // Smallest key in [lo, hi] with ramp < k (ramp(hi) = 0 < k).
-            let (mut a, mut b) = (lo, hi);
-            while a < b {
-                let m = a + (b - a) / 2;
-                if ramp(unkey(m as i32)) < k {
-                    b = m;
-                } else {
-                    a = m + 1;
-                }
-            }
-            *slot = unkey(a as i32);
-        }
-        t
-    })
-}
-
-/// The gray level the grid's renderer gives log odds `l` (not at the
-/// prior), found without an exponential.
-#[inline]
-pub fn gray_level(l: f32) -> u8 {
-    // Thresholds are decreasing: those above `l` come first.
-    thresholds().partition_point(|&t| l < t) as u8
-}
+use super::gray::{gray_level, thresholds, UNKNOWN_GRAY};
 
 /// Log-odds range of the cell table; beyond it cells are drawn and scored
 /// with the exact formulas.
@@ -218,9 +168,9 @@ impl MapView {
     /// Brings the view up to date with `grid` (same geometry as the view),
     /// redrawing and rescoring only the cells whose log odds changed since
     /// the last call.
-    pub fn sync(&mut self, grid: &LogOddsGrid) {
-        let l0 = grid.l0();
-        let now = grid.log_odds();
+    pub fn sync<M: CellModel<Cell = f32>>(&mut self, grid: &Grid<M, Dense<f32>>) {
+        let model = grid.model();
+        let now = grid.cells();
         // Find the changed cells first. Most cells did not change, so test
         // eight at a time with one branch.
         let mut dirty = std::mem::take(&mut self.dirty);
@@ -249,18 +199,20 @@ impl MapView {
         }
         for &i in &dirty {
             let i = i as usize;
-            self.redraw(i, now[i], l0);
+            let l = now[i];
+            self.redraw(i, model.log_odds(l), model.is_unknown(l));
         }
         self.dirty = dirty;
     }
 
-    /// Draws and scores cell `i` at log odds `l`.
+    /// Draws and scores cell `i` at log odds `l` (`unknown`: still at the
+    /// prior).
     #[inline]
-    fn redraw(&mut self, i: usize, l: f32, l0: f32) {
+    fn redraw(&mut self, i: usize, l: f32, unknown: bool) {
         self.shown[i] = l;
         let (gray, p, hb) = cell_look(l);
-        // Unknown is mid-gray whatever the prior (grid.rs).
-        let g = if l == l0 { 128 } else { gray };
+        // Unknown is mid-gray whatever the prior (`super::gray::cell_gray`).
+        let g = if unknown { UNKNOWN_GRAY } else { gray };
         let w = self.width;
         let (ix, iy) = (i % w, i / w);
         let o = 4 * ((self.height - 1 - iy) * w + ix);
@@ -312,18 +264,20 @@ impl MapView {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::LogOddsGrid;
+    use crate::render::gray::{key, ramp_gray, unkey};
 
     #[test]
     fn gray_level_is_the_renderers_ramp_bit_for_bit() {
         // Every threshold and its neighbours, and a dense sweep.
         for &t in thresholds() {
             for f in [unkey(key(t) - 1), t, unkey(key(t) + 1)] {
-                assert_eq!(gray_level(f), ramp(f), "l = {f}");
+                assert_eq!(gray_level(f), ramp_gray(f), "l = {f}");
             }
         }
         let mut l = -40.0f32;
         while l < 40.0 {
-            assert_eq!(gray_level(l), ramp(l), "l = {l}");
+            assert_eq!(gray_level(l), ramp_gray(l), "l = {l}");
             l += 0.000_77;
         }
         assert_eq!(gray_level(-1e30), 255);
@@ -334,12 +288,12 @@ mod tests {
     fn table_gray_levels_are_exact() {
         for &t in thresholds() {
             for f in [unkey(key(t) - 1), t, unkey(key(t) + 1)] {
-                assert_eq!(cell_look(f).0, ramp(f), "l = {f}");
+                assert_eq!(cell_look(f).0, ramp_gray(f), "l = {f}");
             }
         }
         let mut l = -40.0f32;
         while l < 40.0 {
-            assert_eq!(cell_look(l).0, ramp(l), "l = {l}");
+            assert_eq!(cell_look(l).0, ramp_gray(l), "l = {l}");
             l += 0.000_77;
         }
     }

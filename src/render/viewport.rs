@@ -7,13 +7,13 @@
 //! a cell. [`MapViewport`] holds that view (which image point is at the
 //! top-left pixel, how many pixels a cell spans), turns wheel, pinch, drag
 //! and keys into it, and maps an output pixel back to its cell;
-//! [`render_tiled_view`] draws it.
+//! [`render_view`] draws it, for a map of any storage and cell model
+//! (a whole map at one pixel per cell is the view [`MapViewport::identity`]).
 
 use crate::error::{invalid, Result};
-use crate::grid::tiled::{TiledGrid, TILE_SIDE};
+use crate::grid::{CellModel, Grid, Store};
 
-use super::gray::UNKNOWN_GRAY;
-use super::map_view::gray_level;
+use super::gray::cell_gray;
 
 /// The most output pixels a view may have (16 MiB of RGBA): a 2048 x 2048
 /// canvas, a full-width pane on a high-density screen.
@@ -49,6 +49,20 @@ pub struct MapViewport {
 }
 
 impl MapViewport {
+    /// A whole `width x height` map at one pixel per cell, north up: the
+    /// map's own image.
+    pub fn identity(width: usize, height: usize) -> Self {
+        Self {
+            map_width: width,
+            map_height: height,
+            width,
+            height,
+            u0: 0.0,
+            v0: 0.0,
+            scale: 1.0,
+        }
+    }
+
     /// The whole map, centred in a `width x height` output.
     pub fn new(map_width: usize, map_height: usize, width: usize, height: usize) -> Result<Self> {
         if map_width == 0 || map_height == 0 {
@@ -213,12 +227,25 @@ fn check_size(width: usize, height: usize) -> Result<()> {
 /// A pixel that spans several cells shows the darkest of up to 4 x 4 cells
 /// under it, so that one-cell walls stay visible when zoomed out; a cell
 /// wider than a pixel is drawn as a block (nearest cell).
-pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>) {
-    let (w, h) = (view.width, view.height);
+pub fn render_view<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    view: &MapViewport,
+    out: &mut Vec<u8>,
+) {
     out.clear();
-    out.resize(w * h * 4, 0);
-    let e = grid.extent();
-    let (mw, mh) = (e.width(), e.height());
+    out.resize(view.width * view.height * 4, 0);
+    render_view_into(grid, view, out);
+}
+
+/// [`render_view`] into a buffer of exactly `width * height * 4` bytes.
+pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    view: &MapViewport,
+    out: &mut [u8],
+) {
+    let (w, h) = (view.width, view.height);
+    let g = grid.geometry();
+    let (mw, mh) = (g.width(), g.height());
     let per_pixel = 1.0 / view.scale;
     let k = (per_pixel.ceil() as usize).clamp(1, MAX_SAMPLES);
     // The image columns (rows) sampled for each output column (row), or
@@ -239,12 +266,15 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
     };
     let cols = samples(w, view.u0, mw);
     let rows = samples(h, view.v0, mh);
-    let l0 = grid.l0();
-    let tile_of = |i: usize| i / TILE_SIDE;
-    let within = |i: usize| i % TILE_SIDE;
+    let model = grid.model();
+    let store = grid.store();
+    let unknown = model.unknown();
     for (py, rs) in rows.iter().enumerate() {
-        let line = &mut out[py * w * 4..(py + 1) * w * 4];
-        // Grid rows of this output row's samples (image row 0 is the top).
+        let Some(line) = out.get_mut(py * w * 4..(py + 1) * w * 4) else {
+            return;
+        };
+        // Grid rows of this output row's samples (image row 0 is the top:
+        // the one place a view turns image rows into grid rows).
         let iys = rs.map(|r| {
             if r == usize::MAX {
                 usize::MAX
@@ -253,29 +283,37 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
             }
         });
         let (ya, yb) = (iys[0], iys[k - 1]);
-        let one_tile_row = ya != usize::MAX && yb != usize::MAX && tile_of(ya) == tile_of(yb);
+        let mut block = None;
         for (px, cs) in cols.iter().enumerate() {
             let mut darkest: Option<u8> = None;
             let (xa, xb) = (cs[0], cs[k - 1]);
-            if one_tile_row && xa != usize::MAX && xb != usize::MAX && tile_of(xa) == tile_of(xb) {
-                // Every sample in one tile (the usual case): one lookup,
-                // and a tile never touched is unknown at once.
-                darkest = Some(match grid.tile_log_odds(tile_of(xa), tile_of(ya)) {
-                    None => UNKNOWN_GRAY,
-                    Some(t) => {
-                        let mut d = u8::MAX;
-                        for &iy in &iys[..k] {
-                            let row = within(iy) * TILE_SIDE;
-                            for &c in &cs[..k] {
-                                let l = t[row + within(c)];
-                                let g = if l == l0 { UNKNOWN_GRAY } else { gray_level(l) };
-                                d = d.min(g);
+            let all_on_map =
+                ya != usize::MAX && yb != usize::MAX && xa != usize::MAX && xb != usize::MAX;
+            if all_on_map {
+                // Every sample in one block of storage (the usual case):
+                // one lookup, and a tile never touched is unknown at once.
+                let b = match block.take() {
+                    Some(b) if crate::grid::storage::Block::holds(&b, xa, ya) => b,
+                    _ => store.block(xa, ya),
+                };
+                if b.holds(xb, yb) && b.holds(xa, yb) && b.holds(xb, ya) {
+                    darkest = Some(match b.cells {
+                        None => cell_gray(model, unknown),
+                        Some(_) => {
+                            let mut d = u8::MAX;
+                            for &iy in &iys[..k] {
+                                for &c in &cs[..k] {
+                                    let cell = b.cell(c, iy).unwrap_or(unknown);
+                                    d = d.min(cell_gray(model, cell));
+                                }
                             }
+                            d
                         }
-                        d
-                    }
-                });
-            } else {
+                    });
+                }
+                block = Some(b);
+            }
+            if darkest.is_none() {
                 for &iy in &iys[..k] {
                     if iy == usize::MAX {
                         continue;
@@ -284,8 +322,8 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
                         if c == usize::MAX {
                             continue;
                         }
-                        if let Some(l) = grid.log_odds_at(c, iy) {
-                            let g = if l == l0 { UNKNOWN_GRAY } else { gray_level(l) };
+                        if let Some(cell) = grid.cell_at(c, iy) {
+                            let g = cell_gray(model, cell);
                             darkest = Some(darkest.map_or(g, |d| d.min(g)));
                         }
                     }
@@ -304,7 +342,8 @@ pub fn render_tiled_view(grid: &TiledGrid, view: &MapViewport, out: &mut Vec<u8>
 mod tests {
     use super::*;
     use crate::geometry::GridGeometry;
-    use crate::grid::FilterSettings;
+    use crate::grid::{FilterSettings, TiledGrid};
+    use crate::render::gray::{gray_level, UNKNOWN_GRAY};
 
     #[test]
     fn viewport_zoom_keeps_the_point_under_the_pointer_and_stops_at_its_limits() {
@@ -355,14 +394,14 @@ mod tests {
         .unwrap();
         // A one-cell wall along column 500, free space to its left.
         for iy in 0..800 {
-            g.raise(500, iy, 3.0);
+            g.apply_at(500, iy, 3.0);
             for ix in 400..500 {
-                g.lower(ix, iy, -3.0);
+                g.apply_at(ix, iy, -3.0);
             }
         }
         let v = MapViewport::new(1000, 800, 250, 200).unwrap();
         let mut out = Vec::new();
-        render_tiled_view(&g, &v, &mut out);
+        render_view(&g, &v, &mut out);
         assert_eq!(out.len(), 250 * 200 * 4);
         let px = |x: usize, y: usize| out[(y * 250 + x) * 4];
         assert_eq!(
@@ -376,7 +415,7 @@ mod tests {
         let mut v = v;
         v.zoom_at(0.0, 0.0, 100.0).unwrap();
         v.pan_by(1e6, 0.0).unwrap();
-        render_tiled_view(&g, &v, &mut out);
+        render_view(&g, &v, &mut out);
         assert_eq!(&out[..4], &OUTSIDE);
         assert_eq!(out.len(), 250 * 200 * 4);
     }

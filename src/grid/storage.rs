@@ -1,0 +1,451 @@
+//! Where a map's cells live: one array over the whole extent ([`Dense`],
+//! the chapter's widgets and workload W1), or square tiles allocated the
+//! first time a beam gives one of their cells evidence ([`Tiled`], real logs
+//! of any extent: memory follows the area the beams saw, not the bounding
+//! box).
+//!
+//! Storage knows nothing of what a cell believes: it holds one value of the
+//! cell model's type per cell ([`super::cell::CellModel::Cell`]) and how
+//! many updates each cell received, and every consumer of a map (the
+//! traversal's update pass, the renderers, the readout, the counts, the
+//! export) reads and writes through the one [`Store`] interface. A cell no
+//! storage holds (a tile never touched) reads as the model's unknown cell
+//! with no update.
+//!
+//! Cells are addressed by `(ix, iy)`, row 0 at the bottom. The traversal
+//! gathers a scan's verdicts in a *window* of the map (the whole map for a
+//! dense store; a square around the sensor for a tiled one, see
+//! [`Window`]) and hands the store window indices, which a dense store
+//! uses as they are.
+
+use crate::error::{OccError, Result};
+use crate::geometry::GridGeometry;
+
+/// Cells along a tile's side (a power of two: a cell's tile and its place
+/// in it are shifts and masks).
+pub const TILE_SIDE: usize = 64;
+const TILE_SHIFT: u32 = TILE_SIDE.trailing_zeros();
+const TILE_MASK: usize = TILE_SIDE - 1;
+/// Cells per tile.
+pub const TILE_CELLS: usize = TILE_SIDE * TILE_SIDE;
+
+/// The default budget of allocated cells of a tiled map (4,096 tiles):
+/// what a browser tab holds comfortably beside the rest of the page.
+pub const DEFAULT_TILE_BUDGET_CELLS: usize = 1 << 24;
+
+const NO_TILE: u32 = u32::MAX;
+
+/// Part of the map in which a scan's verdicts are gathered: `stride`
+/// cells per row, its first cell at `(x0, y0)`. Window index `w` is cell
+/// `(x0 + w % stride, y0 + w / stride)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    pub x0: usize,
+    pub y0: usize,
+    pub stride: usize,
+    pub rows: usize,
+}
+
+impl Window {
+    /// Cells in the window.
+    pub fn len(&self) -> usize {
+        self.stride * self.rows
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The window covering a whole map.
+    pub fn whole(geometry: &GridGeometry) -> Self {
+        Self {
+            x0: 0,
+            y0: 0,
+            stride: geometry.width(),
+            rows: geometry.height(),
+        }
+    }
+}
+
+/// A run of cells along one row of the map: the cells from column `x0`
+/// on, or `None` where no storage holds them (every cell unknown, no
+/// update). Every reader that walks a whole map walks it in such runs, so
+/// that a tile never touched costs one test, not one per cell.
+pub struct RowRun<'a, C> {
+    pub x0: usize,
+    pub len: usize,
+    pub cells: Option<(&'a [C], &'a [u32])>,
+}
+
+/// The cells holding `(ix, iy)` as one contiguous block: the block's
+/// cells and update counts, row-major from its bottom row, `stride` to a
+/// row, its first cell at `(x0, y0)`, `width x height` of them inside the
+/// map. A reader that needs many neighbouring cells (a renderer sampling
+/// several cells per pixel) looks them up in the block.
+pub struct Block<'a, C> {
+    pub x0: usize,
+    pub y0: usize,
+    pub width: usize,
+    pub height: usize,
+    pub stride: usize,
+    pub cells: Option<&'a [C]>,
+}
+
+impl<C: Copy> Block<'_, C> {
+    /// True when `(ix, iy)` lies in the block.
+    #[inline]
+    pub fn holds(&self, ix: usize, iy: usize) -> bool {
+        ix.wrapping_sub(self.x0) < self.width && iy.wrapping_sub(self.y0) < self.height
+    }
+    /// The cell `(ix, iy)` of the block (`None` for an unallocated block).
+    #[inline]
+    pub fn cell(&self, ix: usize, iy: usize) -> Option<C> {
+        self.cells
+            .map(|c| c[(iy - self.y0) * self.stride + (ix - self.x0)])
+    }
+}
+
+/// Where cells live. `C` is the cell model's cell; every cell also counts
+/// its updates (the hover readout's "updated n times").
+pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
+    /// True when the traversal should gather a scan in a window around the
+    /// sensor rather than over the whole map (a map too large to keep a
+    /// scratch slot per cell).
+    const WINDOWED: bool;
+
+    /// Every cell unknown (`unknown`), within `budget_cells` allocated
+    /// cells where the store allocates.
+    fn fresh(geometry: &GridGeometry, unknown: C, budget_cells: usize) -> Result<Self>;
+
+    /// Cell `(ix, iy)` (inside the map) and its updates; `None` where no
+    /// storage holds it (unknown, never updated).
+    fn get(&self, ix: usize, iy: usize) -> Option<(C, u32)>;
+
+    /// Cell `w` of `window` for an update, allocating its storage on first
+    /// touch; `None` (and [`Self::refused`] set) past the budget.
+    fn window_slot(&mut self, window: &Window, w: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
+
+    /// Cell `(ix, iy)` for an update; as [`Self::window_slot`].
+    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
+
+    /// Row `iy` of the map in runs, west to east.
+    fn row_runs(&self, iy: usize, f: impl FnMut(RowRun<'_, C>));
+
+    /// The block holding `(ix, iy)` (inside the map).
+    fn block(&self, ix: usize, iy: usize) -> Block<'_, C>;
+
+    /// Every allocated cell, in no particular order (the counts and the
+    /// entropy); cells outside it are unknown.
+    fn allocated(&self, f: impl FnMut(&[C]));
+
+    /// Cells with storage.
+    fn cells_allocated(&self) -> usize;
+
+    /// True once a cell's evidence was dropped for want of storage.
+    fn refused(&self) -> bool;
+
+    /// Every cell back to `unknown`, every tile freed.
+    fn reset(&mut self, unknown: C);
+}
+
+/// One array over the whole map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dense<C> {
+    width: usize,
+    height: usize,
+    cells: Vec<C>,
+    updates: Vec<u32>,
+}
+
+impl<C: Copy> Dense<C> {
+    /// Every cell, row-major from the bottom row.
+    pub fn cells(&self) -> &[C] {
+        &self.cells
+    }
+    pub fn updates(&self) -> &[u32] {
+        &self.updates
+    }
+    /// Both arrays, for a caller that updates many cells by index; the
+    /// update counts are cut to the cells' length so that the compiler
+    /// checks one index for both.
+    #[inline(always)]
+    pub fn cells_mut(&mut self) -> (&mut [C], &mut [u32]) {
+        let n = self.cells.len();
+        (&mut self.cells, &mut self.updates[..n])
+    }
+}
+
+impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
+    const WINDOWED: bool = false;
+
+    fn fresh(geometry: &GridGeometry, unknown: C, _budget_cells: usize) -> Result<Self> {
+        if geometry.len() > crate::geometry::MAX_CELLS {
+            return Err(OccError::State(format!(
+                "a dense map holds at most {} cells, not {} x {}",
+                crate::geometry::MAX_CELLS,
+                geometry.width(),
+                geometry.height()
+            )));
+        }
+        Ok(Self {
+            width: geometry.width(),
+            height: geometry.height(),
+            cells: vec![unknown; geometry.len()],
+            updates: vec![0; geometry.len()],
+        })
+    }
+
+    #[inline]
+    fn get(&self, ix: usize, iy: usize) -> Option<(C, u32)> {
+        let i = iy * self.width + ix;
+        Some((*self.cells.get(i)?, *self.updates.get(i)?))
+    }
+
+    /// (A dense map's window is the whole map: `w` is the cell's index.)
+    #[inline(always)]
+    fn window_slot(&mut self, _: &Window, w: usize, _: C) -> Option<(&mut C, &mut u32)> {
+        let (cells, updates) = self.cells_mut();
+        Some((&mut cells[w], &mut updates[w]))
+    }
+
+    #[inline]
+    fn slot(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut C, &mut u32)> {
+        let i = iy * self.width + ix;
+        let (cells, updates) = self.cells_mut();
+        Some((cells.get_mut(i)?, updates.get_mut(i)?))
+    }
+
+    fn row_runs(&self, iy: usize, mut f: impl FnMut(RowRun<'_, C>)) {
+        let w = self.width;
+        if iy < self.height {
+            let r = iy * w..(iy + 1) * w;
+            f(RowRun {
+                x0: 0,
+                len: w,
+                cells: Some((&self.cells[r.clone()], &self.updates[r])),
+            });
+        }
+    }
+
+    fn block(&self, _: usize, _: usize) -> Block<'_, C> {
+        Block {
+            x0: 0,
+            y0: 0,
+            width: self.width,
+            height: self.height,
+            stride: self.width,
+            cells: Some(&self.cells),
+        }
+    }
+
+    fn allocated(&self, mut f: impl FnMut(&[C])) {
+        f(&self.cells)
+    }
+
+    fn cells_allocated(&self) -> usize {
+        self.cells.len()
+    }
+
+    fn refused(&self) -> bool {
+        false
+    }
+
+    fn reset(&mut self, unknown: C) {
+        self.cells.fill(unknown);
+        self.updates.fill(0);
+    }
+}
+
+/// One tile's cells, row-major from its bottom row.
+#[derive(Debug, Clone, PartialEq)]
+struct Tile<C> {
+    cells: Box<[C]>,
+    updates: Box<[u32]>,
+}
+
+/// Square tiles of [`TILE_SIDE`] cells, allocated on first touch, at most
+/// a budget of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tiled<C> {
+    width: usize,
+    height: usize,
+    tiles_x: usize,
+    /// Per tile of the map, its place in `tiles`, or [`NO_TILE`].
+    index: Vec<u32>,
+    tiles: Vec<Tile<C>>,
+    /// Most tiles that may be allocated.
+    max_tiles: usize,
+    refused: bool,
+}
+
+/// Tiles along x and y of a map.
+pub fn tiles_of(geometry: &GridGeometry) -> (usize, usize) {
+    (
+        geometry.width().div_ceil(TILE_SIDE),
+        geometry.height().div_ceil(TILE_SIDE),
+    )
+}
+
+impl<C: Copy> Tiled<C> {
+    #[inline(always)]
+    fn tile_of(&self, ix: usize, iy: usize) -> usize {
+        (iy >> TILE_SHIFT) * self.tiles_x + (ix >> TILE_SHIFT)
+    }
+
+    #[inline(always)]
+    fn offset(ix: usize, iy: usize) -> usize {
+        ((iy & TILE_MASK) << TILE_SHIFT) | (ix & TILE_MASK)
+    }
+
+    /// Tiles allocated so far.
+    pub fn tiles_allocated(&self) -> usize {
+        self.tiles.len()
+    }
+    /// Most tiles the budget allows.
+    pub fn max_tiles(&self) -> usize {
+        self.max_tiles
+    }
+}
+
+impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
+    const WINDOWED: bool = true;
+
+    fn fresh(geometry: &GridGeometry, _: C, budget_cells: usize) -> Result<Self> {
+        let (tx, ty) = tiles_of(geometry);
+        Ok(Self {
+            width: geometry.width(),
+            height: geometry.height(),
+            tiles_x: tx,
+            index: vec![NO_TILE; tx * ty],
+            tiles: Vec::new(),
+            max_tiles: (budget_cells / TILE_CELLS).clamp(1, NO_TILE as usize - 1),
+            refused: false,
+        })
+    }
+
+    #[inline]
+    fn get(&self, ix: usize, iy: usize) -> Option<(C, u32)> {
+        if ix >= self.width || iy >= self.height {
+            return None;
+        }
+        match self.index[self.tile_of(ix, iy)] {
+            NO_TILE => None,
+            t => {
+                let (tile, o) = (&self.tiles[t as usize], Self::offset(ix, iy));
+                Some((tile.cells[o], tile.updates[o]))
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn window_slot(&mut self, window: &Window, w: usize, unknown: C) -> Option<(&mut C, &mut u32)> {
+        let (ix, iy) = (window.x0 + w % window.stride, window.y0 + w / window.stride);
+        self.slot(ix, iy, unknown)
+    }
+
+    #[inline(always)]
+    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)> {
+        if ix >= self.width || iy >= self.height {
+            return None;
+        }
+        let k = self.tile_of(ix, iy);
+        let mut t = self.index[k];
+        if t == NO_TILE {
+            if self.tiles.len() >= self.max_tiles {
+                self.refused = true;
+                return None;
+            }
+            t = self.tiles.len() as u32;
+            self.tiles.push(Tile {
+                cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
+                updates: vec![0; TILE_CELLS].into_boxed_slice(),
+            });
+            self.index[k] = t;
+        }
+        let o = Self::offset(ix, iy);
+        let tile = &mut self.tiles[t as usize];
+        Some((&mut tile.cells[o], &mut tile.updates[o]))
+    }
+
+    fn row_runs(&self, iy: usize, mut f: impl FnMut(RowRun<'_, C>)) {
+        if iy >= self.height {
+            return;
+        }
+        let row = (iy & TILE_MASK) << TILE_SHIFT;
+        for tx in 0..self.tiles_x {
+            let x0 = tx * TILE_SIDE;
+            let len = TILE_SIDE.min(self.width - x0);
+            let cells = match self.index[(iy >> TILE_SHIFT) * self.tiles_x + tx] {
+                NO_TILE => None,
+                t => {
+                    let tile = &self.tiles[t as usize];
+                    Some((&tile.cells[row..row + len], &tile.updates[row..row + len]))
+                }
+            };
+            f(RowRun { x0, len, cells });
+        }
+    }
+
+    fn block(&self, ix: usize, iy: usize) -> Block<'_, C> {
+        let (x0, y0) = (ix & !TILE_MASK, iy & !TILE_MASK);
+        let cells = match self.index.get(self.tile_of(ix, iy)) {
+            Some(&t) if t != NO_TILE => Some(&self.tiles[t as usize].cells[..]),
+            _ => None,
+        };
+        Block {
+            x0,
+            y0,
+            width: TILE_SIDE.min(self.width.saturating_sub(x0)),
+            height: TILE_SIDE.min(self.height.saturating_sub(y0)),
+            stride: TILE_SIDE,
+            cells,
+        }
+    }
+
+    /// (Cells of edge tiles beyond the map stay unknown: no beam reaches
+    /// them.)
+    fn allocated(&self, mut f: impl FnMut(&[C])) {
+        for t in &self.tiles {
+            f(&t.cells)
+        }
+    }
+
+    fn cells_allocated(&self) -> usize {
+        self.tiles.len() * TILE_CELLS
+    }
+
+    fn refused(&self) -> bool {
+        self.refused
+    }
+
+    fn reset(&mut self, _: C) {
+        self.index.fill(NO_TILE);
+        self.tiles = Vec::new();
+        self.refused = false;
+    }
+}
+
+/// `n` bytes in MiB, one decimal.
+pub fn mebibytes(n: u128) -> String {
+    format!("{:.1} MiB", n as f64 / (1u64 << 20) as f64)
+}
+
+/// What a tiled map of `geometry` would need beyond `budget_cells`, in
+/// words: the tiles the beams reach (`needed_tiles`), their cells and
+/// bytes (`bytes_per_cell` each: the cell model's cell and its update
+/// count).
+pub fn budget_message(
+    geometry: &GridGeometry,
+    needed_tiles: usize,
+    budget_cells: usize,
+    bytes_per_cell: usize,
+) -> String {
+    let need = needed_tiles as u128 * TILE_CELLS as u128;
+    let b = bytes_per_cell as u128;
+    format!(
+        "the beams of this log reach {needed_tiles} tiles of {TILE_SIDE} x {TILE_SIDE} cells: {need} cells ({}) \
+         of a {} x {} bounding box, over the budget of {budget_cells} cells ({}); choose a coarser resolution",
+        mebibytes(need * b),
+        geometry.width(),
+        geometry.height(),
+        mebibytes(budget_cells as u128 * b),
+    )
+}
