@@ -41,12 +41,12 @@ pub const OCCUPIED_THRESH: f64 = 0.65;
 /// it ([`export_counts`]) all read them.
 pub const FREE_THRESH: f64 = 0.196;
 /// Gray level of an occupied cell.
-pub const OCCUPIED_GRAY: u8 = 0;
+pub const PGM_OCCUPIED: u8 = 0;
 /// Gray level of a free cell.
-pub const FREE_GRAY: u8 = 254;
+pub const PGM_FREE: u8 = 254;
 /// Gray level of an unknown cell (and of a cell between the thresholds:
 /// a trinary map has no fourth level for "undecided").
-pub const UNKNOWN_GRAY: u8 = 205;
+pub const PGM_UNKNOWN: u8 = 205;
 
 /// The image used when the caller gives an empty name.
 const DEFAULT_IMAGE: &str = "map.pgm";
@@ -73,15 +73,15 @@ pub fn trinary_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
 #[inline]
 fn gray_of<M: CellModel>(model: &M, cell: M::Cell, occ_l: f32, free_l: f32) -> u8 {
     if model.is_unknown(cell) {
-        return UNKNOWN_GRAY;
+        return PGM_UNKNOWN;
     }
     let l = model.log_odds(cell);
     if l > occ_l {
-        OCCUPIED_GRAY
+        PGM_OCCUPIED
     } else if l < free_l {
-        FREE_GRAY
+        PGM_FREE
     } else {
-        UNKNOWN_GRAY
+        PGM_UNKNOWN
     }
 }
 
@@ -136,7 +136,7 @@ pub fn map_server_pair<M: CellModel, S: Store<M::Cell>>(
     // Image rows run north to south, grid rows south to north.
     for iy in (0..h).rev() {
         grid.store().row_runs(iy, |run| match run.cells {
-            None => pgm.extend(std::iter::repeat_n(UNKNOWN_GRAY, run.len)),
+            None => pgm.extend(std::iter::repeat_n(PGM_UNKNOWN, run.len)),
             Some((cells, _)) => pgm.extend(cells.iter().map(|&c| gray_of(model, c, occ_l, free_l))),
         });
     }
@@ -510,8 +510,8 @@ mod tests {
         assert_eq!(export_counts(&t), export_counts(&dense));
         let pgm = read_pgm(&map_server_pair(&t, "m.pgm").pgm).unwrap();
         assert_eq!((pgm.width, pgm.height), (130, 70));
-        assert_eq!(pgm.at(100, 10), Some(UNKNOWN_GRAY), "a tile never touched");
-        assert_eq!(pgm.at(3, 67), Some(OCCUPIED_GRAY));
-        assert_eq!(pgm.at(129, 0), Some(FREE_GRAY));
+        assert_eq!(pgm.at(100, 10), Some(PGM_UNKNOWN), "a tile never touched");
+        assert_eq!(pgm.at(3, 67), Some(PGM_OCCUPIED));
+        assert_eq!(pgm.at(129, 0), Some(PGM_FREE));
     }
 }

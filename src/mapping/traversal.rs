@@ -91,7 +91,7 @@ impl RayMapper {
             return ScanStats::default();
         };
         match self.step_profiles(model, scan.ranges()) {
-            Some(bands) => self.integrate_step_profiles(grid, &frame, bands),
+            Some(evidence) => self.integrate_step_profiles(grid, &frame, evidence),
             None => self.integrate_general(grid, model, scan, &frame),
         }
     }
@@ -105,9 +105,9 @@ impl RayMapper {
         &mut self,
         model: &M,
         ranges: &[f64],
-    ) -> Option<Bands> {
+    ) -> Option<ScanEvidence> {
         self.profiles.clear();
-        let mut bands: Option<Bands> = None;
+        let mut evidence: Option<ScanEvidence> = None;
         for &z in ranges {
             let reach = model.reach(z);
             if !(reach > 0.0) {
@@ -115,7 +115,7 @@ impl RayMapper {
                 continue;
             }
             let p = model.axis_profile(z)?;
-            let these = Bands {
+            let these = ScanEvidence {
                 free: p.free,
                 occupied: p.occupied,
             };
@@ -126,15 +126,15 @@ impl RayMapper {
             if !(these.free < 0.0 && these.occupied > 0.0) {
                 return None;
             }
-            match bands {
-                None => bands = Some(these),
+            match evidence {
+                None => evidence = Some(these),
                 Some(b) if b.same(these) => {}
                 Some(_) => return None,
             }
             self.profiles.push(Some((reach, p)));
         }
         // A scan without a beam to walk has no evidence to apply.
-        Some(bands.unwrap_or(Bands {
+        Some(evidence.unwrap_or(ScanEvidence {
             free: -1.0,
             occupied: 1.0,
         }))
@@ -149,7 +149,7 @@ impl RayMapper {
         &mut self,
         grid: &mut Grid<C, S>,
         frame: &BeamFrame,
-        bands: Bands,
+        evidence: ScanEvidence,
     ) -> ScanStats {
         let mut gathered = frame.codes(&mut self.codes, &mut self.touched);
         let mut visits = 0;
@@ -164,7 +164,7 @@ impl RayMapper {
         }
 
         let count = gathered.count;
-        gathered.settle(grid, &frame.window, bands);
+        gathered.settle(grid, &frame.window, evidence);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -204,11 +204,11 @@ impl RayMapper {
         }
 
         let count = gathered.count;
-        // (The floats are the evidence: no bands to look them up in.)
+        // (The floats are the evidence itself: nothing to look up.)
         gathered.settle(
             grid,
             &frame.window,
-            Bands {
+            ScanEvidence {
                 free: 0.0,
                 occupied: 0.0,
             },
@@ -304,7 +304,7 @@ impl RayMapper {
             visits += n;
         }
         let count = gathered.count;
-        gathered.settle(grid, &frame.window, Bands { free, occupied });
+        gathered.settle(grid, &frame.window, ScanEvidence { free, occupied });
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -335,13 +335,13 @@ fn sanitize(e: f32) -> f32 {
 /// The free and occupied evidence (net of `l0`) shared by every beam of a
 /// scan on the step-profile path.
 #[derive(Debug, Clone, Copy)]
-struct Bands {
+struct ScanEvidence {
     free: f32,
     occupied: f32,
 }
 
-impl Bands {
-    fn same(self, other: Bands) -> bool {
+impl ScanEvidence {
+    fn same(self, other: ScanEvidence) -> bool {
         self.free.to_bits() == other.free.to_bits()
             && self.occupied.to_bits() == other.occupied.to_bits()
     }
@@ -512,8 +512,14 @@ trait Slot: Copy + PartialEq {
     /// A cell's verdicts so far, `self`, merged with a beam's verdict `v`.
     fn merge(self, v: Self) -> Self;
     /// Applies the evidence this verdict stands for (given the scan's
-    /// `bands`) to a cell of the model `model`, and counts the update.
-    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, bands: Bands);
+    /// `evidence`) to a cell of the model `model`, and counts the update.
+    fn apply<C: CellModel>(
+        self,
+        model: &C,
+        cell: &mut C::Cell,
+        updates: &mut u32,
+        evidence: ScanEvidence,
+    );
 }
 
 /// [`Code`] flags (step-profile path).
@@ -523,14 +529,20 @@ impl Slot for u8 {
     fn merge(self, v: u8) -> u8 {
         self | v
     }
-    /// (The bands' signs are known, see [`RayMapper::step_profiles`], so
+    /// (The evidence's signs are known, see [`RayMapper::step_profiles`], so
     /// each update needs one side of the clamp only.)
     #[inline(always)]
-    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, bands: Bands) {
+    fn apply<C: CellModel>(
+        self,
+        model: &C,
+        cell: &mut C::Cell,
+        updates: &mut u32,
+        evidence: ScanEvidence,
+    ) {
         if self & Code::Occupied as u8 != 0 {
-            model.hit(cell, bands.occupied)
+            model.hit(cell, evidence.occupied)
         } else {
-            model.miss(cell, bands.free)
+            model.miss(cell, evidence.free)
         }
         *updates += 1;
     }
@@ -549,7 +561,13 @@ impl Slot for f32 {
         }
     }
     #[inline(always)]
-    fn apply<C: CellModel>(self, model: &C, cell: &mut C::Cell, updates: &mut u32, _: Bands) {
+    fn apply<C: CellModel>(
+        self,
+        model: &C,
+        cell: &mut C::Cell,
+        updates: &mut u32,
+        _: ScanEvidence,
+    ) {
         model.add(cell, self);
         *updates += 1;
     }
@@ -625,7 +643,7 @@ impl<'a, T: Slot> Gathered<'a, T> {
         self,
         grid: &mut Grid<C, S>,
         window: &Window,
-        bands: Bands,
+        evidence: ScanEvidence,
     ) {
         let Self {
             slots,
@@ -646,25 +664,33 @@ impl<'a, T: Slot> Gathered<'a, T> {
             store: &mut S,
             window: &Window,
             unknown: C::Cell,
-            bands: Bands,
+            evidence: ScanEvidence,
             w: u32,
         ) {
             let w = w as usize;
             let slot = &mut slots[w & mask];
             if let Some((cell, updates)) = store.window_slot(window, w, unknown) {
-                slot.apply(model, cell, updates, bands);
+                slot.apply(model, cell, updates, evidence);
             }
             *slot = T::UNTOUCHED;
         }
         let mut fours = touched[..count].chunks_exact(4);
         for four in &mut fours {
-            settle_one(slots, mask, model, store, window, unknown, bands, four[0]);
-            settle_one(slots, mask, model, store, window, unknown, bands, four[1]);
-            settle_one(slots, mask, model, store, window, unknown, bands, four[2]);
-            settle_one(slots, mask, model, store, window, unknown, bands, four[3]);
+            settle_one(
+                slots, mask, model, store, window, unknown, evidence, four[0],
+            );
+            settle_one(
+                slots, mask, model, store, window, unknown, evidence, four[1],
+            );
+            settle_one(
+                slots, mask, model, store, window, unknown, evidence, four[2],
+            );
+            settle_one(
+                slots, mask, model, store, window, unknown, evidence, four[3],
+            );
         }
         for &w in fours.remainder() {
-            settle_one(slots, mask, model, store, window, unknown, bands, w);
+            settle_one(slots, mask, model, store, window, unknown, evidence, w);
         }
     }
 }
