@@ -103,6 +103,45 @@ impl<C: Copy> Block<'_, C> {
     }
 }
 
+/// The cells of a window, borrowed for one scan's update pass.
+pub trait WindowCells<C> {
+    /// Cell `w` of the window for an update, allocating its storage on
+    /// first touch; `None` (and the store's `refused` set) past the budget.
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)>;
+}
+
+/// A dense map's cells for an update pass: its window is the whole map,
+/// and a window index is the cell's index. Both arrays have the same
+/// length, and the compiler sees it: an index is checked once for both.
+pub struct DenseCells<'a, C> {
+    cells: &'a mut [C],
+    updates: &'a mut [u32],
+}
+
+impl<C> WindowCells<C> for DenseCells<'_, C> {
+    #[inline(always)]
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)> {
+        Some((&mut self.cells[w], &mut self.updates[w]))
+    }
+}
+
+/// A tiled map's cells for an update pass: window indices become cells,
+/// and cells their tiles.
+pub struct TiledCells<'a, C> {
+    store: &'a mut Tiled<C>,
+    window: Window,
+    unknown: C,
+}
+
+impl<C: Copy + PartialEq + std::fmt::Debug> WindowCells<C> for TiledCells<'_, C> {
+    #[inline(always)]
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)> {
+        let win = &self.window;
+        let (ix, iy) = (win.x0 + w % win.stride, win.y0 + w / win.stride);
+        self.store.slot(ix, iy, self.unknown)
+    }
+}
+
 /// Where cells live. `C` is the cell model's cell; every cell also counts
 /// its updates (the hover readout's "updated n times").
 pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
@@ -119,11 +158,18 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
     /// storage holds it (unknown, never updated).
     fn get(&self, ix: usize, iy: usize) -> Option<(C, u32)>;
 
-    /// Cell `w` of `window` for an update, allocating its storage on first
-    /// touch; `None` (and [`Self::refused`] set) past the budget.
-    fn window_slot(&mut self, window: &Window, w: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
+    /// The cells of `window`, borrowed for a scan's update pass.
+    type Writer<'a>: WindowCells<C>
+    where
+        Self: 'a;
 
-    /// Cell `(ix, iy)` for an update; as [`Self::window_slot`].
+    /// Borrows the cells of `window` for an update pass; `unknown` is what
+    /// a newly allocated cell holds.
+    fn window_cells(&mut self, window: Window, unknown: C) -> Self::Writer<'_>;
+
+    /// Cell `(ix, iy)` for an update, allocating its storage on first
+    /// touch; `None` outside the map, or (and [`Self::refused`] set) past
+    /// the budget.
     fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
 
     /// Row `iy` of the map in runs, west to east.
@@ -199,11 +245,16 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
         Some((*self.cells.get(i)?, *self.updates.get(i)?))
     }
 
+    type Writer<'a>
+        = DenseCells<'a, C>
+    where
+        Self: 'a;
+
     /// (A dense map's window is the whole map: `w` is the cell's index.)
     #[inline(always)]
-    fn window_slot(&mut self, _: &Window, w: usize, _: C) -> Option<(&mut C, &mut u32)> {
+    fn window_cells(&mut self, _: Window, _: C) -> DenseCells<'_, C> {
         let (cells, updates) = self.cells_mut();
-        Some((&mut cells[w], &mut updates[w]))
+        DenseCells { cells, updates }
     }
 
     #[inline]
@@ -335,10 +386,18 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
         }
     }
 
+    type Writer<'a>
+        = TiledCells<'a, C>
+    where
+        Self: 'a;
+
     #[inline(always)]
-    fn window_slot(&mut self, window: &Window, w: usize, unknown: C) -> Option<(&mut C, &mut u32)> {
-        let (ix, iy) = (window.x0 + w % window.stride, window.y0 + w / window.stride);
-        self.slot(ix, iy, unknown)
+    fn window_cells(&mut self, window: Window, unknown: C) -> TiledCells<'_, C> {
+        TiledCells {
+            store: self,
+            window,
+            unknown,
+        }
     }
 
     #[inline(always)]

@@ -20,6 +20,7 @@
 
 use crate::geometry::raster::{Cursor, Walk};
 use crate::geometry::{GridGeometry, Pose};
+use crate::grid::storage::WindowCells;
 use crate::grid::{CellModel, Grid, Store, Window};
 use crate::inverse::{AxisProfile, InverseModel};
 
@@ -365,6 +366,8 @@ struct BeamFrame {
     /// itself is always in the map's own frame, so both visit the same
     /// cells.
     window: Window,
+    /// True when the scratch buffers fit the window exactly (a dense map).
+    shrink: bool,
 }
 
 impl BeamFrame {
@@ -414,22 +417,22 @@ impl BeamFrame {
             sin_t,
             cos_t,
             window,
+            shrink: !S::WINDOWED,
         })
     }
 
-    /// Scratch slots for the window's verdicts as codes, grown to fit
-    /// (never shrunk below the window, so that windows which differ from
-    /// scan to scan near a map's edges reuse them; a buffer far larger than
-    /// the window, left by a larger map, is given back).
+    /// Scratch slots for the window's verdicts as codes: a dense map's
+    /// exactly (its window never changes), a windowed map's grown and never
+    /// shrunk (windows differ from scan to scan near the map's edges).
     fn codes<'a>(&self, codes: &'a mut Vec<u8>, touched: &'a mut Vec<u32>) -> Codes<'a> {
-        fit(codes, Code::Untouched as u8, self.window.len());
+        fit(codes, Code::Untouched as u8, self.window.len(), self.shrink);
         same_length(touched, codes.len());
         Codes::new(codes, touched)
     }
 
     /// As [`Self::codes`], for verdicts as log odds.
     fn pending<'a>(&self, pending: &'a mut Vec<f32>, touched: &'a mut Vec<u32>) -> Pending<'a> {
-        fit(pending, UNTOUCHED, self.window.len());
+        fit(pending, UNTOUCHED, self.window.len(), self.shrink);
         same_length(touched, pending.len());
         Pending::new(pending, touched)
     }
@@ -476,10 +479,10 @@ fn same_length(touched: &mut Vec<u32>, len: usize) {
 
 /// Makes `buffer` a power-of-two length above `cells` (its contents are
 /// scratch, every slot `clear` between scans): grown when too short, and
-/// cut back when more than four times too long.
-fn fit<T: Copy>(buffer: &mut Vec<T>, clear: T, cells: usize) {
+/// with `shrink` cut to size when longer.
+fn fit<T: Copy>(buffer: &mut Vec<T>, clear: T, cells: usize, shrink: bool) {
     let len = Gathered::<u8>::len_for(cells);
-    if buffer.len() < len || buffer.len() > 4 * len {
+    if buffer.len() < len || (shrink && buffer.len() != len) {
         *buffer = vec![clear; len];
     }
 }
@@ -652,45 +655,34 @@ impl<'a, T: Slot> Gathered<'a, T> {
             count,
         } = self.narrowed();
         let (model, store) = grid.model_and_store();
-        let unknown = model.unknown();
+        let cells = &mut store.window_cells(*window, model.unknown());
         // (A function rather than a closure: at opt-level "s" a closure
         // called from several places stays a call.)
         #[inline(always)]
-        #[allow(clippy::too_many_arguments)]
-        fn settle_one<T: Slot, C: CellModel, S: Store<C::Cell>>(
+        fn settle_one<T: Slot, C: CellModel, W: WindowCells<C::Cell>>(
             slots: &mut [T],
             mask: usize,
             model: &C,
-            store: &mut S,
-            window: &Window,
-            unknown: C::Cell,
+            cells: &mut W,
             evidence: ScanEvidence,
             w: u32,
         ) {
             let w = w as usize;
             let slot = &mut slots[w & mask];
-            if let Some((cell, updates)) = store.window_slot(window, w, unknown) {
+            if let Some((cell, updates)) = cells.slot(w) {
                 slot.apply(model, cell, updates, evidence);
             }
             *slot = T::UNTOUCHED;
         }
         let mut fours = touched[..count].chunks_exact(4);
         for four in &mut fours {
-            settle_one(
-                slots, mask, model, store, window, unknown, evidence, four[0],
-            );
-            settle_one(
-                slots, mask, model, store, window, unknown, evidence, four[1],
-            );
-            settle_one(
-                slots, mask, model, store, window, unknown, evidence, four[2],
-            );
-            settle_one(
-                slots, mask, model, store, window, unknown, evidence, four[3],
-            );
+            settle_one(slots, mask, model, cells, evidence, four[0]);
+            settle_one(slots, mask, model, cells, evidence, four[1]);
+            settle_one(slots, mask, model, cells, evidence, four[2]);
+            settle_one(slots, mask, model, cells, evidence, four[3]);
         }
         for &w in fours.remainder() {
-            settle_one(slots, mask, model, store, window, unknown, evidence, w);
+            settle_one(slots, mask, model, cells, evidence, w);
         }
     }
 }
