@@ -5,6 +5,7 @@
 pub mod doorway_trap;
 pub mod inverse_workbench;
 pub mod map_weaver;
+pub mod pane;
 pub mod real_log;
 pub mod sensor_fusion;
 pub mod two_cell_table;

@@ -247,6 +247,10 @@ impl MapView {
     pub fn rgba(&self) -> &[u8] {
         &self.rgba
     }
+    /// The map's size, cells (= pixels): width, height.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
     /// Map entropy, bits.
     pub fn entropy_bits(&self) -> f64 {
         self.entropy_sum
