@@ -54,7 +54,7 @@ fn intel_full() {
     );
 }
 
-/// The sensor-fusion widget's work (SPEC §8): building the table scene's
+/// The sensor-fusion widget's work (docs/ARCHITECTURE.md, "Two sensors"): building the table scene's
 /// scans, and one lap integrated into the sonar, LiDAR, summed and
 /// max-fused maps (two 12,000-cell sweeps and two ray traversals per scan).
 fn table_fusion() {

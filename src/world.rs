@@ -116,7 +116,7 @@ impl World {
 
     /// The range (metres) to the nearest occupied cell inside a cone of
     /// half-angle `half_width` around `angle`, from `sub_rays` rays spread
-    /// evenly across it (SPEC §4: a cone's expected range).
+    /// evenly across it (Table 6.1: a cone's expected range).
     pub fn cast_cone(
         &self,
         x: f64,

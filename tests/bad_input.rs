@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! SPEC §12 for the foundation: every bad input is an error that names the
+//! docs/ARCHITECTURE.md, "Bad input" for the foundation: every bad input is an error that names the
 //! field and the value, and the map is left exactly as it was.
 
 use occgrid::geometry::GridGeometry;

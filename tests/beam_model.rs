@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! The forward beam model of Table 6.1 (SPEC §4): the chapter's numbers, the
+//! The forward beam model of Table 6.1 (Table 6.1): the chapter's numbers, the
 //! density's normalisation, the generative mode against the density, and
 //! the expected range `z*` in a ground-truth world.
 

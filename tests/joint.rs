@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! The independence trap (SPEC §6): exact joint posteriors over a few cells
+//! The independence trap (docs/ARCHITECTURE.md, "The independence trap"): exact joint posteriors over a few cells
 //! in one sonar cone against what a factored map believes.
 
 use occgrid::mapping::joint::{ConeCell, JointPosterior, JointQuery};

@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! The learned inverse model of §9.3 (SPEC §5): training is deterministic
+//! The learned inverse model of §9.3 (§9.3): training is deterministic
 //! and reaches the regression's optimum; the model learns its own negative
 //! prior and its skepticism of max-range readings; trained on buildings
 //! with thin walls, its occupied band ends a few decimetres past the

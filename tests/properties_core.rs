@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! SPEC §12 as properties over the map's foundation: the grid and its
+//! docs/ARCHITECTURE.md, "Bad input" as properties over the map's foundation: the grid and its
 //! geometry, poses and scans, the supercover raster, both Table 9.1 mappers,
 //! the single-cell filter, the Table 9.2 model and the view that draws and
 //! scores a map.

@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! SPEC §12 as properties over the models: the forward beam model of
+//! docs/ARCHITECTURE.md, "Bad input" as properties over the models: the forward beam model of
 //! Table 6.1 and its ray casting, the exact joint posterior of a few cells,
 //! the MAP search of Table 9.3, the learned inverse model of §9.3 and its
 //! training, and the fusion rule of eq. 9.9.

@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! SPEC §12 as properties over the simulated scenes and the widgets' cores:
+//! docs/ARCHITECTURE.md, "Bad input" as properties over the simulated scenes and the widgets' cores:
 //! the ground-truth world and its ray caster, the robot (lap, LiDAR,
 //! odometry, walker), the apartment, the doorway, the table, the fusion
 //! experiment and the Map Weaver session.

@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! Sensor fusion on the table scene (SPEC §8, Probabilistic Robotics
+//! Sensor fusion on the table scene (docs/ARCHITECTURE.md, "Two sensors", Probabilistic Robotics
 //! eq. 9.9): the required regression, the beam-count experiment, and the
 //! max rule's defining property.
 
@@ -17,7 +17,7 @@ fn finished(scene: &TableScene) -> TableFusion {
 
 #[test]
 fn max_fusion_keeps_the_table_while_summation_erases_it() {
-    // SPEC §8's regression, fixed seed.
+    // docs/ARCHITECTURE.md, "Two sensors" regression, fixed seed.
     let scene = TableScene::default();
     assert_eq!(scene.seed, 7);
     let f = finished(&scene);

@@ -1,6 +1,6 @@
 // <occgrid-doorway-trap>: why a wide sonar cone closes an open door in an
 // occupancy grid, and how MAP mapping keeps it open (Probabilistic Robotics
-// Tables 9.1–9.3; SPEC §6, §7, §10.3, §10.5).
+// Tables 9.1–9.3; Table 9.3; docs/ARCHITECTURE.md, "The independence trap" and "Sessions and panes").
 //
 // Left, Table 9.1 swept literally over every cell with a 22° sonar and the
 // inverse model of Table 9.2, one stop's scan at a time: a cone that

@@ -1,6 +1,6 @@
 // <occgrid-inverse-workbench>: the hand-crafted inverse sensor model of
 // Table 9.2 and the one learned from simulated data (§9.3), for one beam,
-// side by side (SPEC §5, §10.2).
+// side by side (§9.3; docs/ARCHITECTURE.md, "Sessions and panes").
 //
 // Two images over the beam's neighbourhood (range along x, bearing offset
 // along y) show what one reading adds to each cell, in log odds, on one

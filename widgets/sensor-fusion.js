@@ -1,5 +1,5 @@
 // <occgrid-sensor-fusion>: two sensors, two questions, and the max rule
-// (Probabilistic Robotics eq. 9.9; SPEC §8, §10.4).
+// (Probabilistic Robotics eq. 9.9; docs/ARCHITECTURE.md, "Two sensors" and "Sessions and panes").
 //
 // A robot drives a lap around a table. A sonar ring at table height sees
 // the top; a LiDAR at shin height threads its beams between the four legs.

@@ -1,6 +1,5 @@
 // The Intel log in the browser: file input to finished map in Chromium
-// (SPEC §11: well under a second; issue target 300 ms including reading the
-// file), median of 5 fresh page loads, with the longest single call into the
+// (well under a second, 300 ms including reading the file), median of 5 fresh page loads, with the longest single call into the
 // core (the page must stay responsive while it builds).
 import fs from 'node:fs';
 import path from 'node:path';

@@ -1,4 +1,4 @@
-// Sensor fusion on the table scene (SPEC §8, eq. 9.9): the table footprint's
+// Sensor fusion on the table scene (docs/ARCHITECTURE.md, "Two sensors", eq. 9.9): the table footprint's
 // mean occupancy after the default lap, under max fusion and under
 // summation, with the LiDAR's beam count they were measured at.
 export default async function (core) {

@@ -12,7 +12,7 @@ export default async function (core) {
     // A second training, so that the time is the warm one a reader sees
     // on "retrain" (the very first run also pays for compiling the module).
     const r = bench.retrain(9);
-    // l0 against the density of the training maps (SPEC §5): the
+    // l0 against the density of the training maps (§9.3): the
     // buildings as drawn (0), then filled with boxes to 30% and 45%
     // occupied, the chapter's dense prior.
     const l0ByDensity = [0.3, 0.45].map((density) => {

@@ -1,4 +1,4 @@
-// The independence trap (SPEC §6): the chapter's two-cell case — cells A and
+// The independence trap (docs/ARCHITECTURE.md, "The independence trap"): the chapter's two-cell case — cells A and
 // B side by side at 2 m in one 22° sonar cone, prior 0.5, one reading of
 // 2.0 m — and the collinear preset (A at 1 m and B at 2 m on the axis) —
 // and, with `--joint FILE.json`, any query of the same form:

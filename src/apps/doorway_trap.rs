@@ -1,4 +1,5 @@
-//! The doorway-trap session (SPEC §6, §7; Table 9.1 against Table 9.3): the
+//! The doorway-trap session (Table 9.1 against Table 9.3; docs/ARCHITECTURE.md,
+//! "The independence trap"): the
 //! doorway scene swept literally with a 22° sonar (the sweep closes the door
 //! with a one-cell wall) beside the MAP search over the same readings, and
 //! the door report the widget prints.

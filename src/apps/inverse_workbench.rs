@@ -301,7 +301,7 @@ mod tests {
         w.retrain(10, &now).unwrap();
         assert_eq!(w.run().seed, 10);
         assert_ne!(w.learned(), &before, "another seed, another model");
-        // The density of the training maps moves l0 (SPEC §5).
+        // The density of the training maps moves l0 (§9.3).
         let thin = w.learned().own_l0();
         w.set_density(0.45, &now).unwrap();
         assert_eq!((w.run().seed, w.run().density), (10, 0.45));

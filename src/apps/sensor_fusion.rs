@@ -251,7 +251,7 @@ impl TableFusion {
             return false;
         };
         // One grid per modality, each with the mapper its beam shape needs:
-        // a 25° cone covers cells no beam raster crosses (SPEC §3).
+        // a 25° cone covers cells no beam raster crosses (docs/ARCHITECTURE.md, "The data flow").
         sweep_scan(&mut self.sonar, &self.sonar_model, sonar);
         self.lidar_mapper
             .integrate(&mut self.lidar, &self.lidar_model, lidar);

@@ -1,4 +1,4 @@
-//! The two-cell table (SPEC §6): the exact joint posterior of a few cells in
+//! The two-cell table (docs/ARCHITECTURE.md, "The independence trap"): the exact joint posterior of a few cells in
 //! one sonar cone against the product of their marginals, with the gray each
 //! cell's marginal is drawn in (the maps' ramp).
 
@@ -46,7 +46,7 @@ impl TwoCellLimits {
 /// The table's presets, by name: the chapter's query with the two cells
 /// placed `side` by side (A and B at 2 m, 3 degrees either side of the
 /// axis), `collinear` (the chapter's exercise: A at 1 m and B at 2 m on
-/// the beam axis, SPEC §6) or `apart` (A at 2 m and B at 1.2 m, 7 degrees
+/// the beam axis, docs/ARCHITECTURE.md, "The independence trap") or `apart` (A at 2 m and B at 1.2 m, 7 degrees
 /// either side). The reading is the chapter's 2.0 m in each.
 pub fn preset(name: &str) -> Result<JointQuery> {
     let at = |range: f64, bearing_deg: f64| ConeCell { range, bearing_deg };
@@ -97,7 +97,7 @@ mod tests {
         assert_eq!(r.marginal_grays[0], (255.0 * (1.0 - p)).round() as u8);
     }
 
-    /// SPEC §6: the collinear preset is the chapter's exercise, A at 1 m
+    /// docs/ARCHITECTURE.md, "The independence trap": the collinear preset is the chapter's exercise, A at 1 m
     /// and B at 2 m on the axis, and there the factored map overstates
     /// "both occupied" about twofold (against 24-fold for "both free" side
     /// by side).

@@ -550,7 +550,7 @@ mod tests {
         );
     }
 
-    /// SPEC §5: the learned `l0` is the prior of the sampled maps, so a
+    /// §9.3: the learned `l0` is the prior of the sampled maps, so a
     /// denser prior must give a larger one, and the chapter's dense prior
     /// (random boxes) one near -0.3 against the buildings' -1.9.
     #[test]

@@ -1,6 +1,6 @@
 //! Export of a map as a ROS `map_server` pair: a trinary PGM image and the
 //! YAML file that tells `map_server` (ROS 1) or `nav2_map_server` how to read
-//! it (SPEC §11).
+//! it (docs/ARCHITECTURE.md, "Real logs").
 //!
 //! This is the last step of the data flow: any [`Grid`] a widget has
 //! built (a simulated lap, a real log) leaves the project through
@@ -30,7 +30,7 @@ use crate::grid::{CellModel, Grid, Store};
 pub const OCCUPIED_THRESH: f64 = 0.65;
 /// `free_thresh` of the YAML: a cell with `p < 0.196` is exported as free.
 ///
-/// ROS 1 `map_saver`'s value, and the one SPEC §11 fixes: the loader reads
+/// ROS 1 `map_saver`'s value (docs/ARCHITECTURE.md, "Real logs"): the loader reads
 /// the unknown gray 205 as `occ = 50 / 255 = 0.19608`, just above it, so
 /// unknown cells load as unknown. With any higher value (ROS 2's default
 /// 0.25) `map_server` and `nav2_map_server` would load every unknown cell as

@@ -1,4 +1,4 @@
-//! Exact joint posteriors over a few cells: the independence trap (SPEC §6).
+//! Exact joint posteriors over a few cells: the independence trap (docs/ARCHITECTURE.md, "The independence trap").
 //!
 //! The occupancy grid of Table 9.1 keeps one binary filter per cell, so its
 //! belief is the product of marginals, `p(m) = prod_i p(m_i)`. A wide cone
@@ -54,7 +54,7 @@ pub struct JointQuery {
 }
 
 impl JointQuery {
-    /// The chapter's case (SPEC §6): cells A and B side by side at 2 m inside
+    /// The chapter's case (docs/ARCHITECTURE.md, "The independence trap"): cells A and B side by side at 2 m inside
     /// one 22-degree sonar cone, prior 0.5, one reading of 2.0 m, the
     /// reference forward model.
     pub fn chapter_two_cells() -> Self {

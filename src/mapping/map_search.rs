@@ -64,7 +64,7 @@ pub struct MapSearchSettings {
     pub prior: f64,
     /// Half the cone's opening angle, radians.
     pub half_width: f64,
-    /// Sub-rays spread evenly across the cone (SPEC §4), edges included.
+    /// Sub-rays spread evenly across the cone (Table 6.1), edges included.
     pub sub_rays: usize,
     /// The forward beam model; its `z_max` is how far the cone reaches.
     pub model: BeamModelParams,

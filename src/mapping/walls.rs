@@ -1,5 +1,5 @@
 //! Walls that last: how a real-log map keeps its walls under many scans
-//! (SPEC §11), and how far a no-return clears.
+//! (docs/ARCHITECTURE.md, "Real logs"), and how far a no-return clears.
 //!
 //! # Why walls wear away under Table 9.2
 //!

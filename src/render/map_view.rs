@@ -1,6 +1,6 @@
 //! What a reader sees of a map, kept up to date at the cost of what changed.
 //!
-//! Between the mapper and the page (SPEC §10: "map pixels through a view
+//! Between the mapper and the page (docs/ARCHITECTURE.md, "Sessions and panes": "map pixels through a view
 //! into wasm memory"): after each scan a [`MapView`] compares the grid's log
 //! odds with the values it last drew and, for the cells that changed only,
 //! redraws the pixel and rescores the cell's entropy (bits) and squared

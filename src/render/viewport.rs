@@ -1,4 +1,4 @@
-//! A window onto a large map at screen resolution (SPEC §11, "a map you
+//! A window onto a large map at screen resolution (docs/ARCHITECTURE.md, "Real logs", "a map you
 //! can look at"): the part of the north-up map image on screen, zoomed and
 //! panned, drawn into a buffer of the screen's size and never the map's.
 //!

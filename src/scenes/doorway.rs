@@ -1,4 +1,4 @@
-//! The doorway scene (SPEC §9): the chapter's picture of how a wide sonar
+//! The doorway scene (docs/ARCHITECTURE.md, "The simulated world"): the chapter's picture of how a wide sonar
 //! cone closes an open door in an occupancy grid.
 //!
 //! A room's north wall has an open door; a far wall stands behind it. A

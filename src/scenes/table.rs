@@ -1,4 +1,4 @@
-//! The table scene of SPEC §8: one piece of furniture, two sensors, two
+//! The table scene of docs/ARCHITECTURE.md, "Two sensors": one piece of furniture, two sensors, two
 //! honest answers.
 //!
 //! A rectangular room holds a table. A sonar ring mounted at table height
@@ -29,7 +29,7 @@ use rand::rngs::StdRng;
 use rand::SeedableRng;
 use std::f64::consts::{PI, TAU};
 
-/// Side of a table leg's square cross-section, metres (SPEC §8: "four 6 cm
+/// Side of a table leg's square cross-section, metres (docs/ARCHITECTURE.md, "Two sensors": "four 6 cm
 /// legs").
 pub const LEG_SIZE: f64 = 0.06;
 

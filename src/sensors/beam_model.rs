@@ -292,7 +292,7 @@ impl BeamModel {
 
 /// How wide a beam is when its expected range is sought: a thin ray, or a
 /// cone of half-angle `half_width` (radians) probed by `sub_rays` rays
-/// spread evenly across it, edges included (SPEC §4, the same spread as
+/// spread evenly across it, edges included (Table 6.1, the same spread as
 /// [`World::cast_cone`]). `z*` of a cone is the nearest hit of its rays.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamShape {

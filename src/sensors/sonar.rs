@@ -1,5 +1,5 @@
 //! A ring of sonar transducers: wide cones whose reading is the nearest echo
-//! anywhere inside the cone (SPEC §4), with Gaussian range noise. The
+//! anywhere inside the cone (Table 6.1), with Gaussian range noise. The
 //! doorway's robot and the table's robot both carry one; each scene states
 //! its own, and a scene object's partial `sonar` names only what it changes
 //! ([`SonarPatch`]).

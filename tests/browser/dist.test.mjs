@@ -1,4 +1,4 @@
-// The static bundle (SPEC §13): `npm run dist` writes dist/ and `npm pack`
+// The static bundle (docs/ARCHITECTURE.md, "Hosting"): `npm run dist` writes dist/ and `npm pack`
 // packs the same files; each is served by Python's http.server, a plain
 // static server that is not the project's, and opened in Chromium: the
 // chapter page, a course page placed beside the bundle (embedding each

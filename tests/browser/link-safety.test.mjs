@@ -1,4 +1,4 @@
-// What a shared link may do to a widget (SPEC §12): set the attributes the
+// What a shared link may do to a widget (docs/ARCHITECTURE.md, "Bad input"): set the attributes the
 // widget declares, nothing else. The course page here has no
 // Content-Security-Policy, as many instructors' pages do not, so an event
 // handler a link managed to set would run: `style=content-visibility:auto`

@@ -1,5 +1,5 @@
 // The two-cell table of <occgrid-doorway-trap> (Probabilistic Robotics §9.4,
-// SPEC §10.3): the exact joint posterior of two cells inside one sonar cone
+// docs/ARCHITECTURE.md, "Sessions and panes"): the exact joint posterior of two cells inside one sonar cone
 // against the product of their marginals, with the cells movable (drag, or
 // the arrow keys) and the reading and the prior adjustable. The core
 // (`jointPosterior`, `chapterTwoCellQuery`) computes every number; this
