@@ -8,7 +8,8 @@
 //! a probability. [`LogOdds`] is the chapter's binary Bayes filter
 //! (Table 9.1: `l <- l + evidence - l0`, clamped); a model that
 //! counts hits and visits, or one that steps through tables of odds,
-//! implements the same trait and every consumer of a map works with it.
+//! implements the same trait and every consumer of a map works with it:
+//! [`HitCounting`] (GMapping's) and [`HitMissOdds`] (Cartographer's).
 
 use super::{logit, probability};
 
@@ -120,6 +121,194 @@ impl CellModel for LogOdds {
     }
 }
 
+/// A counting cell (GMapping's "reflection map"): how many beams ended in
+/// the cell (hits) and how many passed through or ended in it (visits),
+/// each at most once per scan. Both counts are halved together when the
+/// visits would overflow, which keeps their ratio.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct HitCount {
+    pub hits: u16,
+    pub visits: u16,
+}
+
+/// GMapping's counting model: a cell is occupied when its hits are more
+/// than `occupied_ratio` of its visits, free once visited with a lower
+/// ratio, unknown while never visited. One return among many beams that
+/// crossed the cell does not make it occupied, and one beam through a cell
+/// makes it free.
+///
+/// Its probability is the hit ratio placed on the export's scale, so that
+/// the trinary export (occupied above 0.65, free below 0.196) classifies
+/// each cell exactly as the model does: a ratio above the threshold maps
+/// into (0.65, 1], one at or below it into [0, 0.196).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HitCounting {
+    /// The hit ratio above which a cell is occupied (GMapping's 0.25).
+    pub occupied_ratio: f32,
+}
+
+impl HitCounting {
+    /// The probability a ratio `r` of hits to visits stands for (see the
+    /// type's doc): continuous on each side of the threshold.
+    #[inline]
+    fn placed(&self, r: f32) -> f32 {
+        let t = self.occupied_ratio;
+        if r > t {
+            0.651 + 0.348 * (r - t) / (1.0 - t)
+        } else {
+            0.195 * r / t
+        }
+    }
+
+    #[inline(always)]
+    fn count(cell: &mut HitCount, hit: bool) {
+        if cell.visits == u16::MAX {
+            cell.hits /= 2;
+            cell.visits /= 2;
+        }
+        cell.visits += 1;
+        cell.hits += hit as u16;
+    }
+}
+
+impl CellModel for HitCounting {
+    type Cell = HitCount;
+
+    #[inline(always)]
+    fn unknown(&self) -> HitCount {
+        HitCount::default()
+    }
+    #[inline(always)]
+    fn hit(&self, cell: &mut HitCount, _: f32) {
+        Self::count(cell, true)
+    }
+    #[inline(always)]
+    fn miss(&self, cell: &mut HitCount, _: f32) {
+        Self::count(cell, false)
+    }
+    #[inline(always)]
+    fn add(&self, cell: &mut HitCount, evidence: f32) {
+        if evidence != 0.0 {
+            Self::count(cell, evidence > 0.0)
+        }
+    }
+    #[inline]
+    fn log_odds(&self, cell: HitCount) -> f32 {
+        if cell.visits == 0 {
+            return 0.0;
+        }
+        let p = self.placed(cell.hits as f32 / cell.visits as f32);
+        // p = 0 (never hit) is the most certain free cell the f32 ramp
+        // draws white.
+        let p = p.clamp(1e-6, 1.0 - 1e-6);
+        (p / (1.0 - p)).ln()
+    }
+    #[inline(always)]
+    fn is_unknown(&self, cell: HitCount) -> bool {
+        cell.visits == 0
+    }
+}
+
+/// The steps of the hit/miss odds model's lookup tables: a cell holds one
+/// of these many probabilities (Cartographer's 15-bit cell values).
+const ODDS_STEPS: usize = 32_767;
+
+/// Cartographer's probability grid: a hit multiplies the cell's odds by
+/// `odds(p_hit)`, a miss by `odds(p_miss)`, the probability kept within
+/// `[p_min, p_max]`; an unknown cell takes `p_hit` or `p_miss` at once.
+/// Cells hold a 15-bit index of their probability (0: unknown), and an
+/// update is one lookup in a table made once per model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HitMissOdds {
+    pub p_hit: f32,
+    pub p_miss: f32,
+    pub p_min: f32,
+    pub p_max: f32,
+    hit_table: std::sync::Arc<[u16]>,
+    miss_table: std::sync::Arc<[u16]>,
+}
+
+impl HitMissOdds {
+    /// The tables for `p_hit` (> 0.5), `p_miss` (< 0.5) within
+    /// `[p_min, p_max]` (validated by the caller: 0 < p_min < p_miss <
+    /// 0.5 < p_hit < p_max < 1).
+    pub fn new(p_hit: f32, p_miss: f32, p_min: f32, p_max: f32) -> Self {
+        let value_of = |p: f32| -> u16 {
+            let f = (p.clamp(p_min, p_max) - p_min) / (p_max - p_min);
+            1 + (f * (ODDS_STEPS - 1) as f32).round() as u16
+        };
+        let table = |p_update: f32| -> std::sync::Arc<[u16]> {
+            let odds = p_update / (1.0 - p_update);
+            (0..=ODDS_STEPS)
+                .map(|v| {
+                    if v == 0 {
+                        return value_of(p_update);
+                    }
+                    let p = p_min + (v - 1) as f32 / (ODDS_STEPS - 1) as f32 * (p_max - p_min);
+                    let o = p / (1.0 - p) * odds;
+                    value_of(o / (1.0 + o))
+                })
+                .collect()
+        };
+        Self {
+            p_hit,
+            p_miss,
+            p_min,
+            p_max,
+            hit_table: table(p_hit),
+            miss_table: table(p_miss),
+        }
+    }
+
+    /// Cartographer's 2-D defaults: hit 0.55, miss 0.49, within [0.1, 0.9].
+    pub fn cartographer() -> Self {
+        Self::new(0.55, 0.49, 0.1, 0.9)
+    }
+
+    /// The probability a cell value stands for.
+    #[inline]
+    pub fn probability_of(&self, v: u16) -> f32 {
+        self.p_min + (v.max(1) - 1) as f32 / (ODDS_STEPS - 1) as f32 * (self.p_max - self.p_min)
+    }
+}
+
+impl CellModel for HitMissOdds {
+    type Cell = u16;
+
+    #[inline(always)]
+    fn unknown(&self) -> u16 {
+        0
+    }
+    #[inline(always)]
+    fn hit(&self, v: &mut u16, _: f32) {
+        *v = self.hit_table[*v as usize & ODDS_STEPS];
+    }
+    #[inline(always)]
+    fn miss(&self, v: &mut u16, _: f32) {
+        *v = self.miss_table[*v as usize & ODDS_STEPS];
+    }
+    #[inline(always)]
+    fn add(&self, v: &mut u16, evidence: f32) {
+        if evidence > 0.0 {
+            self.hit(v, evidence)
+        } else if evidence < 0.0 {
+            self.miss(v, evidence)
+        }
+    }
+    #[inline]
+    fn log_odds(&self, v: u16) -> f32 {
+        if v == 0 {
+            return 0.0;
+        }
+        let p = self.probability_of(v);
+        (p / (1.0 - p)).ln()
+    }
+    #[inline(always)]
+    fn is_unknown(&self, v: u16) -> bool {
+        v == 0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,5 +329,61 @@ mod tests {
         assert_eq!(l, 2.0);
         assert!(!m.is_unknown(l));
         assert!((m.probability(l) - probability(2.0)).abs() < 1e-12);
+    }
+
+    /// One stray return among beams that crossed the cell leaves it free;
+    /// hits above the ratio make it occupied; one beam makes a cell free.
+    #[test]
+    fn counting_cell_is_occupied_above_its_hit_ratio_and_free_once_crossed() {
+        let m = HitCounting {
+            occupied_ratio: 0.25,
+        };
+        let mut c = m.unknown();
+        assert!(m.is_unknown(c));
+        m.miss(&mut c, -0.4);
+        assert!(!m.is_unknown(c) && m.probability(c) < 0.196);
+        m.hit(&mut c, 0.85);
+        assert_eq!(c, HitCount { hits: 1, visits: 2 });
+        assert!(m.probability(c) > 0.65, "1 of 2 is above 0.25");
+        for _ in 0..3 {
+            m.miss(&mut c, -0.4);
+        }
+        assert!(m.probability(c) < 0.196, "1 of 5 is a stray return");
+        let mut full = HitCount {
+            hits: 40_000,
+            visits: u16::MAX,
+        };
+        m.hit(&mut full, 0.85);
+        assert_eq!(
+            full,
+            HitCount {
+                hits: 20_001,
+                visits: 32_768
+            }
+        );
+    }
+
+    /// Cartographer's odds: an unknown cell takes p_hit or p_miss at once,
+    /// then each update multiplies the odds, within [p_min, p_max].
+    #[test]
+    fn hit_miss_odds_multiply_and_stay_within_their_bounds() {
+        let m = HitMissOdds::cartographer();
+        let mut v = m.unknown();
+        m.hit(&mut v, 1.0);
+        assert!((m.probability(v) - 0.55).abs() < 1e-4);
+        m.hit(&mut v, 1.0);
+        let odds = (0.55f64 / 0.45).powi(2);
+        assert!((m.probability(v) - odds / (1.0 + odds)).abs() < 1e-4);
+        for _ in 0..100 {
+            m.hit(&mut v, 1.0);
+        }
+        assert!((m.probability(v) - 0.9).abs() < 1e-4);
+        for _ in 0..1000 {
+            m.miss(&mut v, -1.0);
+        }
+        assert!((m.probability(v) - 0.1).abs() < 1e-4);
+        let mut u = m.unknown();
+        m.miss(&mut u, -1.0);
+        assert!((m.probability(u) - 0.49).abs() < 1e-4);
     }
 }

@@ -23,7 +23,7 @@ pub mod readout;
 pub mod stats;
 pub mod storage;
 
-pub use cell::{CellModel, LogOdds};
+pub use cell::{CellModel, HitCount, HitCounting, HitMissOdds, LogOdds};
 pub use storage::{Dense, Store, Tiled, Window};
 
 /// Log odds of a probability, `ln(p / (1 - p))`.
