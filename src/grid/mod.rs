@@ -20,6 +20,7 @@ use crate::geometry::GridGeometry;
 
 pub mod cell;
 pub mod readout;
+pub mod sample;
 pub mod stats;
 pub mod storage;
 
