@@ -6,17 +6,19 @@
 //! turn these into JavaScript `Error`s with the same message, so a widget can
 //! show it instead of dying on a panic.
 
+use std::borrow::Cow;
 use std::fmt;
 
 /// What went wrong, with enough detail for a reader to fix the input.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OccError {
     /// A parameter is outside its domain: `field` is its name as the caller
-    /// spells it, `value` the rejected value as text, `expected` the domain.
+    /// spells it, `value` the rejected value as text, `expected` the domain
+    /// (owned when it is built from the limits the check uses).
     InvalidParameter {
         field: String,
         value: String,
-        expected: &'static str,
+        expected: Cow<'static, str>,
     },
     /// Two inputs that must agree in length do not.
     LengthMismatch {
@@ -58,11 +60,15 @@ impl std::error::Error for OccError {}
 pub type Result<T> = std::result::Result<T, OccError>;
 
 /// Builds an [`OccError::InvalidParameter`] for `field = value`.
-pub fn invalid(field: &str, value: impl fmt::Display, expected: &'static str) -> OccError {
+pub fn invalid(
+    field: &str,
+    value: impl fmt::Display,
+    expected: impl Into<Cow<'static, str>>,
+) -> OccError {
     OccError::InvalidParameter {
         field: field.to_string(),
         value: value.to_string(),
-        expected,
+        expected: expected.into(),
     }
 }
 

@@ -1,6 +1,6 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! The chapter's exercises as Map Weaver runs them (issue: every exercise
-//! doable in the page): the two mappers of Table 9.1 side by side, the
+//! The chapter's exercises as Map Weaver runs them, each doable in the
+//! page: the two mappers of Table 9.1 side by side, the
 //! ghost's fade, and the learned model with its `l0` forgotten.
 
 use occgrid::apps::map_weaver::{
@@ -241,14 +241,44 @@ fn forgetting_l0_drifts_each_cell_by_l0_per_update() {
 }
 
 /// Every new pane knob is checked, naming the field and the value, and a
-/// refused change leaves the pane as it was.
+/// refused change leaves the pane as it was. The sliders' knobs keep to
+/// their steps (a strength of 3.25 or 1.1 is no slider position).
 #[test]
 fn pane_settings_are_checked_field_by_field() {
     let mut w = weaver(WeaverSettings::default());
     w.advance(10).unwrap();
     let before = w.grid(1).unwrap().clone();
     let ok = w.settings().panes[1];
-    let cases: [(PaneSettings, &str, &str); 5] = [
+    let cases: [(PaneSettings, &str, &str); 9] = [
+        (
+            PaneSettings {
+                strength: 3.25,
+                ..ok
+            },
+            "panes[1].strength",
+            "3.25",
+        ),
+        (
+            PaneSettings {
+                strength: 1.1,
+                ..ok
+            },
+            "panes[1].strength",
+            "1.1",
+        ),
+        (
+            PaneSettings { clamp: 12.25, ..ok },
+            "panes[1].clamp",
+            "12.25",
+        ),
+        (
+            PaneSettings {
+                beta_deg: 22.5,
+                ..ok
+            },
+            "panes[1].betaDeg",
+            "22.5",
+        ),
         (
             PaneSettings {
                 beta_deg: 0.5,

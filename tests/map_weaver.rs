@@ -1,8 +1,8 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! Map Weaver's claims about the simulated apartment (SPEC §9, §10.1),
-//! checked on whole laps with fixed seeds.
+//! Map Weaver's claims about the simulated apartment, checked on whole
+//! laps with fixed seeds, and the limits and choices its session offers.
 
-use occgrid::apps::map_weaver::{PoseSource, Weaver, WeaverSettings};
+use occgrid::apps::map_weaver::{Leaning, PaneSettings, PoseSource, Weaver, WeaverSettings};
 use occgrid::geometry::Pose;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
 use occgrid::inverse::training::{self, TrainingConfig};
@@ -73,7 +73,7 @@ fn full_lap_with_the_oracle_puts_walls_where_the_ground_truth_has_walls() {
     let surveyed = scene.cells_in(&g, &[scene.surveyed]);
     let brier = grid.brier_score(w.ground_truth(), Some(&surveyed)).unwrap();
     assert!(brier < 0.085, "Brier over the surveyed rooms: {brier}");
-    // The widget's readout (scored from a table, src/sim/view.rs) agrees.
+    // The widget's readout (scored from a table, src/render/map_view.rs) agrees.
     assert!((w.view(0).unwrap().brier_region() - brier).abs() < 1e-6);
 
     // Precision: every cell the map calls occupied (p > 0.65) lies on a
@@ -362,4 +362,88 @@ fn same_seed_gives_a_bit_identical_map() {
     assert!(a == run(5), "same seed, different maps");
     let b = run(6);
     assert!(a.0 != b.0 && a.1 != b.1, "another seed gives another map");
+}
+
+/// A scene whose LiDAR has 48 beams: the session offers exactly the
+/// divisors of 48, accepts each, and refuses any other count with a
+/// message that lists the 48's divisors (it said "60: 1, 2, 3, 4, 5, 6, 10,
+/// 12, 15, 20, 30 or 60" whatever the scene), leaving the pane as it was.
+#[test]
+fn a_48_beam_lidar_offers_and_accepts_exactly_the_divisors_of_48() {
+    let mut s = settings(1, false);
+    s.scene.lidar.beams = 48;
+    let mut w = weaver(s);
+    w.advance(5).unwrap();
+    let choices = w.choices();
+    let offered: Vec<usize> = choices.beams.iter().map(|c| c.value).collect();
+    assert_eq!(offered, [48, 24, 16, 12, 8, 6, 4, 3, 2, 1]);
+    assert_eq!(
+        (choices.beams[0].setting, choices.beams[1].setting),
+        (None, Some(24))
+    );
+    assert_eq!(w.readout().choices, choices);
+    for c in &choices.beams {
+        let pane = PaneSettings {
+            beams: c.setting,
+            ..w.settings().panes[1]
+        };
+        w.set_pane(1, pane).unwrap();
+        let r = w.readout();
+        assert_eq!(r.panes[1].beams, c.value);
+        assert_eq!(w.overlay(1).unwrap().hits.len(), c.value);
+    }
+    let before = w.grid(1).unwrap().clone();
+    let kept = w.settings().panes[1];
+    for beams in (0..=60).filter(|b| !offered.contains(b)) {
+        let e = w
+            .set_pane(
+                1,
+                PaneSettings {
+                    beams: Some(beams),
+                    ..kept
+                },
+            )
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "invalid panes[1].beams: {beams} (expected a divisor of the LiDAR's beam count \
+                 (48: 1, 2, 3, 4, 6, 8, 12, 16, 24 or 48))"
+            )
+        );
+        assert_eq!(w.grid(1).unwrap(), &before);
+        assert_eq!(w.settings().panes[1], kept);
+    }
+}
+
+/// The status line's "scan n of N" and the hover line's verdict are the
+/// core's: N is the run's laps times its scans per lap, and each cell
+/// leans the way its log odds point (the panes' prior is 0.5).
+#[test]
+fn the_readout_counts_the_run_and_says_which_way_each_cell_leans() {
+    let mut s = settings(2, true);
+    s.laps = 2;
+    let mut w = weaver(s);
+    assert_eq!(w.readout().total_scans, 2 * w.scans_per_lap());
+    w.advance(60).unwrap();
+    let g = *w.pane_geometry(0).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for row in 0..g.height() {
+        for col in 0..g.width() {
+            let info = w.cell_info(0, col, row).unwrap().unwrap();
+            let expected = if info.cell.unknown {
+                Leaning::Unknown
+            } else if info.cell.p > 0.5 {
+                Leaning::Occupied
+            } else if info.cell.p < 0.5 {
+                Leaning::Free
+            } else {
+                Leaning::Even
+            };
+            assert_eq!(info.leaning, expected, "({col}, {row})");
+            seen.insert(format!("{expected:?}"));
+        }
+    }
+    assert!(seen.len() >= 3, "{seen:?}");
 }

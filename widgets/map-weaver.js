@@ -1,5 +1,5 @@
-// <occgrid-map-weaver>: the apartment lap, live (SPEC §10.1; Probabilistic
-// Robotics Table 9.1 with the inverse models of Table 9.2 and §9.3).
+// <occgrid-map-weaver>: the apartment lap, live (Probabilistic Robotics
+// Table 9.1 with the inverse models of Table 9.2 and §9.3).
 //
 // A robot drives laps through a simulated apartment with a 60-beam LiDAR
 // while two maps are built side by side from the same scans: by default the
@@ -10,7 +10,10 @@
 // frame, three cells' log odds over time, and any cell under the pointer.
 // Every number comes from the wasm core (MapWeaver); this module lays out,
 // forwards input and draws: map pixels straight from wasm memory, and the
-// robot, its beams and the person over them.
+// robot, its beams and the person over them. The knobs' ranges and the
+// attributes' defaults are the core's (`constants().mapWeaver`), and the
+// beam counts and cell sizes a pane offers are the run's (its readout's
+// `choices`: a scene may have another LiDAR or resolution).
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
@@ -29,7 +32,7 @@ import {
   applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
-import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS, MAP_WEAVER_MODELS, MAP_WEAVER_PANE_DEFAULTS as PANE_DEFAULTS } from './lib/defaults.js';
+import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 
@@ -74,9 +77,10 @@ const REBUILD_FIELDS = ['mapper', 'sensor', 'betaDeg', 'beams', 'resolution', 'f
 /** How a link writes a pane setting back, as its attribute's default is written. */
 const orAbsent = (v) => (v === null || v === undefined ? null : String(v));
 const PANE_FORMATS = { forgetL0: (v) => (v ? 'on' : 'off'), beams: orAbsent, resolution: orAbsent };
+const formatPane = (field, v) => (PANE_FORMATS[field] ? PANE_FORMATS[field](v) : String(v));
 const MAPPER_NAMES = { traversal: 'ray traversal', sweep: 'every-cell sweep' };
-/** Beam counts offered for the chapter's 60-beam LiDAR (divisors of 60; an attribute may ask for any divisor). */
-const BEAM_CHOICES = [60, 30, 20, 15, 12, 10, 6];
+/** The hover line's words for the core's `leaning` of a cell. */
+const LEANINGS = { unknown: 'unknown (at the prior)', occupied: 'leaning occupied', free: 'leaning free', even: 'even (p = 0.5)' };
 
 /**
  * The real-log panel's attributes: the panel setting each sets, and how a
@@ -118,32 +122,66 @@ function ghostText(g) {
 }
 const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
+/** A cell size as the menu says it: 0.10, 0.05, 0.0125. */
+const metres = (m) => m.toLocaleString('en-US', { minimumFractionDigits: 2, maximumFractionDigits: 6 });
 
-const paneSpec = (side) => ({
-  [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), default: MAP_WEAVER_MODELS[side], doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
-  [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), default: 'oracle', doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
-  [`${side}-clamp`]: { type: number(1, 16, { step: 0.5 }), default: PANE_DEFAULTS.clamp, doc: `the ${side} map’s clamp l_max, log odds` },
-  [`${side}-strength`]: { type: number(0.25, 3, { step: 0.25 }), default: PANE_DEFAULTS.strength, doc: `factor on the ${side} map’s evidence` },
-  [`${side}-mapper`]: { type: oneOf(['traversal', 'sweep']), default: 'traversal', doc: `how the ${side} map applies Table 9.1: along each beam’s cells (traversal) or over every cell of the map (sweep)` },
-  [`${side}-sensor`]: { type: oneOf(['lidar', 'cone']), default: 'lidar', doc: `how the ${side} map reads each range: a thin LiDAR beam, or a cone of opening ${side}-beta (Table 9.2’s β)` },
-  [`${side}-beta`]: { type: number(1, 30, { step: 1, unit: '°' }), default: PANE_DEFAULTS.beta, doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
-  [`${side}-beams`]: { type: whole(1, 4096), doc: `beams of each scan the ${side} map uses, evenly spaced: a divisor of the LiDAR’s 60; absent: all of them` },
-  [`${side}-resolution`]: { type: oneOf(['0.1', '0.05'], Number), doc: `the ${side} map’s cell size, metres; absent: the scene’s (0.1 for the chapter’s apartment)` },
-  [`${side}-forget-l0`]: { type: flag(), default: 'off', doc: `the ${side} map adds the learned model’s scores without removing its l0 (exercise 8’s mistake)` },
-});
+/** Any number: an attribute's type until the core's bounds are known. */
+const ANY_NUMBER = number(-Number.MAX_VALUE, Number.MAX_VALUE);
+/** A knob's range from the core (`constants().mapWeaver[key]`: `{ min, max, step }`). */
+const coreSteps = (c, key, unit) => {
+  const r = c.mapWeaver[key];
+  return number(r.min, r.max, { step: r.step, unit });
+};
+
+/**
+ * Pane `k`'s attributes. Their defaults are the core's chapter run
+ * (`constants().mapWeaver.defaults.panes[k]`), written as a link writes
+ * the setting, and the numbers' ranges the core's limits: both taken once
+ * the core has loaded.
+ */
+const paneSpec = (side, k) => {
+  const byDefault = (field) => (c) => ({ default: formatPane(field, c.mapWeaver.defaults.panes[k][field]) });
+  const withRange = (field, key, unit) => (c) => ({ ...byDefault(field)(c), type: coreSteps(c, key, unit) });
+  return {
+    [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), core: byDefault('model'), doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
+    [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), core: byDefault('pose'), doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
+    [`${side}-clamp`]: { type: ANY_NUMBER, core: withRange('clamp', 'clamp'), doc: `the ${side} map’s clamp l_max, log odds` },
+    [`${side}-strength`]: { type: ANY_NUMBER, core: withRange('strength', 'strength'), doc: `factor on the ${side} map’s evidence` },
+    [`${side}-mapper`]: { type: oneOf(['traversal', 'sweep']), core: byDefault('mapper'), doc: `how the ${side} map applies Table 9.1: along each beam’s cells (traversal) or over every cell of the map (sweep)` },
+    [`${side}-sensor`]: { type: oneOf(['lidar', 'cone']), core: byDefault('sensor'), doc: `how the ${side} map reads each range: a thin LiDAR beam, or a cone of opening ${side}-beta (Table 9.2’s β)` },
+    [`${side}-beta`]: { type: ANY_NUMBER, core: withRange('betaDeg', 'betaDeg', '°'), doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
+    [`${side}-beams`]: {
+      type: whole(1, Number.MAX_SAFE_INTEGER), core: (c) => ({ type: whole(1, c.mapWeaver.maxLidarBeams) }),
+      doc: `beams of each scan the ${side} map uses, evenly spaced: a divisor of the LiDAR’s beam count (the core checks it against the scene); absent: all of them`,
+    },
+    [`${side}-resolution`]: {
+      type: ANY_NUMBER, core: (c) => ({ type: oneOf(c.mapWeaver.paneResolutions.map(String), Number) }),
+      doc: `the ${side} map’s cell size, metres; absent: the scene’s own`,
+    },
+    [`${side}-forget-l0`]: { type: flag(), core: byDefault('forgetL0'), doc: `the ${side} map adds the learned model’s scores without removing its l0 (exercise 8’s mistake)` },
+  };
+};
 
 class MapWeaverElement extends HTMLElement {
   static attributeSpec = {
-    seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '1', doc: 'seed of the simulation: odometry noise, range noise, the person’s walk' },
-    laps: { type: whole(1, 20), default: '3', doc: 'laps in the run' },
+    // The chapter run's seed, laps and person, and the most laps a run may
+    // have, are the core's (`constants().mapWeaver`), taken once it has loaded.
+    seed: {
+      type: whole(0, Number.MAX_SAFE_INTEGER), core: (c) => ({ default: String(c.mapWeaver.defaults.seed) }),
+      doc: 'seed of the simulation: odometry noise, range noise, the person’s walk',
+    },
+    laps: {
+      type: whole(1, Number.MAX_SAFE_INTEGER), core: (c) => ({ type: whole(1, c.mapWeaver.maxLaps), default: String(c.mapWeaver.defaults.laps) }),
+      doc: 'laps in the run',
+    },
     scene: { type: jsonObject('{"scan_rate": 12}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
-    person: { type: flag(), default: 'on', doc: 'a person walking the corridor' },
+    person: { type: flag(), core: (c) => ({ default: c.mapWeaver.defaults.person ? 'on' : 'off' }), doc: 'a person walking the corridor' },
     speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed: 1 is real time, at the scene’s scan rate' },
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
     scans: { type: whole(0, 1_000_000), default: '0', doc: 'scans integrated before the first frame (the run stops at its last lap)' },
     mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
-    ...paneSpec('left'),
-    ...paneSpec('right'),
+    ...paneSpec('left', 0),
+    ...paneSpec('right', 1),
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
     log: { type: logName, doc: 'real-log mode: the log of the server’s /datasets/ to load when the panel first comes into view; absent: the reader picks one' },
     'log-resolution': { type: oneOf(['0.025', '0.05', '0.1', '0.2'], Number), default: LOG_DEFAULTS['log-resolution'], doc: 'real-log mode: metres per cell' },
@@ -174,15 +212,19 @@ class MapWeaverElement extends HTMLElement {
   async connectedCallback() {
     if (!firstConnection(this, MapWeaverElement.attributeSpec)) return;
     this.values = this.attrs.read();
-    this.options = {
-      speed: this.values.speed,
-      person: this.values.person,
-      panes: SIDES.map((side) => this.paneOptions(side)),
-    };
+    // The person and the panes' settings wait for the core's defaults.
+    this.options = { speed: this.values.speed, person: null, panes: null };
     this.build();
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      const constants = this.core.constants();
+      this.limits = constants.mapWeaver;
+      this.values = this.attrs.resolve(constants);
+      this.options.person = this.values.person;
+      this.options.panes = SIDES.map((side) => this.paneOptions(side));
+      this.applyLimits();
+      this.syncControls();
     } catch (e) {
       showError(this, e, 'could not load the core: ');
       return;
@@ -221,7 +263,8 @@ class MapWeaverElement extends HTMLElement {
     else if (name === 'speed') {
       this.options.speed = value;
       this.speedSelect.input.value = String(value);
-    } else if (name === 'person') this.setPerson(value);
+    } else if (!this.limits) return; // read again once the core's bounds are in
+    else if (name === 'person') this.setPerson(value);
     else if (name === 'mode') this.setMode(value);
     else if (name === 'map-width') {
       resetPaneSizes(this.panes);
@@ -236,10 +279,13 @@ class MapWeaverElement extends HTMLElement {
   /** The current state as attribute values, for "Copy link". */
   linkState() {
     const o = this.options;
+    // Before the core has loaded: what the attributes say.
+    const person = o.person ?? this.values.person;
+    const panes = o.panes ?? SIDES.map((side) => this.paneOptions(side));
     const state = {
       seed: this.values.seed, laps: this.values.laps,
       scene: this.values.scene ? JSON.stringify(this.values.scene) : null,
-      person: o.person ? 'on' : 'off', speed: o.speed,
+      person: person === undefined ? null : person ? 'on' : 'off', speed: o.speed,
       autoplay: this.playing ? 'on' : 'off',
       scans: this.reading ? this.reading.scans : this.values.scans,
       mode: this.mode,
@@ -248,8 +294,8 @@ class MapWeaverElement extends HTMLElement {
     };
     SIDES.forEach((side, k) => {
       for (const [attr, field] of Object.entries(PANE_FIELDS)) {
-        const v = o.panes[k][field];
-        state[`${side}-${attr}`] = PANE_FORMATS[field] ? PANE_FORMATS[field](v) : v;
+        const v = panes[k][field];
+        state[`${side}-${attr}`] = v === undefined ? null : formatPane(field, v);
       }
     });
     return { ...state, ...this.logLinkState() };
@@ -298,7 +344,7 @@ class MapWeaverElement extends HTMLElement {
     this.playButton = button('Play', () => (this.playing ? this.pause() : this.play()), { name: 'play', pressed: false });
     this.speedSelect = select('Speed', SPEEDS.map((s) => [String(s), `${s}×`]), String(this.options.speed),
       (v) => { this.options.speed = Number(v); }, { name: 'speed' });
-    this.personToggle = toggle('Person in the corridor', this.options.person, (on) => this.setPerson(on), { name: 'person' });
+    this.personToggle = toggle('Person in the corridor', false, (on) => this.setPerson(on), { name: 'person' });
     this.status = el('p', { class: 'occgrid-readout map-weaver-status', 'aria-live': 'polite' }, 'Loading the core…');
     this.loop = frameLoop(this, (dt) => this.tick(dt));
 
@@ -350,31 +396,33 @@ class MapWeaverElement extends HTMLElement {
       class: 'occgrid-map map-weaver-map', tabindex: 0, role: 'img',
       'aria-label': `${side === 'left' ? 'Left' : 'Right'} map, not built yet. ${CURSOR_HINT}`,
     });
-    const o = this.options.panes[k];
-    const learned = toggle('Learned model', o.model === 'learned', (on) => this.setPane(k, { model: on ? 'learned' : 'hand-crafted' }), { name: `learned-${side}` });
-    const oracle = toggle('Pose oracle', o.pose === 'oracle', (on) => this.setPane(k, { pose: on ? 'oracle' : 'dead-reckoning' }), { name: `oracle-${side}` });
+    // The knobs take their ranges and values once the core has loaded
+    // (applyLimits, syncControls) and their menus once the run exists
+    // (fillChoices); until then they are hidden.
+    const learned = toggle('Learned model', false, (on) => this.setPane(k, { model: on ? 'learned' : 'hand-crafted' }), { name: `learned-${side}` });
+    const oracle = toggle('Pose oracle', false, (on) => this.setPane(k, { pose: on ? 'oracle' : 'dead-reckoning' }), { name: `oracle-${side}` });
     const clamp = slider({
-      label: 'Clamp l_max', min: 1, max: 16, step: 0.5, value: o.clamp, format: (v) => fixed(v, 1),
+      label: 'Clamp l_max', format: (v) => fixed(v, 1),
       onInput: (v) => this.setPane(k, { clamp: v }), name: `clamp-${side}`,
     });
     const strength = slider({
-      label: 'Evidence strength', min: 0.25, max: 3, step: 0.25, value: o.strength, format: (v) => `${fixed(v, 2)}×`,
+      label: 'Evidence strength', format: (v) => `${fixed(v, 2)}×`,
       onInput: (v) => this.setPane(k, { strength: v }), name: `strength-${side}`,
     });
-    const mapper = select('Mapper', [['traversal', 'Ray traversal'], ['sweep', 'Every-cell sweep (Table 9.1)']], o.mapper,
+    const mapper = select('Mapper', [['traversal', 'Ray traversal'], ['sweep', 'Every-cell sweep (Table 9.1)']], 'traversal',
       (v) => this.setPane(k, { mapper: v }), { name: `mapper-${side}` });
-    const sensor = select('Sensor', [['lidar', 'Thin LiDAR beams'], ['cone', 'Cone of opening β']], o.sensor,
+    const sensor = select('Sensor', [['lidar', 'Thin LiDAR beams'], ['cone', 'Cone of opening β']], 'lidar',
       (v) => this.setPane(k, { sensor: v }), { name: `sensor-${side}` });
     const beta = slider({
-      label: 'Cone opening β', min: 1, max: 30, step: 1, value: o.betaDeg, format: (v) => `${fixed(v, 0)}°`,
+      label: 'Cone opening β', format: (v) => `${fixed(v, 0)}°`,
       onInput: (v) => this.setPane(k, { betaDeg: v }), name: `beta-${side}`,
     });
-    const beamChoices = BEAM_CHOICES.includes(o.beams ?? 60) ? BEAM_CHOICES : [...BEAM_CHOICES, o.beams];
-    const beams = select('Beams', beamChoices.map((b) => [String(b), `${b}`]), String(o.beams ?? 60),
-      (v) => this.setPane(k, { beams: Number(v) === 60 ? null : Number(v) }), { name: `beams-${side}` });
-    const resolution = select('Cells', [['0.1', '0.10 m'], ['0.05', '0.05 m']], String(o.resolution ?? 0.1),
-      (v) => this.setPane(k, { resolution: Number(v) }), { name: `resolution-${side}` });
-    const forget = toggle('Forget to subtract l0', o.forgetL0, (on) => this.setPane(k, { forgetL0: on }), { name: `forget-l0-${side}` });
+    // Each option is a value the pane may use; choosing it sends the
+    // setting that asks for it (none for the scene's own).
+    const settingOf = (menu, v) => this.choices?.[menu].find((c) => String(c.value) === v)?.setting ?? null;
+    const beams = select('Beams', [], '', (v) => this.setPane(k, { beams: settingOf('beams', v) }), { name: `beams-${side}` });
+    const resolution = select('Cells', [], '', (v) => this.setPane(k, { resolution: settingOf('resolutions', v) }), { name: `resolution-${side}` });
+    const forget = toggle('Forget to subtract l0', false, (on) => this.setPane(k, { forgetL0: on }), { name: `forget-l0-${side}` });
     // Both panes have these controls: their names say which pane.
     const whose = side === 'left' ? 'left map' : 'right map';
     learned.input.setAttribute('aria-label', `Learned model, ${whose}`);
@@ -404,6 +452,8 @@ class MapWeaverElement extends HTMLElement {
       spoken: side, onClick: () => this.exportMap(k),
     });
     const chartBox = el('div', { class: 'map-weaver-chart map-weaver-tracked-chart', role: 'img', 'aria-label': `${side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds over time, no scans yet.` });
+    const knobs = el('div', { class: 'occgrid-controls map-weaver-knobs', hidden: true }, learned.root, oracle.root, clamp.root, strength.root,
+      mapper.root, sensor.root, beta.root, beams.root, resolution.root, forget.root);
     const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
       el('figcaption', {}, title, ' ', note),
       canvas,
@@ -413,12 +463,11 @@ class MapWeaverElement extends HTMLElement {
         el('span', {}, 'Cells visited ', visited, ' per scan'),
         el('span', {}, 'Core time ', scanMs, ' ms per scan')),
       ghost,
-      el('div', { class: 'occgrid-controls map-weaver-knobs' }, learned.root, oracle.root, clamp.root, strength.root,
-        mapper.root, sensor.root, beta.root, beams.root, resolution.root, forget.root),
+      knobs,
       chartBox,
       el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, save));
     const pane = {
-      side, k, root, canvas, note, learned, oracle, clamp, strength, mapper, sensor, beta, beams, resolution, forget,
+      side, k, root, canvas, note, knobs, learned, oracle, clamp, strength, mapper, sensor, beta, beams, resolution, forget,
       entropy, brier, visited, scanMs, ghost, chartBox, layers: this.paneLayers(k),
     };
     canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
@@ -426,7 +475,7 @@ class MapWeaverElement extends HTMLElement {
     canvas.addEventListener('blur', () => { if (this.cursor?.pane === k) { this.cursor = null; this.draw(); } });
     canvas.addEventListener('keydown', (e) => this.keyCursor(pane, e));
     canvas.addEventListener('focus', () => {
-      if (!this.cursor || this.cursor.pane !== k) this.cursor = { pane: k, col: 30, row: 35 };
+      if (!this.cursor || this.cursor.pane !== k) this.cursor = this.startCell(k);
       this.draw();
     });
     return pane;
@@ -516,6 +565,7 @@ class MapWeaverElement extends HTMLElement {
       this.weaver?.free();
       this.weaver = next;
       this.readTracked();
+      this.fillChoices(next.readout().choices);
       clearError(this);
     } catch (e) {
       if (next && next !== this.weaver) next.free();
@@ -562,8 +612,37 @@ class MapWeaverElement extends HTMLElement {
     return { w, h };
   }
 
+  /** Gives the sliders the core's ranges and shows the knobs. */
+  applyLimits() {
+    const range = (s, r) => Object.assign(s.input, { min: String(r.min), max: String(r.max), step: String(r.step) });
+    for (const p of this.panes) {
+      range(p.clamp, this.limits.clamp);
+      range(p.strength, this.limits.strength);
+      range(p.beta, this.limits.betaDeg);
+      p.knobs.hidden = false;
+    }
+  }
+
+  /** Fills the panes' beam and cell-size menus with the run's choices (`readout().choices`). */
+  fillChoices(choices) {
+    this.choices = choices;
+    const options = (list, label) => list.map((c) => el('option', { value: String(c.value) }, label(c.value)));
+    for (const p of this.panes) {
+      p.beams.input.replaceChildren(...options(choices.beams, String));
+      p.resolution.input.replaceChildren(...options(choices.resolutions, (m) => `${metres(m)} m`));
+    }
+    this.syncControls();
+  }
+
+  /** The value the pane's menu shows for `setting`: the scene's own for none. */
+  chosen(menu, setting) {
+    const own = this.choices?.[menu].find((c) => c.setting === null);
+    return String(setting ?? own?.value ?? '');
+  }
+
   /** Puts the controls in line with the options. */
   syncControls() {
+    if (!this.options.panes) return;
     this.personToggle.input.checked = this.options.person;
     this.speedSelect.input.value = String(this.options.speed);
     for (const p of this.panes) {
@@ -576,8 +655,8 @@ class MapWeaverElement extends HTMLElement {
       p.sensor.input.value = o.sensor;
       p.beta.set(o.betaDeg);
       p.beta.root.hidden = o.sensor !== 'cone';
-      p.beams.input.value = String(o.beams ?? 60);
-      p.resolution.input.value = String(o.resolution ?? this.reading?.panes[p.k].resolution ?? 0.1);
+      p.beams.input.value = this.chosen('beams', o.beams);
+      p.resolution.input.value = this.chosen('resolutions', o.resolution);
       p.forget.input.checked = o.forgetL0;
     }
   }
@@ -726,7 +805,7 @@ class MapWeaverElement extends HTMLElement {
     this.reading = r;
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
-      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.laps * r.scansPerLap)} · ${fixed(r.time, 1)} s of driving · ` +
+      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of driving · ` +
       `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}`;
   }
 
@@ -774,13 +853,19 @@ class MapWeaverElement extends HTMLElement {
 
   keyCursor(p, e) {
     if (!this.weaver) return;
-    const c = this.cursor && this.cursor.pane === p.k ? this.cursor : { pane: p.k, col: 30, row: 35 };
+    const c = this.cursor && this.cursor.pane === p.k ? this.cursor : this.startCell(p.k);
     const { w, h } = this.paneSize(p.k);
     const to = arrowCell(e, c, w, h);
     if (!to) return;
     e.preventDefault();
     this.cursor = { pane: p.k, ...to };
     this.draw();
+  }
+
+  /** Where the keyboard cursor starts on pane `k`: the core's first tracked cell (a wall). */
+  startCell(k) {
+    const t = this.tracked?.[k]?.[0];
+    return { pane: k, col: t?.col ?? 0, row: t?.row ?? 0 };
   }
 
   /** The hover line with no cell under the pointer or the keyboard cursor. */
@@ -796,7 +881,7 @@ class MapWeaverElement extends HTMLElement {
     const info = this.weaver.cellInfo(c.pane, c.col, c.row);
     if (!info) return this.clearHover();
     const side = SIDES[c.pane];
-    const state = info.unknown ? 'unknown (at the prior)' : info.p > 0.5 ? 'leaning occupied' : 'leaning free';
+    const state = LEANINGS[info.leaning];
     this.hover.textContent =
       `${side === 'left' ? 'Left' : 'Right'} map, cell (${info.ix}, ${info.iy}) at (${fixed(info.x, 2)} m, ${fixed(info.y, 2)} m): ` +
       `l = ${signed(info.l, 3)}, p = ${fixed(info.p, 4)}, ${count(info.updates)} update${info.updates === 1 ? '' : 's'} — ${state}; ` +

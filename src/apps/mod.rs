@@ -19,6 +19,7 @@ use crate::mapping::cell_filter::CellFilterPreset;
 pub struct Constants {
     pub cell_filter: CellFilterPresets,
     pub inverse_workbench: inverse_workbench::WorkbenchLimits,
+    pub map_weaver: map_weaver::WeaverLimits,
     pub sensor_fusion: sensor_fusion::FusionLimits,
     pub two_cell_table: two_cell_table::TwoCellLimits,
 }
@@ -39,6 +40,7 @@ impl Constants {
                 l0_lesson: CellFilterPreset::L0_LESSON,
             },
             inverse_workbench: inverse_workbench::WorkbenchLimits::chapter(),
+            map_weaver: map_weaver::WeaverLimits::chapter(),
             sensor_fusion: sensor_fusion::FusionLimits::chapter(),
             two_cell_table: two_cell_table::TwoCellLimits::chapter(),
         }
@@ -85,5 +87,70 @@ mod tests {
         assert!(with(-cone.half_cone_deg).validate().is_ok());
         assert!(with(cone.half_cone_deg + 0.01).validate().is_err());
         assert_eq!(JointQuery::chapter_two_cells().model.z_max, cone.max_range);
+    }
+
+    /// Map Weaver's knobs: each published range is accepted at both ends
+    /// and on every step, and refused a step past either end and between
+    /// steps, naming the pane's field (the strength was published as
+    /// 0.25 to 3 while the core took anything up to 10).
+    #[test]
+    fn map_weavers_limits_are_where_its_settings_refuse() {
+        use map_weaver::{PaneSettings, WeaverSettings};
+        let m = Constants::chapter().map_weaver;
+        let scene = crate::scenes::apartment::ApartmentScene::default();
+        type Set = fn(&mut PaneSettings, f64);
+        let knobs: [(&str, map_weaver::Steps, Set); 3] = [
+            ("strength", m.strength, |p, v| p.strength = v),
+            ("clamp", m.clamp, |p, v| p.clamp = v),
+            ("betaDeg", m.beta_deg, |p, v| p.beta_deg = v),
+        ];
+        for (field, r, set) in knobs {
+            let at = |v: f64| {
+                let mut p = PaneSettings::default();
+                set(&mut p, v);
+                p.validate(1, &scene)
+            };
+            let steps = ((r.max - r.min) / r.step).round() as usize;
+            for i in 0..=steps {
+                at(r.min + i as f64 * r.step).unwrap();
+            }
+            for v in [
+                r.min - r.step,
+                r.max + r.step,
+                r.min + r.step / 2.0,
+                f64::NAN,
+            ] {
+                let e = at(v).unwrap_err().to_string();
+                assert!(e.starts_with(&format!("invalid panes[1].{field}: ")), "{e}");
+            }
+        }
+        for r in m.pane_resolutions {
+            let p = PaneSettings {
+                resolution: Some(r),
+                ..PaneSettings::default()
+            };
+            p.validate(0, &scene).unwrap();
+        }
+        let laps = |laps| WeaverSettings {
+            laps,
+            ..WeaverSettings::default()
+        };
+        laps(m.max_laps).validate().unwrap();
+        assert!(laps(m.max_laps + 1).validate().is_err());
+        let mut lidar = scene.lidar;
+        lidar.beams = m.max_lidar_beams;
+        lidar.validate().unwrap();
+        lidar.beams += 1;
+        assert!(lidar.validate().is_err());
+        let d = WeaverSettings::default();
+        assert_eq!(
+            (
+                m.defaults.seed,
+                m.defaults.laps,
+                m.defaults.person,
+                m.defaults.panes
+            ),
+            (d.seed, d.laps, d.person, d.panes)
+        );
     }
 }

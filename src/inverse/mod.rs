@@ -8,10 +8,12 @@
 mod hand_crafted;
 pub mod learned;
 pub mod probes;
+pub mod scaled;
 pub mod training;
 
 pub use hand_crafted::{HandCrafted, HandCraftedParams};
 pub use learned::LearnedInverse;
+pub use scaled::Scaled;
 pub use training::TrainingConfig;
 
 /// What a mapper asks of an inverse sensor model.

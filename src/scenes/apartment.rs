@@ -332,16 +332,72 @@ impl ApartmentScene {
         Ok(World::from_boxes(g, &self.obstacles))
     }
 
-    /// Indices of the cells whose centres lie in any of `boxes`, in
-    /// increasing order.
+    /// The same apartment (extent, boxes, lap, sensor) rastered at
+    /// `resolution` metres per cell, as a pane of exercise 6 maps it: the
+    /// width and height are the extent over the new cell size, rounded to
+    /// whole cells. Refused when the cell size is not a positive number or
+    /// the map would hold more than [`MAX_SCENE_CELLS`] cells.
+    pub fn at_resolution(&self, resolution: f64) -> Result<Self> {
+        error::positive("resolution", resolution)?;
+        if resolution == self.resolution {
+            return Ok(self.clone());
+        }
+        let scale = self.resolution / resolution;
+        let (width, height) = (
+            (self.width as f64 * scale).round(),
+            (self.height as f64 * scale).round(),
+        );
+        if !(width * height <= MAX_SCENE_CELLS as f64) {
+            return Err(invalid(
+                "resolution",
+                format!("{} ({width} x {height} cells)", error::show(resolution)),
+                format!(
+                    "a cell size at which the apartment fits in at most {MAX_SCENE_CELLS} cells"
+                ),
+            ));
+        }
+        Ok(Self {
+            // Whole numbers of at most MAX_SCENE_CELLS: `as` is exact.
+            width: width as usize,
+            height: height as usize,
+            resolution,
+            ..self.clone()
+        })
+    }
+
+    /// Indices of the cells of `g` whose centres lie in any of `boxes`, in
+    /// increasing order. Only the cells under each box's bounds are looked
+    /// at, so a small box (the person, once per scan and pane) costs its
+    /// own cells, not the map's.
     pub fn cells_in(&self, g: &GridGeometry, boxes: &[Rect]) -> Vec<usize> {
-        (0..g.len())
-            .filter(|&i| {
-                let (ix, iy) = g.cell_of_index(i);
-                let (x, y) = g.cell_center(ix, iy);
-                boxes.iter().any(|b| b.contains(x, y))
-            })
-            .collect()
+        let [ox, oy] = g.origin();
+        let res = g.resolution();
+        // The cells whose centres may lie in [lo, hi): a superset, from the
+        // cell holding `lo` to the one holding `hi`; `contains` decides. A
+        // NaN bound gives an empty span, an infinite one the whole row.
+        let span = |lo: f64, hi: f64, origin: f64, n: usize| {
+            let first = ((lo - origin) / res).floor().max(0.0) as usize;
+            let end = (((hi - origin) / res).ceil().max(0.0) as usize).min(n);
+            first..end
+        };
+        let mut out = Vec::new();
+        for b in boxes {
+            for iy in span(b.min_y, b.max_y, oy, g.height()) {
+                for ix in span(b.min_x, b.max_x, ox, g.width()) {
+                    let (x, y) = g.cell_center(ix, iy);
+                    if b.contains(x, y) {
+                        out.push(g.index(ix, iy));
+                    }
+                }
+            }
+        }
+        // One box's cells come row by row, already in order; several boxes
+        // may interleave and overlap.
+        if boxes.len() > 1 {
+            out.sort_unstable();
+            out.dedup();
+        }
+        out
     }
 
     /// Indices of the three tracked cells.
@@ -519,6 +575,114 @@ impl ApartmentSim {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every cell of the chapter's 0.10 m apartment is four cells at
+    /// 0.05 m with its own truth: the boxes' edges lie on the 0.10 m grid.
+    #[test]
+    fn the_apartment_at_half_the_cell_size_has_four_cells_per_cell_with_its_truth() {
+        let scene = ApartmentScene::default();
+        let fine = scene.at_resolution(0.05).unwrap();
+        assert_eq!((fine.width, fine.height, fine.resolution), (240, 180, 0.05));
+        assert_eq!(fine.obstacles, scene.obstacles);
+        assert_eq!(fine.path, scene.path);
+        let coarse = scene.ground_truth().unwrap();
+        let fine_truth = fine.ground_truth().unwrap();
+        let (gc, gf) = (coarse.geometry(), fine_truth.geometry());
+        for iy in 0..gf.height() {
+            for ix in 0..gf.width() {
+                assert_eq!(
+                    fine_truth.occupied()[gf.index(ix, iy)],
+                    coarse.occupied()[gc.index(ix / 2, iy / 2)],
+                    "fine cell ({ix}, {iy})"
+                );
+            }
+        }
+        assert_eq!(scene.at_resolution(0.1).unwrap(), scene);
+        assert_eq!(fine.at_resolution(0.1).unwrap(), scene);
+    }
+
+    #[test]
+    fn a_cell_size_that_is_no_size_or_too_fine_is_refused_by_name() {
+        let scene = ApartmentScene::default();
+        for bad in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+            let e = scene.at_resolution(bad).unwrap_err().to_string();
+            assert!(e.starts_with("invalid resolution: "), "{e}");
+        }
+        // 0.01 m: 1200 x 900 = 1,080,000 cells, past the cap.
+        let e = scene.at_resolution(0.01).unwrap_err().to_string();
+        assert!(
+            e.contains("0.01 (1200 x 900 cells)") && e.contains(&MAX_SCENE_CELLS.to_string()),
+            "{e}"
+        );
+        assert!(scene.at_resolution(0.0125).unwrap().validate().is_ok());
+    }
+
+    /// `cells_in` looks only under each box, and finds what a look at every
+    /// cell finds: boxes inside, across the edge, outside, overlapping,
+    /// empty, with NaN or infinite bounds, on a map whose origin is not 0.
+    #[test]
+    fn cells_in_finds_what_a_look_at_every_cell_finds() {
+        use rand::Rng;
+        let every_cell = |g: &GridGeometry, boxes: &[Rect]| -> Vec<usize> {
+            (0..g.len())
+                .filter(|&i| {
+                    let (ix, iy) = g.cell_of_index(i);
+                    let (x, y) = g.cell_center(ix, iy);
+                    boxes.iter().any(|b| b.contains(x, y))
+                })
+                .collect()
+        };
+        let scene = ApartmentScene::default();
+        let mut rng = StdRng::seed_from_u64(7);
+        let geometries = [
+            scene.geometry().unwrap(),
+            GridGeometry::new(50, 40, 0.2, -3.0, 1.5).unwrap(),
+        ];
+        for g in &geometries {
+            let [ox, oy] = g.origin();
+            let (w, h) = (
+                g.width() as f64 * g.resolution(),
+                g.height() as f64 * g.resolution(),
+            );
+            let mut random_box = || {
+                let x = ox - 2.0 + rng.random::<f64>() * (w + 4.0);
+                let y = oy - 2.0 + rng.random::<f64>() * (h + 4.0);
+                Rect::new(
+                    x,
+                    y,
+                    x + rng.random::<f64>() * 4.0,
+                    y + rng.random::<f64>() * 4.0,
+                )
+            };
+            for n in [1, 1, 1, 2, 3] {
+                for _ in 0..40 {
+                    let boxes: Vec<Rect> = (0..n).map(|_| random_box()).collect();
+                    assert_eq!(
+                        scene.cells_in(g, &boxes),
+                        every_cell(g, &boxes),
+                        "{boxes:?}"
+                    );
+                }
+            }
+            let odd = [
+                Rect::new(f64::NAN, oy, ox + 1.0, oy + 1.0),
+                Rect::new(f64::NEG_INFINITY, oy + 0.5, f64::INFINITY, oy + 0.9),
+                Rect::new(ox + 1.0, oy + 1.0, ox + 1.0, oy + 2.0),
+                Rect::new(ox + 3.0, oy + 3.0, ox + 1.0, oy + 1.0),
+                Rect::new(ox - 9.0, oy - 9.0, ox - 5.0, oy - 5.0),
+            ];
+            for b in odd {
+                assert_eq!(scene.cells_in(g, &[b]), every_cell(g, &[b]), "{b:?}");
+            }
+            assert_eq!(scene.cells_in(g, &odd), every_cell(g, &odd));
+        }
+        // The person's 0.5 m square covers 5 x 5 cells at 0.10 m.
+        let g = scene.geometry().unwrap();
+        assert_eq!(
+            scene.cells_in(&g, &[Rect::new(3.0, 4.1, 3.5, 4.6)]).len(),
+            25
+        );
+    }
 
     #[test]
     fn default_apartment_is_120_by_90_at_ten_centimetres() {

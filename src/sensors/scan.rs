@@ -7,6 +7,7 @@
 
 use crate::error::{self, invalid, OccError, Result};
 use crate::geometry::Pose;
+use std::borrow::Cow;
 
 /// One range scan: `ranges[i]` metres measured along `bearings[i]` radians
 /// (relative to the pose's heading).
@@ -89,6 +90,26 @@ impl Scan {
             ..self.clone()
         })
     }
+
+    /// Every `stride`-th beam, starting with the first: the scan of a
+    /// sensor with fewer, evenly spaced beams (a stride that divides the
+    /// beam count keeps the spacing uniform all the way round). Stride 1
+    /// is the scan itself, borrowed; a stride past the beam count keeps
+    /// only the first beam. The beams kept were checked when this scan was
+    /// built, so the thinned scan needs no second check.
+    pub fn thinned(&self, stride: usize) -> Result<Cow<'_, Self>> {
+        if stride == 0 {
+            return Err(invalid("stride", 0, "a whole number of at least 1"));
+        }
+        if stride == 1 {
+            return Ok(Cow::Borrowed(self));
+        }
+        Ok(Cow::Owned(Self {
+            pose: self.pose,
+            ranges: self.ranges.iter().step_by(stride).copied().collect(),
+            bearings: self.bearings.iter().step_by(stride).copied().collect(),
+        }))
+    }
 }
 
 /// One range reading of a cone sensor: the sensor's pose, the cone axis's
@@ -124,5 +145,43 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("pose.x"));
+    }
+
+    /// A 60-beam scan thinned to every third beam is the 20-beam scan of
+    /// the same sensor: beam k of it is beam 3k of the full one.
+    #[test]
+    fn thinning_keeps_every_stride_th_beam_from_the_first() {
+        let pose = Pose {
+            x: 1.0,
+            y: 2.0,
+            theta: 0.5,
+        };
+        let step = std::f64::consts::TAU / 60.0;
+        let ranges: Vec<f64> = (0..60).map(|i| 0.5 + 0.1 * i as f64).collect();
+        let full = Scan::uniform(pose, ranges.clone(), 0.0, step).unwrap();
+
+        let third = full.thinned(3).unwrap();
+        assert_eq!(third.len(), 20);
+        assert_eq!(third.pose(), pose);
+        for k in 0..20 {
+            assert_eq!(third.ranges()[k], ranges[3 * k]);
+            assert_eq!(third.bearings()[k], full.bearings()[3 * k]);
+        }
+        let twenty = Scan::uniform(
+            pose,
+            (0..20).map(|k| ranges[3 * k]).collect(),
+            0.0,
+            3.0 * step,
+        )
+        .unwrap();
+        for k in 0..20 {
+            assert!((third.bearings()[k] - twenty.bearings()[k]).abs() < 1e-12);
+        }
+
+        assert!(matches!(full.thinned(1).unwrap(), Cow::Borrowed(s) if s == &full));
+        let one = full.thinned(1000).unwrap();
+        assert_eq!((one.ranges(), one.bearings()), (&ranges[..1], &[0.0][..]));
+        let e = full.thinned(0).unwrap_err().to_string();
+        assert!(e.contains("stride") && e.contains('0'), "{e}");
     }
 }

@@ -1,23 +1,19 @@
 // The model values a widget must state before its core has loaded: the
 // cell filter's attribute defaults, which are the chapter's worked example
-// and fill its sliders at once. Everything else the widgets take from the
-// core's `constants()` when it has loaded; tests/node/constants.test.mjs
-// checks that these, and the README's tables, say what the core says.
+// and fill its sliders at once, and the defaults of Map Weaver's real-log
+// panel, which its links are written against. Everything else the widgets
+// take from the core's `constants()` when it has loaded (Map Weaver's
+// simulation: `constants().mapWeaver`, its ranges and its chapter run);
+// tests/node/constants.test.mjs checks that these, and the README's
+// tables, say what the core says.
 
 /** <occgrid-cell-filter>'s defaults: the core's `constants().cellFilter.workedExample`. */
 export const CELL_FILTER_DEFAULTS = { 'p-occ': '0.70', 'p-free': '0.30', prior: '0.50', readings: 'oof', 'forget-l0': 'off' };
 
 /**
- * <occgrid-map-weaver>'s map defaults, per attribute suffix (`left-clamp`,
- * `right-clamp`, …): the core's default panes (`MapWeaver` readout), the
- * left map with Table 9.2 and the right one with the learned model.
- */
-export const MAP_WEAVER_PANE_DEFAULTS = { clamp: '12', strength: '1', beta: '22' };
-export const MAP_WEAVER_MODELS = { left: 'hand-crafted', right: 'learned' };
-
-/**
- * Its real-log panel's defaults, written as a link writes them: the core's
- * `LogMapSession.defaultSettings()`. The panel itself starts from the core's.
+ * <occgrid-map-weaver>'s real-log panel's defaults, written as a link
+ * writes them: the core's `LogMapSession.defaultSettings()`. The panel
+ * itself starts from the core's.
  */
 export const MAP_WEAVER_LOG_DEFAULTS = {
   'log-resolution': '0.05', 'log-range-cap': '30', 'log-alpha': '0.10', 'log-l-occ': '0.85', 'log-l-free': '-0.40',

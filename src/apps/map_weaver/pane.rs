@@ -1,0 +1,267 @@
+//! One of Map Weaver's two maps: its grid, mapper and view, the model its
+//! settings ask for, and everything the widget shows about it over time.
+//!
+//! Per scan ([`Pane::integrate`]): the scan at the pose the pane's settings
+//! ask for (the oracle's or dead reckoning's), thinned to its beams, goes
+//! through its inverse model and mapper into its grid (Table 9.1, by ray
+//! traversal or by the literal sweep); its [`MapView`] brings pixels,
+//! entropy and Brier score up to date from the cells that changed; the
+//! curves, the tracked cells and the ghost watch take one more point.
+
+use super::ghosts::GhostTracker;
+use super::settings::{
+    renamed, MapperKind, ModelKind, PaneSettings, PoseSource, SensorKind, WeaverSettings,
+};
+use super::timing::{Clock, RecentTimes};
+use crate::error::Result;
+use crate::geometry::{GridGeometry, Pose};
+use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse, Scaled};
+use crate::mapping::sweep::sweep_scan;
+use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::render::map_view::MapView;
+use crate::scenes::apartment::{ApartmentScene, SimScan};
+use crate::sensors::Scan;
+use std::cell::OnceCell;
+
+/// A pane's inverse model, with the strength applied. An enum rather than
+/// a trait object so that the traversal's inner loop is monomorphic.
+#[derive(Debug, Clone)]
+pub(super) enum PaneModel {
+    HandCrafted(HandCrafted),
+    Learned(Scaled<LearnedInverse>),
+}
+
+impl PaneModel {
+    /// The model pane settings `p` ask for: the kind, its strength, the
+    /// cone's opening for Table 9.2, and `l0` forgotten or not.
+    pub fn build(
+        p: &PaneSettings,
+        base: &HandCraftedParams,
+        learned: &LearnedInverse,
+    ) -> Result<Self> {
+        Ok(match p.model {
+            ModelKind::HandCrafted => {
+                let mut params = *base;
+                if p.sensor == SensorKind::Cone {
+                    params.beta = p.beta_deg.to_radians();
+                }
+                if p.forget_l0 {
+                    // Evidence l - 0 instead of l - l0.
+                    let l0 = params.l0;
+                    params.l_occ -= l0;
+                    params.l_free -= l0;
+                }
+                Self::HandCrafted(HandCrafted::with_strength(params, p.strength)?)
+            }
+            ModelKind::Learned => {
+                let model = if p.forget_l0 {
+                    learned.with_l0(0.0)
+                } else {
+                    learned.clone()
+                };
+                Self::Learned(Scaled::new(model, p.strength)?)
+            }
+        })
+    }
+
+    fn integrate(
+        &self,
+        kind: MapperKind,
+        mapper: &mut RayMapper,
+        grid: &mut LogOddsGrid,
+        scan: &Scan,
+    ) -> ScanStats {
+        match (self, kind) {
+            (Self::HandCrafted(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
+            (Self::Learned(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
+            (Self::HandCrafted(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
+            (Self::Learned(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
+        }
+    }
+
+    /// The prior the model removes from its scores (0 when `l0` is
+    /// forgotten).
+    pub fn l0(&self) -> f32 {
+        match self {
+            Self::HandCrafted(m) => m.l0(),
+            Self::Learned(m) => m.l0(),
+        }
+    }
+}
+
+/// One simulated scan as a mapper's [`Scan`], at the true pose, and at the
+/// dead-reckoned pose when a pane asks for it (validated once, whichever
+/// panes use it).
+pub(super) struct PoseScans {
+    oracle: Scan,
+    odometry: Pose,
+    dead_reckoning: OnceCell<Scan>,
+}
+
+impl PoseScans {
+    pub fn new(scan: &SimScan, bearings: &[f64]) -> Result<Self> {
+        Ok(Self {
+            oracle: Scan::new(scan.truth, scan.ranges.clone(), bearings.to_vec())?,
+            odometry: scan.odometry,
+            dead_reckoning: OnceCell::new(),
+        })
+    }
+
+    fn at(&self, pose: PoseSource) -> Result<&Scan> {
+        match pose {
+            PoseSource::Oracle => Ok(&self.oracle),
+            PoseSource::DeadReckoning => {
+                if let Some(s) = self.dead_reckoning.get() {
+                    return Ok(s);
+                }
+                let s = self.oracle.with_pose(self.odometry)?;
+                Ok(self.dead_reckoning.get_or_init(|| s))
+            }
+        }
+    }
+}
+
+/// One map and everything the widget shows about it.
+#[derive(Debug, Clone)]
+pub(super) struct Pane {
+    pub settings: PaneSettings,
+    pub model: PaneModel,
+    /// The pane's own scene: the run's, at the pane's resolution (its grid
+    /// limits may differ from the other pane's).
+    pub scene: ApartmentScene,
+    pub geometry: GridGeometry,
+    /// The ground truth at the pane's resolution.
+    pub truth: Vec<bool>,
+    pub tracked_cells: [usize; 3],
+    pub grid: LogOddsGrid,
+    pub mapper: RayMapper,
+    pub view: MapView,
+    /// Entropy (bits) after each scan; entry 0 is the empty map.
+    pub entropy_curve: Vec<f64>,
+    /// Brier score over the surveyed region after each scan; entry 0 is
+    /// the empty map.
+    pub brier_curve: Vec<f64>,
+    /// The tracked cells' log odds after each scan; entry 0 is the empty
+    /// map.
+    pub tracked: Vec<[f32; 3]>,
+    pub last: ScanStats,
+    /// The pose the last scan was integrated at.
+    pub pose: Pose,
+    pub ghost: GhostTracker,
+    /// Core milliseconds of the pane's recent scans (mapping and view).
+    pub scan_ms: RecentTimes,
+}
+
+impl Pane {
+    /// An empty pane `k` of `settings` with pane settings `p`.
+    pub fn new(
+        settings: &WeaverSettings,
+        learned: &LearnedInverse,
+        k: usize,
+        p: &PaneSettings,
+    ) -> Result<Self> {
+        p.validate(k, &settings.scene)?;
+        // A resolution the scene cannot be drawn at is the pane's field.
+        let field = format!("panes[{k}].resolution (the scene's width x height at it)");
+        let scene = match p.resolution {
+            Some(r) => settings
+                .scene
+                .at_resolution(r)
+                .map_err(|e| renamed(&field, e))?,
+            None => settings.scene.clone(),
+        };
+        let world = scene.ground_truth().map_err(|e| renamed(&field, e))?;
+        let geometry = *world.geometry();
+        let truth = world.occupied().to_vec();
+        let tracked_cells = scene.tracked_cells()?;
+        let region = scene.cells_in(&geometry, &[scene.surveyed]);
+        let grid = LogOddsGrid::new(
+            geometry,
+            FilterSettings {
+                prior: 0.5,
+                clamp: p.clamp,
+            },
+        )?;
+        let mut view = MapView::new(&geometry, &truth, &region)?;
+        view.sync(&grid);
+        let model = PaneModel::build(p, &settings.hand_crafted, learned)?;
+        let first = tracked_cells.map(|i| grid.log_odds()[i]);
+        Ok(Self {
+            settings: *p,
+            model,
+            geometry,
+            truth,
+            tracked_cells,
+            entropy_curve: vec![view.entropy_bits()],
+            brier_curve: vec![view.brier_region()],
+            tracked: vec![first],
+            grid,
+            mapper: RayMapper::new(),
+            view,
+            last: ScanStats::default(),
+            pose: settings.scene.path.pose_at(0.0),
+            ghost: GhostTracker::default(),
+            scan_ms: RecentTimes::default(),
+            scene,
+        })
+    }
+
+    /// Integrates one scan (number `count`, from 1) at the pose and with
+    /// the beams the pane's settings ask for, then updates the view, the
+    /// curves and the ghost watch.
+    pub fn integrate(
+        &mut self,
+        scans: &PoseScans,
+        sim: &SimScan,
+        count: usize,
+        clock: Option<Clock>,
+    ) -> Result<()> {
+        let started = clock.map(|c| c());
+        let full = scans.at(self.settings.pose)?;
+        let s = full.thinned(self.beam_stride(full.len()))?;
+        self.last =
+            self.model
+                .integrate(self.settings.mapper, &mut self.mapper, &mut self.grid, &s);
+        self.pose = s.pose();
+        self.view.sync(&self.grid);
+        if let (Some(c), Some(t0)) = (clock, started) {
+            self.scan_ms.record((c() - t0).max(0.0));
+        }
+        self.entropy_curve.push(self.view.entropy_bits());
+        self.brier_curve.push(self.view.brier_region());
+        self.tracked
+            .push(self.tracked_cells.map(|i| self.grid.log_odds()[i]));
+        let under = sim
+            .person
+            .map(|r| self.scene.cells_in(&self.geometry, &[r]))
+            .unwrap_or_default();
+        self.ghost.observe(count, &under, self.grid.log_odds());
+        Ok(())
+    }
+
+    /// Back to the empty map, with the settings it has: the sums start
+    /// from zero, as a new pane's do, so that a pane rebuilt over the same
+    /// scans is bit for bit the pane that had these settings all along.
+    pub fn clear(&mut self) {
+        self.grid.reset();
+        self.view.clear();
+        self.view.sync(&self.grid);
+        self.entropy_curve.truncate(1);
+        self.brier_curve.truncate(1);
+        self.tracked.truncate(1);
+        self.last = ScanStats::default();
+        self.ghost.clear();
+        self.scan_ms.clear();
+    }
+
+    /// The pane uses every `stride`-th beam of a `lidar_beams`-beam scan:
+    /// its beam count divides the LiDAR's (checked with the settings), so
+    /// the beams kept stay evenly spaced.
+    pub fn beam_stride(&self, lidar_beams: usize) -> usize {
+        self.settings
+            .beams
+            .map_or(1, |b| lidar_beams / b.max(1))
+            .max(1)
+    }
+}
