@@ -173,10 +173,10 @@ impl Weaver {
         self.tracked_cells
     }
     pub fn grid(&self, pane: usize) -> Result<&LogOddsGrid> {
-        Ok(&self.pane(pane)?.grid)
+        Ok(self.pane(pane)?.map.grid())
     }
     pub fn view(&self, pane: usize) -> Result<&MapView> {
-        Ok(&self.pane(pane)?.view)
+        Ok(self.pane(pane)?.map.view())
     }
     /// Seconds of driving that `scans` scans take at the scene's scan rate:
     /// the readout's time and the charts' x axis, both from here.
@@ -345,11 +345,12 @@ impl Weaver {
         self.pane(pane)?;
         check_clamp(pane, clamp)?;
         let p = self.pane_mut(pane)?;
-        p.grid
+        p.map
+            .grid_mut()
             .set_clamp(clamp)
             .map_err(|e| settings::renamed(&format!("panes[{pane}].clamp"), e))?;
         p.settings.clamp = clamp;
-        p.view.sync(&p.grid);
+        p.map.pixels();
         self.settings.panes[pane].clamp = clamp;
         Ok(())
     }

@@ -13,16 +13,21 @@ use super::settings::{
     renamed, MapperKind, ModelKind, PaneSettings, PoseSource, SensorKind, WeaverSettings,
 };
 use super::timing::{Clock, RecentTimes};
+use crate::apps::pane::MapPane;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
-use crate::grid::{FilterSettings, LogOddsGrid};
+use crate::grid::{Dense, FilterSettings, LogOdds, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse, Scaled};
 use crate::mapping::sweep::sweep_scan;
-use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::mapping::traversal::ScanStats;
 use crate::render::map_view::MapView;
 use crate::scenes::apartment::{ApartmentScene, SimScan};
 use crate::sensors::Scan;
 use std::cell::OnceCell;
+
+/// A Map Weaver map: the whole apartment at one pixel per cell, its view
+/// kept up to date cell by cell with its entropy and Brier score.
+pub(super) type WeaverMap = MapPane<LogOdds, Dense<f32>, MapView>;
 
 /// A pane's inverse model, with the strength applied. An enum rather than
 /// a trait object so that the traversal's inner loop is monomorphic.
@@ -65,18 +70,20 @@ impl PaneModel {
         })
     }
 
-    fn integrate(
-        &self,
-        kind: MapperKind,
-        mapper: &mut RayMapper,
-        grid: &mut LogOddsGrid,
-        scan: &Scan,
-    ) -> ScanStats {
+    fn integrate(&self, kind: MapperKind, map: &mut WeaverMap, scan: &Scan) -> ScanStats {
         match (self, kind) {
-            (Self::HandCrafted(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
-            (Self::Learned(m), MapperKind::Traversal) => mapper.integrate(grid, m, scan),
-            (Self::HandCrafted(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
-            (Self::Learned(m), MapperKind::Sweep) => sweep_scan(grid, m, scan),
+            (Self::HandCrafted(m), MapperKind::Traversal) => map.integrate(m, scan),
+            (Self::Learned(m), MapperKind::Traversal) => map.integrate(m, scan),
+            (Self::HandCrafted(m), MapperKind::Sweep) => {
+                let stats = sweep_scan(map.grid_mut(), m, scan);
+                map.count(scan, stats);
+                stats
+            }
+            (Self::Learned(m), MapperKind::Sweep) => {
+                let stats = sweep_scan(map.grid_mut(), m, scan);
+                map.count(scan, stats);
+                stats
+            }
         }
     }
 
@@ -134,9 +141,8 @@ pub(super) struct Pane {
     /// The ground truth at the pane's resolution.
     pub truth: Vec<bool>,
     pub tracked_cells: [usize; 3],
-    pub grid: LogOddsGrid,
-    pub mapper: RayMapper,
-    pub view: MapView,
+    /// The grid, its mapper and its view.
+    pub map: WeaverMap,
     /// Entropy (bits) after each scan; entry 0 is the empty map.
     pub entropy_curve: Vec<f64>,
     /// Brier score over the surveyed region after each scan; entry 0 is
@@ -196,9 +202,7 @@ impl Pane {
             entropy_curve: vec![view.entropy_bits()],
             brier_curve: vec![view.brier_region()],
             tracked: vec![first],
-            grid,
-            mapper: RayMapper::new(),
-            view,
+            map: MapPane::new(grid, view),
             last: ScanStats::default(),
             pose: settings.scene.path.pose_at(0.0),
             ghost: GhostTracker::default(),
@@ -220,23 +224,25 @@ impl Pane {
         let started = clock.map(|c| c());
         let full = scans.at(self.settings.pose)?;
         let s = full.thinned(self.beam_stride(full.len()))?;
-        self.last =
-            self.model
-                .integrate(self.settings.mapper, &mut self.mapper, &mut self.grid, &s);
+        self.last = self
+            .model
+            .integrate(self.settings.mapper, &mut self.map, &s);
         self.pose = s.pose();
-        self.view.sync(&self.grid);
+        self.map.pixels();
         if let (Some(c), Some(t0)) = (clock, started) {
             self.scan_ms.record((c() - t0).max(0.0));
         }
-        self.entropy_curve.push(self.view.entropy_bits());
-        self.brier_curve.push(self.view.brier_region());
+        let (grid, view) = (self.map.grid(), self.map.view());
+        self.entropy_curve.push(view.entropy_bits());
+        self.brier_curve.push(view.brier_region());
         self.tracked
-            .push(self.tracked_cells.map(|i| self.grid.log_odds()[i]));
+            .push(self.tracked_cells.map(|i| grid.log_odds()[i]));
         let under = sim
             .person
             .map(|r| self.scene.cells_in(&self.geometry, &[r]))
             .unwrap_or_default();
-        self.ghost.observe(count, &under, self.grid.log_odds());
+        self.ghost
+            .observe(count, &under, self.map.grid().log_odds());
         Ok(())
     }
 
@@ -244,9 +250,8 @@ impl Pane {
     /// from zero, as a new pane's do, so that a pane rebuilt over the same
     /// scans is bit for bit the pane that had these settings all along.
     pub fn clear(&mut self) {
-        self.grid.reset();
-        self.view.clear();
-        self.view.sync(&self.grid);
+        self.map.reset();
+        self.map.pixels();
         self.entropy_curve.truncate(1);
         self.brier_curve.truncate(1);
         self.tracked.truncate(1);

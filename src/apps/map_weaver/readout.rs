@@ -199,14 +199,14 @@ impl Weaver {
             height: p.geometry.height(),
             scan_ms: p.scan_ms.mean(),
             ghost: p.ghost.readout(|n| self.seconds_after(n)),
-            l0: p.grid.l0(),
+            l0: p.map.grid().l0(),
             model_l0: p.model.l0(),
-            entropy_bits: p.view.entropy_bits(),
-            brier: p.view.brier_region(),
-            brier_all: p.view.brier_all(),
+            entropy_bits: p.map.view().entropy_bits(),
+            brier: p.map.view().brier_region(),
+            brier_all: p.map.view().brier_all(),
             cells_visited: p.last.cells_visited,
             cells_updated: p.last.cells_updated,
-            tracked: p.tracked_cells.map(|i| p.grid.log_odds()[i]),
+            tracked: p.tracked_cells.map(|i| p.map.grid().log_odds()[i]),
         }
     }
 
@@ -234,11 +234,13 @@ impl Weaver {
     /// at the top: the image is north up), or `None` outside the map.
     pub fn cell_info(&self, pane: usize, col: usize, row: usize) -> Result<Option<CellInfo>> {
         let p = self.pane(pane)?;
-        Ok(readout_at_pixel(&p.grid, col, row).map(|cell| CellInfo {
-            occupied: p.truth[p.geometry.index(cell.ix, cell.iy)],
-            leaning: Leaning::of(&cell),
-            cell,
-        }))
+        Ok(
+            readout_at_pixel(p.map.grid(), col, row).map(|cell| CellInfo {
+                occupied: p.truth[p.geometry.index(cell.ix, cell.iy)],
+                leaning: Leaning::of(&cell),
+                cell,
+            }),
+        )
     }
 
     /// What to draw over a pane: the robot where the pane put the last scan,
