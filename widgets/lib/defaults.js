@@ -17,7 +17,7 @@ export const MAP_WEAVER_MODELS = { left: 'hand-crafted', right: 'learned' };
 
 /**
  * Its real-log panel's defaults, written as a link writes them: the core's
- * `LogMapSession.defaultSettings()`. The panel itself starts from the core's.
+ * `RealLogSession.defaultSettings()`. The panel itself starts from the core's.
  */
 export const MAP_WEAVER_LOG_DEFAULTS = {
   'log-resolution': '0.05', 'log-range-cap': '30', 'log-alpha': '0.10', 'log-l-occ': '0.85', 'log-l-free': '-0.40',
