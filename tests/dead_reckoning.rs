@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! Dead reckoning on a real log (SPEC §11): the log's own motion increments
+//! Dead reckoning on a real log: the log's own motion increments
 //! with Table 5.6's noise, integrated from the first pose, seeded; and the
 //! work budget that bounds each call of a map build.
 

@@ -1003,9 +1003,12 @@ fn byte_parameters_refuse_what_is_not_bytes_by_name() {
             LaserLog::from_bytes_js(bad.clone()),
             &["invalid bytes", "Uint8Array"],
         );
-        refused(RealLogSession::new(bad), &["invalid bytes", "Uint8Array"]);
+        refused(
+            RealLogSession::new(bad, JsValue::UNDEFINED),
+            &["invalid bytes", "Uint8Array"],
+        );
     }
-    let mut s = RealLogSession::new(buffer.into()).unwrap();
+    let mut s = RealLogSession::new(buffer.into(), JsValue::UNDEFINED).unwrap();
     assert_eq!(
         get(&s.read(num(f64::INFINITY)).unwrap(), "finished").as_bool(),
         Some(true)

@@ -33,28 +33,23 @@ const DATASETS = [
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
 /**
- * Milliseconds of core work per call before yielding to the event loop:
- * half the 50 ms at which a task counts as long (and input starts to feel
- * late), leaving room for a call that runs slower than the last one
- * predicted, and long enough that the cost of each yield stays small.
- * Reads are sized in scans, builds in cell updates (`buildSlice`): a scan
- * down a corridor updates ten times the cells of one in an office, so a
- * count of scans could not keep a build's calls near the slice.
+ * Milliseconds of core work per call before yielding: half the 50 ms at
+ * which a task counts as long, leaving room for a call slower than the
+ * last predicted. Reads are sized in scans, builds in cell updates (a scan
+ * down a corridor updates ten times the cells of one in an office).
  */
 const SLICE_MS = 25;
 /**
  * Cell updates of the first build call, before any has been timed: a few
- * milliseconds here (about 80,000 updates per millisecond), so that a
- * machine several times slower still stays within the slice, while a short
- * build is not spent in tiny calls (each yield may wait for a frame). Later
- * builds start from the budget the last one reached.
+ * milliseconds here (about 80,000 updates per millisecond), within the
+ * slice on a machine several times slower. Later builds start from the
+ * budget the last one reached.
  */
 const FIRST_SLICE_CELLS = 250_000;
 /**
- * Least time between two redraws of the map while it is being built (the
- * first after as long): redrawing a million-cell map costs 10 to 40 ms, so
- * a short build (the Intel log) is drawn once, when done, and a long one a
- * few times a second.
+ * Least time between two redraws while building: a redraw costs 10 to
+ * 40 ms, so the Intel log is drawn once, when done, a long log a few times
+ * a second.
  */
 const DRAW_EVERY_MS = 250;
 /** Least time between two updates of the progress bar and status line. */
@@ -78,10 +73,9 @@ const ARROWS = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], Arrow
 const MAIN = 0;
 
 /**
- * Yields to the event loop and comes back in a new task: input is handled
- * and, when a frame is due, the progress bar and map are painted. (A
- * `scheduler.yield()` continuation would run ahead of painting: Chromium
- * then painted only every ~110 ms during a build.)
+ * Yields to the event loop and comes back in a new task, after input and
+ * any due frame (a `scheduler.yield()` continuation would run ahead of
+ * painting: Chromium then painted only every ~110 ms during a build).
  */
 const channel = new MessageChannel();
 const waiting = [];
@@ -134,18 +128,14 @@ export class RealLogPanel {
     ensureStyles();
     this.core = core;
     this.memory = memory;
-    /** The one core session, made with the first log and reused for the next ones. */
-    this.session = null;
-    /** The last state the core reported: what the panel shows. */
-    this.state = null;
+    this.session = null; // the one core session, made with the first log
+    this.state = null; // the core's last state: what the panel shows
     this.geometry = null;
     this.path = null;
-    /** Duration of each call into the core during the last load, for tests. */
-    this.trace = [];
-    /** The settings the controls show (the core's in force once a log is mapped). */
+    this.trace = []; // each call into the core during the last load, timed, for tests
+    // The settings the controls show (the core's in force once a log is mapped).
     this.settings = { ...core.RealLogSession.defaultSettings(), ...pick(settings) };
-    /** The /datasets/ log shown (or being read), null for a file of the reader's own. */
-    this.dataset = null;
+    this.dataset = null; // the /datasets/ log shown or read, null for a file of the reader's own
     this.fetches = 0;
     this.buildDom();
     container.append(this.root);
@@ -483,11 +473,7 @@ export class RealLogPanel {
     }
   }
 
-  /**
-   * Shows the core's state: the panel's `data-state` is the session's
-   * (`idle` before any log), and with `full` the progress bar, status line
-   * and controls follow it.
-   */
+  /** Shows the core's state: `data-state` is the session's; with `full`, the progress, status and controls too. */
   show(state, full = true) {
     this.state = state;
     this.root.dataset.state = state.state;
@@ -519,10 +505,7 @@ export class RealLogPanel {
     if (this.controls.rangeCap.input.max !== max) this.controls.rangeCap.input.max = max;
   }
 
-  /**
-   * Shows the dataset menu when the server has /datasets/ beside /widgets/:
-   * the logs its README names, or the two known ones.
-   */
+  /** Shows the dataset menu when the server has /datasets/ beside /widgets/: the logs its README names, or the two known. */
   async probeDatasets() {
     let names = [];
     try {
@@ -549,10 +532,7 @@ export class RealLogPanel {
     input.value = listed ? this.dataset : '';
   }
 
-  /**
-   * The seed of dead reckoning's noise: a whole number typed in (a text that
-   * is not one is refused by name, and the field shows the seed in use).
-   */
+  /** The seed of dead reckoning's noise, typed in: a text that is no whole number is refused by name. */
   seedControl(seed) {
     const id = nextId('real-log-seed');
     const input = el('input', { type: 'number', id, name: 'seed', min: 0, max: Number.MAX_SAFE_INTEGER, step: 1, value: String(seed), inputmode: 'numeric' });
@@ -637,11 +617,7 @@ export class RealLogPanel {
     });
   }
 
-  /**
-   * True at most every PROGRESS_EVERY_MS: a changed progress bar or status
-   * line costs the next frame a paint of the page, and a frame between
-   * every two slices would cost as much time as the slices themselves.
-   */
+  /** True at most every PROGRESS_EVERY_MS: a changed status costs a paint of the page. */
   progressDue() {
     const now = performance.now();
     if (this.shownAt !== undefined && now - this.shownAt < PROGRESS_EVERY_MS) return false;
@@ -649,20 +625,13 @@ export class RealLogPanel {
     return true;
   }
 
-  /**
-   * Ends the task: the next call into the core runs in a new one (the trace
-   * marks the boundary, so a test can see that no task holds two calls).
-   */
+  /** Ends the task: the next core call runs in a new one (the trace marks it for tests). */
   pause() {
     this.trace.push(['yield']);
     return yieldToEventLoop();
   }
 
-  /**
-   * Sizes the canvases for the session's panes (if there are maps) and
-   * takes their limits and paths from the core: after a read and after new
-   * settings.
-   */
+  /** After a read or new settings: the panes' limits, captions and paths from the core, and the canvases sized for them. */
   layout() {
     const panes = this.session?.state().panes ?? [];
     this.geometry = panes.length ? this.session.geometry(MAIN) : null;
@@ -694,12 +663,11 @@ export class RealLogPanel {
   }
 
   /**
-   * Display size: the whole map's shape within the panel's width and 75%
-   * of the window's height (so that the fitted view fills it). The canvas
-   * has the display's device pixels (bounded), and the core draws only the
-   * part of the map in view into them: the map's own size never reaches
-   * the page. Beside other panes, each gets its share of the width, and
-   * all the same CSS pixels per cell (one log, one resolution: one scale).
+   * Display size: the whole map's shape within the panel's width and 75% of
+   * the window's height; the canvas has the display's device pixels
+   * (bounded), into which the core draws only the part of the map in view.
+   * Beside other panes, each gets its share of the width, all at the same
+   * CSS pixels per cell (one log, one resolution: one scale).
    */
   fitCanvas() {
     if (!this.geometry || !this.session) return;
@@ -768,10 +736,9 @@ export class RealLogPanel {
   }
 
   /**
-   * Draws the last rendered view of pane `k` on `canvas` (`ptr` its
-   * pixels), the laser's path up to the last integrated scan with the robot
-   * where it is now, and `cursor` (if any), through the view's transform
-   * (image units to canvas pixels), their widths in screen pixels at any zoom.
+   * Draws pane `k`'s rendered view `v` (`ptr` its pixels) on `canvas`, the
+   * laser's path so far with the robot, and `cursor` (if any), through the
+   * view's transform, their widths in screen pixels at any zoom.
    */
   paint(canvas, k, ptr, v, path, cursor = null) {
     drawMapImage(canvas, this.memory, ptr, v.width, v.height);
@@ -811,11 +778,7 @@ export class RealLogPanel {
     return this.session && this.geometry ? this.session.cursor(MAIN) : null;
   }
 
-  /**
-   * Arrow keys move the core's cursor over the map, a few screen pixels (at
-   * least a cell) per press, ten times as far with Shift, and the view
-   * follows it; + and - zoom about it, 0 shows the whole map.
-   */
+  /** Arrow keys move the core's cursor (Shift: ten steps; the view follows it), + and - zoom about it, 0 fits the map. */
   moveCursor(e) {
     if (!this.geometry || !this.view) return;
     let cell;

@@ -2,7 +2,7 @@
 //! every laser pose and every endpoint closer than `z_max` (what a real
 //! log's grid must hold), the grid that covers that box, and the tiles the
 //! beams of every scan would touch (what a tiled map would allocate, said
-//! when its budget refuses a log; `docs/ARCHITECTURE.md`, "tiled grid").
+//! when its budget refuses a log).
 //!
 //! The scans come as [`Scan`]s at whatever poses a pose source gives them
 //! (the log's corrected ones, a dead-reckoned path): one extent and one
