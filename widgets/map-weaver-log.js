@@ -830,24 +830,28 @@ export class RealLogPanel {
     else this.clearCell();
   }
 
-  /**
-   * A control moved: the core takes the new settings at once (it checks
-   * them; a refusal puts the controls back to the settings in force), and
-   * its state says from then on that the maps are being rebuilt.
-   */
+  /** A control moved: the core takes the settings at once (or refuses them by name), and its state is the rebuild's from then on. */
   change(patch) {
     this.settings = { ...this.settings, ...patch };
     if (!this.session) return;
     const before = this.state?.panes.length ? this.geometry : null;
     if (!this.applySettings()) return;
     const state = this.session.state();
-    this.show(state);
-    if (state.panes.length === 0) return;
+    if (state.panes.length === 0) return void this.show(state);
     // The load's timing line was for the settings it was mapped with.
     if (before || this.job?.kind !== 'load') this.job = { kind: 'rebuild', t0: performance.now() };
     this.timing.textContent = '';
     this.layout();
-    this.drive();
+    this.follow(state);
+  }
+
+  /** Shows the state after a change of the maps: drawn at once if there is nothing to build (a scrub to where the maps are), else built. */
+  follow(state) {
+    this.show(state);
+    if (state.state !== 'done') return void this.drive();
+    this.draw();
+    this.drawSidePanes();
+    this.finishJob(state);
   }
 
   /** Hands the controls' settings to the core: true if it took them, else the controls go back to the settings in force. */
@@ -882,8 +886,7 @@ export class RealLogPanel {
     }
     this.job = null;
     this.clearCell();
-    this.show(this.session.state());
-    this.drive();
+    this.follow(this.session.state());
   }
 
   exportMap() {
