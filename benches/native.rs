@@ -155,7 +155,7 @@ fn intel_real_log() {
         let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
         read.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
-        let mut b = occgrid::apps::real_log::LogMapBuild::new(
+        let mut b = occgrid::apps::real_log::LogPane::new(
             scans,
             occgrid::apps::real_log::LogMapSettings::default(),
         )

@@ -103,17 +103,20 @@ async function main() {
     throw new Error(`cannot read ${log}: ${e.message}`);
   }
   const { core } = await loadCore();
-  const session = new core.LogMapSession(bytes);
+  const session = new core.RealLogSession(bytes);
   try {
     session.configure(settings);
     // Each call reads a bounded step (scans, lines, bytes): loop to the end.
     let read;
     do read = session.read(1 << 30); while (!read.finished);
     if (read.warning) console.error(`export-map: warning: ${read.warning}`);
-    let built;
-    do built = session.buildChunk(1 << 30); while (!built.finished);
+    // Pane 0 is the map at the chosen poses (a dead-reckoned run also
+    // builds the corrected map beside it).
+    let state;
+    do state = session.buildSlice(Infinity); while (!state.finished);
+    const built = state.panes[0];
     const stem = path.basename(prefix);
-    const pair = session.exportMap(stem);
+    const pair = session.exportMap(0, stem);
     const dir = path.dirname(prefix);
     fs.mkdirSync(dir, { recursive: true });
     // The core names the image after the file stem; keep both files beside
@@ -123,11 +126,11 @@ async function main() {
     const yamlPath = `${path.join(dir, path.basename(pgmPath, '.pgm'))}.yaml`;
     fs.writeFileSync(pgmPath, pair.pgm);
     fs.writeFileSync(yamlPath, pair.yaml);
-    const g = session.geometry();
-    const c = session.counts();
+    const g = session.geometry(0);
+    const c = session.counts(0);
     console.log(JSON.stringify({
       log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected',
-      seed: settings.poses === 'dead-reckoning' ? (settings.seed ?? core.LogMapSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      seed: settings.poses === 'dead-reckoning' ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.
       cells_allocated: built.cellsAllocated, bytes_allocated: built.bytesAllocated, cells: built.cells,

@@ -2,7 +2,7 @@
 //! The CARMEN reader on the two real logs, on damaged and mixed files, on
 //! `ROBOTLASER1` lines, and the chunked map build it feeds.
 
-use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::io::carmen::{
     parse_bytes, LaserMessage, LaserScans, LogLoader, LogReader, MAX_LINE_BYTES,
 };
@@ -307,7 +307,7 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         "{w}"
     );
     while !session.build_chunk(usize::MAX).unwrap().finished {}
-    assert_eq!(session.build().unwrap().progress().scans_done, complete);
+    assert_eq!(session.pane(0).unwrap().progress().scans_done, complete);
 }
 
 #[test]
@@ -464,7 +464,7 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
         margin: 3.0,
         ..Default::default()
     };
-    let mut b = LogMapBuild::new(scans, settings).unwrap();
+    let mut b = LogPane::new(scans, settings).unwrap();
     b.advance(1);
     let g = b.grid().to_dense().unwrap();
     let geo = g.geometry();
@@ -496,7 +496,7 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
 fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
     let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
     let settings = LogMapSettings::default();
-    let b = LogMapBuild::new(scans.clone(), settings).unwrap();
+    let b = LogPane::new(scans.clone(), settings).unwrap();
     let geo = *b.grid().to_dense().unwrap().geometry();
     let [ox, oy] = geo.origin();
     let r = geo.resolution();
@@ -533,10 +533,10 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
 #[test]
 fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_count() {
     let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
-    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::chapter()).unwrap();
+    let mut whole = LogPane::new(scans.clone(), LogMapSettings::chapter()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && p.scans_done == 910 && p.beams == 163_800);
-    let mut chunked = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
+    let mut chunked = LogPane::new(scans, LogMapSettings::chapter()).unwrap();
     let mut calls = 0;
     while !chunked.advance(37).finished {
         calls += 1;
@@ -579,7 +579,7 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
 #[test]
 fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
-    let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     b.advance(2);
     let before = (
         b.grid().to_dense().unwrap().clone(),
@@ -661,21 +661,19 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
         resolution: 1e-4,
         ..Default::default()
     };
-    let e = LogMapBuild::check(b.scans(), &huge)
-        .unwrap_err()
-        .to_string();
+    let e = LogPane::check(b.scans(), &huge).unwrap_err().to_string();
     assert!(
         e.contains("width x height") && e.contains("coarser resolution"),
         "{e}"
     );
     assert_eq!(
-        LogMapBuild::check(b.scans(), b.settings()).unwrap(),
+        LogPane::check(b.scans(), b.settings()).unwrap(),
         *b.grid().geometry()
     );
     assert!(b.seek(4).is_err(), "only 3 scans");
     assert_eq!(b.progress(), before.1);
     let empty = LaserScans::read(&b"ODOM 0 0 0\n"[..]).unwrap();
-    let e = LogMapBuild::new(empty, LogMapSettings::default())
+    let e = LogPane::new(empty, LogMapSettings::default())
         .err()
         .unwrap();
     assert!(
@@ -687,7 +685,7 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
 #[test]
 fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
-    let mut b = LogMapBuild::new(scans, LogMapSettings::default()).unwrap();
+    let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     b.advance(3);
     let geo = *b.grid().to_dense().unwrap().geometry();
     let top_left = b.readout_at_pixel(0, 0).unwrap();
@@ -877,7 +875,7 @@ fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the
     // Under the default budget the same bomb is kept (8 MB is well within).
     let mut ok = RealLogSession::new(bomb);
     while !ok.read(usize::MAX).unwrap().progress.finished {}
-    assert_eq!(ok.build().unwrap().scans().beams(), 2_000_000);
+    assert_eq!(ok.pane(0).unwrap().scans().beams(), 2_000_000);
 }
 
 #[test]

@@ -1,9 +1,9 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! Dead reckoning on a real log (SPEC §11): the log's own motion increments
+//! Dead reckoning on a real log: the log's own motion increments
 //! with Table 5.6's noise, integrated from the first pose, seeded; and the
 //! work budget that bounds each call of a map build.
 
-use occgrid::apps::real_log::{LogMapBuild, LogMapSettings, PoseSource, RealLogSession, MAX_SEED};
+use occgrid::apps::real_log::{LogMapSettings, LogPane, PoseSource, RealLogSession, MAX_SEED};
 use occgrid::io::carmen::LaserScans;
 use occgrid::sensors::odometry::OdometryParams;
 use std::path::PathBuf;
@@ -27,14 +27,14 @@ fn dead_reckoning(seed: u64) -> LogMapSettings {
     }
 }
 
-fn built(scans: LaserScans, settings: LogMapSettings, odometry: OdometryParams) -> LogMapBuild {
-    let mut b = LogMapBuild::with_odometry(scans, settings, odometry).unwrap();
+fn built(scans: LaserScans, settings: LogMapSettings, odometry: OdometryParams) -> LogPane {
+    let mut b = LogPane::with_odometry(scans, settings, odometry).unwrap();
     b.advance(usize::MAX);
     b
 }
 
 /// The grid's state, bit for bit: its geometry and every cell's log odds.
-fn bits(b: &LogMapBuild) -> (String, Vec<u32>) {
+fn bits(b: &LogPane) -> (String, Vec<u32>) {
     let g = b.grid().to_dense().unwrap();
     let cells = g.log_odds().iter().map(|l| l.to_bits()).collect();
     (format!("{:?}", g.geometry()), cells)
@@ -46,10 +46,10 @@ fn one_seed_one_map_bit_for_bit_another_seed_another_map() {
     let a = built(log.clone(), dead_reckoning(7), OdometryParams::WHEELS);
     let again = built(log.clone(), dead_reckoning(7), OdometryParams::WHEELS);
     assert!(bits(&a) == bits(&again), "the same seed gives the same map");
-    assert_eq!(a.scans().poses(), again.scans().poses());
+    assert_eq!(a.poses(), again.poses());
 
     let other = built(log.clone(), dead_reckoning(8), OdometryParams::WHEELS);
-    assert_ne!(a.scans().poses(), other.scans().poses());
+    assert_ne!(a.poses(), other.poses());
     assert!(bits(&a) != bits(&other), "another seed, another map");
 
     let corrected = built(
@@ -58,12 +58,12 @@ fn one_seed_one_map_bit_for_bit_another_seed_another_map() {
         OdometryParams::WHEELS,
     );
     assert_eq!(
-        corrected.scans().poses(),
+        corrected.poses(),
         log.poses(),
         "the corrected poses are the log's"
     );
     // The dead-reckoned path starts where the log does and drifts away.
-    let (dr, truth) = (a.scans().poses(), log.poses());
+    let (dr, truth) = (a.poses(), log.poses());
     assert_eq!(dr[0], truth[0]);
     let last = truth.len() - 1;
     let drift = (dr[last].x - truth[last].x).hypot(dr[last].y - truth[last].y);
@@ -81,7 +81,7 @@ fn zero_noise_dead_reckoning_reproduces_the_corrected_map_exactly() {
     );
     let exact = built(log, dead_reckoning(3), OdometryParams::EXACT);
     // Integrating the increments again lands within rounding of each pose…
-    for (p, q) in exact.scans().poses().iter().zip(corrected.scans().poses()) {
+    for (p, q) in exact.poses().iter().zip(corrected.poses()) {
         assert!(
             (p.x - q.x).abs() < 1e-9 && (p.y - q.y).abs() < 1e-9,
             "{p:?} vs {q:?}"
@@ -93,32 +93,45 @@ fn zero_noise_dead_reckoning_reproduces_the_corrected_map_exactly() {
 }
 
 #[test]
-fn a_change_of_pose_source_rebuilds_and_a_fork_maps_the_corrected_log() {
+fn dead_reckoning_is_one_more_pane_beside_the_corrected_map_and_a_change_of_source_rebuilds() {
     let bytes = dataset("aces-corrected.log.gz");
     let mut s = RealLogSession::new(bytes.clone());
     s.configure(dead_reckoning(5)).unwrap();
     while !s.read(usize::MAX).unwrap().progress.finished {}
     while !s.build_chunk(usize::MAX).unwrap().finished {}
-    let dr = bits(s.build().unwrap());
-
-    // The fork is the corrected map of a session of its own.
-    let mut fork = s.fork(LogMapSettings::default()).unwrap();
-    while !fork.build_chunk(usize::MAX).unwrap().finished {}
+    // One session, two panes: the chosen source first, the corrected beside.
+    let sources: Vec<_> = s.panes().iter().map(|p| p.source()).collect();
+    assert_eq!(sources, [PoseSource::DeadReckoning, PoseSource::Corrected]);
+    let dr = bits(&s.panes()[0]);
+    let alone = built(
+        scans("aces-corrected.log.gz"),
+        dead_reckoning(5),
+        OdometryParams::WHEELS,
+    );
+    assert!(dr == bits(&alone), "the pane is the dead-reckoned map");
     let corrected = built(
         scans("aces-corrected.log.gz"),
         LogMapSettings::default(),
         OdometryParams::WHEELS,
     );
-    assert!(bits(fork.build().unwrap()) == bits(&corrected));
-    assert_eq!(fork.read_summary(), s.read_summary());
+    assert!(
+        bits(&s.panes()[1]) == bits(&corrected),
+        "the pane beside is the corrected map"
+    );
+    let state = s.state();
+    assert_eq!(state.panes.len(), 2);
+    assert_eq!(state.panes[0].caption, "Dead reckoning (seed 5)");
+    assert_eq!(state.beams, 2 * state.panes[1].progress.beams);
 
-    // Back to the corrected poses and on to the same seed again.
+    // Back to the corrected poses: one pane, the same corrected map…
     s.configure(LogMapSettings::default()).unwrap();
+    assert_eq!(s.panes().len(), 1);
     while !s.build_chunk(usize::MAX).unwrap().finished {}
-    assert!(bits(s.build().unwrap()) == bits(&corrected));
+    assert!(bits(&s.panes()[0]) == bits(&corrected));
+    // …and on to the same seed again: the same dead-reckoned map.
     s.configure(dead_reckoning(5)).unwrap();
     while !s.build_chunk(usize::MAX).unwrap().finished {}
-    assert!(bits(s.build().unwrap()) == dr);
+    assert!(bits(&s.panes()[0]) == dr);
 }
 
 #[test]
@@ -135,14 +148,14 @@ fn a_seed_past_what_a_page_can_send_is_refused_by_name() {
 fn a_slice_stops_after_the_scan_that_reaches_its_cell_budget() {
     let log = scans("fhw-corrected.log.gz");
     // What each scan costs, one scan per call.
-    let mut one = LogMapBuild::new(log.clone(), LogMapSettings::default()).unwrap();
+    let mut one = LogPane::new(log.clone(), LogMapSettings::default()).unwrap();
     let mut per_scan = Vec::new();
     while !one.progress().finished {
         let before = one.progress().cell_updates;
         per_scan.push(one.advance(1).cell_updates - before);
     }
     let budget = 40_000;
-    let mut b = LogMapBuild::new(log, LogMapSettings::default()).unwrap();
+    let mut b = LogPane::new(log, LogMapSettings::default()).unwrap();
     let mut calls = 0;
     while !b.progress().finished {
         let (k0, u0) = (b.progress().scans_done, b.progress().cell_updates);

@@ -2,7 +2,7 @@
 //! The ROS `map_server` pair: the YAML and PGM follow the format exactly,
 //! and the PGM read back matches the map cell by cell.
 
-use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{probability, FilterSettings, LogOddsGrid};
 use occgrid::io::carmen::LaserScans;
@@ -141,7 +141,7 @@ fn the_origin_puts_a_world_point_on_the_pixel_map_server_gives_it() {
 fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     let bytes = std::fs::read(datasets().join("intel-corrected.log.gz")).unwrap();
     let scans = LaserScans::read(&bytes[..]).unwrap();
-    let mut build = LogMapBuild::new(scans, LogMapSettings::chapter()).unwrap();
+    let mut build = LogPane::new(scans, LogMapSettings::chapter()).unwrap();
     build.advance(usize::MAX);
     let grid = &build.grid().to_dense().unwrap();
     let geo = *grid.geometry();
@@ -292,8 +292,8 @@ fn map_server_loads_unknown_gray_as_unknown_and_the_counts_agree_with_the_file()
     let mut session = occgrid::apps::real_log::RealLogSession::new(bytes);
     while !session.read(usize::MAX).unwrap().progress.finished {}
     while !session.build_chunk(usize::MAX).unwrap().finished {}
-    let pair = session.export_map(Some("aces")).unwrap();
-    let c = session.build().unwrap().counts();
+    let pair = session.pane(0).unwrap().export_map(Some("aces"));
+    let c = session.pane(0).unwrap().counts();
     let loaded = loaded_by_map_server(&pair);
     assert_eq!([c.occupied, c.free, c.unknown], loaded);
     assert_eq!(c.cells, loaded.iter().sum::<usize>());

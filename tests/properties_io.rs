@@ -11,7 +11,7 @@
 
 mod properties_support;
 
-use occgrid::apps::real_log::{LogMapBuild, LogMapSettings};
+use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
 use occgrid::io::carmen::{flaser_angle_increment, parse_bytes, LogLoader, LogReader};
@@ -396,7 +396,7 @@ proptest! {
             last = p.scans;
         }
         let scans_read = loader.into_scans();
-        let mut build = match LogMapBuild::new(scans_read, first) {
+        let mut build = match LogPane::new(scans_read, first) {
             Ok(b) => b,
             Err(e) => {
                 assert_names_one_of(&e, &setting_names());
@@ -407,7 +407,7 @@ proptest! {
         prop_assert!(p.scans_done <= p.scans_total);
         let c = build.grid().to_dense().unwrap().clamp();
         prop_assert!(build.grid().to_dense().unwrap().log_odds().iter().all(|l| l.is_finite() && l.abs() <= c));
-        let state = |b: &LogMapBuild| (b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings());
+        let state = |b: &LogPane| (b.grid().to_dense().unwrap().clone(), b.progress(), *b.settings());
         let before = state(&build);
         match build.seek(seek) {
             Ok(()) => prop_assert!(seek <= build.scans().len()),
@@ -487,7 +487,7 @@ fn an_absurd_map_resolution_is_refused_under_its_own_name() {
             resolution,
             ..LogMapSettings::default()
         };
-        let e = LogMapBuild::check(&scans, &settings).unwrap_err();
+        let e = LogPane::check(&scans, &settings).unwrap_err();
         assert!(
             matches!(&e, OccError::InvalidParameter { field, .. } if field == "resolution"),
             "{e}"
@@ -500,7 +500,7 @@ fn an_absurd_map_resolution_is_refused_under_its_own_name() {
         resolution: 1e-320,
         ..LogMapSettings::default()
     };
-    let e = LogMapBuild::check(&scans, &settings).unwrap_err();
+    let e = LogPane::check(&scans, &settings).unwrap_err();
     assert_names(&e, "width x height");
 }
 
@@ -528,7 +528,7 @@ fn map_build_model_errors_carry_the_pages_field_names() {
         ),
     ];
     for (settings, name) in cases {
-        let e = LogMapBuild::check(&scans, &settings).unwrap_err();
+        let e = LogPane::check(&scans, &settings).unwrap_err();
         assert!(
             matches!(&e, OccError::InvalidParameter { field, .. } if field == name),
             "{e} should be under {name}"

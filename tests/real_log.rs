@@ -2,7 +2,9 @@
 //! The real-log session (`apps::real_log`): no-return reach, walls that
 //! last, the chapter's model kept as a choice.
 
-use occgrid::apps::real_log::{LogMapBuild, LogMapSettings, RealLogSession};
+use occgrid::apps::real_log::{
+    LogMapSettings, LogPane, PoseSource, RealLogSession, SettingLimits, Stage,
+};
 use occgrid::io::carmen::LaserScans;
 use std::path::PathBuf;
 
@@ -35,9 +37,9 @@ fn flaser_log(scans: &[(f64, f64, f64, Vec<f64>)]) -> Vec<u8> {
     text.into_bytes()
 }
 
-fn build(bytes: &[u8], settings: LogMapSettings) -> LogMapBuild {
+fn build(bytes: &[u8], settings: LogMapSettings) -> LogPane {
     let scans = LaserScans::read(bytes).unwrap();
-    let mut b = LogMapBuild::new(scans, settings).unwrap();
+    let mut b = LogPane::new(scans, settings).unwrap();
     b.advance(usize::MAX);
     b
 }
@@ -74,7 +76,7 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     }
     scans.push((30.0, 0.0, std::f64::consts::PI, vec![1.0; 180]));
     let bytes = flaser_log(&scans);
-    let free_at = |b: &LogMapBuild, x: f64, y: f64| {
+    let free_at = |b: &LogPane, x: f64, y: f64| {
         let g = *b.grid().to_dense().unwrap().geometry();
         let (ix, iy) = g.world_to_cell(x, y).unwrap();
         b.grid().to_dense().unwrap().probability_at(g.index(ix, iy)) < 0.196
@@ -119,7 +121,7 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
 /// check_map_quality.py's wall recall, computed the same way on the
 /// exported PGM: of every fifth endpoint closer than 30 m, the share whose
 /// cell or one of its 8 neighbours is black.
-fn wall_recall(b: &LogMapBuild) -> f64 {
+fn wall_recall(b: &LogPane) -> f64 {
     let pair = map_server_pair(&b.grid().to_dense().unwrap(), "m.pgm");
     let pgm = occgrid::io::map_server::read_pgm(&pair.pgm).unwrap();
     let g = *b.grid().to_dense().unwrap().geometry();
@@ -179,12 +181,12 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
         scans.push((0.0, 0.0, 0.0, rs));
     }
     let bytes = flaser_log(&scans);
-    let at = |b: &LogMapBuild| {
+    let at = |b: &LogPane| {
         let g = *b.grid().to_dense().unwrap().geometry();
         let (ix, iy) = g.world_to_cell(3.0, 0.0).unwrap();
         b.grid().to_dense().unwrap().probability_at(g.index(ix, iy))
     };
-    let mut b = LogMapBuild::new(
+    let mut b = LogPane::new(
         LaserScans::read(&bytes[..]).unwrap(),
         LogMapSettings::default(),
     )
@@ -206,7 +208,7 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
 fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
     let mut s = RealLogSession::new(dataset("infinite-corridor-corrected.log.gz"));
     while !s.read(usize::MAX).unwrap().progress.finished {}
-    let g = s.geometry().unwrap();
+    let g = s.geometry(0).unwrap();
     assert_eq!(g.resolution, 0.05);
     assert!(
         g.width * g.height > occgrid::geometry::MAX_CELLS,
@@ -214,12 +216,8 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
         g.width,
         g.height
     );
-    let p = loop {
-        let p = s.build_chunk(500).unwrap();
-        if p.finished {
-            break p;
-        }
-    };
+    while !s.build_chunk(500).unwrap().finished {}
+    let p = s.pane(0).unwrap().progress();
     assert_eq!(p.cells, g.width * g.height);
     assert!(
         p.cells_allocated * 2 < p.cells,
@@ -227,10 +225,10 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
         p.cells_allocated,
         p.cells
     );
-    let c = s.build().unwrap().counts();
+    let c = s.pane(0).unwrap().counts();
     assert_eq!(c.cells, p.cells);
     assert!(c.occupied > 10_000 && c.free > 100_000, "{c:?}");
-    let pair = s.export_map(Some("ic")).unwrap();
+    let pair = s.pane(0).unwrap().export_map(Some("ic"));
     let pgm = occgrid::io::map_server::read_pgm(&pair.pgm).unwrap();
     assert_eq!((pgm.width, pgm.height), (g.width, g.height));
     // The image counts what the counts say.
@@ -244,11 +242,11 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
 #[test]
 fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
     let scans = LaserScans::read(&dataset("aces-corrected.log.gz")[..]).unwrap();
-    let mut whole = LogMapBuild::new(scans.clone(), LogMapSettings::default()).unwrap();
+    let mut whole = LogPane::new(scans.clone(), LogMapSettings::default()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && whole.failure().is_none());
     let budget = p.cells_allocated / 2;
-    let mut s = LogMapBuild::with_tile_budget(scans, LogMapSettings::default(), budget).unwrap();
+    let mut s = LogPane::with_tile_budget(scans, LogMapSettings::default(), budget).unwrap();
     let p2 = s.advance(usize::MAX);
     assert!(!p2.finished && p2.cells_allocated <= budget);
     let e = s.failure().unwrap().to_string();
@@ -268,4 +266,331 @@ fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
         e.contains(&format!("budget of {budget} cells")) && e.contains("MiB"),
         "{e}"
     );
+}
+
+/// A small log: `n` scans of 90 beams along a corridor, 4 m to either wall.
+fn corridor(n: usize) -> Vec<u8> {
+    let scans: Vec<_> = (0..n)
+        .map(|k| {
+            let rs = (0..90).map(|i| 2.0 + (i % 7) as f64 * 0.3).collect();
+            (k as f64 * 0.1, 0.0, 0.0, rs)
+        })
+        .collect();
+    flaser_log(&scans)
+}
+
+fn read_all(s: &mut RealLogSession) {
+    loop {
+        match s.read(usize::MAX) {
+            Ok(r) if r.progress.finished => break,
+            Ok(_) => {}
+            Err(e) => panic!("{e}"),
+        }
+    }
+}
+
+/// A caller that slices with a budget of 0 cells still gets somewhere: each
+/// call integrates at least one scan, so looping until finished ends.
+#[test]
+fn a_slice_of_no_cells_still_integrates_a_scan_and_a_loop_until_finished_ends() {
+    let mut s = RealLogSession::new(corridor(12));
+    read_all(&mut s);
+    let mut calls = 0;
+    let mut last = 0;
+    loop {
+        let state = s.build_slice(0).unwrap();
+        calls += 1;
+        assert!(
+            state.scans_done > last || state.finished,
+            "call {calls} made no progress"
+        );
+        last = state.scans_done;
+        if state.finished {
+            break;
+        }
+        assert!(calls <= 12, "the build never finished");
+    }
+    assert_eq!(calls, 12, "one scan per call");
+    assert_eq!(s.stage(), Stage::Done);
+}
+
+/// The session's one state, from no log to a finished map, with the pane
+/// beside added and dropped by the pose source, and a scrub back.
+#[test]
+fn the_session_state_runs_from_idle_through_reading_and_building_to_done() {
+    let mut s = RealLogSession::idle();
+    assert_eq!(s.stage(), Stage::Idle);
+    assert!(s.read(1).is_err() && s.build_slice(1).is_err() && s.seek(0).is_err());
+    s.open(corridor(40), "corridor.log");
+    assert_eq!(s.state().log.as_deref(), Some("corridor.log"));
+    assert_eq!(s.stage(), Stage::Reading);
+    let mut progress = vec![s.state().progress];
+    while !s.read(5).unwrap().progress.finished {
+        assert_eq!(s.stage(), Stage::Reading);
+        progress.push(s.state().progress);
+    }
+    assert_eq!(s.stage(), Stage::Building);
+    assert_eq!(s.state().panes.len(), 1);
+    assert_eq!(s.state().panes[0].poses, PoseSource::Corrected);
+    s.configure(LogMapSettings {
+        poses: PoseSource::DeadReckoning,
+        seed: 9,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    // A rebuild counts from 0; every slice moves both panes forward.
+    loop {
+        let state = s.build_slice(5_000).unwrap();
+        progress.push(state.progress);
+        let done: Vec<_> = state.panes.iter().map(|p| p.progress.scans_done).collect();
+        assert_eq!(done.len(), 2);
+        assert!(
+            done[0].abs_diff(done[1]) <= 1,
+            "the panes keep in step: {done:?}"
+        );
+        if state.finished {
+            assert_eq!(state.state, Stage::Done);
+            break;
+        }
+        assert_eq!(state.state, Stage::Building);
+    }
+    assert_eq!(*progress.last().unwrap(), 1.0);
+    assert!(progress[..progress.len() - 1].iter().all(|&p| p < 1.0));
+    // A scrub back: building again, then done at the scrub position.
+    s.seek(10).unwrap();
+    assert_eq!(s.stage(), Stage::Building);
+    while !s.build_slice(u64::MAX).unwrap().finished {}
+    let state = s.state();
+    assert_eq!(
+        (state.state, state.scans_done, state.scans_target),
+        (Stage::Done, 10, 10)
+    );
+    assert!(state.panes.iter().all(|p| p.progress.scans_done == 10));
+    // New settings head for the same scan count, and drop the pane beside.
+    s.configure(LogMapSettings::default()).unwrap();
+    assert_eq!(s.state().panes.len(), 1);
+    assert_eq!(s.state().scans_target, 10);
+    // A bad setting changes nothing, and says which field.
+    let before = s.state();
+    let e = s
+        .configure(LogMapSettings {
+            clamp: -1.0,
+            ..LogMapSettings::default()
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("clamp"), "{e}");
+    assert_eq!(s.state(), before);
+}
+
+/// Settings too large for the log: the scans wait, the state says why,
+/// and settings that fit map them.
+#[test]
+fn a_log_read_under_settings_too_large_awaits_settings_then_maps() {
+    let mut s = RealLogSession::new(corridor(5));
+    s.configure(LogMapSettings {
+        resolution: 0.025,
+        range_cap: 80.0,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    let e = loop {
+        match s.read(usize::MAX) {
+            Ok(r) if r.progress.finished => panic!("mapped under a range cap of 3,200 cells"),
+            Ok(_) => {}
+            Err(e) => break e,
+        }
+    };
+    assert!(e.to_string().contains("rangeCap"), "{e}");
+    let state = s.state();
+    assert_eq!(state.state, Stage::AwaitingSettings);
+    assert!(state.error.unwrap().contains("rangeCap"));
+    assert_eq!(state.read.unwrap().progress.scans, 5);
+    assert!(s.build_slice(1).is_err());
+    s.configure(LogMapSettings {
+        resolution: 0.1,
+        range_cap: 80.0,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    assert_eq!(s.stage(), Stage::Building);
+    while !s.build_slice(u64::MAX).unwrap().finished {}
+    assert_eq!(s.state().scans_done, 5);
+}
+
+/// A refused read fails the session with the line named; the maps of the
+/// log read before stay, and operating them is the news again.
+#[test]
+fn a_refused_read_fails_by_line_and_keeps_the_map_read_before() {
+    let mut s = RealLogSession::new(corridor(6));
+    read_all(&mut s);
+    while !s.build_slice(u64::MAX).unwrap().finished {}
+    let counts = s.pane(0).unwrap().counts();
+    s.open(
+        b"FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nShopping list\n".to_vec(),
+        "list.log",
+    );
+    assert_eq!(s.stage(), Stage::Reading);
+    let e = s.read(usize::MAX).unwrap_err().to_string();
+    assert!(e.contains("line 2"), "{e}");
+    let state = s.state();
+    assert_eq!(state.state, Stage::Failed);
+    assert!(state.error.unwrap().contains("line 2"));
+    assert_eq!(
+        s.read(1).unwrap_err().to_string(),
+        e,
+        "the same error again"
+    );
+    assert_eq!(
+        s.pane(0).unwrap().counts(),
+        counts,
+        "the map read before stays"
+    );
+    s.seek(3).unwrap();
+    assert_eq!(s.stage(), Stage::Building);
+}
+
+/// A pane past its tile budget fails the session, saying what the log
+/// would need; the map so far stays.
+#[test]
+fn a_pane_past_its_tile_budget_fails_the_session_and_keeps_its_map() {
+    let mut s = RealLogSession::with_tile_budget(dataset("aces-corrected.log.gz"), 40 * 4096);
+    read_all(&mut s);
+    let e = loop {
+        match s.build_slice(100_000) {
+            Ok(state) => assert!(!state.finished, "the budget held the whole log"),
+            Err(e) => break e.to_string(),
+        }
+    };
+    assert!(e.contains("budget of 163840 cells"), "{e}");
+    let state = s.state();
+    assert_eq!(state.state, Stage::Failed);
+    assert_eq!(state.error.as_deref(), Some(&e[..]));
+    assert!(state.scans_done > 0 && state.scans_done < 440);
+    assert_eq!(s.build_slice(1).unwrap_err().to_string(), e);
+}
+
+/// One budget bounds a whole slice, both panes together: the call stops at
+/// the scan that reaches it.
+#[test]
+fn one_cell_budget_bounds_a_slice_across_the_panes() {
+    let mut s = RealLogSession::new(dataset("aces-corrected.log.gz"));
+    s.configure(LogMapSettings {
+        poses: PoseSource::DeadReckoning,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    read_all(&mut s);
+    // The most one scan of the log updates (180 beams of at most 30 m at
+    // 5 cm, each cell of a beam once, its band twice at most).
+    let one_scan = 180 * 600 * 2;
+    let budget = 50_000;
+    let mut last = 0;
+    let mut calls = 0;
+    loop {
+        let state = s.build_slice(budget).unwrap();
+        calls += 1;
+        let did = state.cell_updates - last;
+        last = state.cell_updates;
+        assert!(did < budget + one_scan, "call {calls} did {did}");
+        assert!(
+            state.finished || did >= budget,
+            "call {calls} stopped early: {did}"
+        );
+        if state.finished {
+            break;
+        }
+    }
+    assert!(calls > 20, "{calls} calls");
+}
+
+/// The panel's numbers come from here: the range cap's limit at each
+/// resolution, the view's scale in words, the cursor's cell and the
+/// export's name and pose source.
+#[test]
+fn the_panel_s_limits_legend_cursor_and_export_come_from_the_pane() {
+    let limits = SettingLimits::at(0.025).unwrap();
+    assert_eq!(limits.range_cap_max, 51.125);
+    assert_eq!(SettingLimits::at(0.05).unwrap().range_cap_max, 102.25);
+    assert!(SettingLimits::at(0.0).is_err());
+    let fits = LogMapSettings {
+        resolution: 0.025,
+        range_cap: limits.range_cap_max,
+        ..LogMapSettings::default()
+    };
+    let scans = LaserScans::read(&corridor(5)[..]).unwrap();
+    assert!(LogPane::check(&scans, &fits).is_ok());
+    let past = LogMapSettings {
+        range_cap: limits.range_cap_max + 0.01,
+        ..fits
+    };
+    let e = LogPane::check(&scans, &past).unwrap_err().to_string();
+    assert!(e.contains("rangeCap") && e.contains("2045 cells"), "{e}");
+
+    let mut s = RealLogSession::new(corridor(5));
+    s.configure(LogMapSettings {
+        poses: PoseSource::DeadReckoning,
+        seed: 4,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    read_all(&mut s);
+    while !s.build_slice(u64::MAX).unwrap().finished {}
+    let pane = s.pane_mut(1).unwrap();
+    pane.set_view_size(200, 100).unwrap();
+    let v = *pane.view();
+    let res = 0.05;
+    let legend = pane.legend(2.0).unwrap();
+    let per_cell = v.scale / 2.0;
+    assert_eq!(legend.screen_pixels_per_cell, per_cell);
+    let text = if per_cell >= 1.0 {
+        format!("{per_cell:.1} screen pixels per cell")
+    } else {
+        format!("{:.1} cells per screen pixel", 1.0 / per_cell)
+    };
+    assert!(legend.text.starts_with(&text), "{}", legend.text);
+    assert!(legend.text.ends_with(&format!(
+        "{:.1} m \u{d7} {:.1} m shown",
+        200.0 / v.scale * res,
+        100.0 / v.scale * res
+    )));
+    assert!(pane.legend(0.0).is_err());
+    // The cursor starts at the view's centre and steps 16 pixels (at least
+    // a cell), ten steps with the long modifier, never off the map.
+    assert_eq!(pane.cursor(), None);
+    let step = ((16.0 / v.scale).round() as usize).max(1);
+    let centre = (
+        (v.u0 + 100.0 / v.scale).floor() as usize,
+        (v.v0 + 50.0 / v.scale).floor() as usize,
+    );
+    let cell = pane.move_cursor(1, 0, false).unwrap().unwrap();
+    let at = pane.cursor().unwrap();
+    assert_eq!((at.col, at.row), (centre.0 + step, centre.1));
+    assert_eq!(
+        (cell.ix, cell.iy),
+        (at.col, pane.geometry().height - 1 - at.row)
+    );
+    pane.move_cursor(-1, 0, true).unwrap();
+    assert_eq!(
+        pane.cursor().unwrap().col,
+        (centre.0 + step).saturating_sub(10 * step)
+    );
+    for _ in 0..100 {
+        pane.move_cursor(0, 1, true).unwrap();
+    }
+    assert_eq!(pane.cursor().unwrap().row, pane.geometry().height - 1);
+    assert!(pane.move_cursor(2, 0, false).is_err());
+    // Exports: the stem and the YAML say the pose source.
+    let dr = &s.panes()[0];
+    assert_eq!(
+        dr.export_stem("intel-corrected.log.gz"),
+        "intel-corrected-dead-reckoning-map"
+    );
+    assert_eq!(s.panes()[1].export_stem("Lab.CLF"), "Lab-map");
+    let yaml = dr.export_map(Some("x")).yaml;
+    assert!(yaml.starts_with("image: x.pgm\n"), "{yaml}");
+    assert!(
+        yaml.contains("\n# poses: dead-reckoning (seed 4)"),
+        "{yaml}"
+    );
+    assert!(!s.panes()[1].export_map(Some("x")).yaml.contains("# poses"));
 }

@@ -7,7 +7,7 @@ use js_sys::{Error, Reflect};
 use occgrid::bindings::bench::LaserLog;
 use occgrid::bindings::cell_filter::{run_cell_filter, worked_example};
 use occgrid::bindings::doorway_trap::DoorwayTrap;
-use occgrid::bindings::real_log::LogMapSession;
+use occgrid::bindings::real_log::RealLogSession;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_answer};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -96,13 +96,13 @@ fn doorway_climb_reaches_a_local_maximum() {
 #[wasm_bindgen_test]
 fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     let text = b"# log\nFLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 2.0 3.0 0.1 0 0 0 0 0 2 h 2\n";
-    let mut s = LogMapSession::new(text.to_vec());
-    let p = s.read(100).unwrap();
+    let mut s = RealLogSession::from_bytes(text.to_vec());
+    let p = s.read(JsValue::from_f64(100.0)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
     assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
-    let b = s.build_chunk(100).unwrap();
+    let b = s.build_slice(JsValue::from_f64(f64::INFINITY)).unwrap();
     assert_eq!(get(&b, "scansDone").as_f64(), Some(2.0));
-    let pair = s.export_map(Some("lab".into())).unwrap();
+    let pair = s.export_map(JsValue::from_f64(0.0), "lab".into()).unwrap();
     assert!(get(&pair, "yaml")
         .as_string()
         .unwrap()
@@ -117,8 +117,9 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
             .unwrap_err(),
     );
     assert!(msg.contains("resoluton"), "{msg}");
-    let mut broken = LogMapSession::new(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
-    let msg = js_error_message(broken.read(10).unwrap_err());
+    let mut broken =
+        RealLogSession::from_bytes(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
+    let msg = js_error_message(broken.read(JsValue::from_f64(10.0)).unwrap_err());
     assert!(
         msg.starts_with("line 2:") && msg.contains("negative"),
         "{msg}"
@@ -165,7 +166,7 @@ fn misspelt_scene_and_settings_fields_are_errors_naming_them() {
             .unwrap(),
     );
     assert!(msg.contains("scan_rat") && msg.contains("scene"), "{msg}");
-    let mut session = LogMapSession::new(Vec::new());
+    let mut session = RealLogSession::from_bytes(Vec::new());
     let msg = js_error_message(
         session
             .configure(parse(r#"{"resolutoin": 0.1}"#))

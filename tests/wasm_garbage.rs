@@ -13,7 +13,7 @@ use occgrid::bindings::cell_filter::{run_cell_filter, run_cell_filter_js};
 use occgrid::bindings::doorway_trap::DoorwayTrap;
 use occgrid::bindings::inverse_workbench::{forward_density, InverseWorkbench};
 use occgrid::bindings::map_weaver::MapWeaver;
-use occgrid::bindings::real_log::{zip_map_pair, LogMapSession};
+use occgrid::bindings::real_log::{zip_map_pair, RealLogSession};
 use occgrid::bindings::sensor_fusion::SensorFusion;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_posterior};
 use wasm_bindgen::{JsCast, JsError, JsValue};
@@ -620,30 +620,30 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
 
     // A session over garbage: the read fails by line, every later call
     // fails cleanly too.
-    let mut bad = LogMapSession::new(noise.clone());
-    refused(bad.read(10), &["line"]);
-    refused(bad.read(10), &["line"]);
-    refused(bad.render_view(), &["not been read"]);
+    let mut bad = RealLogSession::from_bytes(noise.clone());
+    refused(bad.read(num(10.0)), &["line"]);
+    refused(bad.read(num(10.0)), &["line"]);
+    refused(bad.render_view(num(0.0)), &["not been read"]);
     refused(bad.seek(num(3.0)), &["not been read"]);
-    refused(bad.build_chunk(usize::MAX), &["not been read"]);
-    assert!(bad.geometry().unwrap().is_null());
+    refused(bad.build_slice(num(f64::INFINITY)), &["not been read"]);
+    refused(bad.geometry(num(0.0)), &["not been read"]);
 
     // A log without laser lines.
-    let mut empty = LogMapSession::new(b"ODOM 0 0 0\n".to_vec());
+    let mut empty = RealLogSession::from_bytes(b"ODOM 0 0 0\n".to_vec());
     refused(
-        empty.read_js(num(f64::INFINITY)),
+        empty.read(num(f64::INFINITY)),
         &["no FLASER or ROBOTLASER1 lines"],
     );
 
     // A good session and bad settings.
     let text = FLASER.repeat(6);
-    let mut s = LogMapSession::new(text.into_bytes());
+    let mut s = RealLogSession::from_bytes(text.into_bytes());
     for bad in [f64::NAN, -1.0, 0.5] {
-        refused(s.read_js(num(bad)), &["maxScans"]);
+        refused(s.read(num(bad)), &["maxScans"]);
     }
-    let p = s.read_js(num(f64::INFINITY)).unwrap();
+    let p = s.read(num(f64::INFINITY)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
-    let geometry = stringify(&s.geometry().unwrap());
+    let geometry = stringify(&s.geometry(num(0.0)).unwrap());
     refused(s.configure(JsValue::from_str("fine")), &["settings"]);
     refused(
         s.configure(json(r#"{"resolution": -1}"#)),
@@ -661,31 +661,35 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
         &["lOcc"],
     );
     assert_eq!(
-        stringify(&s.geometry().unwrap()),
+        stringify(&s.geometry(num(0.0)).unwrap()),
         geometry,
         "refused settings changed the map"
     );
-    refused(s.build_chunk_js(num(f64::NAN)), &["maxScans"]);
-    s.build_chunk_js(num(f64::INFINITY)).unwrap();
+    refused(s.build_slice(num(f64::NAN)), &["maxCells"]);
+    s.build_slice(num(f64::INFINITY)).unwrap();
     refused(s.seek(num(1e6)), &["scan"]);
     refused(s.seek(num(-1.0)), &["scan", "-1"]);
     refused(s.seek(num(2.5)), &["scan", "2.5"]);
-    refused(s.robot_at(num(1e9)), &["scan"]);
-    refused(s.robot_at(num(-1.0)), &["scan", "-1"]);
-    refused(s.robot_at(num(f64::NAN)), &["scan", "NaN"]);
-    assert!(s.cell_at(num(1e12), num(0.0)).unwrap().is_null());
-    assert!(s.cell_at(num(-1.0), num(0.0)).unwrap().is_null());
-    refused(s.cell_at(num(0.5), num(0.0)), &["col"]);
-    refused(s.cell_at(num(0.0), num(f64::INFINITY)), &["row"]);
-    assert!(s.render_view().unwrap() != 0);
-    let c = s.counts().unwrap();
+    refused(s.robot_at(num(0.0), num(1e9)), &["scan"]);
+    refused(s.robot_at(num(0.0), num(-1.0)), &["scan", "-1"]);
+    refused(s.robot_at(num(0.0), num(f64::NAN)), &["scan", "NaN"]);
+    assert!(s.cell_at(num(0.0), num(1e12), num(0.0)).unwrap().is_null());
+    assert!(s.cell_at(num(0.0), num(-1.0), num(0.0)).unwrap().is_null());
+    refused(s.cell_at(num(0.0), num(0.5), num(0.0)), &["col"]);
+    refused(s.cell_at(num(0.0), num(0.0), num(f64::INFINITY)), &["row"]);
+    assert!(s.render_view(num(0.0)).unwrap() != 0);
+    let c = s.counts(num(0.0)).unwrap();
     assert!(get(&c, "occupied").as_f64().unwrap() > 0.0);
-    s.export_map(Some("../../etc/passwd\n".into())).unwrap();
-    s.export_map(None).unwrap();
-    s.export_map_js(JsValue::UNDEFINED).unwrap();
-    s.export_map_js("lab".into()).unwrap();
-    refused(s.export_map_js(JsValue::from_f64(7.0)), &["name", "7"]);
-    refused(s.export_map_js(Object::new().into()), &["name"]);
+    s.export_map(num(0.0), "../../etc/passwd\n".into()).unwrap();
+    s.export_map(num(0.0), JsValue::NULL).unwrap();
+    s.export_map(num(0.0), JsValue::UNDEFINED).unwrap();
+    s.export_map(num(0.0), "lab".into()).unwrap();
+    refused(
+        s.export_map(num(0.0), JsValue::from_f64(7.0)),
+        &["name", "7"],
+    );
+    refused(s.export_map(num(0.0), Object::new().into()), &["name"]);
+    refused(s.export_map(num(1.0), JsValue::NULL), &["pane", "1"]);
     let bytes = |b: &[u8]| JsValue::from(js_sys::Uint8Array::from(b));
     zip_map_pair("".into(), bytes(&[]), "".into()).unwrap();
     zip_map_pair("\u{0}\n..".into(), bytes(&[1, 2, 3]), "image: x\n".into()).unwrap();
@@ -844,8 +848,8 @@ fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
     let long: Array = (0..500).map(|_| JsValue::from_f64(1.0)).collect();
     let text = refused(DoorwayTrap::new(long.into()), &["scene", "..."]);
     assert!(text.len() < 200, "a long value is cut short: {text}");
-    let mut session = LogMapSession::new(FLASER.repeat(2).into_bytes());
-    session.read_js(num(f64::INFINITY)).unwrap();
+    let mut session = RealLogSession::from_bytes(FLASER.repeat(2).into_bytes());
+    session.read(num(f64::INFINITY)).unwrap();
     refused(session.configure(json("[]")), &["settings"]);
     refused(session.configure(JsValue::NULL), &["settings", "null"]);
     refused(
@@ -999,11 +1003,14 @@ fn byte_parameters_refuse_what_is_not_bytes_by_name() {
             LaserLog::from_bytes_js(bad.clone()),
             &["invalid bytes", "Uint8Array"],
         );
-        refused(LogMapSession::new_js(bad), &["invalid bytes", "Uint8Array"]);
+        refused(
+            RealLogSession::new(bad, JsValue::UNDEFINED),
+            &["invalid bytes", "Uint8Array"],
+        );
     }
-    let mut s = LogMapSession::new_js(buffer.into()).unwrap();
+    let mut s = RealLogSession::new(buffer.into(), JsValue::UNDEFINED).unwrap();
     assert_eq!(
-        get(&s.read_js(num(f64::INFINITY)).unwrap(), "finished").as_bool(),
+        get(&s.read(num(f64::INFINITY)).unwrap(), "finished").as_bool(),
         Some(true)
     );
 }

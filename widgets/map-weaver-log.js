@@ -1,4 +1,4 @@
-// Map Weaver's real-log mode (SPEC §11): a CARMEN laser log — from the file
+// Map Weaver's real-log mode: a CARMEN laser log — from the file
 // picker, dropped on the panel, or picked from the server's /datasets/ —
 // is read and mapped a few hundred scans per call, yielding to the event
 // loop between calls so the page stays responsive and a progress bar
@@ -7,10 +7,13 @@
 // ROS. Under dead reckoning (the log's motion increments with Table 5.6's
 // noise, seeded) the dead-reckoned map is shown beside the corrected one,
 // as Map Weaver's two panes are, both at one scale so that a metre is as
-// long on each. The core (LogMapSession) parses the log, finds the grid's extent,
-// integrates the scans and computes every number shown; this module lays
-// out, forwards input and draws. The one figure measured here is the wall
-// time from choosing a file to the finished map, file reading included.
+// long on each. One core session (RealLogSession) reads the log, holds one
+// pane per pose source, integrates the scans, keeps the one state this
+// panel shows (reading, awaiting-settings, building, done, failed) and
+// computes every number shown, the view's scale and the keyboard cursor's
+// cell included; this module lays out, forwards input, drives the session
+// a slice per task and draws. The one figure measured here is the wall time
+// from choosing a file to the finished map, file reading included.
 //
 // Usage: `new RealLogPanel(container, await loadCore(), { settings, log })`
 // (both optional: starting settings, and a log of /datasets/ to load once
@@ -19,7 +22,7 @@
 // `data-controls`: log-source (file picker, dataset menu), log-settings
 // (resolution, the model's sliders, the pose source and its seed) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
-import { arrowCell, exportMap, followResize } from './lib/pane.js';
+import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
@@ -30,34 +33,27 @@ const DATASETS = [
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
 /**
- * Milliseconds of core work per call before yielding to the event loop:
- * half the 50 ms at which a task counts as long (and input starts to feel
- * late), leaving room for a call that runs slower than the last one
- * predicted, and long enough that the cost of each yield stays small.
- * Reads are sized in scans, builds in cell updates (`buildSlice`): a scan
- * down a corridor updates ten times the cells of one in an office, so a
- * count of scans could not keep a build's calls near the slice.
+ * Milliseconds of core work per call before yielding: half the 50 ms at
+ * which a task counts as long, leaving room for a call slower than the
+ * last predicted. Reads are sized in scans, builds in cell updates (a scan
+ * down a corridor updates ten times the cells of one in an office).
  */
 const SLICE_MS = 25;
 /**
  * Cell updates of the first build call, before any has been timed: a few
- * milliseconds here (about 80,000 updates per millisecond), so that a
- * machine several times slower still stays within the slice, while a short
- * build is not spent in tiny calls (each yield may wait for a frame). Later
- * builds start from the budget the last one reached.
+ * milliseconds here (about 80,000 updates per millisecond), within the
+ * slice on a machine several times slower. Later builds start from the
+ * budget the last one reached.
  */
 const FIRST_SLICE_CELLS = 250_000;
 /**
- * Least time between two redraws of the map while it is being built (the
- * first after as long): redrawing a million-cell map costs 10 to 40 ms, so
- * a short build (the Intel log) is drawn once, when done, and a long one a
- * few times a second.
+ * Least time between two redraws while building: a redraw costs 10 to
+ * 40 ms, so the Intel log is drawn once, when done, a long log a few times
+ * a second.
  */
 const DRAW_EVERY_MS = 250;
 /** Least time between two updates of the progress bar and status line. */
 const PROGRESS_EVERY_MS = 100;
-/** Share of the progress bar for reading the file; the rest is mapping. */
-const READ_SHARE = 0.3;
 const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
 const ROBOT_COLOR = '#1a9850';
 const CURSOR_COLOR = '#2c7bb6';
@@ -71,14 +67,15 @@ const MAX_VIEW_PIXELS = 4_000_000;
 /** Zoom per key press, and per 100 px of wheel. */
 const KEY_ZOOM = 1.5;
 const WHEEL_ZOOM_PER_PX = Math.log(1.5) / 100;
-/** Device pixels a cursor step moves at any zoom (at least one cell). */
-const CURSOR_STEP_PX = 16;
+/** The arrow keys' steps along the map image's columns and rows. */
+const ARROWS = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], ArrowDown: [0, 1] };
+/** The pane the reader operates (hover, zoom, cursor, export); the others are drawn whole beside it. */
+const MAIN = 0;
 
 /**
- * Yields to the event loop and comes back in a new task: input is handled
- * and, when a frame is due, the progress bar and map are painted. (A
- * `scheduler.yield()` continuation would run ahead of painting: Chromium
- * then painted only every ~110 ms during a build.)
+ * Yields to the event loop and comes back in a new task, after input and
+ * any due frame (a `scheduler.yield()` continuation would run ahead of
+ * painting: Chromium then painted only every ~110 ms during a build).
  */
 const channel = new MessageChannel();
 const waiting = [];
@@ -106,15 +103,20 @@ function pick(settings) {
   return out;
 }
 
-/** "intel-corrected.log.gz" → "intel-corrected-map" */
-function mapStem(fileName) {
-  return `${fileName.replace(/\.gz$/i, '').replace(/\.(log|clf|txt)$/i, '') || 'log'}-map`;
-}
-
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
 export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed'];
 /** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
 const SEED_TEXT = /^\d{1,16}$/;
+/** The longest range cap `core` takes at `resolution`, whole metres (80 if it refuses the resolution: it says why at the load). */
+function rangeCapMax(core, resolution) {
+  try {
+    return Math.floor(core.RealLogSession.limits(resolution).rangeCapMax);
+  } catch {
+    return 80;
+  }
+}
+/** The device pixels per screen pixel of a canvas, as it is sized. */
+const dpr = (canvas) => canvas.width / Math.max(1, canvas.clientWidth || canvas.width);
 
 export class RealLogPanel {
   /**
@@ -126,21 +128,25 @@ export class RealLogPanel {
     ensureStyles();
     this.core = core;
     this.memory = memory;
-    this.session = null;
+    this.session = null; // the one core session, made with the first log
+    this.state = null; // the core's last state: what the panel shows
     this.geometry = null;
     this.path = null;
-    this.run = 0;
-    /** Duration of each call into the core during the last load, for tests. */
-    this.trace = [];
-    this.settings = { ...core.LogMapSession.defaultSettings(), ...pick(settings) };
-    this.applied = { ...this.settings };
-    /** The /datasets/ log shown (or being read), null for a file of the reader's own. */
-    this.dataset = null;
+    this.trace = []; // each call into the core during the last load, timed, for tests
+    // The settings the controls show (the core's in force once a log is mapped).
+    this.settings = { ...core.RealLogSession.defaultSettings(), ...pick(settings) };
+    this.dataset = null; // the /datasets/ log shown or read, null for a file of the reader's own
+    this.fetches = 0;
     this.buildDom();
     container.append(this.root);
     this.probeDatasets();
     this.resizer = followResize(this.stage, () => this.fitCanvas());
     if (log) this.open(log);
+  }
+
+  /** The settings in force: the core's once there is a session, else those the next log is read with. */
+  get applied() {
+    return this.state?.settings ?? this.settings;
   }
 
   /** The panel's state: `{ settings, log }`, as the constructor takes them. */
@@ -175,12 +181,10 @@ export class RealLogPanel {
 
   /** Frees the wasm session and removes the panel. */
   dispose() {
-    this.run++;
+    this.disposed = true;
     this.resizer?.disconnect();
     this.session?.free();
     this.session = null;
-    this.reference?.free();
-    this.reference = null;
     this.root.remove();
   }
 
@@ -198,7 +202,7 @@ export class RealLogPanel {
     const m = (v) => `${fixed(v, 2)} m`;
     this.controls = {
       resolution: select('Resolution', [['0.025', '2.5 cm'], ['0.05', '5 cm'], ['0.1', '10 cm'], ['0.2', '20 cm']], String(s.resolution), (v) => this.change({ resolution: Number(v) }), { name: 'resolution' }),
-      rangeCap: slider({ label: 'z_max (range cap)', min: 2, max: 80, step: 1, value: s.rangeCap, format: (v) => `${v} m`, onInput: (v) => this.change({ rangeCap: v }), name: 'range-cap' }),
+      rangeCap: slider({ label: 'z_max (range cap)', min: 2, max: rangeCapMax(this.core, s.resolution), step: 1, value: s.rangeCap, format: (v) => `${v} m`, onInput: (v) => this.change({ rangeCap: v }), name: 'range-cap' }),
       alpha: slider({ label: 'α (obstacle depth)', min: 0.02, max: 0.5, step: 0.01, value: s.alpha, format: m, onInput: (v) => this.change({ alpha: v }), name: 'alpha' }),
       lOcc: slider({ label: 'l_occ', min: 0.05, max: 3, step: 0.05, value: s.lOcc, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lOcc: v }), name: 'l-occ' }),
       lFree: slider({ label: 'l_free', min: -3, max: -0.05, step: 0.05, value: s.lFree, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lFree: v }), name: 'l-free' }),
@@ -216,22 +220,20 @@ export class RealLogPanel {
     // Pointer events for drags and pinches, not the browser's own panning.
     this.canvas.style.touchAction = 'none';
     this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
-    this.canvas.addEventListener('blur', () => { this.setCursor(null); this.clearCell(); });
+    this.canvas.addEventListener('blur', () => { this.session?.clearCursor(MAIN); this.redraw(); this.clearCell(); });
     this.listenForViewInput();
     // The pointer left the map: its last cell would go on being read out.
-    this.canvas.addEventListener('pointerleave', () => { if (!this.cursor) this.clearCell(); });
+    this.canvas.addEventListener('pointerleave', () => { if (!this.cursor()) this.clearCell(); });
     this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
-    // The corrected map beside a dead-reckoned one: drawn whole, not
-    // operated (hover, zoom, cursor, scrub and export act on the map of the
-    // settings).
-    this.refCanvas = el('canvas', { class: 'occgrid-map map-weaver-log-reference-map', role: 'img', 'aria-label': 'The same log mapped at its corrected poses.', width: 1, height: 1 });
+    // The maps beside the operated one (the corrected map beside a
+    // dead-reckoned one): drawn whole, not operated (hover, zoom, cursor,
+    // scrub and export act on the first pane).
     this.mainCaption = el('figcaption', { class: 'occgrid-caption' });
-    this.refPane = el('figure', { class: 'map-weaver-log-reference', hidden: true },
-      el('figcaption', { class: 'occgrid-caption' }, 'Corrected poses (the log’s own)'), this.refCanvas);
     this.mainPane = el('figure', { class: 'map-weaver-log-pane' }, this.mainCaption, this.canvas);
-    this.stage = el('div', { class: 'map-weaver-log-stage' },
-      this.mainPane, this.refPane,
-      el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.'));
+    this.sidePanes = [];
+    this.dropHint = el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.');
+    this.stage = el('div', { class: 'map-weaver-log-stage' }, this.mainPane, this.dropHint);
+    this.sidePane(1);
     this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' }, READOUT_HINT);
     this.counts = el('p', { class: 'map-weaver-log-counts occgrid-readout' });
     this.scrub = slider({ label: 'Scans integrated', min: 0, max: 1, step: 1, value: 0, format: (v) => `${count(v)} of ${count(this.total ?? 0)}`, onInput: (v) => this.seek(v), name: 'scrub' });
@@ -276,10 +278,234 @@ export class RealLogPanel {
     });
   }
 
+  /** The figure of pane `k` (1 and up) beside the operated map, made when first needed. */
+  sidePane(k) {
+    while (this.sidePanes.length < k) {
+      const canvas = el('canvas', { class: 'occgrid-map map-weaver-log-reference-map', role: 'img', 'aria-label': 'The same log mapped at other poses.', width: 1, height: 1 });
+      const caption = el('figcaption', { class: 'occgrid-caption' });
+      const figure = el('figure', { class: 'map-weaver-log-reference', hidden: true }, caption, canvas);
+      this.stage.insertBefore(figure, this.dropHint);
+      this.sidePanes.push({ figure, caption, canvas, geometry: null, path: null });
+    }
+    return this.sidePanes[k - 1];
+  }
+
+  loadFile(file) {
+    this.dataset = null;
+    this.showDataset();
+    return this.load(file.name, async () => new Uint8Array(await file.arrayBuffer()));
+  }
+
+  loadUrl(name) {
+    this.dataset = name;
+    this.showDataset();
+    // The file picker would otherwise go on naming the reader's last file.
+    this.fileInput.value = '';
+    return this.load(name, async () => {
+      const response = await fetch(new URL(name, DATASET_BASE));
+      if (!response.ok) throw new Error(`cannot fetch ${name}: HTTP ${response.status}`);
+      return new Uint8Array(await response.arrayBuffer());
+    });
+  }
+
   /**
-   * Shows the dataset menu when the server has /datasets/ beside /widgets/:
-   * the logs its README names, or the two known ones.
+   * Hands a log's bytes to the session (the first log makes it) and drives
+   * it: the core reads and maps, the panel shows its state. Timed from the
+   * reader's choice, file reading included.
    */
+  async load(name, getBytes) {
+    const t0 = performance.now();
+    const ticket = ++this.fetches;
+    clearError(this.root);
+    this.timing.textContent = '';
+    this.trace = [];
+    let bytes;
+    try {
+      bytes = await getBytes();
+    } catch (e) {
+      return void showError(this.root, e, `${name}: `);
+    }
+    // Another log was chosen meanwhile: it wins.
+    if (ticket !== this.fetches || this.disposed) return;
+    this.trace.push(['file', performance.now() - t0]);
+    const t = performance.now();
+    const first = !this.session;
+    try {
+      if (this.session) this.session.open(bytes, name);
+      else this.session = new this.core.RealLogSession(bytes, name);
+    } catch (e) {
+      return void showError(this.root, e, `${name}: `);
+    }
+    // The first log makes the session: it takes the panel's settings.
+    if (first) this.applySettings();
+    this.trace.push(['copy', performance.now() - t]);
+    this.reading = name;
+    this.job = { kind: 'load', name, t0 };
+    this.readBudget = 128;
+    this.show(this.session.state());
+    this.drive();
+  }
+
+  /**
+   * Drives the session while its state is `reading` or `building`: one
+   * call into the core per task (a read of a budget of scans, a build
+   * slice of a budget of cell updates, or a drawing), each budget sized
+   * from the last call's duration. One loop at a time: new settings, a
+   * scrub or another log change the session, and the loop follows it.
+   */
+  async drive() {
+    if (this.driving) return;
+    this.driving = true;
+    try {
+      let drawn = performance.now();
+      let msPerScan = 0;
+      // Setting the map up (reading's last call, or new settings) had a task of its own.
+      await this.pause();
+      while (!this.disposed && this.session) {
+        const s = this.state;
+        if (s.state === 'reading') {
+          this.readStep();
+        } else if (s.state === 'building') {
+          const last = s.panes[MAIN];
+          const t = performance.now();
+          const cells = this.sliceCells ?? FIRST_SLICE_CELLS;
+          let next;
+          try {
+            next = this.session.buildSlice(cells);
+          } catch (e) {
+            // A map passed its tile budget (the core says how much the log
+            // needs): the maps so far stay on screen.
+            this.show(this.session.state());
+            showError(this.root, e, 'map: ');
+            this.renderView();
+            this.drawSidePanes();
+            break;
+          }
+          const ms = performance.now() - t;
+          const did = next.cellUpdates - s.cellUpdates;
+          this.trace.push(['build', ms, cells, did, next.scansDone]);
+          // A rebuild restarted the count: no duration to learn from.
+          if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
+          msPerScan = ms / Math.max(1, next.panes[MAIN].scansDone - last.scansDone);
+          const remaining = (next.scansTarget - next.scansDone) * msPerScan;
+          if (next.finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
+            // The panel shows a finished state once it has drawn it.
+            if (next.finished) this.state = next;
+            else this.show(next, this.progressDue());
+            if (!(await this.drawEach())) break;
+            drawn = performance.now();
+            // The session may have moved on meanwhile (new settings, a scrub): show where it is now.
+            if (next.finished) this.show(this.session.state());
+            if (this.state.state === 'done') this.finishJob(this.state);
+          } else {
+            this.show(next, this.progressDue());
+          }
+        } else {
+          break;
+        }
+        await this.pause();
+      }
+    } finally {
+      this.driving = false;
+    }
+  }
+
+  /** One read call of a budget of scans sized from the last, and what it brings. */
+  readStep() {
+    const t = performance.now();
+    const n = this.readBudget;
+    let report;
+    try {
+      report = this.session.read(n);
+    } catch (e) {
+      const state = this.session.state();
+      this.show(state);
+      showError(this.root, e, `${this.reading}: `);
+      if (state.state === 'awaiting-settings') this.layout();
+      return;
+    }
+    const ms = performance.now() - t;
+    this.trace.push(['read', ms, n]);
+    this.readBudget = nextChunk(n, ms);
+    const state = this.session.state();
+    if (state.state !== 'reading') {
+      // The whole log is read and its panes set up: the maps are this log's.
+      this.name = this.reading;
+      if (this.job) this.job.readMs = performance.now() - this.job.t0;
+      this.layout();
+    }
+    this.show(state, report.finished || this.progressDue());
+  }
+
+  /** Draws the operated map, then each map beside it, each in a task of its own; false if the panel went away. */
+  async drawEach() {
+    const steps = [() => this.draw()];
+    if (this.state.panes.length > 1) steps.push(() => this.drawSidePanes());
+    for (const step of steps) {
+      await this.pause();
+      if (this.disposed || !this.session) return false;
+      const t1 = performance.now();
+      step();
+      this.trace.push(['draw', performance.now() - t1]);
+    }
+    return true;
+  }
+
+  /** The load or rebuild that just finished: its time on the page. */
+  finishJob(state) {
+    const job = this.job;
+    this.job = null;
+    this.rereadCell();
+    if (!job) return;
+    const ms = performance.now() - job.t0;
+    if (job.kind === 'load') {
+      const read = state.read;
+      this.root.dataset.totalMs = ms.toFixed(1);
+      this.root.dataset.readMs = (job.readMs ?? ms).toFixed(1);
+      // A log cut short is mapped up to the cut; say where it was cut.
+      const warning = read?.warning ? ` Warning: ${read.warning}.` : '';
+      this.timing.textContent =
+        `${job.name}: ${count(read?.lines ?? 0)} lines (${count(Math.round((read?.bytesTotal ?? 0) / 1024))} kB) read and ${count(state.panes[MAIN].scansDone)} scans mapped ` +
+        `in ${ms.toFixed(0)} ms, file reading included (reading ${(job.readMs ?? ms).toFixed(0)} ms).${warning}`;
+    } else if (job.kind === 'rebuild') {
+      this.timing.textContent =
+        `Rebuilt with the new settings (${state.settings.resolution} m cells): ${count(state.panes[MAIN].scansDone)} scans mapped in ${ms.toFixed(0)} ms.`;
+    }
+  }
+
+  /** Shows the core's state: `data-state` is the session's; with `full`, the progress, status and controls too. */
+  show(state, full = true) {
+    this.state = state;
+    this.root.dataset.state = state.state;
+    this.root.setAttribute('aria-busy', String(state.state === 'reading' || state.state === 'building'));
+    if (!full) return;
+    this.progress.value = state.progress;
+    const main = state.panes[MAIN];
+    const read = state.read;
+    const name = this.reading ?? this.name;
+    if (state.state === 'reading') {
+      this.status.textContent = `Reading ${name}: ${count(read?.lines ?? 0)} lines, ${count(read?.scans ?? 0)} scans…`;
+    } else if (state.state === 'awaiting-settings') {
+      this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
+    } else if (state.state === 'failed') {
+      this.status.textContent = state.failed === 'build'
+        ? 'The map stopped short: choose a coarser resolution.'
+        : `Could not read ${name}.`;
+    } else if (state.state === 'building' && main) {
+      this.status.textContent = `Mapping: scan ${count(main.scansDone)} of ${count(main.scansTarget)}…`;
+    }
+    if (main && (state.state === 'building' || state.state === 'done')) this.scrub.set(main.scansDone);
+    // The maps can be scrubbed and exported whenever there are maps, but not while a log is read.
+    const mapped = state.panes.length > 0 && !!this.geometry;
+    this.scrub.input.disabled = !mapped || state.state === 'reading';
+    this.exportButton.disabled = !mapped;
+    // The range cap's slider ends where the core's limit at the resolution
+    // in force does (or at the value in force, if a log waits for settings).
+    const max = String(Math.max(Math.floor(state.limits.rangeCapMax), Math.ceil(state.settings.rangeCap)));
+    if (this.controls.rangeCap.input.max !== max) this.controls.rangeCap.input.max = max;
+  }
+
+  /** Shows the dataset menu when the server has /datasets/ beside /widgets/: the logs its README names, or the two known. */
   async probeDatasets() {
     let names = [];
     try {
@@ -306,119 +532,7 @@ export class RealLogPanel {
     input.value = listed ? this.dataset : '';
   }
 
-  loadFile(file) {
-    this.dataset = null;
-    this.showDataset();
-    return this.load(file.name, async () => new Uint8Array(await file.arrayBuffer()));
-  }
-
-  loadUrl(name) {
-    this.dataset = name;
-    this.showDataset();
-    // The file picker would otherwise go on naming the reader's last file.
-    this.fileInput.value = '';
-    return this.load(name, async () => {
-      const response = await fetch(new URL(name, DATASET_BASE));
-      if (!response.ok) throw new Error(`cannot fetch ${name}: HTTP ${response.status}`);
-      return new Uint8Array(await response.arrayBuffer());
-    });
-  }
-
-  /** Reads a log and maps it, timing the whole from the reader's choice. */
-  async load(name, getBytes) {
-    const t0 = performance.now();
-    const run = ++this.run;
-    this.setState('reading');
-    clearError(this.root);
-    this.timing.textContent = '';
-    this.progress.value = 0;
-    // The previous map stays on screen, but cannot be scrubbed meanwhile.
-    this.scrub.input.disabled = true;
-    let session = null;
-    this.trace = [];
-    try {
-      const bytes = await getBytes();
-      if (run !== this.run) return;
-      this.trace.push(['file', performance.now() - t0]);
-      let t = performance.now();
-      session = new this.core.LogMapSession(bytes);
-      this.trace.push(['copy', performance.now() - t]);
-      const requested = this.applied;
-      session.configure(requested);
-      let n = 128;
-      let p;
-      do {
-        t = performance.now();
-        p = session.read(n);
-        const ms = performance.now() - t;
-        this.trace.push(['read', ms, n]);
-        n = nextChunk(n, ms);
-        if (p.finished || this.progressDue()) {
-          this.progress.value = READ_SHARE * (p.bytesRead / Math.max(1, p.bytesTotal));
-          this.status.textContent = `Reading ${name}: ${count(p.lines)} lines, ${count(p.scans)} scans…`;
-        }
-        if (!p.finished) await this.pause();
-        if (run !== this.run) return void session.free();
-      } while (!p.finished);
-      // Settings moved while the file was read: apply them before mapping.
-      if (this.applied !== requested) session.configure(this.applied);
-      const readMs = performance.now() - t0;
-      // A log cut short is mapped up to the cut; say where it was cut.
-      const warning = p.warning ? ` Warning: ${p.warning}.` : '';
-      this.adopt(session, name);
-      session = null;
-      const built = await this.buildToTarget(run, READ_SHARE);
-      if (!built) return;
-      const totalMs = performance.now() - t0;
-      this.root.dataset.totalMs = totalMs.toFixed(1);
-      this.root.dataset.readMs = readMs.toFixed(1);
-      this.timing.textContent =
-        `${name}: ${count(this.lines)} lines (${count(Math.round(this.bytes / 1024))} kB) read and ${count(built.scansDone)} scans mapped ` +
-        `in ${totalMs.toFixed(0)} ms, file reading included (reading ${readMs.toFixed(0)} ms).${warning}`;
-    } catch (e) {
-      if (run !== this.run) return void session?.free();
-      this.setState('error');
-      if (session?.awaitingSettings) {
-        // The log is read; only its map does not fit these settings. Keep
-        // it: the next change of settings maps it.
-        this.adopt(session, name);
-        session = null;
-        this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
-      } else {
-        session?.free();
-        // The previous map, if any, stays and can be scrubbed again.
-        this.scrub.input.disabled = !this.session || !this.geometry;
-        this.status.textContent = `Could not read ${name}.`;
-      }
-      showError(this.root, e, `${name}: `);
-    }
-  }
-
-  /**
-   * True at most every PROGRESS_EVERY_MS: a changed progress bar or status
-   * line costs the next frame a paint of the page, and a frame between
-   * every two slices would cost as much time as the slices themselves.
-   */
-  progressDue() {
-    const now = performance.now();
-    if (this.shownAt !== undefined && now - this.shownAt < PROGRESS_EVERY_MS) return false;
-    this.shownAt = now;
-    return true;
-  }
-
-  /**
-   * Ends the task: the next call into the core runs in a new one (the trace
-   * marks the boundary, so a test can see that no task holds two calls).
-   */
-  pause() {
-    this.trace.push(['yield']);
-    return yieldToEventLoop();
-  }
-
-  /**
-   * The seed of dead reckoning's noise: a whole number typed in (a text that
-   * is not one is refused by name, and the field shows the seed in use).
-   */
+  /** The seed of dead reckoning's noise, typed in: a text that is no whole number is refused by name. */
   seedControl(seed) {
     const id = nextId('real-log-seed');
     const input = el('input', { type: 'number', id, name: 'seed', min: 0, max: Number.MAX_SAFE_INTEGER, step: 1, value: String(seed), inputmode: 'numeric' });
@@ -436,151 +550,6 @@ export class RealLogPanel {
     return { root, input };
   }
 
-  /** True when the settings map at dead-reckoned poses (so the corrected map is shown beside). */
-  comparing(settings = this.applied) {
-    return settings.poses === 'dead-reckoning';
-  }
-
-  /**
-   * Makes the reference session (the corrected map) follow the main one:
-   * forked from it under dead reckoning, reconfigured on a change of
-   * settings, freed when the poses are the corrected ones.
-   */
-  syncReference() {
-    if (!this.session || !this.geometry || !this.comparing()) {
-      this.reference?.free();
-      this.reference = null;
-      this.refGeometry = null;
-      this.refPane.hidden = true;
-      this.mainCaption.hidden = true;
-      return;
-    }
-    const settings = { ...this.applied, poses: 'corrected' };
-    try {
-      if (this.reference) this.reference.configure(settings);
-      else this.reference = this.session.fork(settings);
-      this.reference.seek(this.session.progress().scansTarget);
-    } catch (e) {
-      // The dead-reckoned map is still shown; say why its companion is not.
-      showError(this.root, e, 'corrected map: ');
-      this.reference?.free();
-      this.reference = null;
-      return this.syncReference();
-    }
-    this.refGeometry = this.reference.geometry();
-    this.refPath = this.reference.pathPixels();
-    this.refPane.hidden = false;
-    this.mainCaption.hidden = false;
-    this.mainCaption.textContent = `Dead reckoning (seed ${this.applied.seed})`;
-  }
-
-  /** Makes a fully read session the panel's, freeing the previous one. */
-  adopt(session, name) {
-    const summary = session.readSummary();
-    if (this.session !== session) this.session?.free();
-    this.session = session;
-    this.name = name;
-    this.lines = summary.lines;
-    this.bytes = summary.bytesTotal;
-    this.total = summary.scans;
-    this.layout();
-  }
-
-  /** Sizes the canvas for the session's map (if it has one) and enables the controls. */
-  layout() {
-    this.geometry = this.session.geometry();
-    // The last image belongs to the old geometry (or the old session), and
-    // so does the last cell read out.
-    this.pixels = null;
-    this.cursor = null;
-    this.clearCell();
-    if (!this.geometry) {
-      this.canvas.hidden = true;
-      this.scrub.input.disabled = true;
-      this.exportButton.disabled = true;
-      return;
-    }
-    this.canvas.hidden = false;
-    this.path = this.session.pathPixels();
-    this.scrub.input.max = String(this.total);
-    this.scrub.input.disabled = false;
-    this.exportButton.disabled = false;
-    this.syncReference();
-    this.fitCanvas();
-  }
-
-  /**
-   * Display size: the whole map's shape within the panel's width and 75%
-   * of the window's height (so that the fitted view fills it). The canvas
-   * has the display's device pixels
-   * (bounded), and the core draws only the part of the map in view into
-   * them (SPEC §11): the map's own size never reaches the page.
-   */
-  fitCanvas() {
-    if (!this.geometry || !this.session) return;
-    // Beside the corrected map, each pane gets half the width, and both the
-    // same CSS pixels per cell (one log, one resolution: one scale).
-    const panes = [[this.canvas, this.geometry, this.session]];
-    if (this.reference && this.refGeometry) panes.push([this.refCanvas, this.refGeometry, this.reference]);
-    const avail = Math.max(100, (this.stage.clientWidth - 8) / panes.length - (panes.length > 1 ? 8 : 0));
-    const fit = Math.min(...panes.map(([, g]) => Math.min(avail / g.width, (0.75 * window.innerHeight) / g.height)));
-    for (const [canvas, { width, height }, session] of panes) {
-      const cssW = Math.max(1, Math.floor(width * fit));
-      const cssH = Math.max(1, Math.floor(height * fit));
-      const dpr = window.devicePixelRatio || 1;
-      const k = Math.min(dpr, Math.sqrt(MAX_VIEW_PIXELS / (cssW * cssH)));
-      const w = Math.max(1, Math.round(cssW * k));
-      const h = Math.max(1, Math.round(cssH * k));
-      canvas.style.width = `${Math.floor(cssW)}px`;
-      canvas.style.height = `${Math.floor(cssH)}px`;
-      if (canvas.width !== w || canvas.height !== h) {
-        canvas.width = w;
-        canvas.height = h;
-      }
-      session.setViewSize(w, h);
-    }
-    this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
-    this.renderView();
-    this.drawReference();
-  }
-
-  /** The corrected map beside a dead-reckoned one, whole, with its path and robot. */
-  drawReference() {
-    if (!this.reference || !this.refGeometry) return;
-    const ptr = this.reference.renderView();
-    const v = this.reference.view();
-    drawMapImage(this.refCanvas, this.memory, ptr, v.width, v.height);
-    const ctx = this.refCanvas.getContext('2d');
-    ctx.save();
-    ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
-    const dpr = this.refCanvas.width / Math.max(1, this.refCanvas.clientWidth || this.refCanvas.width);
-    const unit = dpr / v.scale;
-    const done = this.reference.progress().scansDone;
-    if (this.refPath && done >= 1) {
-      drawPath(ctx, 1, this.refPath, done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, this.reference.robotAt(done - 1), {
-        color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
-      });
-    }
-    ctx.restore();
-  }
-
-  /** Draws the view of the map the core holds (no map-sized image: the view's pixels only). */
-  renderView() {
-    if (!this.session || !this.geometry) return;
-    this.pixels = this.session.renderView();
-    this.view = this.session.view();
-    this.redraw();
-    const v = this.view;
-    const dpr = this.canvas.width / Math.max(1, this.canvas.clientWidth || this.canvas.width);
-    const perCell = v.scale / dpr;
-    const res = this.geometry.resolution;
-    const [wx, wy] = [(v.width / v.scale) * res, (v.height / v.scale) * res];
-    this.viewStatus.textContent =
-      `view: ${perCell >= 1 ? `${fixed(perCell, 1)} screen pixels per cell` : `${fixed(1 / perCell, 1)} cells per screen pixel`}, ` +
-      `${fixed(wx, 1)} m × ${fixed(wy, 1)} m shown · wheel or pinch to zoom, drag to pan, + − 0 and arrows on the focused map`;
-    Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
-  }
 
   /** Canvas device pixels of a pointer event (inside the canvas's border). */
   viewPoint(e) {
@@ -605,7 +574,7 @@ export class RealLogPanel {
       e.preventDefault();
       const px = e.deltaMode === 1 ? 16 : e.deltaMode === 2 ? 400 : 1;
       const { x, y } = this.viewPoint(e);
-      this.session.zoomAt(x, y, Math.exp(-e.deltaY * px * WHEEL_ZOOM_PER_PX));
+      this.session.zoomAt(MAIN, x, y, Math.exp(-e.deltaY * px * WHEEL_ZOOM_PER_PX));
       this.renderView();
       this.readViewCell(x, y);
     }, { passive: false });
@@ -626,18 +595,21 @@ export class RealLogPanel {
       const p = this.viewPoint(e);
       const before = pointers.get(e.pointerId);
       if (!before) {
-        if (this.cursor) this.setCursor(null);
+        if (this.cursor()) {
+          this.session.clearCursor(MAIN);
+          this.redraw();
+        }
         this.readViewCell(p.x, p.y);
         return;
       }
       pointers.set(e.pointerId, p);
       if (pointers.size === 1) {
-        this.session.panBy(p.x - before.x, p.y - before.y);
+        this.session.panBy(MAIN, p.x - before.x, p.y - before.y);
       } else if (pointers.size === 2) {
         const now = pinch();
         if (last && last.d > 0) {
-          this.session.panBy(now.x - last.x, now.y - last.y);
-          this.session.zoomAt(now.x, now.y, now.d / last.d);
+          this.session.panBy(MAIN, now.x - last.x, now.y - last.y);
+          this.session.zoomAt(MAIN, now.x, now.y, now.d / last.d);
         }
         last = now;
       }
@@ -645,94 +617,96 @@ export class RealLogPanel {
     });
   }
 
-  /**
-   * Integrates scans towards the session's target (and the corrected map's
-   * beside it, one call each in turn), a time slice per call: each call
-   * does a budget of cell updates sized from the last call's duration
-   * (`buildSlice`), and drawing gets a task of its own (the corrected map's
-   * another).
-   */
-  async buildToTarget(run, offset = 0) {
-    this.setState('building');
-    const jobs = [{ session: this.session, main: true }];
-    if (this.reference) jobs.push({ session: this.reference, main: false });
-    // Both maps share the budget: one log, one machine, one speed.
-    let cells = this.sliceCells ?? FIRST_SLICE_CELLS;
-    let drawn = performance.now();
-    let turn = 0;
-    let main = null;
-    // Setting the map up (reading's last call, or new settings) had a task
-    // of its own.
-    await this.pause();
-    if (run !== this.run) return null;
-    for (;;) {
-      const open = jobs.filter((j) => !j.done);
-      const job = open[turn++ % open.length];
-      const last = job.last ?? job.session.progress();
-      const t = performance.now();
-      let p;
-      try {
-        p = job.session.buildSlice(cells);
-      } catch (e) {
-        // The map's tiles would pass their budget (the core says how much
-        // the log needs): the map so far stays on screen.
-        this.renderView();
-        this.drawReference();
-        this.setState('error');
-        this.status.textContent = 'The map stopped short: choose a coarser resolution.';
-        showError(this.root, e, job.main ? 'map: ' : 'corrected map: ');
-        return null;
-      }
-      const ms = performance.now() - t;
-      const did = p.cellUpdates - last.cellUpdates;
-      this.trace.push(['build', ms, cells, did, p.scansDone]);
-      job.msPerScan = ms / Math.max(1, p.scansDone - last.scansDone);
-      cells = nextChunk(cells, ms, did);
-      this.sliceCells = cells;
-      job.last = p;
-      job.done = p.finished;
-      if (job.main) main = p;
-      const finished = jobs.every((j) => j.done);
-      const due = finished || this.progressDue();
-      if (due) {
-        const progress = jobs.reduce((a, j) => a + (j.last ? j.last.scansDone / Math.max(1, j.last.scansTarget) : 0), 0) / jobs.length;
-        this.progress.value = offset + (1 - offset) * (main?.scansTarget === 0 ? 1 : progress);
-        if (main) this.scrub.set(main.scansDone);
-      }
-      // No intermediate frame when the build is about to finish anyway.
-      const remaining = open.reduce((a, j) => a + (j.last ? (j.last.scansTarget - j.last.scansDone) * j.msPerScan : 0), 0);
-      if (finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
-        const steps = [() => this.draw(main ?? this.session.progress())];
-        if (this.reference) steps.push(() => this.drawReference());
-        for (const step of steps) {
-          await this.pause();
-          if (run !== this.run) return null;
-          const t1 = performance.now();
-          step();
-          drawn = performance.now();
-          this.trace.push(['draw', drawn - t1]);
-        }
-      } else if (due) {
-        this.status.textContent = `Mapping: scan ${count(main?.scansDone ?? 0)} of ${count(main?.scansTarget ?? this.total)}…`;
-      }
-      if (finished) {
-        this.setState('done');
-        return main;
-      }
-      await this.pause();
-      if (run !== this.run) return null;
-    }
+  /** True at most every PROGRESS_EVERY_MS: a changed status costs a paint of the page. */
+  progressDue() {
+    const now = performance.now();
+    if (this.shownAt !== undefined && now - this.shownAt < PROGRESS_EVERY_MS) return false;
+    this.shownAt = now;
+    return true;
   }
 
-  draw(p) {
-    this.done = p.scansDone;
+  /** Ends the task: the next core call runs in a new one (the trace marks it for tests). */
+  pause() {
+    this.trace.push(['yield']);
+    return yieldToEventLoop();
+  }
+
+  /** After a read or new settings: the panes' limits, captions and paths from the core, and the canvases sized for them. */
+  layout() {
+    const panes = this.session?.state().panes ?? [];
+    this.geometry = panes.length ? this.session.geometry(MAIN) : null;
+    // The last image belongs to the old geometry (or the old log), and so
+    // does the last cell read out.
+    this.pixels = null;
+    this.clearCell();
+    if (panes.length > 1) this.sidePane(panes.length - 1);
+    this.sidePanes.forEach((side, i) => {
+      const k = i + 1;
+      const shown = k < panes.length;
+      side.figure.hidden = !shown;
+      side.geometry = shown ? this.session.geometry(k) : null;
+      side.path = shown ? this.session.pathPixels(k) : null;
+      if (shown) side.caption.textContent = panes[k].caption;
+    });
+    this.mainCaption.hidden = panes.length < 2;
+    if (panes.length > 1) this.mainCaption.textContent = panes[MAIN].caption;
+    if (!this.geometry) {
+      this.canvas.hidden = true;
+      this.path = null;
+      return;
+    }
+    this.canvas.hidden = false;
+    this.path = this.session.pathPixels(MAIN);
+    this.total = panes[MAIN].scansTotal;
+    this.scrub.input.max = String(this.total);
+    this.fitCanvas();
+  }
+
+  /**
+   * Display size: the whole map's shape within the panel's width and 75% of
+   * the window's height; the canvas has the display's device pixels
+   * (bounded), into which the core draws only the part of the map in view.
+   * Beside other panes, each gets its share of the width, all at the same
+   * CSS pixels per cell (one log, one resolution: one scale).
+   */
+  fitCanvas() {
+    if (!this.geometry || !this.session) return;
+    const panes = [[this.canvas, this.geometry, MAIN]];
+    this.sidePanes.forEach((side, i) => {
+      if (side.geometry && !side.figure.hidden) panes.push([side.canvas, side.geometry, i + 1]);
+    });
+    const avail = Math.max(100, (this.stage.clientWidth - 8) / panes.length - (panes.length > 1 ? 8 : 0));
+    const fit = Math.min(...panes.map(([, g]) => Math.min(avail / g.width, (0.75 * window.innerHeight) / g.height)));
+    for (const [canvas, { width, height }, k] of panes) {
+      const cssW = Math.max(1, Math.floor(width * fit));
+      const cssH = Math.max(1, Math.floor(height * fit));
+      const scale = Math.min(window.devicePixelRatio || 1, Math.sqrt(MAX_VIEW_PIXELS / (cssW * cssH)));
+      const w = Math.max(1, Math.round(cssW * scale));
+      const h = Math.max(1, Math.round(cssH * scale));
+      canvas.style.width = `${Math.floor(cssW)}px`;
+      canvas.style.height = `${Math.floor(cssH)}px`;
+      if (canvas.width !== w || canvas.height !== h) {
+        canvas.width = w;
+        canvas.height = h;
+      }
+      this.session.setViewSize(k, w, h);
+    }
+    this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
     this.renderView();
-    const { width, height } = this.geometry;
-    const c = this.session.counts();
-    this.status.textContent = p.finished
-      ? `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
-        `map ${count(width)} × ${count(height)} cells at ${this.geometry.resolution} m`
-      : `Mapping: scan ${count(p.scansDone)} of ${count(p.scansTarget)}…`;
+    this.drawSidePanes();
+  }
+
+  /** The operated map's figures in the status line, counts and label, after drawing it. */
+  draw() {
+    const p = this.state.panes[MAIN];
+    this.renderView();
+    const { width, height, resolution } = this.geometry;
+    const c = this.session.counts(MAIN);
+    if (p.finished) {
+      this.status.textContent =
+        `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
+        `map ${count(width)} × ${count(height)} cells at ${resolution} m`;
+    }
     // The thresholds are the exported YAML's (the core sends them with the
     // counts): the figures are what map_server would load from the file.
     const occ = `p > ${c.occupiedThresh}`;
@@ -744,99 +718,88 @@ export class RealLogPanel {
       cellsAllocated: String(p.cellsAllocated),
     });
     this.canvas.setAttribute('aria-label',
-      `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${this.geometry.resolution} m, ` +
+      `Occupancy grid map of ${this.name}, ${count(width)} × ${count(height)} cells of ${resolution} m, ` +
       `after ${count(p.scansDone)} of ${count(p.scansTotal)} scans: ${count(c.occupied)} cells occupied (${occ}), ${count(c.free)} free (${free}), ` +
       `${count(c.unknown)} unknown. Gray is unknown, white free, black occupied; the green line is the laser’s path. ${CURSOR_HINT}`);
   }
 
-  /**
-   * Draws the last rendered view (no core call), the laser's path up to the
-   * last integrated scan with the robot where it is now, and the keyboard
-   * cursor, through the view's transform (image units to canvas pixels),
-   * their widths in screen pixels at any zoom.
-   */
-  redraw() {
-    if (!this.pixels || !this.view) return;
+  /** Draws the view of the operated map the core holds (no map-sized image: the view's pixels only) and states its scale. */
+  renderView() {
+    if (!this.session || !this.geometry) return;
+    this.pixels = this.session.renderView(MAIN);
+    this.view = this.session.view(MAIN);
+    this.redraw();
     const v = this.view;
-    drawMapImage(this.canvas, this.memory, this.pixels, v.width, v.height);
-    const ctx = this.canvas.getContext('2d');
+    const legend = this.session.viewLegend(MAIN, dpr(this.canvas));
+    this.viewStatus.textContent = `view: ${legend.text} · wheel or pinch to zoom, drag to pan, + − 0 and arrows on the focused map`;
+    Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
+  }
+
+  /**
+   * Draws pane `k`'s rendered view `v` (`ptr` its pixels) on `canvas`, the
+   * laser's path so far with the robot, and `cursor` (if any), through the
+   * view's transform, their widths in screen pixels at any zoom.
+   */
+  paint(canvas, k, ptr, v, path, cursor = null) {
+    drawMapImage(canvas, this.memory, ptr, v.width, v.height);
+    const ctx = canvas.getContext('2d');
     ctx.save();
     ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
-    const dpr = this.canvas.width / Math.max(1, this.canvas.clientWidth || this.canvas.width);
-    const unit = dpr / v.scale;
-    if (this.path && this.done >= 1) {
-      drawPath(ctx, 1, this.path, this.done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, this.session.robotAt(this.done - 1), {
+    const unit = dpr(canvas) / v.scale;
+    const done = this.state?.panes[k]?.scansDone ?? 0;
+    if (path && done >= 1) {
+      drawPath(ctx, 1, path, done, { color: PATH_COLOR, lineWidth: unit });
+      drawRobot(ctx, 1, this.session.robotAt(k, done - 1), {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
-    if (this.cursor) {
-      outlineCell(ctx, 1, this.cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
-    }
+    if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
     ctx.restore();
   }
 
-  /**
-   * Arrow keys move a cursor over the map, a few screen pixels (at least a
-   * cell) per press, ten times as far with Shift, and the view follows it;
-   * + and - zoom about it, 0 shows the whole map.
-   */
-  moveCursor(e) {
-    if (!this.geometry || !this.view) return;
-    const { width, height } = this.geometry;
-    const v = this.view;
-    const here = this.cursor ?? this.centreCell();
-    if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '_' || e.key === '0') {
-      e.preventDefault();
-      if (e.key === '0') this.session.fitView();
-      else {
-        const x = (here.col + 0.5 - v.u0) * v.scale;
-        const y = (here.row + 0.5 - v.v0) * v.scale;
-        this.session.zoomAt(x, y, e.key === '+' || e.key === '=' ? KEY_ZOOM : 1 / KEY_ZOOM);
-      }
-      this.cursor = here;
-      this.renderView();
-      this.readCell(here.col, here.row);
-      return;
-    }
-    const step = Math.max(1, Math.round(CURSOR_STEP_PX / v.scale)) * (e.shiftKey ? 10 : 1);
-    const to = arrowCell(e, here, width, height, step);
-    if (!to) return;
-    e.preventDefault();
-    this.cursor = to;
-    // Off screen (or at its edge): bring it back to the centre.
-    const x = (to.col + 0.5 - v.u0) * v.scale;
-    const y = (to.row + 0.5 - v.v0) * v.scale;
-    const m = Math.min(v.width, v.height) * 0.05;
-    if (x < m || y < m || x > v.width - m || y > v.height - m) {
-      this.session.panBy(v.width / 2 - x, v.height / 2 - y);
-    }
-    this.renderView();
-    this.readCell(to.col, to.row);
+  /** The operated map from its last rendered view (no core drawing). */
+  redraw() {
+    if (!this.pixels || !this.view) return;
+    this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
-  /** The map image cell at the view's centre. */
-  centreCell() {
-    const v = this.view;
-    const { width, height } = this.geometry;
-    const clamp = (a, n) => Math.max(0, Math.min(n - 1, Math.floor(a)));
-    return { col: clamp(v.u0 + v.width / (2 * v.scale), width), row: clamp(v.v0 + v.height / (2 * v.scale), height) };
+  /** The maps beside the operated one, whole, with their paths and robots. */
+  drawSidePanes() {
+    if (!this.session) return;
+    this.sidePanes.forEach((side, i) => {
+      if (!side.geometry || side.figure.hidden) return;
+      const ptr = this.session.renderView(i + 1);
+      this.paint(side.canvas, i + 1, ptr, this.session.view(i + 1), side.path);
+    });
+  }
+
+  /** The operated map's keyboard cursor `{ col, row }` (the core's), or null. */
+  cursor() {
+    return this.session && this.geometry ? this.session.cursor(MAIN) : null;
+  }
+
+  /** Arrow keys move the core's cursor (Shift: ten steps; the view follows it), + and - zoom about it, 0 fits the map. */
+  moveCursor(e) {
+    if (!this.geometry || !this.view) return;
+    let cell;
+    if (e.key === '+' || e.key === '=' || e.key === '-' || e.key === '_') {
+      cell = this.session.zoomAtCursor(MAIN, e.key === '+' || e.key === '=' ? KEY_ZOOM : 1 / KEY_ZOOM);
+    } else if (e.key === '0') {
+      cell = this.session.fitView(MAIN);
+    } else if (ARROWS[e.key]) {
+      const [dx, dy] = ARROWS[e.key];
+      cell = this.session.moveCursor(MAIN, dx, dy, e.shiftKey);
+    } else {
+      return;
+    }
+    e.preventDefault();
+    this.renderView();
+    if (cell) this.showReadout(cell);
   }
 
   /** Reads out the cell under canvas pixel `(x, y)` of the view. */
   readViewCell(x, y) {
-    const c = this.session?.cellAtView(x, y);
-    if (c) this.showReadout(c);
-  }
-
-  setCursor(cursor) {
-    this.cursor = cursor;
-    this.redraw();
-  }
-
-  readCell(col, row) {
-    if (col < 0 || row < 0) return;
-    const c = this.session.cellAt(col, row);
+    const c = this.session?.cellAtView(MAIN, x, y);
     if (c) this.showReadout(c);
   }
 
@@ -861,45 +824,48 @@ export class RealLogPanel {
 
   /** After a rebuild or a scrub: the keyboard cursor's cell read again, else no cell. */
   rereadCell() {
-    if (this.cursor) this.readCell(this.cursor.col, this.cursor.row);
+    const at = this.cursor();
+    const c = at && this.session.cellAt(MAIN, at.col, at.row);
+    if (c) this.showReadout(c);
     else this.clearCell();
   }
 
-  /** A control moved: rebuild with the new settings (the core validates them). */
+  /** A control moved: the core takes the settings at once (or refuses them by name), and its state is the rebuild's from then on. */
   change(patch) {
     this.settings = { ...this.settings, ...patch };
-    clearTimeout(this.changeTimer);
-    // Wait for the slider to settle: each rebuild restarts from scan 0.
-    this.changeTimer = setTimeout(() => this.reconfigure(), 120);
+    if (!this.session) return;
+    const before = this.state?.panes.length ? this.geometry : null;
+    if (!this.applySettings()) return;
+    const state = this.session.state();
+    if (state.panes.length === 0) return void this.show(state);
+    // The load's timing line was for the settings it was mapped with.
+    if (before || this.job?.kind !== 'load') this.job = { kind: 'rebuild', t0: performance.now() };
+    this.timing.textContent = '';
+    this.layout();
+    this.follow(state);
   }
 
-  async reconfigure() {
-    if (!this.session || this.root.dataset.state === 'reading') {
-      // Nothing mapped yet, or a log is being read: `load` applies them.
-      this.applied = { ...this.settings };
-      return;
-    }
-    const run = ++this.run;
+  /** Shows the state after a change of the maps: drawn at once if there is nothing to build (a scrub to where the maps are), else built. */
+  follow(state) {
+    this.show(state);
+    if (state.state !== 'done') return void this.drive();
+    this.draw();
+    this.drawSidePanes();
+    this.finishJob(state);
+  }
+
+  /** Hands the controls' settings to the core: true if it took them, else the controls go back to the settings in force. */
+  applySettings() {
     try {
       this.session.configure(this.settings);
-      this.applied = { ...this.settings };
       clearError(this.root);
+      return true;
     } catch (e) {
       showError(this.root, e, 'settings: ');
-      this.settings = { ...this.applied };
+      this.settings = pick(this.session.state().settings);
       this.syncControls();
-      return;
+      return false;
     }
-    this.layout();
-    // The load's timing line was for the settings it was mapped with.
-    const t0 = performance.now();
-    this.timing.textContent = '';
-    this.clearCell();
-    const built = await this.buildToTarget(run);
-    if (!built || run !== this.run) return;
-    this.timing.textContent =
-      `Rebuilt with the new settings (${this.applied.resolution} m cells): ${count(built.scansDone)} scans mapped in ${(performance.now() - t0).toFixed(0)} ms.`;
-    this.rereadCell();
   }
 
   syncControls() {
@@ -912,28 +878,20 @@ export class RealLogPanel {
   }
 
   async seek(k) {
-    if (!this.session) return;
-    const run = ++this.run;
+    if (!this.session || !this.geometry) return;
     try {
       this.session.seek(k);
-      this.reference?.seek(k);
     } catch (e) {
       return void showError(this.root, e, 'scrub: ');
     }
+    this.job = null;
     this.clearCell();
-    await this.buildToTarget(run);
-    if (run === this.run) this.rereadCell();
+    this.follow(this.session.state());
   }
 
   exportMap() {
-    if (!this.session) return;
-    const stem = mapStem(this.name);
-    return exportMap(this.root, stem, () => this.session.exportMap(stem), 'export: ');
-  }
-
-  setState(state) {
-    this.root.dataset.state = state;
-    this.root.setAttribute('aria-busy', String(state === 'reading' || state === 'building'));
+    if (!this.session || !this.geometry) return;
+    const stem = this.session.exportStem(MAIN, this.name);
+    return exportMap(this.root, stem, () => this.session.exportMap(MAIN, stem), 'export: ');
   }
 }
-

@@ -1,34 +1,74 @@
-//! Bindings for real CARMEN logs: the chunked map build behind Map Weaver's
-//! real-log mode ([`LogMapSession`]), and the zip packing of an exported map pair that
-//! every widget's "Export map" button uses ([`zip_map_pair`]).
+//! Bindings for real CARMEN logs: the session behind Map Weaver's
+//! real-log mode ([`RealLogSession`], the same name as the core session it
+//! wraps), and the zip packing of an exported map pair that every widget's
+//! "Export map" button uses ([`zip_map_pair`]). Every method converts its
+//! JavaScript arguments to plain Rust values first, then makes one call
+//! into the core session.
 
 use super::{
     budget_from_js, bytes_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
     number_from_js, object_from_js, string_from_js, to_js,
 };
-use crate::apps::real_log::{LogMapSettings, RealLogSession};
+use crate::apps::real_log::{self as app, LogMapSettings, SettingLimits};
 use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// What a log's bytes may come as.
 pub(crate) const LOG_BYTES: &str = "the bytes of a log file: a Uint8Array or an ArrayBuffer";
 
-/// A log being read and mapped step by step: [`RealLogSession`].
+/// A log being read and mapped step by step, one pane per pose source:
+/// [`app::RealLogSession`]. Methods about one map take its pane index first
+/// (0 is the pane the reader operates; `state().panes` lists them).
 #[wasm_bindgen]
-pub struct LogMapSession {
-    session: RealLogSession,
-    /// The last view drawn: its RGBA bytes, the view's size (bounded by
-    /// `MapViewport`), never the map's.
-    view_pixels: Vec<u8>,
+pub struct RealLogSession {
+    session: app::RealLogSession,
+}
+
+/// A log's file name: a string, or `undefined` / `null` for `log`.
+fn optional_name(value: &JsValue) -> Result<String, JsError> {
+    if value.is_undefined() || value.is_null() {
+        Ok("log".into())
+    } else {
+        string_from_js("name", value, "a file name, or nothing")
+    }
+}
+
+/// A cell budget: a whole number, `Infinity` (or past `u64`) for no limit.
+fn cells_from_js(field: &str, value: &JsValue) -> Result<u64, JsError> {
+    let cells = budget_from_js(field, value)?;
+    Ok(if cells == usize::MAX {
+        u64::MAX
+    } else {
+        cells as u64
+    })
+}
+
+/// One arrow key's step along an axis: -1, 0 or 1.
+fn direction_from_js(field: &str, value: &JsValue) -> Result<i8, JsError> {
+    let d = number_from_js(field, value)?;
+    if d == -1.0 || d == 0.0 || d == 1.0 {
+        Ok(d as i8)
+    } else {
+        Err(JsError::new(&format!(
+            "invalid {field}: {} (expected -1, 0 or 1: one arrow key)",
+            crate::error::show(d)
+        )))
+    }
 }
 
 #[wasm_bindgen]
-impl LogMapSession {
+impl RealLogSession {
     /// Takes the bytes of a log file (a `Uint8Array` or `ArrayBuffer` of
-    /// gzip or plain text); nothing is read until [`Self::read`].
+    /// gzip or plain text) to read with [`Self::read`], and optionally the
+    /// file's name (`log` without one); [`Self::open`] gives the session
+    /// the next log.
     #[wasm_bindgen(constructor)]
-    pub fn new_js(bytes: JsValue) -> Result<LogMapSession, JsError> {
-        Ok(Self::new(bytes_from_js("bytes", &bytes, LOG_BYTES)?))
+    pub fn new(bytes: JsValue, name: JsValue) -> Result<RealLogSession, JsError> {
+        let bytes = bytes_from_js("bytes", &bytes, LOG_BYTES)?;
+        let name = optional_name(&name)?;
+        let mut session = app::RealLogSession::idle();
+        session.open(bytes, &name);
+        Ok(Self { session })
     }
 
     /// The real-log defaults: `{ resolution, rangeCap, alpha, lOcc, lFree,
@@ -38,191 +78,277 @@ impl LogMapSession {
         to_js(&LogMapSettings::default())
     }
 
+    /// The bounds the controls keep to at `resolution` metres per cell:
+    /// `{ resolution, rangeCapMax, reachCells, seedMax }`.
+    pub fn limits(resolution: JsValue) -> Result<JsValue, JsError> {
+        let resolution = number_from_js("resolution", &resolution)?;
+        to_js(&SettingLimits::at(resolution)?)
+    }
+
+    /// Starts reading another log (the bytes and name as the constructor
+    /// takes them); the maps of the previous log stay until this one is
+    /// read.
+    pub fn open(&mut self, bytes: JsValue, name: JsValue) -> Result<(), JsError> {
+        let bytes = bytes_from_js("bytes", &bytes, LOG_BYTES)?;
+        let name = optional_name(&name)?;
+        self.session.open(bytes, &name);
+        Ok(())
+    }
+
     /// Reads up to `maxScans` more laser lines (a whole number; `Infinity`
     /// for the rest of the log) and returns `{ lines, scans, beams,
-    /// bytesRead, bytesTotal, finished }` ([`RealLogSession::read`]).
-    #[wasm_bindgen(js_name = read)]
-    pub fn read_js(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
-        self.read(budget_from_js("maxScans", &max_scans)?)
+    /// bytesRead, bytesTotal, finished, warning }`.
+    pub fn read(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
+        let max_scans = budget_from_js("maxScans", &max_scans)?;
+        to_js(&self.session.read(max_scans)?)
     }
 
     /// New settings (a partial object: missing fields keep the defaults;
-    /// unknown fields are errors). Returns the map's geometry, or `null`
-    /// while the log is still being read. On error nothing changes.
+    /// unknown fields are errors). Returns the first pane's geometry, or
+    /// `null` while there is no map. On error nothing changes.
     pub fn configure(&mut self, settings: JsValue) -> Result<JsValue, JsError> {
         let settings: LogMapSettings = object_from_js("settings", settings)?;
         to_js(&self.session.configure(settings)?)
     }
 
-    /// The finished read's report (also when setting up the map failed),
-    /// or `null`.
-    #[wasm_bindgen(js_name = readSummary)]
-    pub fn read_summary(&self) -> Result<JsValue, JsError> {
-        to_js(&self.session.read_summary())
+    /// The one state a panel renders: `{ state, error, progress, read,
+    /// scansDone, scansTarget, scansTotal, cellUpdates, beams, finished,
+    /// panes: [{ poses, caption, scansDone, ... }], settings, limits }`,
+    /// `state` one of idle, reading, awaiting-settings, building, done,
+    /// failed.
+    pub fn state(&self) -> Result<JsValue, JsError> {
+        to_js(&self.session.state())
     }
 
-    /// True when the whole log has been read but the settings made too large
-    /// a grid for it: `configure` with settings that fit builds the map.
-    #[wasm_bindgen(getter, js_name = awaitingSettings)]
-    pub fn awaiting_settings(&self) -> bool {
-        self.session.awaiting_settings()
-    }
-
-    /// `{ width, height, resolution, originX, originY }` of the map, or
-    /// `null` before the log is read.
-    pub fn geometry(&self) -> Result<JsValue, JsError> {
-        to_js(&self.session.geometry())
-    }
-
-    /// Integrates up to `maxScans` more scans (a whole number; `Infinity`
-    /// for all) and returns `{ scansDone, scansTarget, scansTotal,
-    /// cellUpdates, beams, finished }`.
-    #[wasm_bindgen(js_name = buildChunk)]
-    pub fn build_chunk_js(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
-        self.build_chunk(budget_from_js("maxScans", &max_scans)?)
-    }
-
-    /// Integrates scans until this call has made `maxCells` cell updates
-    /// (a whole number; the scan that reaches it is finished, and at least
-    /// one scan is integrated): a call's work, and so its time, is bounded
-    /// whatever the scans are like. Returns what `buildChunk` returns.
+    /// Advances every pane within one budget of `maxCells` cell updates (a
+    /// whole number; the scan that reaches it is finished, and at least
+    /// one scan is integrated while any is left; `Infinity` for the whole
+    /// build): a call's work, and so its time, is bounded whatever the
+    /// scans are like. Returns the state.
     #[wasm_bindgen(js_name = buildSlice)]
-    pub fn build_slice_js(&mut self, max_cells: JsValue) -> Result<JsValue, JsError> {
-        let cells = budget_from_js("maxCells", &max_cells)?;
-        // Infinity (usize::MAX) is no limit on any target.
-        let cells = if cells == usize::MAX {
-            u64::MAX
-        } else {
-            cells as u64
-        };
-        to_js(&self.session.build_slice(cells)?)
+    pub fn build_slice(&mut self, max_cells: JsValue) -> Result<JsValue, JsError> {
+        let max_cells = cells_from_js("maxCells", &max_cells)?;
+        to_js(&self.session.build_slice(max_cells)?)
     }
 
-    /// A second session over the same log, already read (the scans are
-    /// copied, not read again), mapped under `settings` (a partial object,
-    /// as `configure` takes): the corrected map beside a dead-reckoned one.
-    pub fn fork(&self, settings: JsValue) -> Result<LogMapSession, JsError> {
-        let settings: LogMapSettings = object_from_js("settings", settings)?;
-        Ok(LogMapSession {
-            session: self.session.fork(settings)?,
-            view_pixels: Vec::new(),
-        })
-    }
-
-    /// The build's progress without doing any work.
-    pub fn progress(&self) -> Result<JsValue, JsError> {
-        to_js(&self.session.build()?.progress())
-    }
-
-    /// Scrubs to `scans` integrated scans; `buildChunk` then does the work
-    /// (going back restarts from the first scan).
+    /// Scrubs every pane to `scans` integrated scans; `buildSlice` then
+    /// does the work (going back restarts from the first scan).
     pub fn seek(&mut self, scans: JsValue) -> Result<(), JsError> {
-        Ok(self.session.seek(index_from_js("scan", &scans)?)?)
+        let scans = index_from_js("scan", &scans)?;
+        Ok(self.session.seek(scans)?)
     }
 
-    /// The size of the output the map is drawn into, device pixels (whole
-    /// numbers, 1 to 8192 each, at most 4,194,304 in all). The view keeps
-    /// its centre and zoom.
+    /// `{ width, height, resolution, originX, originY }` of pane `pane`'s map.
+    pub fn geometry(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(&self.session.geometry(pane)?)
+    }
+
+    /// The size of the output pane `pane` is drawn into, device pixels
+    /// (whole numbers, 1 to 8192 each, at most 4,194,304 in all). The view
+    /// keeps its centre and zoom.
     #[wasm_bindgen(js_name = setViewSize)]
-    pub fn set_view_size(&mut self, width: JsValue, height: JsValue) -> Result<(), JsError> {
-        let (w, h) = (
+    pub fn set_view_size(
+        &mut self,
+        pane: JsValue,
+        width: JsValue,
+        height: JsValue,
+    ) -> Result<(), JsError> {
+        let (pane, w, h) = (
+            index_from_js("pane", &pane)?,
             index_from_js("width", &width)?,
             index_from_js("height", &height)?,
         );
-        Ok(self.session.set_view_size(w, h)?)
+        Ok(self.session.pane_mut(pane)?.set_view_size(w, h)?)
     }
 
-    /// Shows the whole map.
+    /// Shows pane `pane`'s whole map, keeping the keyboard cursor (placed
+    /// at the view's centre if there was none); returns the cell under it.
     #[wasm_bindgen(js_name = fitView)]
-    pub fn fit_view(&mut self) -> Result<(), JsError> {
-        Ok(self.session.fit_view()?)
+    pub fn fit_view(&mut self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(&self.session.pane_mut(pane)?.fit_at_cursor())
     }
 
-    /// Zooms by `factor` (above 1 closer) about output pixel `(x, y)`: the
-    /// point under it stays under it.
+    /// Zooms pane `pane` by `factor` (above 1 closer) about output pixel
+    /// `(x, y)`: the point under it stays under it.
     #[wasm_bindgen(js_name = zoomAt)]
-    pub fn zoom_at(&mut self, x: JsValue, y: JsValue, factor: JsValue) -> Result<(), JsError> {
-        let (x, y, factor) = (
+    pub fn zoom_at(
+        &mut self,
+        pane: JsValue,
+        x: JsValue,
+        y: JsValue,
+        factor: JsValue,
+    ) -> Result<(), JsError> {
+        let (pane, x, y, factor) = (
+            index_from_js("pane", &pane)?,
             number_from_js("x", &x)?,
             number_from_js("y", &y)?,
             number_from_js("factor", &factor)?,
         );
-        Ok(self.session.zoom_view(x, y, factor)?)
+        Ok(self.session.pane_mut(pane)?.zoom_view(x, y, factor)?)
     }
 
-    /// Moves the map by `(dx, dy)` output pixels (a drag).
+    /// Moves pane `pane`'s map by `(dx, dy)` output pixels (a drag).
     #[wasm_bindgen(js_name = panBy)]
-    pub fn pan_by(&mut self, dx: JsValue, dy: JsValue) -> Result<(), JsError> {
-        let (dx, dy) = (number_from_js("dx", &dx)?, number_from_js("dy", &dy)?);
-        Ok(self.session.pan_view(dx, dy)?)
+    pub fn pan_by(&mut self, pane: JsValue, dx: JsValue, dy: JsValue) -> Result<(), JsError> {
+        let (pane, dx, dy) = (
+            index_from_js("pane", &pane)?,
+            number_from_js("dx", &dx)?,
+            number_from_js("dy", &dy)?,
+        );
+        Ok(self.session.pane_mut(pane)?.pan_view(dx, dy)?)
     }
 
-    /// `{ mapWidth, mapHeight, width, height, u0, v0, scale }`: output
-    /// pixel `(x, y)` shows map image point `(u0 + x / scale, v0 + y /
-    /// scale)` (image units: one per cell, row 0 at the top).
-    pub fn view(&self) -> Result<JsValue, JsError> {
-        to_js(self.session.view()?)
+    /// `{ mapWidth, mapHeight, width, height, u0, v0, scale }` of pane
+    /// `pane`: output pixel `(x, y)` shows map image point `(u0 + x /
+    /// scale, v0 + y / scale)` (image units: one per cell, row 0 at the top).
+    pub fn view(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(self.session.pane(pane)?.view())
     }
 
-    /// Draws the view (north up, white free, black occupied, mid-gray
-    /// unknown, blue-gray off the map) and returns the address of its
-    /// `width * height * 4` RGBA bytes in wasm memory.
+    /// Pane `pane`'s scale as the panel states it, for a canvas of
+    /// `devicePixelRatio` device pixels per screen pixel: `{
+    /// screenPixelsPerCell, metresPerScreenPixel, widthMetres,
+    /// heightMetres, text }`.
+    #[wasm_bindgen(js_name = viewLegend)]
+    pub fn view_legend(
+        &self,
+        pane: JsValue,
+        device_pixel_ratio: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let (pane, dpr) = (
+            index_from_js("pane", &pane)?,
+            number_from_js("devicePixelRatio", &device_pixel_ratio)?,
+        );
+        to_js(&self.session.pane(pane)?.legend(dpr)?)
+    }
+
+    /// Draws pane `pane`'s view (north up, white free, black occupied,
+    /// mid-gray unknown, blue-gray off the map) and returns the address of
+    /// its `width * height * 4` RGBA bytes in wasm memory.
     #[wasm_bindgen(js_name = renderView)]
-    pub fn render_view(&mut self) -> Result<usize, JsError> {
-        self.session.render_view(&mut self.view_pixels)?;
-        Ok(self.view_pixels.as_ptr() as usize)
+    pub fn render_view(&mut self, pane: JsValue) -> Result<usize, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        Ok(self.session.pane_mut(pane)?.render_view().as_ptr() as usize)
     }
 
-    /// The cell under output position `(x, y)` of the view (pixels):
-    /// `{ ix, iy, x, y, l, p, updates, unknown }`, or `null` off the map.
+    /// The cell under output position `(x, y)` of pane `pane`'s view
+    /// (pixels): `{ ix, iy, x, y, l, p, updates, unknown }`, or `null` off
+    /// the map.
     #[wasm_bindgen(js_name = cellAtView)]
-    pub fn cell_at_view(&self, x: JsValue, y: JsValue) -> Result<JsValue, JsError> {
-        let (x, y) = (number_from_js("x", &x)?, number_from_js("y", &y)?);
-        if !(x.is_finite() && y.is_finite()) {
-            return Err(JsError::new(&format!(
-                "invalid view position: ({x}, {y}) (expected finite pixels)"
-            )));
-        }
-        to_js(&self.session.readout_at_view(x, y)?)
+    pub fn cell_at_view(&self, pane: JsValue, x: JsValue, y: JsValue) -> Result<JsValue, JsError> {
+        let (pane, x, y) = (
+            index_from_js("pane", &pane)?,
+            number_from_js("x", &x)?,
+            number_from_js("y", &y)?,
+        );
+        to_js(&self.session.pane(pane)?.readout_at_view(x, y)?)
     }
 
-    /// The cell under image pixel `(col, row)` (row 0 at the top; whole
-    /// numbers): `{ ix, iy, x, y, l, p, updates, unknown }`, or `null`
-    /// outside the map.
+    /// The cell under image pixel `(col, row)` of pane `pane` (row 0 at the
+    /// top; whole numbers), or `null` outside the map.
     #[wasm_bindgen(js_name = cellAt)]
-    pub fn cell_at(&self, col: JsValue, row: JsValue) -> Result<JsValue, JsError> {
-        let (col, row) = (
+    pub fn cell_at(&self, pane: JsValue, col: JsValue, row: JsValue) -> Result<JsValue, JsError> {
+        let (pane, col, row) = (
+            index_from_js("pane", &pane)?,
             coordinate_from_js("col", &col)?,
             coordinate_from_js("row", &row)?,
         );
-        to_js(&self.session.build()?.readout_at_pixel(col, row))
+        to_js(&self.session.pane(pane)?.readout_at_pixel(col, row))
     }
 
-    /// `{ occupied, free, unknown, cells, occupiedThresh, freeThresh }` now,
-    /// counted as the exported map holds them: occupied `p > occupiedThresh`,
-    /// free `p < freeThresh`, unknown the rest (the YAML's thresholds).
-    pub fn counts(&self) -> Result<JsValue, JsError> {
-        to_js(&self.session.build()?.counts())
+    /// Moves pane `pane`'s keyboard cursor one arrow key's way (`dx`, `dy`
+    /// each -1, 0 or 1; `long` true for ten steps), from the view's centre
+    /// the first time; the view follows it. Returns the cell under it.
+    #[wasm_bindgen(js_name = moveCursor)]
+    pub fn move_cursor(
+        &mut self,
+        pane: JsValue,
+        dx: JsValue,
+        dy: JsValue,
+        long: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let (pane, dx, dy, long) = (
+            index_from_js("pane", &pane)?,
+            direction_from_js("dx", &dx)?,
+            direction_from_js("dy", &dy)?,
+            long.is_truthy(),
+        );
+        to_js(&self.session.pane_mut(pane)?.move_cursor(dx, dy, long)?)
     }
 
-    /// The laser positions of all scans in image pixels, `[x0, y0, ...]`.
+    /// Zooms pane `pane` by `factor` about its keyboard cursor (placed at
+    /// the view's centre if there is none); returns the cell under it.
+    #[wasm_bindgen(js_name = zoomAtCursor)]
+    pub fn zoom_at_cursor(&mut self, pane: JsValue, factor: JsValue) -> Result<JsValue, JsError> {
+        let (pane, factor) = (
+            index_from_js("pane", &pane)?,
+            number_from_js("factor", &factor)?,
+        );
+        to_js(&self.session.pane_mut(pane)?.zoom_at_cursor(factor)?)
+    }
+
+    /// Pane `pane`'s keyboard cursor `{ col, row }` (an image cell), or
+    /// `null`.
+    pub fn cursor(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(&self.session.pane(pane)?.cursor())
+    }
+
+    /// Forgets pane `pane`'s keyboard cursor.
+    #[wasm_bindgen(js_name = clearCursor)]
+    pub fn clear_cursor(&mut self, pane: JsValue) -> Result<(), JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        self.session.pane_mut(pane)?.clear_cursor();
+        Ok(())
+    }
+
+    /// `{ occupied, free, unknown, cells, occupiedThresh, freeThresh }` of
+    /// pane `pane` now, counted as the exported map holds them: occupied
+    /// `p > occupiedThresh`, free `p < freeThresh`, unknown the rest.
+    pub fn counts(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(&self.session.pane(pane)?.counts())
+    }
+
+    /// The laser positions of all scans on pane `pane` in image pixels,
+    /// `[x0, y0, ...]`.
     #[wasm_bindgen(js_name = pathPixels)]
-    pub fn path_pixels(&self) -> Result<Vec<f32>, JsError> {
-        Ok(self.session.build()?.path_in_pixels())
+    pub fn path_pixels(&self, pane: JsValue) -> Result<Vec<f32>, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        Ok(self.session.pane(pane)?.path_in_pixels())
     }
 
-    /// The robot at scan `k` over the map: `{ x, y, heading }` in image
+    /// The robot at scan `k` over pane `pane`: `{ x, y, heading }` in image
     /// units, the heading an image angle (radians clockwise on screen).
     #[wasm_bindgen(js_name = robotAt)]
-    pub fn robot_at(&self, k: JsValue) -> Result<JsValue, JsError> {
-        to_js(&self.session.robot_at(index_from_js("scan", &k)?)?)
+    pub fn robot_at(&self, pane: JsValue, k: JsValue) -> Result<JsValue, JsError> {
+        let (pane, k) = (index_from_js("pane", &pane)?, index_from_js("scan", &k)?);
+        let robot = self.session.pane(pane)?.robot_at(k);
+        to_js(&robot.ok_or_else(|| crate::error::invalid("scan", k, "a scan of the log"))?)
     }
 
-    /// The map as a ROS `map_server` pair `{ pgm: Uint8Array, yaml }`, the
-    /// YAML naming the image `NAME.pgm` (`name` a string; `undefined` or
-    /// `null` for `map.pgm`).
+    /// The file stem pane `pane`'s export takes for a log file named
+    /// `fileName`: `intel-corrected-map`, or
+    /// `intel-corrected-dead-reckoning-map` for dead reckoning.
+    #[wasm_bindgen(js_name = exportStem)]
+    pub fn export_stem(&self, pane: JsValue, file_name: JsValue) -> Result<String, JsError> {
+        let (pane, name) = (
+            index_from_js("pane", &pane)?,
+            string_from_js("fileName", &file_name, "a file name")?,
+        );
+        Ok(self.session.pane(pane)?.export_stem(&name))
+    }
+
+    /// Pane `pane`'s map as a ROS `map_server` pair `{ pgm: Uint8Array,
+    /// yaml }`, the YAML naming the image `NAME.pgm` (`name` a string;
+    /// `undefined` or `null` for `map.pgm`) and, for poses other than the
+    /// log's own, saying which in a comment line.
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map_js(&self, name: JsValue) -> Result<JsValue, JsError> {
+    pub fn export_map(&self, pane: JsValue, name: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
         let name = if name.is_undefined() || name.is_null() {
             None
         } else {
@@ -232,34 +358,18 @@ impl LogMapSession {
                 "a file name, or nothing for map.pgm",
             )?)
         };
-        self.export_map(name)
+        map_pair_to_js(&self.session.pane(pane)?.export_map(name.as_deref()))
     }
 }
 
-/// Typed entry points for Rust callers (the JavaScript surface above
-/// checks what JavaScript sends, then calls these).
-impl LogMapSession {
-    /// [`Self::new_js`] for Rust callers.
-    pub fn new(bytes: Vec<u8>) -> LogMapSession {
-        LogMapSession {
-            session: RealLogSession::new(bytes),
-            view_pixels: Vec::new(),
+/// Rust-side access for tests (the JavaScript surface above converts what
+/// JavaScript sends, then calls the core session).
+impl RealLogSession {
+    /// A session about to read `bytes`.
+    pub fn from_bytes(bytes: Vec<u8>) -> RealLogSession {
+        RealLogSession {
+            session: app::RealLogSession::new(bytes),
         }
-    }
-
-    /// [`Self::read_js`] for Rust callers, with the budget already a count.
-    pub fn read(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        to_js(&self.session.read(max_scans)?)
-    }
-
-    /// [`Self::build_chunk_js`] for Rust callers.
-    pub fn build_chunk(&mut self, max_scans: usize) -> Result<JsValue, JsError> {
-        to_js(&self.session.build_chunk(max_scans)?)
-    }
-
-    /// [`Self::export_map_js`] for Rust callers.
-    pub fn export_map(&self, name: Option<String>) -> Result<JsValue, JsError> {
-        map_pair_to_js(&self.session.export_map(name.as_deref())?)
     }
 }
 

@@ -186,9 +186,13 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
     pub fn cells_allocated(&self) -> usize {
         self.store.cells_allocated()
     }
-    /// Bytes the allocated cells hold: the cell and its update count.
+    /// Bytes a cell takes: the cell model's value and its update count.
+    pub fn bytes_per_cell(&self) -> usize {
+        std::mem::size_of::<M::Cell>() + 4
+    }
+    /// Bytes the allocated cells hold.
     pub fn bytes_allocated(&self) -> usize {
-        self.cells_allocated() * (std::mem::size_of::<M::Cell>() + 4)
+        self.cells_allocated() * self.bytes_per_cell()
     }
     /// True once a cell's evidence was dropped for want of storage.
     pub fn refused(&self) -> bool {

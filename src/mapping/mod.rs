@@ -8,6 +8,7 @@ pub mod drift;
 pub mod fusion;
 pub mod joint;
 pub mod map_search;
+pub mod reach;
 pub mod sweep;
 pub mod traversal;
 pub mod walls;

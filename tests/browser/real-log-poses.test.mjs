@@ -25,11 +25,18 @@ async function openPanel() {
   return opened;
 }
 
-/** Waits until the panel is done (or failed) with `scans` scans shown, and returns its state. */
+/**
+ * Waits until the core's session is done with `scans` scans in every pane
+ * (or failed), and the panel shows that state, then returns the panel's
+ * data. No state of the page's own: the panel's `data-state` is the
+ * session's, set once the panel has drawn it.
+ */
 async function settled(page, scans) {
   await page.waitForFunction((n) => {
-    const p = document.querySelector('.map-weaver-log');
-    return (p.dataset.state === 'done' && p.dataset.scans === String(n)) || p.dataset.state === 'error';
+    const panel = window.realLogPanel;
+    const s = panel.session?.state();
+    if (!s || s.state !== panel.root.dataset.state) return false;
+    return (s.state === 'done' && s.scansDone === n) || s.state === 'failed';
   }, scans, { timeout: 60_000 });
   return page.$eval('.map-weaver-log', (e) => ({ ...e.dataset }));
 }
@@ -52,18 +59,22 @@ test('dead reckoning draws its map beside the corrected one; one seed gives one 
   assert.equal(await page.locator('.map-weaver-log-reference').isHidden(), true, 'one map under the corrected poses');
   const correctedMap = await pixels(page, '.map-weaver-log-map');
 
-  const rebuilt = async (change) => {
-    const before = await page.$eval('.map-weaver-log', (e) => e.dataset.totalBuilds ?? '0');
-    await page.evaluate(() => { window.realLogPanel.root.dataset.state = 'changing'; });
+  // A change of settings reaches the core at once: from then on its state
+  // is the rebuild's, so "done" can only be the new maps'.
+  const rebuilt = async (change, expected) => {
     await change();
     const s = await settled(page, 440);
-    assert.equal(s.state, 'done', before);
+    assert.equal(s.state, 'done');
+    const core = await page.evaluate(() => window.realLogPanel.session.state());
+    assert.equal(core.state, 'done');
+    for (const [k, v] of Object.entries(expected)) assert.equal(core.settings[k], v, k);
+    assert.deepEqual(core.panes.map((p) => p.poses), expected.poses === 'dead-reckoning' ? ['dead-reckoning', 'corrected'] : ['corrected']);
     return s;
   };
   const seed = page.locator('.map-weaver-log input[name=seed]');
   await seed.fill('7');
   await seed.dispatchEvent('change');
-  const dr7 = await rebuilt(() => page.selectOption('.map-weaver-log select[name=poses]', 'dead-reckoning'));
+  const dr7 = await rebuilt(() => page.selectOption('.map-weaver-log select[name=poses]', 'dead-reckoning'), { poses: 'dead-reckoning', seed: 7 });
   assert.equal(await page.locator('.map-weaver-log-reference').isVisible(), true, 'the corrected map is shown beside');
   assert.match(await page.locator('.map-weaver-log-pane figcaption').textContent(), /Dead reckoning \(seed 7\)/);
   const map7 = await pixels(page, '.map-weaver-log-map');
@@ -71,7 +82,7 @@ test('dead reckoning draws its map beside the corrected one; one seed gives one 
   // The pane beside is the corrected map: the core's counts of its map are
   // the corrected build's.
   const reference = await page.evaluate(() => {
-    const c = window.realLogPanel.reference.counts();
+    const c = window.realLogPanel.session.counts(1);
     return [c.occupied, c.free, c.unknown].map(String);
   });
   assert.deepEqual(reference, [corrected.occupied, corrected.free, corrected.unknown], 'the pane beside is the corrected map');
@@ -80,18 +91,18 @@ test('dead reckoning draws its map beside the corrected one; one seed gives one 
   // Both at one scale: the same metres take the same CSS pixels.
   const scale = await page.evaluate(() => {
     const p = window.realLogPanel;
-    return [[p.canvas, p.geometry], [p.refCanvas, p.refGeometry]].map(([c, g]) => parseFloat(c.style.width) / g.width);
+    return [[p.canvas, p.geometry], [p.sidePanes[0].canvas, p.sidePanes[0].geometry]].map(([c, g]) => parseFloat(c.style.width) / g.width);
   });
   assert.ok(Math.abs(scale[0] - scale[1]) < 0.01 * scale[0], `scales ${scale}`);
   await screenshot(page.locator('.map-weaver-log-stage'), 'real-log-aces-dead-reckoning');
 
   await seed.fill('8');
-  const dr8 = await rebuilt(() => seed.dispatchEvent('change'));
+  const dr8 = await rebuilt(() => seed.dispatchEvent('change'), { poses: 'dead-reckoning', seed: 8 });
   const map8 = await pixels(page, '.map-weaver-log-map');
   assert.notEqual(map8, map7, 'another seed, another map');
   assert.notEqual(dr8.occupied, dr7.occupied);
   await seed.fill('7');
-  const again = await rebuilt(() => seed.dispatchEvent('change'));
+  const again = await rebuilt(() => seed.dispatchEvent('change'), { poses: 'dead-reckoning', seed: 7 });
   assert.equal(await pixels(page, '.map-weaver-log-map'), map7, 'the same seed, the same map');
   assert.deepEqual([again.occupied, again.free, again.unknown], [dr7.occupied, dr7.free, dr7.unknown]);
   assert.deepEqual(await page.evaluate(() => window.realLogPanel.linkState().settings).then((s) => [s.poses, s.seed]), ['dead-reckoning', 7]);
@@ -104,7 +115,7 @@ test('dead reckoning draws its map beside the corrected one; one seed gives one 
   assert.equal(errors.length, 1, errors.join(' | '));
   assert.match(errors.pop(), /seed "1\.5" is not a whole number/);
 
-  await rebuilt(() => page.selectOption('.map-weaver-log select[name=poses]', 'corrected'));
+  await rebuilt(() => page.selectOption('.map-weaver-log select[name=poses]', 'corrected'), { poses: 'corrected' });
   assert.equal(await page.locator('.map-weaver-log-reference').isHidden(), true);
   assert.equal(await pixels(page, '.map-weaver-log-map'), correctedMap);
   assert.deepEqual(errors, []);

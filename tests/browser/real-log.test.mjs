@@ -24,19 +24,28 @@ async function openPanel() {
 
 const panel = (page) => page.locator('.map-weaver-log');
 
-/** Waits for the panel to finish (or fail) and returns its state. */
-async function settled(page, timeout = 30_000) {
-  await page.waitForFunction(() => {
-    const s = document.querySelector('.map-weaver-log')?.dataset.state;
-    return s === 'done' || s === 'error';
-  }, null, { timeout });
+/** The states in which the session has stopped working: done, failed, or waiting for settings that fit. */
+const STOPPED = ['done', 'failed', 'awaiting-settings'];
+
+/**
+ * Waits until the core's session has stopped working on the log `log` (any
+ * log when null) and the panel shows that state, and returns the panel's
+ * data. The session's state names the log it is about: a page that loads
+ * one log after another waits for the one it chose.
+ */
+async function settled(page, timeout = 30_000, log = null) {
+  await page.waitForFunction(([stopped, name]) => {
+    const panel = window.realLogPanel ?? document.querySelector('occgrid-map-weaver')?.realLog;
+    const s = panel?.session?.state();
+    return !!s && stopped.includes(s.state) && panel.root.dataset.state === s.state && (name === null || s.log === name);
+  }, [STOPPED, log], { timeout });
   return page.$eval('.map-weaver-log', (e) => ({ ...e.dataset }));
 }
 
 /** Loads the Intel log through the file input and waits for the map. */
 async function loadIntel(page) {
   await page.setInputFiles('.map-weaver-log input[type=file]', INTEL);
-  const state = await settled(page);
+  const state = await settled(page, 30_000, path.basename(INTEL));
   assert.equal(state.state, 'done');
   return state;
 }
@@ -132,7 +141,7 @@ test('hovering the map reads the cell under the pointer from the core', async ()
   // The cell the core reports for the same image pixel.
   const expected = await page.evaluate(({ ix, iy }) => {
     const p = window.realLogPanel;
-    return p.session.cellAt(ix, p.geometry.height - 1 - iy);
+    return p.session.cellAt(0, ix, p.geometry.height - 1 - iy);
   }, { ix: Number(shown.ix), iy: Number(shown.iy) });
   const { width, height } = await page.evaluate(() => window.realLogPanel.geometry);
   assert.ok(Math.abs(Number(shown.ix) - 0.5 * width) <= 2 && Math.abs(height - 1 - Number(shown.iy) - 0.45 * height) <= 2, 'the cell under the pointer');
@@ -167,7 +176,7 @@ test('scrubbing back rebuilds the map from the first scan, and forward restores 
     }, v);
     await page.waitForFunction((value) => {
       const p = window.realLogPanel;
-      return p.root.dataset.state === 'done' && p.session.progress().scansDone === value;
+      return p.root.dataset.state === 'done' && p.session.state().scansDone === value;
     }, v);
   };
   await scrubTo(100);
@@ -284,17 +293,17 @@ test('garbage files give a line-numbered error in the panel, a truncated one is 
   const alert = page.locator('.map-weaver-log .occgrid-error');
 
   await page.setInputFiles(input, { name: 'notes.log', mimeType: 'text/plain', buffer: Buffer.from('Shopping list\nmilk\n') });
-  assert.equal((await settled(page)).state, 'error');
+  assert.equal((await settled(page, 30_000, 'notes.log')).state, 'failed');
   assert.match(await alert.textContent(), /notes\.log: line 1: not a CARMEN log line: it starts with "Shopping"/);
 
   const png = fs.readFileSync(path.join(DATASETS, 'intel-corrected.png'));
   await page.setInputFiles(input, { name: 'picture.log', mimeType: 'image/png', buffer: png });
-  assert.equal((await settled(page)).state, 'error');
+  assert.equal((await settled(page, 30_000, 'picture.log')).state, 'failed');
   assert.match(await alert.textContent(), /line 1: the file is neither gzip nor a text log/);
 
   const intel = fs.readFileSync(INTEL);
   await page.setInputFiles(input, { name: 'cut.log.gz', mimeType: 'application/gzip', buffer: intel.subarray(0, intel.length >> 1) });
-  const cut = await settled(page);
+  const cut = await settled(page, 30_000, 'cut.log.gz');
   assert.equal(cut.state, 'done');
   assert.ok(Number(cut.scans) > 300 && Number(cut.scans) < 910, cut.scans);
   assert.match(await page.locator('.map-weaver-log-timing').textContent(),
@@ -302,7 +311,7 @@ test('garbage files give a line-numbered error in the panel, a truncated one is 
 
   const text = Buffer.from('FLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 -2.0 3.0 0 0 0 0 0 0 2 h 2\n');
   await page.setInputFiles(input, { name: 'bad.log', mimeType: 'text/plain', buffer: text });
-  assert.equal((await settled(page)).state, 'error');
+  assert.equal((await settled(page, 30_000, 'bad.log')).state, 'failed');
   assert.match(await alert.textContent(), /bad\.log: line 2: FLASER range 2 is negative: -2/);
   await screenshot(panel(page), 'real-log-error');
 
@@ -369,7 +378,7 @@ test('a log read under settings too large for it waits for settings that fit, th
   await page.selectOption('.map-weaver-log select[name=resolution]', '0.025');
   await page.waitForFunction(() => window.realLogPanel.applied.rangeCap === 80 && window.realLogPanel.applied.resolution === 0.025);
   await page.locator('.map-weaver-log select[name=dataset]').selectOption('aces-corrected.log.gz');
-  assert.equal((await settled(page)).state, 'error');
+  assert.equal((await settled(page)).state, 'awaiting-settings');
   assert.match(await page.locator('.map-weaver-log .occgrid-error').textContent(), /aces-corrected\.log\.gz: invalid rangeCap: 80/);
   assert.match(await page.locator('.map-weaver-log-status').textContent(), /is read; choose a coarser resolution/);
   await page.selectOption('.map-weaver-log select[name=resolution]', '0.1');
@@ -417,7 +426,7 @@ test('the Infinite Corridor maps at 5 cm and zooms to one doorway, the readout i
   assert.ok(Math.abs(Number(shown.x) - target.x) <= 0.1 && Math.abs(Number(shown.y) - target.y) <= 0.1, JSON.stringify(shown));
   const expected = await page.evaluate(({ ix, iy }) => {
     const p = window.realLogPanel;
-    return p.session.cellAt(ix, p.geometry.height - 1 - iy);
+    return p.session.cellAt(0, ix, p.geometry.height - 1 - iy);
   }, { ix: Number(shown.ix), iy: Number(shown.iy) });
   assert.equal(Number(shown.l), expected.l);
   assert.equal(Number(shown.x), expected.x);

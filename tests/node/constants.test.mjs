@@ -193,7 +193,7 @@ test('Map Weaver offers the beam counts of the scene’s LiDAR, and refuses the 
 
 test('Map Weaver’s real-log defaults are the core’s, in the widget and the README', () => {
   // Written as the panel's link writes each setting (map-weaver.js, LOG_FIELDS).
-  const d = core.LogMapSession.defaultSettings();
+  const d = core.RealLogSession.defaultSettings();
   const expected = {
     'log-resolution': String(d.resolution), 'log-range-cap': String(d.rangeCap), 'log-alpha': d.alpha.toFixed(2),
     'log-l-occ': d.lOcc.toFixed(2), 'log-l-free': d.lFree.toFixed(2), 'log-clamp': d.clamp.toFixed(1),

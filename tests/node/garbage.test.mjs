@@ -135,11 +135,11 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   refuses(() => bench.LaserLog.fromBytes(new TextEncoder().encode('<html>\n')), 'line 1');
   for (const bad of [42, 'FLASER 1 2 0 0 0 0 0 0', undefined, {}, [70, 76]]) {
     refuses(() => bench.LaserLog.fromBytes(bad), 'invalid bytes', 'Uint8Array');
-    refuses(() => new core.LogMapSession(bad), 'invalid bytes', 'Uint8Array');
+    refuses(() => new core.RealLogSession(bad), 'invalid bytes', 'Uint8Array');
   }
   assert.equal(bench.LaserLog.fromBytes(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n').buffer).scanCount, 1);
   refuses(() => bench.LaserLog.fromBytes(new Uint8Array([0x1f, 0x8b, 1, 2, 3])), 'line 1');
-  const s = new core.LogMapSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  const s = new core.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
   s.read(10);
   refuses(() => s.configure({ resolution: 'fine' }), 'settings.resolution');
   refuses(() => s.configure([0.1]), 'settings');
@@ -148,28 +148,29 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   refuses(() => s.seek(1e6), 'scan');
   for (const bad of [-1, 0.5, NaN]) {
     refuses(() => s.seek(bad), 'scan');
-    refuses(() => s.robotAt(bad), 'scan');
-    refuses(() => s.buildChunk(bad), 'maxScans');
+    refuses(() => s.robotAt(0, bad), 'scan');
+    refuses(() => s.buildSlice(bad), 'maxCells');
+    refuses(() => s.cellAt(bad, 0, 0), 'pane');
   }
-  assert.equal(s.cellAt(-1, 0), null);
-  assert.equal(s.cellAt(0, 2 ** 32), null);
-  refuses(() => s.cellAt(0.5, 0), 'col');
-  assert.equal(s.buildChunk(Infinity).finished, true);
-  for (const bad of [42, {}, ['m']]) refuses(() => s.exportMap(bad), 'invalid name');
-  assert.match(s.exportMap(undefined).yaml, /^image: map\.pgm/);
-  assert.match(s.exportMap('lab').yaml, /^image: lab\.pgm/);
+  assert.equal(s.cellAt(0, -1, 0), null);
+  assert.equal(s.cellAt(0, 0, 2 ** 32), null);
+  refuses(() => s.cellAt(0, 0.5, 0), 'col');
+  assert.equal(s.buildSlice(Infinity).finished, true);
+  for (const bad of [42, {}, ['m']]) refuses(() => s.exportMap(0, bad), 'invalid name');
+  assert.match(s.exportMap(0, undefined).yaml, /^image: map\.pgm/);
+  assert.match(s.exportMap(0, 'lab').yaml, /^image: lab\.pgm/);
   // The view: sizes, zooms and positions by name; what is drawn is the view's size.
-  for (const bad of [0, -1, 0.5, NaN, 9000, '64']) refuses(() => s.setViewSize(bad, 10), 'width');
-  refuses(() => s.setViewSize(3000, 3000), 'width x height');
-  for (const bad of [0, -2, NaN, Infinity]) refuses(() => s.zoomAt(0, 0, bad), 'factor');
-  refuses(() => s.panBy(NaN, 0), 'pan');
-  refuses(() => s.cellAtView(NaN, 0), 'view position');
-  s.setViewSize(64, 48);
-  assert.ok(s.renderView() > 0);
-  assert.deepEqual([s.view().width, s.view().height], [64, 48]);
-  assert.equal(s.cellAtView(-1e9, 0), null);
+  for (const bad of [0, -1, 0.5, NaN, 9000, '64']) refuses(() => s.setViewSize(0, bad, 10), 'width');
+  refuses(() => s.setViewSize(0, 3000, 3000), 'width x height');
+  for (const bad of [0, -2, NaN, Infinity]) refuses(() => s.zoomAt(0, 0, 0, bad), 'factor');
+  refuses(() => s.panBy(0, NaN, 0), 'pan');
+  refuses(() => s.cellAtView(0, NaN, 0), 'view position');
+  s.setViewSize(0, 64, 48);
+  assert.ok(s.renderView(0) > 0);
+  assert.deepEqual([s.view(0).width, s.view(0).height], [64, 48]);
+  assert.equal(s.cellAtView(0, -1e9, 0), null);
   s.free();
-  const reading = new core.LogMapSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  const reading = new core.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
   for (const bad of [-1, 0.5, NaN, 'all']) refuses(() => reading.read(bad), 'maxScans');
   assert.equal(reading.read(Infinity).finished, true);
   reading.free();

@@ -83,8 +83,8 @@ test('Map Weaver: a valueOf that frees the run is never called; the run keeps ma
   w.free();
 });
 
-test('LogMapSession: throwing getters and proxies in settings, freeing valueOf in counts', () => {
-  const s = new core.LogMapSession(FLASER);
+test('RealLogSession: throwing getters and proxies in settings, freeing valueOf in counts', () => {
+  const s = new core.RealLogSession(FLASER);
   assert.equal(s.read(Infinity).finished, true);
   assert.ok(s.configure({}));
   const getter = { get resolution() { throw new Error('boom'); } };
@@ -97,37 +97,37 @@ test('LogMapSession: throwing getters and proxies in settings, freeing valueOf i
   assert.equal(s.configure({ clamp: 3 }).width > 0, true);
   survives(s, [
     ['read', [HOSTILE], 'maxScans'],
-    ['buildChunk', [HOSTILE], 'maxScans'],
     ['buildSlice', [HOSTILE], 'maxCells'],
     ['seek', [HOSTILE], 'scan'],
-    ['cellAt', [HOSTILE, 0], 'col'],
-    ['cellAt', [0, HOSTILE], 'row'],
-    ['robotAt', [HOSTILE], 'scan'],
-  ], (x, name) => assert.equal(typeof x.progress().scansDone, 'number', `answers after ${name}`));
-  // A fork reads its settings as configure does.
-  refuses(() => s.fork(getter), 'invalid settings', 'boom');
-  refuses(() => s.fork({ poses: 'odometry' }), 'poses', 'odometry');
-  refuses(() => s.fork({ seed: 2 ** 53 }), 'seed', '9007199254740992');
-  const fork = s.fork({ poses: 'dead-reckoning', seed: 3 });
-  assert.equal(fork.buildSlice(Infinity).scansDone, 5);
-  fork.free();
-  const done = s.buildChunk(Infinity);
+    ['cellAt', [HOSTILE, 0, 0], 'pane'],
+    ['cellAt', [0, HOSTILE, 0], 'col'],
+    ['cellAt', [0, 0, HOSTILE], 'row'],
+    ['robotAt', [0, HOSTILE], 'scan'],
+  ], (x, name) => assert.equal(typeof x.state().scansDone, 'number', `answers after ${name}`));
+  // The pane beside is asked for through the settings, read as configure reads them.
+  refuses(() => s.configure({ poses: 'odometry' }), 'poses', 'odometry');
+  refuses(() => s.configure({ seed: 2 ** 53 }), 'seed', '9007199254740992');
+  s.configure({ poses: 'dead-reckoning', seed: 3 });
+  const done = s.buildSlice(Infinity);
   assert.equal(done.finished, true);
+  assert.equal(done.panes.length, 2);
   assert.equal(done.scansDone, 5, 'the build saw every scan: no garbage counts');
   survives(s, [
-    ['setViewSize', [HOSTILE, 10], 'width'],
-    ['zoomAt', [0, 0, HOSTILE], 'factor'],
-    ['panBy', [HOSTILE, 0], 'dx'],
-    ['cellAtView', [0, HOSTILE], 'y'],
-  ], (x, name) => assert.equal(typeof x.view().scale, 'number', `answers after ${name}`));
-  assert.ok(s.renderView() > 0);
+    ['setViewSize', [0, HOSTILE, 10], 'width'],
+    ['zoomAt', [0, 0, 0, HOSTILE], 'factor'],
+    ['panBy', [0, HOSTILE, 0], 'dx'],
+    ['cellAtView', [0, 0, HOSTILE], 'y'],
+    ['moveCursor', [0, HOSTILE, 0, false], 'dx'],
+    ['viewLegend', [1, HOSTILE], 'devicePixelRatio'],
+  ], (x, name) => assert.equal(typeof x.view(0).scale, 'number', `answers after ${name}`));
+  assert.ok(s.renderView(1) > 0);
   s.free();
 });
 
 test('a getter that frees its own session while configure reads it: freed cleanly, nothing else hurt', () => {
-  const s = new core.LogMapSession(FLASER);
+  const s = new core.RealLogSession(FLASER);
   s.read(Infinity);
-  const other = new core.LogMapSession(FLASER);
+  const other = new core.RealLogSession(FLASER);
   other.read(Infinity);
   const settings = { get clamp() { s.free(); return 3; } };
   // The free happens inside the call; the page asked for it, so the
@@ -137,17 +137,17 @@ test('a getter that frees its own session while configure reads it: freed cleanl
   } catch (e) {
     assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), String(e));
   }
-  const later = refuses(() => s.progress(), '');
+  const later = refuses(() => s.state(), '');
   assert.doesNotMatch(later, /unreachable|recursive use/);
-  assert.equal(other.buildChunk(Infinity).scansDone, 5, 'another session still maps');
-  // Likewise while fork reads its settings.
-  const forked = { get seed() { other.free(); return 3; } };
+  assert.equal(other.buildSlice(Infinity).scansDone, 5, 'another session still maps');
+  // Likewise while configure reads the settings that add a pane.
+  const freeing = { poses: 'dead-reckoning', get seed() { other.free(); return 3; } };
   try {
-    other.fork(forked);
+    other.configure(freeing);
   } catch (e) {
     assert.ok(e instanceof Error && !(e instanceof WebAssembly.RuntimeError), String(e));
   }
-  assert.doesNotMatch(refuses(() => other.progress(), ''), /unreachable|recursive use/);
+  assert.doesNotMatch(refuses(() => other.state(), ''), /unreachable|recursive use/);
 });
 
 test('the doorway trap, the fusion widget, the workbench and the cell filter never coerce a number', () => {

@@ -12,7 +12,7 @@ export const CELL_FILTER_DEFAULTS = { 'p-occ': '0.70', 'p-free': '0.30', prior: 
 
 /**
  * <occgrid-map-weaver>'s real-log panel's defaults, written as a link
- * writes them: the core's `LogMapSession.defaultSettings()`. The panel
+ * writes them: the core's `RealLogSession.defaultSettings()`. The panel
  * itself starts from the core's.
  */
 export const MAP_WEAVER_LOG_DEFAULTS = {

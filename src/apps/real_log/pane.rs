@@ -1,0 +1,467 @@
+//! One pose source's map of a log ([`LogPane`]): the log's scans (shared
+//! with the session's other panes), the poses this source puts them at, a
+//! tiled grid, the ray traversal of Table 9.1 with the inverse model of
+//! Table 9.2, and the build's progress towards a target scan count. What it
+//! shows (its view, cursor, readouts and export) is in `view.rs`.
+
+use super::settings::{CheckedSettings, LogMapSettings, PoseSource};
+use crate::apps::pane::{MapPane, ScreenView};
+use crate::error::{invalid, OccError, Result};
+use crate::geometry::{GridGeometry, Pose};
+use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
+use crate::grid::{LogOdds, Tiled, TiledGrid};
+use crate::inverse::HandCrafted;
+use crate::io::carmen::LaserScans;
+use crate::mapping::reach::{covering_grid, scan_extent, tiles_reached, BeamReach};
+use crate::mapping::traversal::BeamBand;
+use crate::mapping::walls::beam_bands;
+use crate::sensors::odometry::OdometryParams;
+use crate::sensors::Scan;
+use std::sync::Arc;
+
+/// The output size a pane's view starts at, pixels, until a page sets its
+/// own.
+pub const DEFAULT_VIEW_SIZE: (usize, usize) = (480, 360);
+
+/// A real log's map: tiled, seen through a screen-sized view.
+pub(super) type LogMap = MapPane<LogOdds, Tiled<f32>, ScreenView>;
+
+/// How far a pane's build has got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BuildProgress {
+    /// Scans integrated into the map so far (the map shows scans
+    /// `0..scans_done`).
+    pub scans_done: usize,
+    /// Where the build is heading (all scans, or a scrub position).
+    pub scans_target: usize,
+    pub scans_total: usize,
+    /// Cell updates since the map was last reset.
+    pub cell_updates: u64,
+    /// Beams traced since the map was last reset.
+    pub beams: u64,
+    pub finished: bool,
+    /// Cells allocated in tiles (what the beams have reached, in whole
+    /// tiles), of the `cells` of the bounding box.
+    pub cells_allocated: usize,
+    pub bytes_allocated: usize,
+    pub cells: usize,
+}
+
+/// A map of a log at one pose source, built a few scans at a time. The
+/// build heads for a target scan count: all scans at first, or any scrub
+/// position; going back resets the map and rebuilds from the first scan
+/// (the build is fast, and keeping snapshots of a million-cell map would
+/// cost more memory than the whole log).
+pub struct LogPane {
+    /// The log's scans at its own (corrected) poses, shared by the panes.
+    scans: Arc<LaserScans>,
+    source: PoseSource,
+    /// One laser pose per scan: where this source puts the scans.
+    poses: Vec<Pose>,
+    /// The odometry noise dead reckoning adds.
+    odometry: OdometryParams,
+    settings: CheckedSettings,
+    /// The grid, its mapper, its view and the work done.
+    pub(super) map: LogMap,
+    /// The model of the last laser whose own maximum range is shorter than
+    /// the cap, with that range: built once per such laser, not per scan.
+    short_model: Option<(f64, HandCrafted)>,
+    /// Most cells the map's tiles may hold.
+    budget_cells: usize,
+    /// Why the build stopped short (the tile budget), once it has.
+    failure: Option<OccError>,
+    /// Scratch: the current scan's beam bands.
+    bands: Vec<Option<BeamBand>>,
+    done: usize,
+    target: usize,
+    /// The keyboard cursor's image cell `(col, row)`, if any.
+    pub(super) cursor: Option<(usize, usize)>,
+}
+
+impl LogPane {
+    /// A fresh map of `scans` at the poses `settings` choose, heading for
+    /// all scans.
+    pub fn new(scans: LaserScans, settings: LogMapSettings) -> Result<Self> {
+        Self::with_tile_budget(scans, settings, DEFAULT_TILE_BUDGET_CELLS)
+    }
+
+    /// [`Self::new`] with at most `budget_cells` cells allocated in tiles
+    /// (the default is [`DEFAULT_TILE_BUDGET_CELLS`]).
+    pub fn with_tile_budget(
+        scans: LaserScans,
+        settings: LogMapSettings,
+        budget_cells: usize,
+    ) -> Result<Self> {
+        let checked = settings.validate()?;
+        Self::plan(
+            Arc::new(scans),
+            settings.poses,
+            &checked,
+            OdometryParams::WHEELS,
+            budget_cells,
+        )
+    }
+
+    /// [`Self::new`] with dead reckoning's noise chosen by the caller
+    /// ([`OdometryParams::EXACT`] maps the corrected poses again, through
+    /// the integration).
+    pub fn with_odometry(
+        scans: LaserScans,
+        settings: LogMapSettings,
+        odometry: OdometryParams,
+    ) -> Result<Self> {
+        let checked = settings.validate()?;
+        odometry.validate()?;
+        Self::plan(
+            Arc::new(scans),
+            settings.poses,
+            &checked,
+            odometry,
+            DEFAULT_TILE_BUDGET_CELLS,
+        )
+    }
+
+    /// A pane of `source` over shared scans, heading for all of them, its
+    /// view fitted at [`DEFAULT_VIEW_SIZE`].
+    pub(super) fn plan(
+        scans: Arc<LaserScans>,
+        source: PoseSource,
+        settings: &CheckedSettings,
+        odometry: OdometryParams,
+        budget_cells: usize,
+    ) -> Result<Self> {
+        let poses = poses_for(&scans, source, settings.settings().seed, &odometry);
+        let extent = plan_grid(&scans, &poses, settings.settings())?;
+        let grid = TiledGrid::new(extent, settings.filter(), budget_cells)?;
+        let (w, h) = DEFAULT_VIEW_SIZE;
+        let view = ScreenView::new(&extent, w, h)?;
+        let target = scans.len();
+        Ok(Self {
+            scans,
+            source,
+            poses,
+            odometry,
+            settings: *settings,
+            map: MapPane::new(grid, view),
+            short_model: None,
+            budget_cells,
+            failure: None,
+            bands: Vec::new(),
+            done: 0,
+            target,
+            cursor: None,
+        })
+    }
+
+    /// This pane's map under new checked settings (and pose source), heading
+    /// for the same target, built from the first scan. The view and cursor
+    /// stay when the map's limits do (a change of the model keeps the
+    /// reader's zoom); otherwise the view shows the whole new map at the
+    /// same output size.
+    pub(super) fn replanned(&self, settings: &CheckedSettings, source: PoseSource) -> Result<Self> {
+        let mut pane = Self::plan(
+            Arc::clone(&self.scans),
+            source,
+            settings,
+            self.odometry,
+            self.budget_cells,
+        )?;
+        pane.target = self.target;
+        let old = self.map.view().viewport;
+        if pane.map.grid().geometry() == self.map.grid().geometry() {
+            pane.map.view_mut().viewport = old;
+            pane.cursor = self.cursor;
+        } else {
+            let view = &mut pane.map.view_mut().viewport;
+            view.resize(old.width, old.height)?;
+            view.fit();
+        }
+        Ok(pane)
+    }
+
+    /// The grid `settings` would give `scans`, without allocating it: an
+    /// error if the settings are invalid, the log has no laser scans, or
+    /// the grid would be too large. A caller can check before handing its
+    /// scans over to [`Self::new`].
+    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
+        let checked = settings.validate()?;
+        let poses = poses_for(
+            scans,
+            settings.poses,
+            settings.seed,
+            &OdometryParams::WHEELS,
+        );
+        plan_grid(scans, &poses, checked.settings())
+    }
+
+    /// New settings: a new grid (the extent depends on the range cap, the
+    /// margin and the poses) and a rebuild from the first scan towards the
+    /// same target, at the pose source the settings name. On error nothing
+    /// changes.
+    pub fn configure(&mut self, settings: LogMapSettings) -> Result<()> {
+        let checked = settings.validate()?;
+        *self = self.replanned(&checked, settings.poses)?;
+        Ok(())
+    }
+
+    fn restart(&mut self) {
+        self.map.reset();
+        self.failure = None;
+        self.done = 0;
+    }
+
+    /// Heads the build for `scans` integrated scans (a scrub position).
+    /// Going back resets the map; [`Self::advance`] then does the work.
+    pub fn seek(&mut self, scans: usize) -> Result<()> {
+        if scans > self.scans.len() {
+            return Err(invalid(
+                "scan",
+                scans,
+                "at most the number of scans in the log",
+            ));
+        }
+        if scans < self.done {
+            self.restart();
+        }
+        self.target = scans;
+        Ok(())
+    }
+
+    /// Integrates up to `max_scans` more scans towards the target. A scan
+    /// whose beams reach past the tile budget stops the build there:
+    /// [`Self::failure`] then says how much the whole log would need.
+    pub fn advance(&mut self, max_scans: usize) -> BuildProgress {
+        self.advance_within(max_scans, u64::MAX)
+    }
+
+    /// Integrates up to `max_scans` more scans towards the target, and
+    /// stops after the scan whose cell updates bring this call's to
+    /// `max_cells` or more: the work of a call is bounded by what it does
+    /// (a scan down a long corridor updates ten times the cells of one in
+    /// an office), so a page that sizes the next call from the last one's
+    /// duration keeps every call near its time slice. At least one scan is
+    /// integrated when any is left (and `max_scans` is not 0), whatever the
+    /// budget: a caller looping until the build is finished always gets
+    /// there.
+    pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
+        let end = self.target.min(self.done.saturating_add(max_scans));
+        let start_updates = self.map.work().cell_updates;
+        while self.done < end && self.failure.is_none() {
+            self.integrate_next();
+            if self.map.work().cell_updates - start_updates >= max_cells {
+                break;
+            }
+        }
+        self.progress()
+    }
+
+    /// Integrates scan `done` (at this pane's pose for it) and moves on.
+    fn integrate_next(&mut self) {
+        let k = self.done;
+        if let Some(scan) = self.scan_at_pose(k) {
+            let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+            let model = self.model_for(laser_max);
+            let s = self.settings.settings();
+            let res = self.map.grid().geometry().resolution();
+            beam_bands(
+                &scan,
+                &model,
+                s.no_return_reach,
+                s.walls,
+                res,
+                &mut self.bands,
+            );
+            let (free, occupied) = (
+                (s.l_free - model.params().l0) as f32,
+                (s.l_occ - model.params().l0) as f32,
+            );
+            self.map.integrate_bands(&scan, &self.bands, free, occupied);
+            let grid = self.map.grid();
+            if grid.refused() {
+                let needed = self.tiles_reached();
+                let grid = self.map.grid();
+                self.failure = Some(OccError::State(budget_message(
+                    grid.geometry(),
+                    needed,
+                    self.budget_cells,
+                    grid.bytes_per_cell(),
+                )));
+                return;
+            }
+        }
+        self.done += 1;
+    }
+
+    /// The model for a scan whose laser reaches `laser_max` metres.
+    fn model_for(&mut self, laser_max: f64) -> HandCrafted {
+        if let Some((max, model)) = self.short_model {
+            if max == laser_max {
+                return model;
+            }
+        }
+        match self.settings.model_for_laser(laser_max) {
+            Some(model) => {
+                self.short_model = Some((laser_max, model));
+                model
+            }
+            None => *self.settings.model(),
+        }
+    }
+
+    /// Scan `k` at this pane's pose for it.
+    pub fn scan_at_pose(&self, k: usize) -> Option<Scan> {
+        at_pose(&self.scans, k, *self.poses.get(k)?)
+    }
+
+    /// The tiles the beams of every scan reach: what the whole log would
+    /// allocate, said when the budget refuses it.
+    fn tiles_reached(&self) -> usize {
+        let s = self.settings.settings();
+        tiles_reached(
+            self.map.grid().geometry(),
+            (0..self.scans.len()).filter_map(|k| self.scan_at_pose(k)),
+            BeamReach {
+                model: self.settings.model(),
+                no_return_reach: s.no_return_reach,
+                walls: s.walls,
+            },
+        )
+    }
+
+    pub fn progress(&self) -> BuildProgress {
+        BuildProgress {
+            scans_done: self.done,
+            scans_target: self.target,
+            scans_total: self.scans.len(),
+            cell_updates: self.map.work().cell_updates,
+            beams: self.map.work().beams,
+            finished: self.done == self.target,
+            cells_allocated: self.map.grid().cells_allocated(),
+            bytes_allocated: self.map.grid().bytes_allocated(),
+            cells: self.map.grid().geometry().len(),
+        }
+    }
+
+    /// Why the build stopped short of its target (the tile budget), if it did.
+    pub fn failure(&self) -> Option<&OccError> {
+        self.failure.as_ref()
+    }
+
+    pub fn grid(&self) -> &TiledGrid {
+        self.map.grid()
+    }
+
+    /// The log's scans at its own (corrected) poses.
+    pub fn scans(&self) -> &LaserScans {
+        &self.scans
+    }
+
+    /// Where this pane puts each scan.
+    pub fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    /// The scans as the session's panes share them.
+    pub(super) fn shared_scans(&self) -> &Arc<LaserScans> {
+        &self.scans
+    }
+
+    pub fn source(&self) -> PoseSource {
+        self.source
+    }
+
+    /// The settings the map is built with (their `poses` field is the
+    /// session's choice; [`Self::source`] is this pane's).
+    pub fn settings(&self) -> &LogMapSettings {
+        self.settings.settings()
+    }
+}
+
+/// The laser poses `source` puts the scans at.
+fn poses_for(
+    scans: &LaserScans,
+    source: PoseSource,
+    seed: u64,
+    odometry: &OdometryParams,
+) -> Vec<Pose> {
+    match source {
+        PoseSource::Corrected => scans.poses().to_vec(),
+        PoseSource::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
+    }
+}
+
+/// Scan `k` of `scans` at `pose`.
+fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> {
+    let scan = scans.scan(k)?;
+    if scan.pose() == pose {
+        return Some(scan);
+    }
+    Scan::new(pose, scan.ranges().to_vec(), scan.bearings().to_vec()).ok()
+}
+
+/// The grid for `scans` at `poses` under valid settings: the extent of
+/// their poses and endpoints (each source's path wanders its own way),
+/// covered on whole cells, and a range cap whose reach fits the traversal.
+fn plan_grid(scans: &LaserScans, poses: &[Pose], s: &LogMapSettings) -> Result<GridGeometry> {
+    let placed = (0..scans.len()).filter_map(|k| {
+        let scan = at_pose(scans, k, *poses.get(k)?)?;
+        Some((scan, scans.max_range(k).unwrap_or(f64::INFINITY)))
+    });
+    let extent = scan_extent(placed, s.range_cap).ok_or_else(|| {
+        invalid(
+            "log",
+            "no FLASER or ROBOTLASER1 lines",
+            "at least one laser scan",
+        )
+    })?;
+    let grid = covering_grid(extent, s.resolution, s.margin)?;
+    // A scan is gathered in a window as wide as its longest beam: that
+    // window's scratch is what bounds the reach in cells.
+    s.check_reach()?;
+    Ok(grid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seeking_back_rebuilds_the_same_map() {
+        let mut text = String::new();
+        for k in 0..6 {
+            text.push_str(&format!(
+                "FLASER 4 1.0 1.5 2.0 2.5 {} 0.0 0.3 0 0 0 0 h 0\n",
+                k as f64 * 0.2
+            ));
+        }
+        let scans = LaserScans::read(text.as_bytes()).unwrap();
+        let settings = LogMapSettings {
+            resolution: 0.1,
+            ..Default::default()
+        };
+        let mut a = LogPane::new(scans.clone(), settings).unwrap();
+        a.seek(3).unwrap();
+        let p = a.advance(100);
+        assert_eq!((p.scans_done, p.finished), (3, true));
+        let at3 = a.grid().clone();
+        a.seek(6).unwrap();
+        a.advance(2);
+        a.advance(2);
+        assert!(a.progress().finished && a.progress().scans_done == 6);
+        a.seek(3).unwrap();
+        assert_eq!(a.progress().scans_done, 0, "going back resets");
+        a.advance(10);
+        assert_eq!(a.grid(), &at3);
+        assert!(a.seek(7).is_err());
+    }
+
+    #[test]
+    fn the_default_settings_check_and_carry_table_9_2_s_model() {
+        let checked = CheckedSettings::default();
+        let model = HandCrafted::new(crate::inverse::HandCraftedParams::laser(30.0)).unwrap();
+        assert_eq!(checked.model(), &model);
+        assert!(checked.model_for_laser(40.0).is_none());
+        assert_eq!(checked.model_for_laser(8.0).unwrap().params().z_max, 8.0);
+    }
+}

@@ -1,0 +1,548 @@
+//! The session a real-log panel drives ([`RealLogSession`]): a CARMEN log
+//! read a few lines at a time, then mapped a few scans at a time into one
+//! pane per pose source (the corrected map, and the dead-reckoned one
+//! beside it when the reader asks for it), with the one state
+//! ([`SessionState`]) the panel renders.
+
+use super::pane::{BuildProgress, LogPane};
+use super::settings::{CheckedSettings, LogMapSettings, PoseSource, SettingLimits};
+use super::view::GeometryReport;
+use crate::error::{invalid, OccError, Result};
+use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
+use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
+use crate::sensors::odometry::OdometryParams;
+use std::io::Cursor;
+use std::sync::Arc;
+
+/// The share of a load's progress given to reading the file; the rest is
+/// mapping it (reading the Intel log takes about a third of its load).
+pub const READ_SHARE: f64 = 0.3;
+
+/// What the read of a log reports: its progress and the file's size.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ReadReport {
+    #[serde(flatten)]
+    pub progress: LoadProgress,
+    pub bytes_total: usize,
+}
+
+/// Where a session stands: the one state a panel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Stage {
+    /// No log yet.
+    #[serde(rename = "idle")]
+    Idle,
+    /// A log is being read (the panes of the previous log, if any, stay).
+    #[serde(rename = "reading")]
+    Reading,
+    /// The log is read, but the settings make too large a grid for it: the
+    /// scans wait for settings that fit.
+    #[serde(rename = "awaiting-settings")]
+    AwaitingSettings,
+    /// The panes are heading for their target scan count.
+    #[serde(rename = "building")]
+    Building,
+    /// Every pane holds its target scan count.
+    #[serde(rename = "done")]
+    Done,
+    /// The read was refused (a malformed or oversized log), or a pane's map
+    /// passed its tile budget; `error` says why.
+    #[serde(rename = "failed")]
+    Failed,
+}
+
+/// What a failed session failed at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FailedStep {
+    Read,
+    Build,
+}
+
+/// One pane as the state reports it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct PaneState {
+    pub poses: PoseSource,
+    pub caption: String,
+    #[serde(flatten)]
+    pub progress: BuildProgress,
+}
+
+/// Everything a panel shows about the session's progress, in one object.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SessionState {
+    pub state: Stage,
+    /// The name of the log last opened (being read, or read): what the
+    /// state is about.
+    pub log: Option<String>,
+    /// Why the session failed, or why it awaits settings.
+    pub error: Option<String>,
+    /// What failed: `"read"` (the log was refused; the maps of a log read
+    /// before, if any, stay) or `"build"` (a map passed its tile budget;
+    /// the map so far stays).
+    pub failed: Option<FailedStep>,
+    /// The whole load's progress, 0 to 1: the read's share
+    /// ([`READ_SHARE`]) then the panes' mean, or the panes' mean alone for
+    /// a rebuild (new settings, a scrub).
+    pub progress: f64,
+    /// The read under way, or the last finished read's report.
+    pub read: Option<ReadReport>,
+    /// The whole build: the scans every pane holds, the target, the
+    /// log's scans, and the panes' cell updates and beams together.
+    pub scans_done: usize,
+    pub scans_target: usize,
+    pub scans_total: usize,
+    pub cell_updates: u64,
+    pub beams: u64,
+    pub finished: bool,
+    /// The panes, the one the reader operates first.
+    pub panes: Vec<PaneState>,
+    /// The settings in force and the limits their controls keep to.
+    pub settings: LogMapSettings,
+    pub limits: SettingLimits,
+}
+
+/// A log being read and mapped, step by step:
+///
+/// 1. [`Self::new`] takes the file's bytes (gzip or plain), or
+///    [`Self::idle`] none until [`Self::open`];
+/// 2. [`Self::read`] reads up to `n` more laser lines per call, until
+///    finished (then one pane per pose source is set up with the current
+///    settings: [`PoseSource::panes`]);
+/// 3. [`Self::build_slice`] advances every pane within one budget of cell
+///    updates per call;
+/// 4. [`Self::seek`] scrubs every pane to `k` scans, and
+///    [`Self::configure`] restarts the build with new settings.
+///
+/// [`Self::state`] says where it stands; the panes answer for their maps.
+pub struct RealLogSession {
+    /// The reader over the file's bytes, dropped (with the bytes) once the
+    /// whole log is read.
+    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    budget: LogBudget,
+    /// Scans read whose map the current settings cannot make (a grid too
+    /// large), and why: kept until `configure` brings settings that fit.
+    pending: Option<(Arc<LaserScans>, OccError)>,
+    /// The read under way, or how the last one ended.
+    read_report: Option<ReadReport>,
+    /// Why the read was refused, once it has been (the file is freed).
+    read_failure: Option<OccError>,
+    bytes_total: usize,
+    /// The name of the log last opened.
+    log: Option<String>,
+    settings: CheckedSettings,
+    panes: Vec<LogPane>,
+    /// True while the build is the one that follows a read (the progress
+    /// bar then continues from the read's share).
+    after_read: bool,
+    budget_cells: usize,
+}
+
+impl Default for RealLogSession {
+    fn default() -> Self {
+        Self::idle()
+    }
+}
+
+impl RealLogSession {
+    /// A session without a log: [`Self::open`] gives it one.
+    pub fn idle() -> Self {
+        Self {
+            loader: None,
+            budget: LogBudget::default(),
+            pending: None,
+            read_report: None,
+            read_failure: None,
+            bytes_total: 0,
+            log: None,
+            settings: CheckedSettings::default(),
+            panes: Vec::new(),
+            after_read: false,
+            budget_cells: DEFAULT_TILE_BUDGET_CELLS,
+        }
+    }
+
+    /// A session about to read `bytes` (gzip or plain text).
+    pub fn new(bytes: Vec<u8>) -> Self {
+        Self::with_budget(bytes, LogBudget::default())
+    }
+
+    /// A session whose reader has its own budget (a test's smaller one).
+    pub fn with_budget(bytes: Vec<u8>, budget: LogBudget) -> Self {
+        let mut s = Self::idle();
+        s.budget = budget;
+        s.open(bytes, "log");
+        s
+    }
+
+    /// A session whose panes' tiles hold at most `budget_cells` cells (a
+    /// test's smaller budget; the default is [`DEFAULT_TILE_BUDGET_CELLS`]).
+    pub fn with_tile_budget(bytes: Vec<u8>, budget_cells: usize) -> Self {
+        let mut s = Self::idle();
+        s.budget_cells = budget_cells;
+        s.open(bytes, "log");
+        s
+    }
+
+    /// Starts reading another log, `name` its file's name (what the state
+    /// is about from now on). The panes of the log read before stay (on
+    /// screen, and operable) until this one is read; a log that waited for
+    /// settings is dropped.
+    pub fn open(&mut self, bytes: Vec<u8>, name: &str) {
+        self.log = Some(name.to_string());
+        self.bytes_total = bytes.len();
+        self.loader = Some(LogLoader::with_budget(Cursor::new(bytes), self.budget));
+        self.pending = None;
+        self.read_failure = None;
+        self.read_report = None;
+    }
+
+    /// Reads up to `max_scans` more laser lines (and at most the reader's
+    /// budget of lines and bytes per call: [`LogBudget`]). When the log is
+    /// finished its panes are set up; a malformed line is an error naming
+    /// its line number, and so is a log past the budget or without laser
+    /// lines: the file and the scans read are then freed, and every later
+    /// call gives the same error (the session stays usable: settings, and
+    /// [`Self::open`] for another file). A log cut short is read up to the
+    /// cut, with the report's `warning` naming the line. If the settings
+    /// make too large a grid for this log, that is an error too, and the
+    /// scans wait ([`Stage::AwaitingSettings`]) for a [`Self::configure`]
+    /// that fits.
+    pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
+        if let Some(e) = &self.read_failure {
+            return Err(e.clone());
+        }
+        let Some(loader) = self.loader.as_mut() else {
+            return Err(OccError::State(if self.read_report.is_some() {
+                "the log has been read already".into()
+            } else {
+                "no log to read: open one first".into()
+            }));
+        };
+        let progress = match loader.read(max_scans) {
+            Ok(p) => p,
+            Err(e) => return Err(self.read_failed(e)),
+        };
+        let report = ReadReport {
+            progress,
+            bytes_total: self.bytes_total,
+        };
+        self.read_report = Some(report.clone());
+        if report.progress.finished {
+            if let Some(loader) = self.loader.take() {
+                let scans = loader.into_scans();
+                if scans.is_empty() {
+                    let lines = match report.progress.lines {
+                        1 => "1 line read".to_string(),
+                        n => format!("{n} lines read"),
+                    };
+                    let e = OccError::State(format!(
+                        "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
+                    ));
+                    return Err(self.read_failed(e));
+                }
+                let scans = Arc::new(scans);
+                self.after_read = true;
+                match self.panes_for(&scans, &self.settings, None) {
+                    Ok(panes) => self.panes = panes,
+                    Err(e) => {
+                        self.panes.clear();
+                        self.pending = Some((scans, e.clone()));
+                        return Err(e);
+                    }
+                }
+            }
+        }
+        Ok(report)
+    }
+
+    /// Frees the file and the scans read, and keeps `e` for later calls.
+    fn read_failed(&mut self, e: OccError) -> OccError {
+        self.loader = None;
+        self.read_failure = Some(e.clone());
+        e
+    }
+
+    /// One pane per pose source the settings show, over `scans`, heading
+    /// for `target` scans (all when `None`); a pane of the same source in
+    /// the session keeps its view where its map's limits stay.
+    fn panes_for(
+        &self,
+        scans: &Arc<LaserScans>,
+        settings: &CheckedSettings,
+        target: Option<usize>,
+    ) -> Result<Vec<LogPane>> {
+        PoseSource::panes(settings.settings().poses)
+            .into_iter()
+            .map(|source| {
+                let same_log = self
+                    .panes
+                    .iter()
+                    .find(|p| p.source() == source && Arc::ptr_eq(p.shared_scans(), scans));
+                let mut pane = match same_log {
+                    Some(old) => old.replanned(settings, source)?,
+                    None => {
+                        let mut pane = LogPane::plan(
+                            Arc::clone(scans),
+                            source,
+                            settings,
+                            OdometryParams::WHEELS,
+                            self.budget_cells,
+                        )?;
+                        // A new pane starts at the output size of the others.
+                        if let Some(first) = self.panes.first() {
+                            let v = first.view();
+                            pane.set_view_size(v.width, v.height)?;
+                        }
+                        pane
+                    }
+                };
+                if let Some(k) = target {
+                    pane.seek(k)?;
+                }
+                Ok(pane)
+            })
+            .collect()
+    }
+
+    /// New settings: every pane restarts towards the same scan count (a
+    /// pane is added or dropped when the pose source changes). Returns the
+    /// first pane's geometry (`None` while there is no map yet). Checked
+    /// once; on error nothing changes.
+    pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
+        let checked = settings.validate()?;
+        if let Some(first) = self.panes.first() {
+            let scans = Arc::clone(first.shared_scans());
+            let target = first.progress().scans_target;
+            self.panes = self.panes_for(&scans, &checked, Some(target))?;
+            self.after_read = false;
+            // A read refused since then is the news no longer: the map is.
+            self.read_failure = None;
+        } else if let Some((scans, _)) = &self.pending {
+            let scans = Arc::clone(scans);
+            self.panes = self.panes_for(&scans, &checked, None)?;
+            self.pending = None;
+        }
+        self.settings = checked;
+        Ok(self.geometry(0).ok())
+    }
+
+    /// Advances every pane towards its target within one budget of
+    /// `max_cells` cell updates for the whole call, the pane furthest
+    /// behind first, one scan at a time; the call stops after the scan that
+    /// reaches the budget. At least one scan is integrated while any is
+    /// left, whatever the budget. An error once a pane's beams reach past
+    /// its tile budget (saying how much the log would need); the maps so
+    /// far stay.
+    pub fn build_slice(&mut self, max_cells: u64) -> Result<SessionState> {
+        if self.panes.is_empty() {
+            return Err(self.no_map());
+        }
+        if let Some(e) = self.pane_failure() {
+            return Err(e.clone());
+        }
+        let mut spent = 0u64;
+        loop {
+            let behind = self
+                .panes
+                .iter_mut()
+                .filter(|p| !p.progress().finished)
+                .min_by_key(|p| p.progress().scans_done);
+            let Some(pane) = behind else { break };
+            let before = pane.progress().cell_updates;
+            let after = pane.advance(1);
+            spent += after.cell_updates - before;
+            if let Some(e) = pane.failure() {
+                return Err(e.clone());
+            }
+            if spent >= max_cells {
+                break;
+            }
+        }
+        Ok(self.state())
+    }
+
+    /// Integrates up to `max_scans` more scans into every pane (a test's
+    /// and a script's whole build: [`Self::build_slice`] is the page's).
+    pub fn build_chunk(&mut self, max_scans: usize) -> Result<SessionState> {
+        if self.panes.is_empty() {
+            return Err(self.no_map());
+        }
+        for pane in &mut self.panes {
+            pane.advance(max_scans);
+            if let Some(e) = pane.failure() {
+                return Err(e.clone());
+            }
+        }
+        Ok(self.state())
+    }
+
+    /// Scrubs every pane to `scans` integrated scans; the build then does
+    /// the work (going back restarts from the first scan).
+    pub fn seek(&mut self, scans: usize) -> Result<()> {
+        let Some(first) = self.panes.first() else {
+            return Err(self.no_map());
+        };
+        if scans > first.scans().len() {
+            return Err(invalid(
+                "scan",
+                scans,
+                "at most the number of scans in the log",
+            ));
+        }
+        for pane in &mut self.panes {
+            pane.seek(scans)?;
+        }
+        self.after_read = false;
+        self.read_failure = None;
+        Ok(())
+    }
+
+    fn no_map(&self) -> OccError {
+        OccError::State("the log has not been read yet".into())
+    }
+
+    fn pane_failure(&self) -> Option<&OccError> {
+        self.panes.iter().find_map(|p| p.failure())
+    }
+
+    /// Where the session stands.
+    pub fn stage(&self) -> Stage {
+        if self.loader.is_some() {
+            Stage::Reading
+        } else if self.read_failure.is_some() || self.pane_failure().is_some() {
+            Stage::Failed
+        } else if self.pending.is_some() {
+            Stage::AwaitingSettings
+        } else if self.panes.is_empty() {
+            Stage::Idle
+        } else if self.panes.iter().all(|p| p.progress().finished) {
+            Stage::Done
+        } else {
+            Stage::Building
+        }
+    }
+
+    /// The one state a panel renders.
+    pub fn state(&self) -> SessionState {
+        let stage = self.stage();
+        let error = match stage {
+            Stage::Failed => self
+                .read_failure
+                .as_ref()
+                .or_else(|| self.pane_failure())
+                .map(|e| e.to_string()),
+            Stage::AwaitingSettings => self.pending.as_ref().map(|(_, e)| e.to_string()),
+            _ => None,
+        };
+        let failed = match stage {
+            Stage::Failed if self.read_failure.is_some() => Some(FailedStep::Read),
+            Stage::Failed => Some(FailedStep::Build),
+            _ => None,
+        };
+        let panes: Vec<PaneState> = self
+            .panes
+            .iter()
+            .map(|p| PaneState {
+                poses: p.source(),
+                caption: p.caption(),
+                progress: p.progress(),
+            })
+            .collect();
+        let fraction = |p: &BuildProgress| {
+            if p.scans_target == 0 {
+                1.0
+            } else {
+                p.scans_done as f64 / p.scans_target as f64
+            }
+        };
+        let built = if panes.is_empty() {
+            0.0
+        } else {
+            panes.iter().map(|p| fraction(&p.progress)).sum::<f64>() / panes.len() as f64
+        };
+        let read_fraction = self.read_report.as_ref().map_or(0.0, |r| {
+            if r.progress.finished {
+                1.0
+            } else {
+                r.progress.bytes_read as f64 / r.bytes_total.max(1) as f64
+            }
+        });
+        let progress = match stage {
+            Stage::Reading | Stage::AwaitingSettings => READ_SHARE * read_fraction.min(1.0),
+            _ if self.after_read => READ_SHARE + (1.0 - READ_SHARE) * built,
+            _ => built,
+        };
+        let first = panes.first().map(|p| p.progress);
+        let settings = *self.settings.settings();
+        SessionState {
+            state: stage,
+            log: self.log.clone(),
+            error,
+            failed,
+            progress,
+            read: self.read_report.clone(),
+            scans_done: panes
+                .iter()
+                .map(|p| p.progress.scans_done)
+                .min()
+                .unwrap_or(0),
+            scans_target: first.map_or(0, |p| p.scans_target),
+            scans_total: first.map_or(0, |p| p.scans_total),
+            cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
+            beams: panes.iter().map(|p| p.progress.beams).sum(),
+            finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
+            panes,
+            settings,
+            limits: SettingLimits::at(settings.resolution)
+                .expect("checked settings have a positive resolution"),
+        }
+    }
+
+    /// How the last read ended (also when setting up the map failed), or
+    /// `None` before a read has finished.
+    pub fn read_summary(&self) -> Option<ReadReport> {
+        self.read_report
+            .clone()
+            .filter(|r| r.progress.finished && self.loader.is_none())
+    }
+
+    /// True when the whole log has been read but the settings made too large
+    /// a grid for it.
+    pub fn awaiting_settings(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// The panes, the one the reader operates first.
+    pub fn panes(&self) -> &[LogPane] {
+        &self.panes
+    }
+
+    /// Pane `k`, or an error naming it.
+    pub fn pane(&self, k: usize) -> Result<&LogPane> {
+        let n = self.panes.len();
+        match self.panes.get(k) {
+            Some(p) => Ok(p),
+            None if n == 0 => Err(self.no_map()),
+            None => Err(invalid(
+                "pane",
+                format!("{k} (of {n} panes)"),
+                "a pane of the session, counted from 0",
+            )),
+        }
+    }
+
+    /// Pane `k` to operate (its view and cursor), or an error naming it.
+    pub fn pane_mut(&mut self, k: usize) -> Result<&mut LogPane> {
+        self.pane(k)?;
+        Ok(&mut self.panes[k])
+    }
+
+    /// Pane `k`'s limits.
+    pub fn geometry(&self, k: usize) -> Result<GeometryReport> {
+        Ok(self.pane(k)?.geometry())
+    }
+}
