@@ -1,5 +1,5 @@
 // The model values the widgets and the README state, against the core's
-// (issue 13: constants come from the core). The widgets take their bounds
+// (constants come from the core). The widgets take their bounds
 // and presets from `constants()` once the core has loaded; what must be
 // written before that (the cell filter's defaults, widgets/lib/defaults.js)
 // and the README's attribute tables are checked here, so neither can say
