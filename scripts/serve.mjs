@@ -97,32 +97,66 @@ function requestPath(target) {
 }
 
 /**
- * Makes the Range header safe to hand to sirv, which reads only
- * `bytes=START-END` and passes the numbers to `fs.createReadStream`
- * unchecked (a reversed or huge range throws there, after the status line
- * went out). A single `bytes=START-END` range is kept, END capped at the
- * largest safe integer (sirv caps it at the file's end itself); a reversed
- * one is turned into a range starting past any file, for which sirv answers
- * 416 with the file's size in Content-Range. Anything else (suffix ranges,
- * several ranges, other units, garbage) is ignored, as HTTP allows: the
- * whole file is sent.
+ * The byte range a request asks for, read here instead of by sirv. sirv
+ * reads the end with `parseInt(end) || size - 1`, so `bytes=0-0` (the
+ * first byte) came back as the whole file under `Content-Range: bytes
+ * 0-263/264`, and it hands a reversed or huge range to
+ * `fs.createReadStream` unchecked (which throws there, after the status
+ * line went out). One `bytes=START-END` or `bytes=START-` range is
+ * served: `{ start, end }`, `end` Infinity for "to the end". Anything else
+ * (suffix ranges, several ranges, other units, garbage) is ignored, as
+ * HTTP allows: null, and the whole file is sent. The header is taken off
+ * the request either way, so sirv always answers with the whole file,
+ * which `serveRange` cuts to the range.
  */
-function normalizeRange(req) {
-  const range = req.headers.range;
-  if (range === undefined) return;
-  const m = /^bytes=(\d+)-(\d*)$/.exec(range.trim());
-  if (!m) {
-    delete req.headers.range;
-    return;
-  }
-  const max = Number.MAX_SAFE_INTEGER;
-  const start = Math.min(Number(m[1]), max);
-  if (m[2] === '') {
-    req.headers.range = `bytes=${start}-`;
-    return;
-  }
-  const end = Math.min(Number(m[2]), max);
-  req.headers.range = end < start ? `bytes=${max}-` : `bytes=${start}-${end}`;
+function takeRange(req) {
+  const header = req.headers.range;
+  delete req.headers.range;
+  if (header === undefined) return null;
+  const m = /^bytes=(\d+)-(\d*)$/.exec(header.trim());
+  if (!m) return null;
+  return { start: Number(m[1]), end: m[2] === '' ? Infinity : Number(m[2]) };
+}
+
+/**
+ * Turns sirv's whole-file answer into the answer to `range`: 206 with the
+ * bytes asked for (the end cut at the file's end), or 416 with the file's
+ * size when the range starts past the end or ends before it starts. sirv
+ * writes the head, then pipes a read stream of the whole file into `res`;
+ * that stream is swapped for one of the range. Any other answer (304, 404)
+ * goes out as sirv wrote it.
+ */
+function serveRange(res, range) {
+  let slice = null; // the bytes to send once the head said 206; 'none' after a 416
+  const writeHead = res.writeHead.bind(res);
+  res.writeHead = (code, headers = {}) => {
+    const size = Number(headers['Content-Length']);
+    if (code !== 200 || !Number.isSafeInteger(size)) return writeHead(code, headers);
+    if (range.start >= size || range.end < range.start) {
+      slice = 'none';
+      return writeHead(416, { ...headers, 'Content-Range': `bytes */${size}`, 'Content-Length': 0 });
+    }
+    slice = { start: range.start, end: Math.min(range.end, size - 1) };
+    return writeHead(206, {
+      ...headers,
+      'Content-Range': `bytes ${slice.start}-${slice.end}/${size}`,
+      'Content-Length': slice.end - slice.start + 1,
+      'Accept-Ranges': 'bytes',
+    });
+  };
+  let part = null;
+  res.on('pipe', (source) => {
+    if (!slice || source === part) return;
+    source.unpipe(res);
+    source.destroy();
+    if (slice === 'none') {
+      res.end();
+      return;
+    }
+    part = fs.createReadStream(source.path, slice);
+    part.on('error', () => res.destroy());
+    part.pipe(res);
+  });
 }
 
 function answer(res, status, message) {
@@ -156,7 +190,8 @@ export function createServer({ fixtures = false } = {}) {
     const notFound = () => answer(res, 404, `Not found: ${pathname}`);
     if (!mount) return notFound();
     const [prefix, handler] = mount;
-    normalizeRange(req);
+    const range = takeRange(req);
+    if (range) serveRange(res, range);
     if (pathname.endsWith('.gz')) keepCompressed(res);
     // A file that vanishes or cannot be read between sirv's stat and its
     // read (pkg/ being rebuilt, a socket or fifo in a served folder) makes

@@ -682,12 +682,8 @@ class MapWeaverElement extends HTMLElement {
     Object.assign(o, patch);
     this.syncControls();
     this.knob(() => {
-      if ('model' in patch) this.weaver.setModel(k, o.model);
-      if ('pose' in patch) this.weaver.setPoseSource(k, o.pose);
-      if ('clamp' in patch) this.weaver.setClamp(k, o.clamp);
-      if ('strength' in patch) this.weaver.setStrength(k, o.strength);
+      this.weaver.setPane(k, patch);
       if (REBUILD_FIELDS.some((f) => f in patch)) {
-        this.weaver.setPane(k, { ...o });
         this.readTracked();
       }
     });

@@ -1,7 +1,7 @@
 // W5 `learn-inverse` on the wasm build: sample the 24,000 training triplets
 // of the learned inverse model and fit it (default configuration, seed 9).
 // The core times the two phases apart with the host's clock
-// (InverseWorkbench.benchmarkTraining); this script takes the medians.
+// (the `run` of InverseWorkbench.retrain's readout); this script takes the medians.
 import { median, round } from '../lib/stats.mjs';
 
 const RUNS = 7;
@@ -9,7 +9,7 @@ const RUNS = 7;
 export default async function (core) {
   const bench = new core.InverseWorkbench(9); // the first training warms the engine up
   const runs = [];
-  for (let i = 0; i < RUNS; i++) runs.push(bench.benchmarkTraining(9));
+  for (let i = 0; i < RUNS; i++) runs.push(bench.retrain(9).run);
   const last = runs.at(-1);
   bench.free();
   const sample = median(runs.map((r) => r.sampleMs));

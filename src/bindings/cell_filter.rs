@@ -1,6 +1,6 @@
 //! Bindings of `<occgrid-cell-filter>`: one cell's filter.
 
-use super::{number_from_js, to_js};
+use super::{bool_from_js, describe, guarded, number_from_js, to_js};
 use crate::mapping::cell_filter::{self, CellFilterParams, CellFilterPreset};
 use wasm_bindgen::prelude::*;
 
@@ -17,48 +17,49 @@ pub fn run_cell_filter_js(
     prior: JsValue,
     clamp: JsValue,
     readings: JsValue,
-    subtract_prior: bool,
+    subtract_prior: JsValue,
 ) -> Result<JsValue, JsError> {
     let p_occ = number_from_js("p_occ", &p_occ)?;
     let p_free = number_from_js("p_free", &p_free)?;
     let prior = number_from_js("prior", &prior)?;
     let clamp = number_from_js("clamp", &clamp)?;
-    // The length first: a 100-million-byte array is refused before it is
-    // copied into wasm memory.
-    let len = if let Some(array) = readings.dyn_ref::<js_sys::Array>() {
-        Some(array.length() as usize)
-    } else if let Some(bytes) = readings.dyn_ref::<js_sys::Uint8Array>() {
-        Some(bytes.length() as usize)
-    } else {
-        readings
-            .dyn_ref::<js_sys::ArrayBuffer>()
-            .map(|b| b.byte_length() as usize)
-    };
-    if let Some(len) = len {
-        cell_filter::check_readings(len)?;
-    }
-    let readings = if let Some(array) = readings.dyn_ref::<js_sys::Array>() {
-        // Each element as JavaScript holds it: the glue's copy into bytes
-        // would wrap 256 to 0 and -1 to 255.
-        array
-            .iter()
-            .enumerate()
-            .map(|(i, r)| match r.as_f64() {
-                Some(v) if v == 0.0 || v == 1.0 => Ok(v as u8),
-                _ => Err(JsError::new(&format!(
-                    "invalid readings[{i}]: {} (expected 1 for occupied or 0 for free)",
-                    super::describe(&r)
-                ))),
-            })
-            .collect::<Result<Vec<u8>, JsError>>()?
-    } else {
-        super::bytes_from_js(
-            "readings",
-            &readings,
-            "a Uint8Array or an array of 1 (occupied) and 0 (free)",
-        )?
-    };
+    let subtract_prior = bool_from_js("subtract_prior", &subtract_prior)?;
+    let readings = readings_from_js(&readings)?;
     run_cell_filter(p_occ, p_free, prior, clamp, &readings, subtract_prior)
+}
+
+/// The readings JavaScript sent: an array of 1 and 0 (or a Proxy of one,
+/// read item by item), or bytes. The length is checked first: a
+/// 100-million-item array is refused before it is copied into wasm memory.
+fn readings_from_js(readings: &JsValue) -> Result<Vec<u8>, JsError> {
+    const EXPECTED: &str = "a Uint8Array or an array of 1 (occupied) and 0 (free)";
+    let invalid = |reason: String| JsError::new(&format!("invalid readings: {reason}"));
+    if let Some(len) = guarded::array_length(readings).map_err(invalid)? {
+        cell_filter::check_readings(len)?;
+        // Each item as JavaScript holds it: a copy into bytes would wrap
+        // 256 to 0 and -1 to 255.
+        return (0..len)
+            .map(|i| {
+                let r = guarded::array_item(readings, i)
+                    .map_err(|reason| JsError::new(&format!("invalid readings[{i}]: {reason}")))?;
+                match r.as_f64() {
+                    Some(v) if v == 0.0 || v == 1.0 => Ok(v as u8),
+                    _ => Err(JsError::new(&format!(
+                        "invalid readings[{i}]: {} (expected 1 for occupied or 0 for free)",
+                        describe(&r)
+                    ))),
+                }
+            })
+            .collect();
+    }
+    let (source, len) = guarded::byte_source(readings).ok_or_else(|| {
+        JsError::new(&format!(
+            "invalid readings: {} (expected {EXPECTED})",
+            describe(readings)
+        ))
+    })?;
+    cell_filter::check_readings(len)?;
+    guarded::copy_bytes(&source, len).map_err(invalid)
 }
 
 /// [`run_cell_filter_js`] for Rust callers, the readings already bytes.

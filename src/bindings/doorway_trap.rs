@@ -1,6 +1,6 @@
 //! Bindings of `<occgrid-doorway-trap>`: the literal Table 9.1 sweep and the
-//! MAP search of Table 9.3 on the doorway scene, stepped by the widget
-//! (SPEC §7). The two-cell table is [`super::two_cell_table`].
+//! MAP search of Table 9.3 on the doorway scene, stepped by the widget.
+//! The two-cell table is [`super::two_cell_table`].
 
 use super::{
     budget_from_js, map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js,

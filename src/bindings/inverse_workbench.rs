@@ -48,7 +48,9 @@ impl InverseWorkbench {
         })
     }
 
-    /// Retrains the learned model with another seed. On an error the
+    /// Retrains the learned model with another seed and returns the
+    /// readout, whose `run` holds the training's timings (`sampleMs`,
+    /// `fitMs`, `trainMs`: workload W5 `learn-inverse`). On an error the
     /// current model stays.
     pub fn retrain(&mut self, seed: JsValue) -> Result<JsValue, JsError> {
         let seed = number_from_js("seed", &seed)?;
@@ -123,16 +125,6 @@ impl InverseWorkbench {
         set("handL0", JsValue::from_f64(v.l0[0] as f64))?;
         set("learnedL0", JsValue::from_f64(v.l0[1] as f64))?;
         Ok(out.into())
-    }
-
-    /// Workload W5 `learn-inverse` once, with `seed`: `{ sampleMs, fitMs,
-    /// trainMs, triplets, epochs }` (the model is kept).
-    #[wasm_bindgen(js_name = benchmarkTraining)]
-    pub fn benchmark_training(&mut self, seed: JsValue) -> Result<JsValue, JsError> {
-        let seed = number_from_js("seed", &seed)?;
-        self.session
-            .retrain(training::seed_from_number(seed)?, &now_ms)?;
-        to_js(self.session.run())
     }
 }
 

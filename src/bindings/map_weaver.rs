@@ -3,10 +3,10 @@
 //! ([`crate::world::weaver_workloads`]) for the wasm run under Node.
 
 use super::{
-    budget_from_js, coordinate_from_js, from_js, index_from_js, map_pair_to_js, number_from_js,
-    object_from_js, object_or_default, string_from_js, to_js,
+    bool_from_js, budget_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
+    number_from_js, object_or_default, patch_from_js, to_js,
 };
-use crate::apps::map_weaver::{ModelKind, PaneSettings, PoseSource, Weaver, WeaverSettings};
+use crate::apps::map_weaver::{Weaver, WeaverSettings};
 use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
@@ -17,13 +17,16 @@ pub struct MapWeaver(Weaver);
 #[wasm_bindgen]
 extern "C" {
     /// The page's monotonic clock (browsers and Node both have one).
-    #[wasm_bindgen(js_namespace = performance, js_name = now)]
-    fn performance_now() -> f64;
+    /// Declared with `catch`: it is called while the run is borrowed, and
+    /// an exception unwinding through the core would leave it so.
+    #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
+    fn performance_now() -> Result<f64, JsValue>;
 }
 
-/// Milliseconds from the page's clock: the core's "time per scan" per pane.
+/// Milliseconds from the page's clock: the core's "time per scan" per pane
+/// (NaN, a time of "unknown", when the page's clock throws).
 fn page_clock() -> f64 {
-    performance_now()
+    performance_now().unwrap_or(f64::NAN)
 }
 
 #[wasm_bindgen]
@@ -48,15 +51,18 @@ impl MapWeaver {
         Ok(vec![g.width(), g.height()])
     }
 
-    /// Sets every knob of pane `pane` from a settings object `{ model,
-    /// pose, clamp, strength, mapper, sensor, betaDeg, beams, resolution,
-    /// forgetL0 }` (a field left out takes its default). Clamp and strength
-    /// act at once; any other change rebuilds the pane over the scans so
-    /// far. A refused object changes nothing.
+    /// Changes knobs of pane `pane`, the one way to turn any of them: a
+    /// patch of its settings `{ model, pose, clamp, strength, mapper,
+    /// sensor, betaDeg, beams, resolution, forgetL0 }`, each field given
+    /// replacing that knob (`null` for `beams` or `resolution`: the
+    /// default), the others kept. Clamp and strength act at once; any
+    /// other change rebuilds the pane over the scans so far. A refused
+    /// patch changes nothing.
     #[wasm_bindgen(js_name = setPane)]
-    pub fn set_pane(&mut self, pane: JsValue, settings: JsValue) -> Result<(), JsError> {
+    pub fn set_pane(&mut self, pane: JsValue, patch: JsValue) -> Result<(), JsError> {
         let pane = pane_from_js(&pane)?;
-        let settings: PaneSettings = object_from_js("pane settings", settings)?;
+        let current = self.0.settings().panes[pane];
+        let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
         Ok(self.0.set_pane(pane, settings)?)
     }
 
@@ -177,45 +183,12 @@ impl MapWeaver {
         to_js(&self.0.overlay(pane_from_js(&pane)?)?)
     }
 
+    /// Puts the person into the corridor (`true`) or takes them out
+    /// (`false`) from the next scan on.
     #[wasm_bindgen(js_name = setPerson)]
-    pub fn set_person(&mut self, on: bool) {
-        self.0.set_person(on);
-    }
-
-    #[wasm_bindgen(js_name = setClamp)]
-    pub fn set_clamp(&mut self, pane: JsValue, clamp: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(&pane)?;
-        let clamp = number_from_js(&format!("panes[{pane}].clamp"), &clamp)?;
-        Ok(self.0.set_clamp(pane, clamp)?)
-    }
-
-    #[wasm_bindgen(js_name = setStrength)]
-    pub fn set_strength(&mut self, pane: JsValue, strength: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(&pane)?;
-        let strength = number_from_js(&format!("panes[{pane}].strength"), &strength)?;
-        Ok(self.0.set_strength(pane, strength)?)
-    }
-
-    /// `"hand-crafted"` or `"learned"`; rebuilds the pane over the scans so
-    /// far.
-    #[wasm_bindgen(js_name = setModel)]
-    pub fn set_model(&mut self, pane: JsValue, model: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(&pane)?;
-        let name = string_from_js("model", &model, "\"hand-crafted\" or \"learned\"")?;
-        let model: ModelKind = from_js("model", JsValue::from_str(&name))?;
-        drop(name);
-        Ok(self.0.set_model(pane, model)?)
-    }
-
-    /// `"oracle"` or `"dead-reckoning"`; rebuilds the pane over the scans
-    /// so far.
-    #[wasm_bindgen(js_name = setPoseSource)]
-    pub fn set_pose_source(&mut self, pane: JsValue, pose: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(&pane)?;
-        let name = string_from_js("pose source", &pose, "\"oracle\" or \"dead-reckoning\"")?;
-        let pose: PoseSource = from_js("pose source", JsValue::from_str(&name))?;
-        drop(name);
-        Ok(self.0.set_pose_source(pane, pose)?)
+    pub fn set_person(&mut self, on: JsValue) -> Result<(), JsError> {
+        self.0.set_person(bool_from_js("person", &on)?);
+        Ok(())
     }
 
     /// Starts the lap again with the current knobs.

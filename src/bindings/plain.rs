@@ -3,10 +3,14 @@
 //! Two steps, for every settings and scene object a widget sends:
 //!
 //! 1. [`plain_copy`] copies the value into plain objects, arrays and
-//!    primitives through `Reflect` calls that catch what JavaScript throws,
-//!    so a throwing getter or a `Proxy` becomes an error here instead of an
+//!    primitives through calls that catch what JavaScript throws
+//!    ([`super::guarded`]), so a throwing getter, a Proxy (revoked or not)
+//!    or a function becomes an error naming the path to it instead of an
 //!    exception unwinding through the core (which would leave a session
-//!    marked "in use" for good). The copy has a budget of nodes and depth.
+//!    marked "in use" for good). The copy has a budget of nodes and depth,
+//!    and keeps an own `"__proto__"` key as the field it is, for step 2
+//!    to refuse by name (an assignment would make it the copy's prototype,
+//!    and the field would vanish unread).
 //! 2. [`Strict`] reads the copy with serde, refusing any field the Rust
 //!    struct does not have, at any depth, and [`read_strict`] names the path
 //!    to the field an error is about (`invalid scene.lidar: unknown field
@@ -14,6 +18,7 @@
 //!    alone reads only the fields it knows, so a misspelt one would pass
 //!    unnoticed.
 
+use super::guarded::{is_array, thrown};
 use js_sys::{Array, Object, Reflect};
 use serde::de::{
     self, DeserializeSeed, Deserializer, IntoDeserializer, MapAccess, SeqAccess, Visitor,
@@ -28,60 +33,133 @@ pub const MAX_NODES: usize = 100_000;
 /// The deepest nesting a settings object may have.
 pub const MAX_DEPTH: usize = 32;
 
-/// A plain copy of `value` (see the module doc), or why there is none.
-pub fn plain_copy(value: &JsValue) -> Result<JsValue, String> {
-    let mut nodes = 0;
-    copy(value, 0, &mut nodes)
+/// How much of a value a copy may take.
+#[derive(Debug, Clone, Copy)]
+pub struct Budget {
+    /// Values (objects, arrays, primitives and keys together).
+    pub nodes: usize,
+    /// Levels of nesting below the value itself.
+    pub depth: usize,
 }
 
-fn copy(value: &JsValue, depth: usize, nodes: &mut usize) -> Result<JsValue, String> {
+/// The budget of a settings object.
+pub const SETTINGS: Budget = Budget {
+    nodes: MAX_NODES,
+    depth: MAX_DEPTH,
+};
+
+/// Why a value has no plain copy: the path to the part that failed (empty
+/// for the value itself, `lidar.beams`, `rooms[2]`) and the reason.
+pub type CopyError = (String, String);
+
+/// `path`, one segment (`key` or `[i]`) further out.
+pub fn path_under(segment: &str, path: &str) -> String {
+    if path.is_empty() {
+        segment.to_string()
+    } else if path.starts_with('[') {
+        format!("{segment}{path}")
+    } else {
+        format!("{segment}.{path}")
+    }
+}
+
+/// A plain copy of a settings object (see the module doc), or why there is
+/// none.
+pub fn plain_copy(value: &JsValue) -> Result<JsValue, CopyError> {
+    copy_within(value, SETTINGS)
+}
+
+/// A plain copy of `value` within `budget`, or why there is none.
+pub fn copy_within(value: &JsValue, budget: Budget) -> Result<JsValue, CopyError> {
+    let mut nodes = 0;
+    copy(value, 0, budget, &mut nodes)
+}
+
+fn copy(
+    value: &JsValue,
+    depth: usize,
+    budget: Budget,
+    nodes: &mut usize,
+) -> Result<JsValue, CopyError> {
+    let here = |reason: String| (String::new(), reason);
     *nodes += 1;
-    if *nodes > MAX_NODES {
-        return Err(format!("more than {MAX_NODES} values"));
+    if *nodes > budget.nodes {
+        return Err(here(format!("more than {} values", budget.nodes)));
     }
-    if depth > MAX_DEPTH {
-        return Err(format!("nested deeper than {MAX_DEPTH} levels"));
+    if depth > budget.depth {
+        return Err(here(format!("nested deeper than {} levels", budget.depth)));
     }
-    if !value.is_object() || value.is_function() {
+    // Functions and symbols are no settings (and a function may be a
+    // revoked Proxy, which throws at every question).
+    if value.is_function() {
+        return Err(here("a function (expected plain data)".into()));
+    }
+    if value.is_symbol() {
+        return Err(here("a symbol (expected plain data)".into()));
+    }
+    if !value.is_object() {
         return Ok(value.clone());
     }
-    let thrown = |e: JsValue| {
-        let text = e
-            .dyn_ref::<js_sys::Error>()
-            .map(|e| String::from(e.message()))
-            .or_else(|| e.as_string())
-            .unwrap_or_else(|| "an exception".into());
-        format!("reading it threw: {text}")
-    };
-    if Array::is_array(value) {
-        let len = Reflect::get(value, &"length".into())
-            .map_err(thrown)?
+    if is_array(value).map_err(here)? {
+        let len = Reflect::get(value, &JsValue::from_str("length"))
+            .map_err(|e| here(thrown(e)))?
             .as_f64()
             .unwrap_or(0.0);
-        if !(len <= MAX_NODES as f64) {
-            return Err(format!("an array longer than {MAX_NODES} values"));
+        if !(len <= budget.nodes as f64) {
+            return Err(here(format!(
+                "an array longer than {} values",
+                budget.nodes
+            )));
         }
         let out = Array::new();
         for i in 0..len as u32 {
-            let item = Reflect::get_u32(value, i).map_err(thrown)?;
-            out.push(&copy(&item, depth + 1, nodes)?);
+            let at = |(path, reason): CopyError| (path_under(&format!("[{i}]"), &path), reason);
+            let item = Reflect::get_u32(value, i).map_err(|e| at(here(thrown(e))))?;
+            out.push(&copy(&item, depth + 1, budget, nodes).map_err(at)?);
         }
         return Ok(out.into());
     }
     let out = Object::new();
-    let keys = Reflect::own_keys(value).map_err(thrown)?;
+    let keys = Reflect::own_keys(value).map_err(|e| here(thrown(e)))?;
+    // Each key is a value of the budget: more keys than are left is
+    // refused before any is read.
+    if keys.length() as usize > budget.nodes - *nodes {
+        return Err(here(format!("more than {} values", budget.nodes)));
+    }
     for key in keys.iter() {
         // Symbol keys are no settings.
-        if !key.is_string() {
+        let Some(name) = key.as_string() else {
             continue;
+        };
+        *nodes += 1;
+        if *nodes > budget.nodes {
+            return Err(here(format!("more than {} values", budget.nodes)));
         }
-        let item = Reflect::get(value, &key).map_err(thrown)?;
+        let at = |(path, reason): CopyError| (path_under(&name, &path), reason);
+        let item = Reflect::get(value, &key).map_err(|e| at(here(thrown(e))))?;
         if item.is_undefined() {
             continue;
         }
-        Reflect::set(&out, &key, &copy(&item, depth + 1, nodes)?).map_err(thrown)?;
+        let item = copy(&item, depth + 1, budget, nodes).map_err(at)?;
+        define_field(&out, &key, &item).map_err(|e| at(here(thrown(e))))?;
     }
     Ok(out.into())
+}
+
+/// Gives `target` the own field `key`: defined, not assigned, so that a
+/// key "__proto__" is a field like any other rather than the object's new
+/// prototype (see the module doc).
+pub fn define_field(target: &Object, key: &JsValue, value: &JsValue) -> Result<(), JsValue> {
+    let field = Object::new();
+    for (flag, on) in [
+        ("value", value),
+        ("enumerable", &JsValue::TRUE),
+        ("writable", &JsValue::TRUE),
+        ("configurable", &JsValue::TRUE),
+    ] {
+        Reflect::set(&field, &JsValue::from_str(flag), on)?;
+    }
+    Reflect::define_property(target, key, &field).map(|_| ())
 }
 
 /// Marks an error message that already carries a path: `PATH` + the path +
@@ -127,9 +205,10 @@ pub fn read_strict<T: serde::de::DeserializeOwned>(value: JsValue) -> Result<T, 
 /// type's reader would otherwise carry its own copy.
 #[inline(never)]
 fn known_fields(value: &JsValue, fields: &[&str]) -> Result<Vec<(String, JsValue)>, Error> {
-    let mut entries = Vec::new();
     let object: &Object = value.unchecked_ref();
-    for key in Object::keys(object).iter() {
+    let keys = Object::keys(object);
+    let mut entries = Vec::with_capacity(keys.length() as usize);
+    for key in keys.iter() {
         let key = key.as_string().unwrap_or_default();
         if !fields.contains(&key.as_str()) {
             return Err(<Error as de::Error>::custom(format!(
@@ -172,11 +251,30 @@ macro_rules! delegate {
     )*};
 }
 
+/// Like `delegate`, for a value that `null` is not: refused here as
+/// "null" (the loose reader says "unit value").
+macro_rules! delegate_not_null {
+    ($($method:ident),*) => {$(
+        fn $method<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
+            if self.0.is_null() {
+                return Err(self.unexpected(&visitor));
+            }
+            self.loose().$method(visitor)
+        }
+    )*};
+}
+
 impl<'de> Deserializer<'de> for Strict {
     type Error = Error;
 
     delegate!(
         deserialize_any,
+        deserialize_unit,
+        deserialize_identifier,
+        deserialize_ignored_any,
+        deserialize_map
+    );
+    delegate_not_null!(
         deserialize_bool,
         deserialize_i8,
         deserialize_i16,
@@ -192,11 +290,7 @@ impl<'de> Deserializer<'de> for Strict {
         deserialize_str,
         deserialize_string,
         deserialize_bytes,
-        deserialize_byte_buf,
-        deserialize_unit,
-        deserialize_identifier,
-        deserialize_ignored_any,
-        deserialize_map
+        deserialize_byte_buf
     );
 
     fn deserialize_option<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
@@ -224,7 +318,7 @@ impl<'de> Deserializer<'de> for Strict {
     }
 
     fn deserialize_seq<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, Error> {
-        if !Array::is_array(&self.0) {
+        if !is_array(&self.0).map_err(<Error as de::Error>::custom)? {
             return Err(self.unexpected(&visitor));
         }
         let items: Vec<JsValue> = self.0.unchecked_into::<Array>().iter().collect();
@@ -254,7 +348,7 @@ impl<'de> Deserializer<'de> for Strict {
         fields: &'static [&'static str],
         visitor: V,
     ) -> Result<V::Value, Error> {
-        if !self.0.is_object() || Array::is_array(&self.0) {
+        if !self.0.is_object() || is_array(&self.0).map_err(<Error as de::Error>::custom)? {
             return Err(self.unexpected(&visitor));
         }
         let entries = known_fields(&self.0, fields)?;
@@ -271,7 +365,17 @@ impl<'de> Deserializer<'de> for Strict {
         variants: &'static [&'static str],
         visitor: V,
     ) -> Result<V::Value, Error> {
-        self.loose().deserialize_enum(name, variants, visitor)
+        // A name, or an object for a variant with data; anything else is
+        // refused with the names (the loose reader would name only the
+        // Rust type).
+        let data =
+            self.0.is_object() && !is_array(&self.0).map_err(<Error as de::Error>::custom)?;
+        if self.0.is_string() || data {
+            return self.loose().deserialize_enum(name, variants, visitor);
+        }
+        let names: Vec<String> = variants.iter().map(|v| format!("\"{v}\"")).collect();
+        let expected = format!("one of {}", names.join(", "));
+        Err(self.unexpected(&expected.as_str()))
     }
 }
 
@@ -310,8 +414,9 @@ impl<'de> MapAccess<'de> for Fields {
             None => Ok(None),
             Some((key, value)) => {
                 self.value = Some(value);
-                self.key = key.clone();
-                let key: de::value::StringDeserializer<Error> = key.into_deserializer();
+                // Kept for the path of an error about the value.
+                self.key = key;
+                let key: de::value::StrDeserializer<Error> = self.key.as_str().into_deserializer();
                 seed.deserialize(key).map(Some)
             }
         }

@@ -1,4 +1,4 @@
-//! Bindings of the two-cell table (SPEC §6): the exact joint posterior of a
+//! Bindings of the two-cell table: the exact joint posterior of a
 //! few cells against the product of their marginals.
 
 use super::{object_from_js, string_from_js, to_js};
@@ -26,7 +26,7 @@ pub fn joint_answer(query: JsValue) -> Result<JsValue, JsError> {
     to_js(&JointPosterior::compute(&q)?.answer())
 }
 
-/// The chapter's two-cell query (SPEC §6), as data.
+/// The chapter's two-cell query, as data.
 #[wasm_bindgen(js_name = chapterTwoCellQuery)]
 pub fn chapter_two_cell_query() -> Result<JsValue, JsError> {
     to_js(&JointQuery::chapter_two_cells())

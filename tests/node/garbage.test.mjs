@@ -1,4 +1,4 @@
-// SPEC §12 from the JavaScript side of the glue: what a page actually
+// Garbage from the JavaScript side of the glue: what a page actually
 // passes — strings from attributes, undefined, objects where numbers
 // belong, negative and fractional counts — must come back as an Error
 // naming the field (or be a harmless no-op), never as a dead module, and
@@ -22,8 +22,13 @@ test('the cell filter refuses strings, undefined and objects for its numbers', (
   // Numbers are read as JavaScript holds them: a numeric string is no
   // number (the glue's coercion would call valueOf on any object).
   refuses(() => core.runCellFilter('0.7', 0.3, 0.5, 12, new Uint8Array([1]), true), 'invalid p_occ: "0.7" (expected a number)');
-  const t = core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 1, 0]), 1);
+  const t = core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 1, 0]), true);
   assert.equal(t.steps.length, 3);
+  // True or false is a boolean: the glue's coercion read 1 and "no" as
+  // true, 0 and an object as false (calling its valueOf on the way).
+  for (const bad of [1, 0, 'no', undefined, null, {}, { valueOf: () => true }]) {
+    refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1]), bad), 'invalid subtract_prior', 'expected true or false');
+  }
   // Readings are a Uint8Array or an array of 0s and 1s; the glue's own
   // copy read '101' as three bytes and 5 as none, and wrapped 256 to 0.
   for (const bad of ['101', 5, undefined, null, {}]) {
@@ -49,27 +54,36 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
   assert.equal(w.advance(3), 3);
   const before = JSON.stringify(w.readout());
-  refuses(() => w.setClamp(0, 'high'), 'panes[0].clamp', '"high"', 'expected a number');
-  refuses(() => w.setClamp(0, NaN), 'panes[0].clamp', 'NaN');
-  refuses(() => w.setClamp(0, undefined), 'panes[0].clamp');
-  refuses(() => w.setStrength(1, '11'), 'panes[1].strength', '11');
-  refuses(() => w.setStrength(1, 11), 'panes[1].strength', '11');
-  // A non-string for a string parameter is our Error naming the
-  // parameter, not a failure inside the generated glue.
-  for (const bad of [42, undefined, null, {}, ['x'], true]) {
-    const m = refuses(() => w.setModel(0, bad), 'invalid model', '"hand-crafted" or "learned"');
-    assert.ok(!m.includes('memory access'), m);
-    refuses(() => w.setPoseSource(1, bad), 'invalid pose source', '"oracle" or "dead-reckoning"');
+  // setPane is the one way to turn a knob: a patch of the pane's settings.
+  refuses(() => w.setPane(0, { clamp: 'high' }), 'invalid panes[0].clamp', '"high"', 'expected f64');
+  refuses(() => w.setPane(0, { clamp: NaN }), 'panes[0].clamp', 'NaN');
+  refuses(() => w.setPane(0, { clamp: null }), 'panes[0].clamp', 'null');
+  refuses(() => w.setPane(1, { strength: '11' }), 'panes[1].strength', '11');
+  refuses(() => w.setPane(1, { strength: 11 }), 'panes[1].strength', '11');
+  refuses(() => w.setPane(1, { strenght: 2 }), 'panes[1]', 'unknown field "strenght"', 'strength');
+  for (const bad of [undefined, null, 3, 'clamp', [{ clamp: 3 }]]) {
+    refuses(() => w.setPane(0, bad), 'invalid panes[0]', 'expected an object of named settings');
   }
-  refuses(() => w.setModel(0, 'magic'), 'model', 'magic');
-  refuses(() => w.setPoseSource(1, ''), 'pose source');
-  refuses(() => w.setClamp(2, 3), 'pane');
+  // A knob's name that is not a string is refused with the names it may take.
+  for (const bad of [42, null, ['x'], true]) {
+    const m = refuses(() => w.setPane(0, { model: bad }), 'invalid panes[0].model', '"hand-crafted", "learned"');
+    assert.ok(!m.includes('memory access'), m);
+    refuses(() => w.setPane(1, { pose: bad }), 'invalid panes[1].pose', '"oracle", "dead-reckoning"');
+  }
+  refuses(() => w.setPane(0, { model: 'magic' }), 'panes[0].model', 'magic');
+  refuses(() => w.setPane(1, { pose: '' }), 'panes[1].pose');
+  refuses(() => w.setPane(2, { clamp: 3 }), 'pane');
+  // A refused field refuses the whole patch: the clamp beside it is not taken.
+  refuses(() => w.setPane(0, { clamp: 3, beams: 7 }), 'panes[0].beams', '7');
+  for (const bad of [1, 'on', undefined, null, { valueOf: () => true }]) {
+    refuses(() => w.setPerson(bad), 'invalid person', 'expected true or false');
+  }
   // Indices are whole numbers in range: the glue once wrapped -1 and
   // 2^32 and truncated 1.5 to a valid pane.
   for (const pane of [-1, 1.5, 2 ** 32, 1.5e10, NaN, Infinity, 'left', undefined]) {
     refuses(() => w.pixels(pane), 'pane');
     refuses(() => w.overlay(pane), 'pane');
-    refuses(() => w.setStrength(pane, 1), 'pane');
+    refuses(() => w.setPane(pane, { strength: 1 }), 'pane');
     refuses(() => w.exportMap(pane), 'pane');
   }
   refuses(() => w.cellInfo(0, 0.5, 0), 'col', '0.5');
@@ -84,8 +98,12 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   assert.equal(w.cellInfo(0, 0, 1e12), null);
   assert.equal(w.advance(0), 0);
   assert.equal(w.advance(2), 2, 'still maps');
-  w.setModel(0, 'learned');
-  w.setPoseSource(1, 'dead-reckoning');
+  w.setPane(0, { model: 'learned' });
+  w.setPane(1, { pose: 'dead-reckoning', clamp: 4 });
+  const panes = w.readout().panes;
+  assert.deepEqual([panes[0].model, panes[1].pose, panes[1].clamp], ['learned', 'dead-reckoning', 4]);
+  // The fields a patch leaves out keep their values.
+  assert.equal(panes[1].model, JSON.parse(before).panes[1].model);
   assert.equal(w.advance(1), 1);
   assert.ok(w.exportMap(1).pgm.length > 0);
   assert.ok(w.pixels(1) > 0);

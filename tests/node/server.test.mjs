@@ -141,6 +141,30 @@ test('a byte range past the end gets 416; one reaching past it is cut at the end
   assert.deepEqual(part.body, STATE_JS.subarray(3, 10));
 });
 
+test('a one-byte range is one byte: the first, a middle one, the last (sirv read an end of 0 as no end)', async () => {
+  const favicon = fs.readFileSync(path.join(root, 'www/favicon.svg'));
+  for (const [target, file] of [['/widgets/lib/state.js', STATE_JS], ['/favicon.svg', favicon]]) {
+    for (const at of [0, 5, file.length - 1]) {
+      const r = await rawRequest(plain.port, get(target, `Range: bytes=${at}-${at}`));
+      assertAlive(plain);
+      assert.equal(r.status, 206, `${target} byte ${at} → ${r.status}`);
+      assert.equal(r.headers['content-range'], `bytes ${at}-${at}/${file.length}`);
+      assert.equal(r.headers['content-length'], '1');
+      assert.deepEqual(r.body, file.subarray(at, at + 1), `${target} byte ${at}`);
+    }
+  }
+  // HEAD answers the same head and no body.
+  const head = await rawRequest(plain.port, get('/favicon.svg', 'Range: bytes=0-0').replace('GET', 'HEAD'));
+  assert.equal(head.status, 206);
+  assert.equal(head.headers['content-range'], `bytes 0-0/${favicon.length}`);
+  assert.equal(head.body.length, 0);
+  // A gzip log is cut as the gzip file it is: its first two bytes are the magic.
+  const gz = await rawRequest(plain.port, get('/datasets/intel-corrected.log.gz', 'Range: bytes=0-1'));
+  assert.equal(gz.status, 206);
+  assert.equal(gz.headers['content-encoding'], undefined);
+  assert.deepEqual([...gz.body], [0x1f, 0x8b]);
+});
+
 test('a Range header sirv would misread (suffix, several ranges, other units) is ignored: the whole file', async () => {
   for (const range of ['bytes=-5', 'bytes=0-1,5-6', 'items=0-5', 'bytes=x-y', 'bytes=--', 'bytes=1-2-3']) {
     const r = await rawRequest(plain.port, get('/widgets/lib/state.js', `Range: ${range}`));

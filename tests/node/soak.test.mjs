@@ -1,4 +1,4 @@
-// Map Weaver soak under Node (issue 8, SPEC §12): 100,000 scans of the
+// Map Weaver soak under Node: 100,000 scans of the
 // apartment lap in the release wasm build, driven frame by frame as the
 // widget drives it, must not grow the wasm memory once the first run has
 // reached its largest history. Needs pkg/ (npm run build; loadCore builds

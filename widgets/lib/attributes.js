@@ -43,14 +43,30 @@ export function invalidValue(name, text, expected) {
 // Each type is `{ describe, parse(text, name) }`: `describe` completes
 // "expected …" and `parse` returns the value or throws `invalidValue`.
 
-/** A whole number in [min, max]. */
+/** Whole numbers and decimals as a page writes them: digits, a sign, a point. */
+const WHOLE_TEXT = /^-?\d+$/;
+const DECIMAL_TEXT = /^-?(\d+(\.\d*)?|\.\d+)$/;
+
+/**
+ * The number `text` writes in plain decimal (surrounding spaces allowed),
+ * or NaN. `Number` alone also reads "0x10" as 16, "1e3" as 1000, "0b11",
+ * "Infinity" and the empty string as 0: a link or a page would then set a
+ * value other than the one its text shows.
+ */
+function decimal(text, pattern = DECIMAL_TEXT) {
+  const t = text.trim();
+  // `+ 0` turns "-0" into 0.
+  return pattern.test(t) ? Number(t) + 0 : NaN;
+}
+
+/** A whole number in [min, max], written in decimal digits. */
 export function whole(min, max) {
   const describe = `a whole number from ${min} to ${max}`;
   return {
     describe,
     parse(text, name) {
-      const v = Number(text);
-      if (text.trim() === '' || !Number.isInteger(v) || v < min || v > max) throw invalidValue(name, text, describe);
+      const v = decimal(text, WHOLE_TEXT);
+      if (!Number.isInteger(v) || v < min || v > max) throw invalidValue(name, text, describe);
       return v;
     },
   };
@@ -66,8 +82,8 @@ export function number(min, max, { step, unit = '' } = {}) {
   return {
     describe,
     parse(text, name) {
-      const v = Number(text);
-      let ok = text.trim() !== '' && Number.isFinite(v) && v >= min && v <= max;
+      const v = decimal(text);
+      let ok = Number.isFinite(v) && v >= min && v <= max;
       if (ok && step) {
         const k = (v - min) / step;
         ok = Math.abs(k - Math.round(k)) < 1e-6;
@@ -85,8 +101,8 @@ export function probability({ min = 0, max = 1, step } = {}) {
   return {
     describe,
     parse(text, name) {
-      const v = Number(text);
-      if (text.trim() === '' || !(v > 0 && v < 1)) throw invalidValue(name, text, describe);
+      const v = decimal(text);
+      if (!(v > 0 && v < 1)) throw invalidValue(name, text, describe);
       try {
         return inner.parse(text, name);
       } catch {
@@ -199,7 +215,7 @@ export class AttributeReader {
     // coming and going (the widget hears about its own names itself).
     if ('MutationObserver' in window) {
       new MutationObserver((records) => {
-        if (records.some((r) => !(r.attributeName in spec) && !isGlobal(r.attributeName))) this.report(this.errors, this.unknown());
+        if (records.some((r) => !Object.hasOwn(spec, r.attributeName) && !isGlobal(r.attributeName))) this.report(this.errors, this.unknown());
       }).observe(host, { attributes: true });
     }
   }
@@ -227,9 +243,13 @@ export class AttributeReader {
     return this.read();
   }
 
-  /** Attribute names of the host that neither the table nor HTML knows. */
+  /**
+   * Attribute names of the host that neither the table nor HTML knows. The
+   * table's own names only: `in` would also find `constructor`,
+   * `toString` or `__proto__` on every object's prototype.
+   */
   unknown() {
-    return this.host.getAttributeNames().filter((n) => !(n in this.spec) && !isGlobal(n));
+    return this.host.getAttributeNames().filter((n) => !Object.hasOwn(this.spec, n) && !isGlobal(n));
   }
 
   /**

@@ -1,0 +1,267 @@
+// Every export of the wasm core the page ships (pkg/occgrid.js), called
+// with hostile values: revoked Proxies, Proxies and getters that throw,
+// objects whose valueOf / toString / Symbol.toPrimitive / toJSON free the
+// instance being called, NaN, the infinities, huge and negative numbers,
+// wrong types, a string of ten million characters, deep, wide and cyclic
+// objects. The exports are found by reflection (every class, its
+// constructor, static methods, methods and getters, and every free
+// function), so a new method is fuzzed without editing this file. First a
+// sweep puts each hostile value in each parameter of each callable, then a
+// fixed-seed run makes random calls. Every call must return, or throw an
+// `Error` of the core's own with a message: a TypeError from the glue, a
+// `WebAssembly.RuntimeError` (`unreachable`, "memory access out of
+// bounds"), or an instance left borrowed ("recursive use of an object")
+// fails. After every call the instance still answers, and at the end every
+// instance and a fresh one of each class do, and no hostile hook was ever
+// asked for a value. Needs pkg/ (npm run build).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { loadCore } from '../../scripts/lib/load-core.mjs';
+
+const { core } = await loadCore();
+
+/** The random calls after the sweep; with the sweep, a few seconds in all. */
+const RANDOM_CALLS = 2000;
+const SEED = 20240917;
+
+/** mulberry32: a small seeded generator, so that a failure replays. */
+function generator(seed) {
+  let a = seed >>> 0;
+  return () => {
+    a = (a + 0x6d2b79f5) >>> 0;
+    let t = a;
+    t = Math.imul(t ^ (t >>> 15), t | 1);
+    t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+}
+
+/** A tiny valid CARMEN log, for the sessions that are built from bytes. */
+const LOG = new TextEncoder().encode('FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n'.repeat(5));
+
+/**
+ * How to build a cheap instance of a class that needs arguments (a class
+ * not listed is built with none; if that fails, the test says to add it).
+ */
+const RECIPES = {
+  MapWeaver: () => new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } }),
+  RealLogSession: () => {
+    const s = new core.RealLogSession(LOG, 'fuzz.log');
+    s.read(2);
+    return s;
+  },
+  SensorFusion: () => new core.SensorFusion({ step: 0.4 }, undefined),
+  DoorwayTrap: () => new core.DoorwayTrap(undefined),
+  InverseWorkbench: () => new core.InverseWorkbench(undefined),
+};
+
+/** How to ask an instance of a class without getters that it still answers. */
+const ANSWERS = {
+  InverseWorkbench: (x) => x.readout(),
+};
+
+/** Exports that are the module's loader, not the core. */
+const LOADER = new Set(['default', 'initSync']);
+
+const isClass = (f) => typeof f === 'function' && /^class\b/.test(Function.prototype.toString.call(f));
+/** Own callable members of `object` worth calling: no internals (`__wrap`, `__destroy_into_raw`), no `free`. */
+function members(object) {
+  return Object.getOwnPropertyNames(object).filter((name) => {
+    if (name.startsWith('__') || ['constructor', 'free', 'length', 'name', 'prototype'].includes(name)) return false;
+    const d = Object.getOwnPropertyDescriptor(object, name);
+    return typeof d.value === 'function';
+  });
+}
+const getters = (C) => Object.getOwnPropertyNames(C.prototype).filter((n) => Object.getOwnPropertyDescriptor(C.prototype, n).get);
+
+const classes = Object.entries(core).filter(([name, f]) => !LOADER.has(name) && isClass(f));
+const functions = Object.entries(core).filter(([name, f]) => !LOADER.has(name) && typeof f === 'function' && !isClass(f));
+
+/** Counts every time JavaScript asked a hostile object for a value (it never may). */
+const coerced = { count: 0, by: [] };
+
+/** A Proxy that has been revoked: every question put to it throws. */
+function revoked() {
+  const { proxy, revoke } = Proxy.revocable({}, {});
+  revoke();
+  return proxy;
+}
+
+/**
+ * The hostile values, by name. `victim()` is the instance a freeing hook
+ * frees: the instance being called, or a bystander for free functions.
+ */
+function hostileValues(victim) {
+  const asked = (how) => () => {
+    coerced.count += 1;
+    coerced.by.push(how);
+    try {
+      victim().free();
+    } catch {
+      // Already freed, or borrowed by the call: still a value.
+    }
+  };
+  const valueOf = asked('valueOf');
+  const toString = asked('toString');
+  const toPrimitive = asked('Symbol.toPrimitive');
+  const toJSON = asked('toJSON');
+  const deep = {};
+  let node = deep;
+  for (let i = 0; i < 5000; i++) node = node.next = {};
+  const cyclic = { a: 1 };
+  cyclic.self = cyclic;
+  const wide = {};
+  for (let i = 0; i <= 100_000; i++) wide[`k${i}`] = i;
+  const throwingGetter = Object.defineProperty({}, 'clamp', { enumerable: true, get() { throw new Error('a getter threw'); } });
+  const throwingTraps = new Proxy({}, {
+    ownKeys() { return ['seed', 'clamp']; },
+    getOwnPropertyDescriptor() { return { value: 1, enumerable: true, configurable: true }; },
+    get() { throw new Error('a get trap threw'); },
+  });
+  const noKeys = new Proxy([], { ownKeys() { throw new Error('an ownKeys trap threw'); } });
+  const lyingBytes = new Uint8Array([1, 0, 1]);
+  Object.defineProperty(lyingBytes, 'length', { get() { throw new Error('a length getter threw'); } });
+  const lookAlikeBytes = Object.setPrototypeOf({ length: 1e9 }, Uint8Array.prototype);
+  const freeingNumber = Object.assign(new Number(1), { valueOf() { valueOf(); return 1; } });
+  return [
+    ['NaN', NaN], ['Infinity', Infinity], ['-Infinity', -Infinity], ['1e308', 1e308], ['-1e308', -1e308],
+    ['2^53', 2 ** 53], ['2^64', 2 ** 64], ['-1', -1], ['-0', -0], ['0', 0], ['0.5', 0.5], ['1', 1], ['7', 7], ['1e9', 1e9],
+    ['""', ''], ['"x"', 'x'], ['"1"', '1'], ['"0x10"', '0x10'], ['ten million characters', 'x'.repeat(1e7)],
+    ['true', true], ['false', false], ['null', null], ['undefined', undefined], ['10n', 10n], ['a symbol', Symbol('s')],
+    ['a function', () => 1], ['[]', []], ['[1, 0, 1]', [1, 0, 1]], ['{}', {}], ['nested 5000 deep', deep], ['cyclic', cyclic],
+    ['100,001 keys', wide], ['an array of a million', new Array(1e6).fill(0)],
+    ['a revoked Proxy', revoked()], ['{ resolution: a revoked Proxy }', { resolution: revoked(), clamp: revoked() }],
+    ['[a revoked Proxy]', [revoked()]], ['a revoked function Proxy', (() => { const r = Proxy.revocable(() => 1, {}); r.revoke(); return r.proxy; })()],
+    ['a throwing getter', throwingGetter], ['throwing traps', throwingTraps], ['a throwing ownKeys trap', noKeys],
+    ['a valueOf that frees', { valueOf() { valueOf(); return 1; } }],
+    ['a toString that frees', { toString() { toString(); return '1'; } }],
+    ['a Symbol.toPrimitive that frees', { [Symbol.toPrimitive]() { toPrimitive(); return 1; } }],
+    ['a toJSON that frees', { toJSON() { toJSON(); return 1; } }],
+    ['a Number whose valueOf frees', freeingNumber],
+    ['{ clamp: a valueOf that frees }', { clamp: { valueOf() { valueOf(); return 1; } } }],
+    ['a Uint8Array whose length throws', lyingBytes], ['a Uint8Array look-alike', lookAlikeBytes],
+    ['a Proxy of a Uint8Array', new Proxy(new Uint8Array(LOG), {})], ['a detached ArrayBuffer', (() => { const b = new ArrayBuffer(8); structuredClone(b, { transfer: [b] }); return b; })()],
+    ['a log', LOG], ['{ "__proto__": ... }', JSON.parse('{"__proto__": {"clamp": 1}}')],
+  ];
+}
+
+/** A value as a failure message names it. */
+function named(value, table) {
+  const hit = table.find(([, v]) => Object.is(v, value));
+  if (hit) return hit[0];
+  try {
+    return JSON.stringify(value) ?? String(value);
+  } catch {
+    return typeof value;
+  }
+}
+
+/**
+ * Calls `f` and judges the outcome: a result (an instance it returns is
+ * freed) or an Error of the core's own, with a message.
+ */
+function judge(label, f) {
+  let result;
+  try {
+    result = f();
+  } catch (e) {
+    assert.ok(e instanceof Error, `${label} threw a non-Error: ${String(e)}`);
+    assert.ok(!(e instanceof WebAssembly.RuntimeError), `${label} stopped the core: ${e.message}`);
+    assert.equal(Object.getPrototypeOf(e), Error.prototype, `${label} threw a ${e.constructor.name} from outside the core: ${e.message}`);
+    assert.ok(e.message.length > 0, `${label} threw an Error without a message`);
+    assert.doesNotMatch(e.message, /unreachable|memory access|recursive use|borrowed|null pointer/, label);
+    return;
+  }
+  if (result && typeof result === 'object' && Object.hasOwn(result, '__wbg_ptr')) result.free();
+}
+
+/** Asserts that `x`, an instance of class `name`, still answers. */
+function answers(name, x, after) {
+  assert.ok(x.__wbg_ptr !== 0, `the ${name} was freed by ${after}`);
+  const C = core[name];
+  const own = getters(C);
+  assert.ok(own.length || ANSWERS[name], `no way to ask a ${name} whether it answers: add it to ANSWERS`);
+  try {
+    for (const g of own) void x[g];
+    ANSWERS[name]?.(x);
+  } catch (e) {
+    assert.fail(`the ${name} no longer answers after ${after}: ${e.message}`);
+  }
+}
+
+function build(name) {
+  const make = RECIPES[name] ?? (() => new core[name]());
+  try {
+    return make();
+  } catch (e) {
+    assert.fail(`cannot build a ${name} to fuzz (${e.message}): add a recipe to RECIPES`);
+  }
+}
+
+test('every export of the core takes hostile values with an Error, and every instance keeps answering', () => {
+  assert.ok(classes.length >= 5 && functions.length >= 8, `found ${classes.length} classes and ${functions.length} functions`);
+  const instances = Object.fromEntries(classes.map(([name]) => [name, build(name)]));
+  // The bystander a freeing hook frees when no instance is being called.
+  const bystander = build('DoorwayTrap');
+  let current = () => bystander;
+  const table = hostileValues(() => current());
+  const pool = table.map(([, v]) => v);
+  // The random run leaves out the values slow to refuse (the 100,001 keys
+  // are listed on every reading): the sweep gives each to every parameter.
+  const randomPool = table.filter(([name]) => name !== '100,001 keys').map(([, v]) => v);
+
+  /** Every callable: `{ label, arity, call(args), instance? }`. */
+  const callables = [];
+  for (const [name, C] of classes) {
+    callables.push({ label: `new ${name}`, arity: C.length, call: (args) => new C(...args) });
+    for (const m of members(C)) callables.push({ label: `${name}.${m}`, arity: C[m].length, call: (args) => C[m](...args) });
+    for (const m of members(C.prototype)) {
+      callables.push({ label: `${name}#${m}`, arity: C.prototype[m].length, instance: name, call: (args) => instances[name][m](...args) });
+    }
+  }
+  for (const [name, f] of functions) callables.push({ label: name, arity: f.length, call: (args) => f(...args) });
+
+  const run = (c, args) => {
+    current = c.instance ? () => instances[c.instance] : () => bystander;
+    const label = `${c.label}(${args.map((a) => named(a, table)).join(', ')})`;
+    judge(label, () => c.call(args));
+    if (c.instance) answers(c.instance, instances[c.instance], label);
+    answers('DoorwayTrap', bystander, label);
+  };
+
+  // The sweep: each hostile value in each parameter, 0 in the others (a
+  // callable without parameters gets a few as an extra argument).
+  const extras = [revoked(), table.find(([n]) => n === 'a valueOf that frees')[1], undefined];
+  let calls = 0;
+  for (const c of callables) {
+    const arity = Math.max(1, c.arity);
+    for (let p = 0; p < arity; p++) {
+      for (const v of c.arity ? pool : extras) {
+        const args = new Array(arity).fill(0);
+        args[p] = v;
+        run(c, args);
+        calls += 1;
+      }
+    }
+  }
+  // The random run: any values, in any parameters, with one extra now and then.
+  const random = generator(SEED);
+  const pick = (list) => list[Math.floor(random() * list.length)];
+  for (let i = 0; i < RANDOM_CALLS; i++) {
+    const c = pick(callables);
+    const n = c.arity + (random() < 0.1 ? 1 : 0);
+    run(c, Array.from({ length: n }, () => pick(randomPool)));
+    calls += 1;
+  }
+
+  assert.equal(coerced.count, 0, `the core asked hostile objects for a value: ${coerced.by.slice(0, 5).join(', ')}`);
+  for (const [name, x] of Object.entries(instances)) {
+    answers(name, x, `${calls} calls`);
+    x.free();
+    const fresh = build(name);
+    answers(name, fresh, 'the fuzzing, as a fresh instance');
+    fresh.free();
+  }
+  answers('DoorwayTrap', bystander, `${calls} calls`);
+  bystander.free();
+});
