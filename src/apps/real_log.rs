@@ -138,7 +138,7 @@ impl LogMapSettings {
         }
     }
 
-    /// The grid covering `extent` (from [`LaserScans::extent`]) plus the
+    /// The grid covering `extent` (from [`LaserScans::endpoint_bounds`]) plus the
     /// margin, its corners on whole multiples of the resolution (so that
     /// maps of one log at one resolution line up cell for cell). Its cells
     /// are allocated in tiles as the beams reach them, so the bounding box
@@ -423,7 +423,7 @@ impl LogMapBuild {
     /// [`Self::check`] for scans already at the settings' poses.
     fn check_placed(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
         settings.validate()?;
-        let extent = scans.extent(settings.range_cap).ok_or_else(|| {
+        let extent = scans.endpoint_bounds(settings.range_cap).ok_or_else(|| {
             invalid(
                 "log",
                 "no FLASER or ROBOTLASER1 lines",
