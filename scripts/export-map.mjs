@@ -28,13 +28,23 @@ const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--n
  * A number option's value: the text as given must be a decimal number
  * (`Number` would take '', '0x10' or ' 1 '; the core checks the range and
  * names the field). A text that is not a number is refused here, by name,
- * with the text itself, not as "NaN".
+ * with the text itself, not as "NaN"; so is one that a double cannot hold
+ * ('1e-400' would reach the core as 0, '1e999' as Infinity, and be refused
+ * under a value the user never typed).
  */
 function numberOption(name, text, what) {
   if (!/^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/.test(text)) {
     throw new Error(`${name} ${JSON.stringify(text)} is not a number: expected ${what}\n${USAGE}`);
   }
-  return Number(text);
+  const value = Number(text);
+  if (!Number.isFinite(value)) {
+    throw new Error(`${name} ${text} is too large to be held as a number: expected ${what}\n${USAGE}`);
+  }
+  const mantissa = text.replace(/[eE].*$/, '');
+  if (value === 0 && /[1-9]/.test(mantissa)) {
+    throw new Error(`${name} ${text} is too small to be held as a number (it is not 0): expected ${what}\n${USAGE}`);
+  }
+  return value;
 }
 
 /** `--name VALUE` or `--name=VALUE` at argv[i]: the text and the next index. */

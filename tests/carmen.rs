@@ -1,15 +1,12 @@
 #![cfg(not(target_arch = "wasm32"))]
 //! The CARMEN reader on the two real logs, on damaged and mixed files, on
-//! `ROBOTLASER1` lines, and the chunked map build it feeds.
+//! `ROBOTLASER1` lines, and the chunked map build it feeds. (What a read
+//! may cost is in `tests/carmen_budgets.rs`.)
 
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
-use occgrid::io::carmen::{
-    parse_bytes, LaserMessage, LaserScans, LogLoader, LogReader, MAX_LINE_BYTES,
-};
+use occgrid::io::carmen::{LaserMessage, LaserScans, LoadProgress, LogLoader, LogReader};
 use occgrid::OccError;
 use rand::{Rng, SeedableRng};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::io::{BufReader, Read};
 use std::path::PathBuf;
@@ -49,8 +46,19 @@ fn assert_words_only(message: &str) {
     );
 }
 
+/// The whole log through the one reader the page uses: its scans and the
+/// last progress (lines read, a cut short's warning).
+fn read_all(bytes: &[u8]) -> occgrid::Result<(LaserScans, LoadProgress)> {
+    LogLoader::new(bytes).read_to_end()
+}
+
+/// True when `a` holds the first scans of `b`, each exactly as in `b`.
+fn is_prefix(a: &LaserScans, b: &LaserScans) -> bool {
+    a.len() <= b.len() && (0..a.len()).all(|k| a.scan(k) == b.scan(k) && a.line(k) == b.line(k))
+}
+
 fn parse_error(bytes: &[u8]) -> (usize, String) {
-    match parse_bytes(bytes) {
+    match read_all(bytes) {
         Err(OccError::Parse { line, reason }) => (line, reason),
         other => panic!("expected a parse error, got {other:?}"),
     }
@@ -150,16 +158,47 @@ fn aces_log_streams_440_flaser_scans_with_valid_ranges_and_poses() {
 }
 
 #[test]
-fn whole_file_parse_gives_the_same_scans_as_the_stream() {
+fn the_store_keeps_every_record_of_the_stream_at_f32_precision_gzip_or_plain() {
     let bytes = dataset(INTEL.name);
-    let log = parse_bytes(&bytes).unwrap();
-    assert_eq!((log.scans.len(), log.lines), (INTEL.scans, INTEL.lines));
-    let plain = parse_bytes(&gunzip(&bytes)).unwrap();
-    assert_eq!(plain, log, "gzip and plain text read alike");
-    let streamed: Vec<_> = LogReader::new(&bytes[..])
-        .map(|r| r.unwrap().to_scan().unwrap())
-        .collect();
-    assert_eq!(streamed, log.scans);
+    let (scans, p) = read_all(&bytes).unwrap();
+    assert_eq!((scans.len(), p.lines), (INTEL.scans, INTEL.lines));
+    let (plain, _) = read_all(&gunzip(&bytes)).unwrap();
+    assert_eq!(plain, scans, "gzip and plain text read alike");
+    let records: Vec<_> = LogReader::new(&bytes[..]).map(|r| r.unwrap()).collect();
+    assert_eq!(records.len(), scans.len());
+    for (k, r) in records.iter().enumerate() {
+        let kept = scans.scan(k).unwrap();
+        let text = r.to_scan().unwrap();
+        assert_eq!(scans.line(k), Some(r.line));
+        assert_eq!(
+            (kept.pose(), kept.bearings()),
+            (text.pose(), text.bearings())
+        );
+        let rounded: Vec<f64> = r.ranges.iter().map(|&z| z as f32 as f64).collect();
+        assert_eq!(kept.ranges(), &rounded[..], "line {}", r.line);
+    }
+}
+
+/// W1 (`bench::intel`) through the store the page maps: the counts pinned
+/// for the Intel log, and the same cells as a build from the text's own
+/// `f64` readings (the store's `f32` rounding moves no cell).
+#[test]
+fn w1_maps_the_stores_scans_to_its_pinned_counts_and_the_cells_of_the_texts_readings() {
+    use occgrid::bench::intel::{build_intel_map, intel_geometry, intel_model, intel_settings};
+    let bytes = dataset(INTEL.name);
+    let (grid, c) = build_intel_map(&LaserScans::read(&bytes[..]).unwrap());
+    assert_eq!((c.beams, c.cell_updates), (163_800, 8_181_340), "{c:?}");
+    assert_eq!(
+        (c.occupied, c.free, c.unknown),
+        (20_585, 417_317, 310_160),
+        "{c:?}"
+    );
+    let mut text = occgrid::grid::LogOddsGrid::new(intel_geometry(), intel_settings()).unwrap();
+    let mut mapper = occgrid::mapping::traversal::RayMapper::new();
+    for r in LogReader::new(&bytes[..]) {
+        mapper.integrate(&mut text, &intel_model(), &r.unwrap().to_scan().unwrap());
+    }
+    assert!(grid.log_odds() == text.log_odds(), "bit-identical cells");
 }
 
 #[test]
@@ -179,7 +218,7 @@ fn garbage_files_fail_on_line_one_without_panicking() {
         let n = rng.random_range(1..4000);
         let noise: Vec<u8> = (0..n).map(|_| rng.random::<u8>()).collect();
         // Random bytes are never a log: refused on line 1, in words.
-        match parse_bytes(&noise) {
+        match read_all(&noise) {
             Err(OccError::Parse { line: 1, reason }) => assert_words_only(&reason),
             other => panic!("noise of {n} bytes: {other:?}"),
         }
@@ -193,12 +232,12 @@ fn garbage_files_fail_on_line_one_without_panicking() {
 #[test]
 fn a_gzip_log_cut_short_keeps_the_scans_before_the_cut_and_warns_with_the_line() {
     let bytes = dataset(INTEL.name);
-    let full = parse_bytes(&bytes).unwrap();
-    assert_eq!(full.warning, None);
+    let (full, p) = read_all(&bytes).unwrap();
+    assert_eq!(p.warning, None);
     for fraction in [0.02, 0.25, 0.3, 0.5, 0.9, 0.999] {
         let cut = (bytes.len() as f64 * fraction) as usize;
-        let log = parse_bytes(&bytes[..cut]).unwrap();
-        let warning = log.warning.clone().expect("a cut log warns");
+        let (scans, p) = read_all(&bytes[..cut]).unwrap();
+        let warning = p.warning.expect("a cut log warns");
         let line: usize = warning
             .strip_prefix("line ")
             .and_then(|w| w.split(':').next())
@@ -212,10 +251,10 @@ fn a_gzip_log_cut_short_keeps_the_scans_before_the_cut_and_warns_with_the_line()
             "cut at {fraction}: line {line}, expected near {expected}"
         );
         // Every scan before the cut, exactly as in the whole log.
-        assert!(!log.scans.is_empty() && log.scans.len() < full.scans.len());
-        assert_eq!(log.scans[..], full.scans[..log.scans.len()]);
+        assert!(!scans.is_empty() && scans.len() < full.len());
+        assert!(is_prefix(&scans, &full));
         assert!(
-            warning.contains(&format!("the {} complete scans", log.scans.len())),
+            warning.contains(&format!("the {} complete scans", scans.len())),
             "{warning}"
         );
     }
@@ -258,14 +297,14 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         .join(" ")
         .len();
     for cut in [start + 400, start + after_pose, start + after_pose + 3] {
-        let log = parse_bytes(&text[..cut]).unwrap();
+        let (scans, p) = read_all(&text[..cut]).unwrap();
         assert_eq!(
-            (log.scans.len(), log.lines),
+            (scans.len(), p.lines),
             (4, number),
             "cut at byte {}",
             cut - start
         );
-        let w = log.warning.unwrap();
+        let w = p.warning.unwrap();
         assert!(
             w.starts_with(&format!("line {number}: the file ends inside this line")),
             "{w}"
@@ -284,8 +323,8 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         .join(" ")
         .len();
     for cut in [start + after_odom, end - 2] {
-        let log = parse_bytes(&text[..cut]).unwrap();
-        assert_eq!((log.scans.len(), log.lines, log.warning), (5, number, None));
+        let (scans, p) = read_all(&text[..cut]).unwrap();
+        assert_eq!((scans.len(), p.lines, p.warning), (5, number, None));
     }
     // The Intel log cut at 30 %, mid-line, as a reader would have it: a map
     // of the scans before the cut, through the session the page drives.
@@ -299,7 +338,7 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         }
     };
     let w = report.progress.warning.expect("warned");
-    let complete = parse_bytes(&text[..cut]).unwrap().scans.len();
+    let complete = LaserScans::read(&text[..cut]).unwrap().len();
     assert!(complete > 200, "{complete}");
     assert_eq!(report.progress.scans, complete);
     assert!(
@@ -313,11 +352,11 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
 #[test]
 fn cutting_a_mixed_log_at_every_byte_never_panics() {
     let text = mixed_log();
-    let full = parse_bytes(text.as_bytes()).unwrap();
+    let (full, p) = read_all(text.as_bytes()).unwrap();
     for cut in 0..text.len() {
-        match parse_bytes(&text.as_bytes()[..cut]) {
-            Ok(log) => assert!(log.scans.len() <= full.scans.len()),
-            Err(OccError::Parse { line, .. }) => assert!(line >= 1 && line <= full.lines),
+        match read_all(&text.as_bytes()[..cut]) {
+            Ok((scans, _)) => assert!(is_prefix(&scans, &full)),
+            Err(OccError::Parse { line, .. }) => assert!(line >= 1 && line <= p.lines),
             Err(e) => panic!("unexpected error kind {e}"),
         }
     }
@@ -369,52 +408,121 @@ fn a_mixed_log_keeps_file_order_line_numbers_and_each_message_kind() {
 
 #[test]
 fn a_malformed_line_in_a_mixed_log_is_reported_by_number_and_reason() {
-    let cases = [
+    // (what to change in the ROBOTLASER1 line, to what, words of the reason)
+    let robot_pose = " 1.4 -2.1 0.3 0.1 0.0 0.5 0.3 0.0 1234.5 host 1234.6";
+    let edits = [
         (
-            ROBOTLASER.replace(" 5 1.0 2.0", " 2.5 1.0 2.0"),
+            " 5 1.0 2.0",
+            " 2.5 1.0 2.0",
             "beam count must be a whole number",
         ),
+        ("1.0471976 5.6", "1.0471976 -5.6", "maximum_range"),
+        ("1.0471976", "0", "angular_resolution"),
+        ("-2.0943951 4.1887902", "-2.0943951 9.0", "field_of_view"),
         (
-            ROBOTLASER.replace("1.0471976 5.6", "1.0471976 -5.6"),
-            "maximum_range",
-        ),
-        (ROBOTLASER.replace("1.0471976", "0"), "angular_resolution"),
-        (
-            ROBOTLASER.replace("-2.0943951 4.1887902", "-2.0943951 9.0"),
-            "field_of_view",
-        ),
-        (
-            ROBOTLASER.replace(" 2 100 200", " 2 100 x"),
+            " 2 100 200",
+            " 2 100 x",
             "remission 2 is not a number: \"x\"",
         ),
+        ("1.5 -2.0 0.3", "1.5 -2.0 inf", "laser_theta is not finite"),
+        (robot_pose, " 1.4", "ends before robot_y"),
+        ("1.0471976 5.6", "1e308 5.6", "puts the last beam at inf"),
         (
-            ROBOTLASER.replace("1.5 -2.0 0.3", "1.5 -2.0 inf"),
-            "laser_theta is not finite",
-        ),
-        (
-            ROBOTLASER.replace(
-                " 1.4 -2.1 0.3 0.1 0.0 0.5 0.3 0.0 1234.5 host 1234.6",
-                " 1.4",
-            ),
-            "ends before robot_y",
-        ),
-        (
-            ROBOTLASER.replace("1.0471976 5.6", "1e308 5.6"),
-            "puts the last beam at inf",
-        ),
-        (
-            "FLASER 0".to_string(),
+            ROBOTLASER,
+            "FLASER 0",
             "beam count must be a whole number from 1",
         ),
-        ("FLASER 20000".to_string(), "from 1 to 10000"),
-        ("flaser 1 1.0 0 0 0 0 0 0".to_string(), "not a CARMEN log"),
+        (ROBOTLASER, "FLASER 20000", "from 1 to 10000"),
+        (ROBOTLASER, "flaser 1 1.0 0 0 0 0 0 0", "not a CARMEN log"),
+        // A reading or a maximum range past f32 (what the store keeps).
+        (
+            ROBOTLASER,
+            "FLASER 2 1e39 1 0 0 0 0 0 0",
+            "FLASER range 1 = 1e39 is beyond 3.4e38 m",
+        ),
+        (
+            "1.0471976 5.6",
+            "1.0471976 1e39",
+            "maximum_range = 1e39 is beyond 3.4e38 m",
+        ),
+        // A pose farther than 1,000 km from the origin.
+        (
+            ROBOTLASER,
+            "FLASER 2 1 1 1e300 1e300 0 0 0 0",
+            "FLASER x = 1e300 m is beyond 1e6 m",
+        ),
+        (
+            ROBOTLASER,
+            "FLASER 2 1 1 0 -2e6 0 0 0 0",
+            "FLASER y = -2e6 m is beyond",
+        ),
+        (
+            ROBOTLASER,
+            "FLASER 2 1 1 0 0 0 1000000.5 0 0",
+            "odom_x = 1000000.5 m is",
+        ),
+        (
+            "1.5 -2.0 0.3",
+            "1.5 -3e7 0.3",
+            "ROBOTLASER1 laser_y = -3e7 m is beyond",
+        ),
     ];
-    for (bad, why) in cases {
-        let text = mixed_log().replace(ROBOTLASER, &bad);
+    for (from, to, why) in edits {
+        let text = mixed_log().replace(ROBOTLASER, &ROBOTLASER.replace(from, to));
         let (line, reason) = parse_error(text.as_bytes());
         assert_eq!(line, 7, "{reason}");
         assert!(reason.contains(why), "expected {why:?} in {reason:?}");
     }
+}
+
+/// Reads `text` the way the page does, through the session, to the end of
+/// the read or its error.
+fn session_read(text: &str) -> (occgrid::apps::real_log::RealLogSession, occgrid::Result<()>) {
+    let mut session = occgrid::apps::real_log::RealLogSession::new(text.as_bytes().to_vec());
+    let outcome = loop {
+        match session.read(usize::MAX) {
+            Ok(r) if r.progress.finished => break Ok(()),
+            Ok(_) => {}
+            Err(e) => break Err(e),
+        }
+    };
+    (session, outcome)
+}
+
+#[test]
+fn a_reading_past_f32_is_refused_by_the_page_and_every_reading_kept_is_mapped() {
+    // 1e39 is finite as f64 but infinite in the store's f32: the scan used
+    // to be kept, counted in the beams read, and left out of the map.
+    let text = "FLASER 3 1 1 1 0 0 0 0 0 0\nFLASER 3 1e39 1 1 0.1 0 0 0 0 0 0\n";
+    let (session, outcome) = session_read(text);
+    let e = outcome.unwrap_err().to_string();
+    assert!(
+        e.starts_with("line 2: FLASER range 1 = 1e39 is beyond"),
+        "{e}"
+    );
+    assert!(!session.awaiting_settings());
+    // Just inside f32: kept, and every beam read is a beam mapped.
+    let scans = LaserScans::read(text.replace("1e39", "3e38").as_bytes()).unwrap();
+    assert_eq!(scans.beams(), 6);
+    let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
+    let p = b.advance(usize::MAX);
+    assert_eq!((p.scans_done, p.beams), (2, 6));
+}
+
+#[test]
+fn a_pose_past_a_thousand_kilometres_is_refused_by_the_page_at_read_time() {
+    // It used to be read, then refused at map time as a grid of 0 x 0 cells
+    // with a session waiting for settings that could never fit.
+    let (session, outcome) = session_read("FLASER 3 1 1 1 1e300 1e300 0 0 0 0\n");
+    let e = outcome.unwrap_err().to_string();
+    assert!(
+        e.starts_with("line 1: FLASER x = 1e300 m is beyond 1e6 m"),
+        "{e}"
+    );
+    assert!(!session.awaiting_settings());
+    // At the bound, a pose is a pose.
+    let edge = LaserScans::read(&b"FLASER 3 1 1 1 1e6 -1e6 0 0 0 0\n"[..]).unwrap();
+    assert_eq!(edge.pose(0).map(|p| (p.x, p.y)), Some((1e6, -1e6)));
 }
 
 #[test]
@@ -523,7 +631,7 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
     }
     assert_eq!(endpoints, 163_800 - INTEL.beyond_30m);
     // Tight: the box is no more than a cell plus the margin beyond the data.
-    let [x0, y0, x1, y1] = scans.extent(settings.range_cap).unwrap();
+    let [x0, y0, x1, y1] = scans.endpoint_bounds(settings.range_cap).unwrap();
     assert!(x0 - ox <= settings.margin + r && y0 - oy <= settings.margin + r);
     let far_x = ox + geo.width() as f64 * r;
     let far_y = oy + geo.height() as f64 * r;
@@ -581,86 +689,36 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
     let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     b.advance(2);
-    let before = (
-        b.grid().to_dense().unwrap().clone(),
-        b.progress(),
-        *b.settings(),
-    );
+    let state = |b: &LogPane| {
+        (
+            b.grid().to_dense().unwrap().clone(),
+            b.progress(),
+            *b.settings(),
+        )
+    };
+    let before = state(&b);
+    let with = |change: fn(&mut LogMapSettings)| {
+        let mut s = LogMapSettings::default();
+        change(&mut s);
+        s
+    };
     let bad = [
-        (
-            "resolution",
-            LogMapSettings {
-                resolution: 0.0,
-                ..Default::default()
-            },
-        ),
-        (
-            "resolution",
-            LogMapSettings {
-                resolution: f64::NAN,
-                ..Default::default()
-            },
-        ),
-        (
-            "width x height",
-            LogMapSettings {
-                resolution: 1e-4,
-                ..Default::default()
-            },
-        ),
-        (
-            "alpha",
-            LogMapSettings {
-                alpha: -0.1,
-                ..Default::default()
-            },
-        ),
-        (
-            "rangeCap",
-            LogMapSettings {
-                range_cap: 0.0,
-                ..Default::default()
-            },
-        ),
-        (
-            "clamp",
-            LogMapSettings {
-                clamp: 0.0,
-                ..Default::default()
-            },
-        ),
-        (
-            "lOcc",
-            LogMapSettings {
-                l_occ: f64::INFINITY,
-                ..Default::default()
-            },
-        ),
-        (
-            "margin",
-            LogMapSettings {
-                margin: -1.0,
-                ..Default::default()
-            },
-        ),
+        ("resolution", with(|s| s.resolution = 0.0)),
+        ("resolution", with(|s| s.resolution = f64::NAN)),
+        ("width x height", with(|s| s.resolution = 1e-4)),
+        ("alpha", with(|s| s.alpha = -0.1)),
+        ("rangeCap", with(|s| s.range_cap = 0.0)),
+        ("clamp", with(|s| s.clamp = 0.0)),
+        ("lOcc", with(|s| s.l_occ = f64::INFINITY)),
+        ("margin", with(|s| s.margin = -1.0)),
     ];
     for (field, s) in bad {
         let e = b.configure(s).unwrap_err().to_string();
         assert!(e.contains(field), "{field}: {e}");
-        assert_eq!(
-            (
-                b.grid().to_dense().unwrap().clone(),
-                b.progress(),
-                *b.settings()
-            ),
-            before
-        );
+        assert_eq!(state(&b), before);
     }
     // The same verdicts without building: `check` plans the grid only.
-    let huge = LogMapSettings {
-        resolution: 1e-4,
-        ..Default::default()
-    };
+    let huge = with(|s| s.resolution = 1e-4);
     let e = LogPane::check(b.scans(), &huge).unwrap_err().to_string();
     assert!(
         e.contains("width x height") && e.contains("coarser resolution"),
@@ -712,231 +770,4 @@ fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
     assert_eq!(r.l, b.grid().to_dense().unwrap().log_odds()[i] as f64);
     assert!((r.p - occgrid::grid::probability(r.l)).abs() < 1e-15);
     assert_eq!((r.x, r.y), geo.cell_center(ix, iy));
-}
-
-#[test]
-fn the_loader_reports_progress_in_chunks_and_ends_with_every_scan() {
-    let bytes = dataset(ACES.name);
-    let mut loader = LogLoader::new(&bytes[..]);
-    let mut last = 0;
-    let mut calls = 0;
-    loop {
-        let p = loader.read(100).unwrap();
-        calls += 1;
-        assert!(p.bytes_read >= last && p.bytes_read <= bytes.len() as u64);
-        last = p.bytes_read;
-        if p.finished {
-            assert_eq!((p.scans, p.lines, p.beams), (440, ACES.lines, 440 * 180));
-            break;
-        }
-        assert_eq!(p.scans, calls * 100);
-    }
-    assert_eq!(calls, 5);
-    assert_eq!(loader.into_scans().len(), 440);
-}
-
-// Peak heap use of the current thread, for the streaming test below (other
-// tests run on other threads and do not count).
-struct Counting;
-thread_local! {
-    static LIVE: Cell<isize> = const { Cell::new(0) };
-    static PEAK: Cell<isize> = const { Cell::new(0) };
-}
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = LIVE.try_with(|l| {
-            l.set(l.get() + layout.size() as isize);
-            let _ = PEAK.try_with(|p| p.set(p.get().max(l.get())));
-        });
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        let _ = LIVE.try_with(|l| l.set(l.get() - layout.size() as isize));
-        System.dealloc(ptr, layout)
-    }
-}
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-/// A log generated on the fly: `total` bytes of ODOM lines with a FLASER
-/// line every hundredth line, never held in memory.
-struct Generated {
-    total: usize,
-    produced: usize,
-    pending: Vec<u8>,
-    lines: usize,
-}
-
-impl Read for Generated {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        if self.pending.is_empty() {
-            if self.produced >= self.total {
-                return Ok(0);
-            }
-            self.lines += 1;
-            let line = if self.lines % 100 == 0 {
-                format!(
-                    "FLASER 180 {} 1 2 0.5 1 2 0.5 {} h {}\n",
-                    "3.25 ".repeat(180).trim_end(),
-                    self.lines,
-                    self.lines
-                )
-            } else {
-                format!(
-                    "ODOM 1.0 2.0 0.5 0 0 0 {} host {}\n",
-                    self.lines, self.lines
-                )
-            };
-            self.pending = line.into_bytes();
-        }
-        let n = buf.len().min(self.pending.len());
-        buf[..n].copy_from_slice(&self.pending[..n]);
-        self.pending.drain(..n);
-        self.produced += n;
-        Ok(n)
-    }
-}
-
-#[test]
-fn streaming_a_100_mb_log_holds_about_one_line_in_memory() {
-    let total = 100 << 20;
-    let source = Generated {
-        total,
-        produced: 0,
-        pending: Vec::new(),
-        lines: 0,
-    };
-    LIVE.with(|l| l.set(0));
-    PEAK.with(|p| p.set(0));
-    let mut reader = LogReader::new(source);
-    let mut scans = 0;
-    for record in &mut reader {
-        let r = record.unwrap();
-        assert_eq!(r.ranges.len(), 180);
-        scans += 1;
-    }
-    let peak = PEAK.with(|p| p.get());
-    assert!(reader.bytes_read() >= total as u64);
-    assert!(scans > 15_000, "{scans} scans");
-    // The reader's buffer (64 kB), one line and one record: a quarter of a
-    // megabyte at most, against the log's 100 MB.
-    assert!(peak < 256 << 10, "peak heap {peak} bytes");
-    assert!(MAX_LINE_BYTES <= 1 << 20);
-}
-
-/// A gzip file of `lines` FLASER lines of `beams` beams each, built here.
-fn flaser_bomb(lines: usize, beams: usize) -> Vec<u8> {
-    use std::io::Write;
-    let ranges = "12.34 ".repeat(beams);
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
-    for k in 0..lines {
-        writeln!(gz, "FLASER {beams} {ranges}1 2 0.5 1 2 0.5 {k} host {k}").unwrap();
-    }
-    gz.finish().unwrap()
-}
-
-#[test]
-fn a_gzip_bomb_of_valid_lines_is_refused_at_the_budget_before_allocating_and_the_session_survives()
-{
-    use occgrid::apps::real_log::RealLogSession;
-    use occgrid::io::carmen::LogBudget;
-    // 200 lines of 10,000 beams: 12 MB of text, 8 MB of f32 ranges to keep,
-    // against a budget lowered to 1 MiB for the test.
-    let bomb = flaser_bomb(200, 10_000);
-    let budget = LogBudget {
-        kept_bytes: 1 << 20,
-        ..LogBudget::default()
-    };
-    LIVE.with(|l| l.set(0));
-    PEAK.with(|p| p.set(0));
-    let mut session = RealLogSession::with_budget(bomb.clone(), budget);
-    let e = loop {
-        match session.read(usize::MAX) {
-            Ok(r) => assert!(!r.progress.finished, "the bomb was kept whole"),
-            Err(e) => break e.to_string(),
-        }
-    };
-    let peak = PEAK.with(|p| p.get()) as usize;
-    // Scans kept to the budget, the reader's line (at most 1 MiB) and
-    // buffers: never the 8 MB the whole log would take.
-    assert!(
-        peak < bomb.len() + (1 << 20) + (1 << 20) + (512 << 10),
-        "peak heap {peak} bytes"
-    );
-    assert!(e.contains("over the budget of 1.0 MiB"), "{e}");
-    assert!(e.contains("need 1.0 MiB (27 scans, 270000 beams)"), "{e}");
-    assert!(e.starts_with("line 27:"), "{e}");
-    // Usable after the refusal: the same error again, settings still taken,
-    // other calls refused in words; no panic.
-    assert_eq!(session.read(10).unwrap_err().to_string(), e);
-    assert!(session.configure(Default::default()).unwrap().is_none());
-    assert!(session.build_chunk(1).is_err());
-    assert!(!session.awaiting_settings());
-    // Under the default budget the same bomb is kept (8 MB is well within).
-    let mut ok = RealLogSession::new(bomb);
-    while !ok.read(usize::MAX).unwrap().progress.finished {}
-    assert_eq!(ok.pane(0).unwrap().scans().beams(), 2_000_000);
-}
-
-#[test]
-fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so() {
-    use occgrid::apps::real_log::RealLogSession;
-    use occgrid::io::carmen::LogBudget;
-    use std::io::Write;
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
-    gz.write_all(&vec![b'\n'; 300_000]).unwrap();
-    gz.write_all(b"ODOM 1 2 3\n# a comment\n").unwrap();
-    let blank = gz.finish().unwrap();
-    let budget = LogBudget {
-        lines_per_read: 1000,
-        ..LogBudget::default()
-    };
-    let mut session = RealLogSession::with_budget(blank, budget);
-    let (mut calls, mut lines) = (0, 0);
-    let e = loop {
-        match session.read(usize::MAX) {
-            Ok(r) => {
-                assert!(
-                    r.progress.lines - lines <= 1000,
-                    "one call read {} lines",
-                    r.progress.lines - lines
-                );
-                lines = r.progress.lines;
-                calls += 1;
-            }
-            Err(e) => break e.to_string(),
-        }
-    };
-    assert!(calls >= 299, "{calls} calls");
-    assert!(
-        e.contains("no FLASER or ROBOTLASER1 lines") && e.contains("300002 lines"),
-        "{e}"
-    );
-    assert!(!e.contains("resolution"), "{e}");
-    assert!(
-        !session.awaiting_settings(),
-        "no settings can map an empty log"
-    );
-    assert_eq!(session.read(1).unwrap_err().to_string(), e);
-
-    // Bytes bound a call too: 64 kB of text per call over long comments.
-    let mut text = Vec::new();
-    for _ in 0..200 {
-        text.extend_from_slice(b"# ");
-        text.extend(std::iter::repeat_n(b'x', 10_000));
-        text.push(b'\n');
-    }
-    let mut loader = LogLoader::with_budget(
-        &text[..],
-        LogBudget {
-            bytes_per_read: 64 << 10,
-            ..LogBudget::default()
-        },
-    );
-    let mut steps = 0;
-    while !loader.read(usize::MAX).unwrap().finished {
-        steps += 1;
-    }
-    // 64 kB and the line that crosses it per call: at least 25 calls.
-    assert!(steps >= 25, "{steps} steps for 2 MB");
 }

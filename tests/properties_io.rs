@@ -1,5 +1,5 @@
 #![cfg(not(target_arch = "wasm32"))]
-//! SPEC §12 as properties over what files bring in and take out: the CARMEN
+//! Properties over what files bring in and take out: the CARMEN
 //! log reader (random bytes, gzip-looking garbage, real log lines mutated
 //! field by field, real gzip logs cut short), the chunked map build it
 //! feeds, and the ROS `map_server` export.
@@ -14,7 +14,7 @@ mod properties_support;
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
-use occgrid::io::carmen::{flaser_angle_increment, parse_bytes, LogLoader, LogReader};
+use occgrid::io::carmen::{flaser_angle_increment, LaserScans, LogLoader, LogReader};
 use occgrid::io::map_server::{file_stem, map_server_pair, read_pgm, trinary_gray, zip_pair};
 use occgrid::OccError;
 use properties_support::*;
@@ -145,10 +145,11 @@ fn apply(line: &str, d: &Damage) -> Vec<u8> {
     out
 }
 
-/// A scan the reader let through must be finite throughout.
+/// A scan the reader let through must be kept whole and finite throughout.
 #[track_caller]
-fn assert_finite_scans(log: &occgrid::io::carmen::CarmenLog) {
-    for s in &log.scans {
+fn assert_finite_scans(scans: &LaserScans) {
+    for k in 0..scans.len() {
+        let s = scans.scan(k).expect("every kept scan can be mapped");
         let p = s.pose();
         assert!(
             p.x.is_finite() && p.y.is_finite() && p.theta.is_finite(),
@@ -191,7 +192,7 @@ proptest! {
 
     #[test]
     fn random_bytes_are_read_or_refused_with_a_line_number(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
-        match parse_bytes(&bytes) {
+        match LaserScans::read(&bytes[..]) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 let lines = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
@@ -213,7 +214,7 @@ proptest! {
         ),
     ) {
         let text = words.join(" ");
-        match parse_bytes(text.as_bytes()) {
+        match LaserScans::read(text.as_bytes()) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 prop_assert!(line >= 1);
@@ -232,7 +233,7 @@ proptest! {
     ) {
         let mut bytes = vec![0x1f, 0x8b];
         bytes.extend(tail);
-        match parse_bytes(&bytes) {
+        match LaserScans::read(&bytes[..]) {
             Err(OccError::Parse { line, .. }) => prop_assert!(line >= 1),
             Ok(log) => assert_finite_scans(&log),
             Err(other) => prop_assert!(false, "not a parse error: {other}"),
@@ -250,11 +251,11 @@ proptest! {
         let bad_line = lines[..before].len() + 1;
         file.extend(apply(target, &d));
         file.extend(lines[before..before + 3].concat().into_bytes());
-        match parse_bytes(&file) {
+        match LaserScans::read(&file[..]) {
             Ok(log) => {
                 assert_finite_scans(&log);
                 let most = lines[..before + 3].iter().filter(|l| l.starts_with("FLASER")).count() + 1;
-                prop_assert!(log.scans.len() <= most);
+                prop_assert!(log.len() <= most);
             }
             Err(OccError::Parse { line, reason }) => {
                 prop_assert_eq!(line, bad_line, "{}", reason);
@@ -286,7 +287,7 @@ proptest! {
         line += " ";
         line += &pose.iter().map(num).collect::<Vec<_>>().join(" ");
         line += &format!(" 0 0 0 0 0{}\n", tail.unwrap_or(""));
-        match parse_bytes(line.as_bytes()) {
+        match LaserScans::read(line.as_bytes()) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 prop_assert_eq!(line, 1);
@@ -302,14 +303,14 @@ proptest! {
     ) {
         let lasers = laser_lines();
         let text: String = lasers[..scans].iter().map(|s| s.as_str()).collect();
-        let read = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
+        let read = LaserScans::read(text.as_bytes()).unwrap();
         prop_assert_eq!(read.len(), scans);
         let inside = k < scans;
         prop_assert_eq!(read.scan(k).is_some(), inside);
         prop_assert_eq!(read.pose(k).is_some(), inside);
         prop_assert_eq!(read.line(k).is_some(), inside);
         prop_assert_eq!(read.max_range(k).is_some(), inside);
-        match read.extent(cap) {
+        match read.endpoint_bounds(cap) {
             Some(b) => {
                 prop_assert!(scans > 0);
                 prop_assert!(b.iter().all(|v| v.is_finite()) && b[0] <= b[2] && b[1] <= b[3], "{b:?}");
@@ -481,7 +482,7 @@ proptest! {
 fn an_absurd_map_resolution_is_refused_under_its_own_name() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
+    let scans = LaserScans::read(text.as_bytes()).unwrap();
     for resolution in [f64::MAX, 1e300] {
         let settings = LogMapSettings {
             resolution,
@@ -510,7 +511,7 @@ fn an_absurd_map_resolution_is_refused_under_its_own_name() {
 fn map_build_model_errors_carry_the_pages_field_names() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = occgrid::io::carmen::LaserScans::read(text.as_bytes()).unwrap();
+    let scans = LaserScans::read(text.as_bytes()).unwrap();
     let cases = [
         (
             LogMapSettings {

@@ -5,7 +5,7 @@ use crate::geometry::GridGeometry;
 use crate::grid::stats::count_states;
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::io::carmen::CarmenLog;
+use crate::io::carmen::LaserScans;
 use crate::mapping::traversal::{RayMapper, ScanStats};
 
 /// W1 `intel-full`: the map's limits (5 cm, origin (-25 m, -30 m),
@@ -61,19 +61,22 @@ pub fn map_counts(grid: &LogOddsGrid, work: ScanStats, beams: usize) -> MapCount
     }
 }
 
-/// W1: integrates every scan of the log into a fresh Intel map.
-pub fn build_intel_map(log: &CarmenLog) -> (LogOddsGrid, MapCounts) {
+/// W1: integrates every scan of the log into a fresh Intel map. The scans
+/// come from the store the page maps too ([`LaserScans::scan`]), so W1
+/// measures the page's numbers; `beams` counts the beams integrated.
+pub fn build_intel_map(scans: &LaserScans) -> (LogOddsGrid, MapCounts) {
     let mut grid =
         LogOddsGrid::new(intel_geometry(), intel_settings()).expect("constant settings are valid");
     let model = intel_model();
     let mut mapper = RayMapper::new();
     let mut work = ScanStats::default();
-    for scan in &log.scans {
-        let s = mapper.integrate(&mut grid, &model, scan);
+    let mut beams = 0;
+    for scan in (0..scans.len()).filter_map(|k| scans.scan(k)) {
+        let s = mapper.integrate(&mut grid, &model, &scan);
         work.cells_visited += s.cells_visited;
         work.cells_updated += s.cells_updated;
+        beams += scan.len();
     }
-    let beams = log.scans.iter().map(|s| s.len()).sum();
     let counts = map_counts(&grid, work, beams);
     (grid, counts)
 }

@@ -7,17 +7,17 @@ use super::{bytes_from_js, index_from_js, number_from_js, to_js};
 use crate::bench::apartment::{AllCellsVsTraversal, ApartmentFrame};
 use crate::bench::intel as workloads;
 use crate::inverse::training::{self, TrainingConfig};
-use crate::io::carmen::{self, CarmenLog};
+use crate::io::carmen::LaserScans;
 use wasm_bindgen::prelude::*;
 
 /// A parsed CARMEN log held in wasm memory.
 #[wasm_bindgen]
-pub struct LaserLog(CarmenLog);
+pub struct LaserLog(LaserScans);
 
 impl LaserLog {
     /// [`Self::from_bytes_js`] for Rust callers.
     pub fn from_bytes(bytes: &[u8]) -> Result<LaserLog, JsError> {
-        Ok(LaserLog(carmen::parse_bytes(bytes)?))
+        Ok(LaserLog(LaserScans::read(bytes)?))
     }
 }
 
@@ -32,7 +32,7 @@ impl LaserLog {
 
     #[wasm_bindgen(getter, js_name = scanCount)]
     pub fn scan_count(&self) -> usize {
-        self.0.scans.len()
+        self.0.len()
     }
 
     /// Workload W1 of BENCHMARKS.md: builds the Intel map and returns

@@ -8,9 +8,27 @@
 //! CRC with a slice-by-16 table, 16 KB of data that does not compress,
 //! where one 1 KB table checks a log at the speed the inflating runs
 //! anyway.
+//!
+//! # Reading in bounded steps
+//!
+//! Every part of a member is read as a state that survives a pause: the
+//! reader takes bytes only through `fill_buf` / `consume` of the stream
+//! underneath, and when that stream answers "not now" (`WouldBlock` or
+//! `Interrupted`, as the CARMEN reader's input budget does) the reader
+//! passes the answer on and resumes where it was on the next call. So a
+//! caller that bounds the compressed bytes it hands over bounds the work,
+//! whatever the file holds: a name of 40 MB, millions of empty members, or
+//! a deflate stream that inflates to nothing.
+//!
+//! # Zero padding
+//!
+//! Tape and block devices pad an archive with zero bytes; GNU gzip and
+//! Python's `gzip` read such a file. Zero bytes after a complete member are
+//! read as padding up to the end of the file; anything else after them (or
+//! any other byte where a member should start) is damage.
 
 use crc::{Crc, Digest, CRC_32_ISO_HDLC};
-use miniz_oxide::inflate::stream::{inflate, InflateState};
+use miniz_oxide::inflate::stream::{inflate, InflateState, MinReset};
 use miniz_oxide::{DataFormat, MZError, MZFlush, MZStatus};
 use std::io::{self, BufRead, Read};
 
@@ -34,12 +52,32 @@ const RESERVED: u8 = 0b1110_0000;
 /// The only compression method gzip defines: deflate.
 const DEFLATE: u8 = 8;
 
+/// Where the reader is in a member's header (RFC 1952 §2.3), in file order.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum HeaderPart {
+    /// ID1 ID2 CM FLG MTIME XFL OS: ten bytes.
+    Fixed,
+    /// XLEN, when FEXTRA is set.
+    ExtraLength,
+    /// The extra field: this many bytes left.
+    Extra(usize),
+    /// The zero-terminated file name, when FNAME is set.
+    Name,
+    /// The zero-terminated comment, when FCOMMENT is set.
+    Comment,
+    /// The header's CRC-16, when FHCRC is set.
+    Crc,
+}
+
 enum Phase {
-    /// Before a member's header (the first, or one after a trailer).
-    Header,
+    /// Where a member may start: the first, or one after a trailer.
+    Between,
+    Header(HeaderPart),
     Body,
     Trailer,
-    /// After the last member, or after an error.
+    /// Zero bytes after the last member, up to the end of the file.
+    Padding,
+    /// After the end of the file, or after an error.
     Done,
 }
 
@@ -48,8 +86,9 @@ enum Phase {
 ///
 /// Errors are `io::Error`s: `UnexpectedEof` when the file ends inside a
 /// member (a download cut short), `InvalidData` when it is not gzip or
-/// is damaged (a wrong CRC among them). After an error every read returns
-/// 0 bytes.
+/// is damaged (a wrong CRC among them). After such an error every read
+/// returns 0 bytes. `WouldBlock` and `Interrupted` from `inner` are passed
+/// on and end nothing: the next read resumes.
 pub struct GzipReader<R: BufRead> {
     inner: R,
     state: Box<InflateState>,
@@ -59,6 +98,13 @@ pub struct GzipReader<R: BufRead> {
     size: u32,
     /// Members whose header has been read.
     members: u64,
+    /// The header's flags and running CRC (for FHCRC).
+    flags: u8,
+    header_crc: Digest<'static, u32>,
+    /// A fixed-size part (header, XLEN, CRC-16, trailer) gathered so far:
+    /// a pause may fall inside one.
+    held: [u8; 10],
+    held_len: usize,
 }
 
 impl<R: BufRead> GzipReader<R> {
@@ -66,10 +112,14 @@ impl<R: BufRead> GzipReader<R> {
         Self {
             inner,
             state: InflateState::new_boxed(DataFormat::Raw),
-            phase: Phase::Header,
+            phase: Phase::Between,
             crc: CRC32.digest(),
             size: 0,
             members: 0,
+            flags: 0,
+            header_crc: CRC32.digest(),
+            held: [0; 10],
+            held_len: 0,
         }
     }
 
@@ -78,91 +128,142 @@ impl<R: BufRead> GzipReader<R> {
         &self.inner
     }
 
-    /// Reads a member's header, or finds that the file has ended; `first`
-    /// says whether this is the first member (an empty file is not gzip).
-    fn header(&mut self, first: bool) -> io::Result<bool> {
-        if !first && self.inner.fill_buf()?.is_empty() {
-            return Ok(false);
-        }
-        let mut fixed = [0u8; 10];
-        self.exact(&mut fixed)?;
-        if fixed[..2] != MAGIC {
-            return Err(damaged("what follows a gzip member is not another one"));
-        }
-        if fixed[2] != DEFLATE {
-            return Err(damaged(
-                "a gzip member compressed with a method other than deflate",
-            ));
-        }
-        let flags = fixed[3];
-        if flags & RESERVED != 0 {
-            return Err(damaged("a gzip header with reserved flags set"));
-        }
-        let mut header = CRC32.digest();
-        header.update(&fixed);
-        if flags & FEXTRA != 0 {
-            let mut len = [0u8; 2];
-            self.exact(&mut len)?;
-            header.update(&len);
-            let mut left = u16::from_le_bytes(len) as usize;
-            while left > 0 {
-                let mut chunk = [0u8; 256];
-                let n = left.min(chunk.len());
-                self.exact(&mut chunk[..n])?;
-                header.update(&chunk[..n]);
-                left -= n;
+    /// The compressed stream underneath, to change its limits (reading from
+    /// it directly would lose the reader's place).
+    pub fn get_mut(&mut self) -> &mut R {
+        &mut self.inner
+    }
+
+    /// Gathers the next `n` (at most 10) bytes into `held`, across pauses:
+    /// once this returns, `held[..n]` holds them.
+    fn gather(&mut self, n: usize) -> io::Result<()> {
+        while self.held_len < n {
+            let input = self.inner.fill_buf()?;
+            if input.is_empty() {
+                return Err(cut_short());
             }
+            let k = (n - self.held_len).min(input.len());
+            self.held[self.held_len..self.held_len + k].copy_from_slice(&input[..k]);
+            self.inner.consume(k);
+            self.held_len += k;
         }
-        for flag in [FNAME, FCOMMENT] {
-            if flags & flag != 0 {
-                // A zero-terminated name or comment, of any length.
-                loop {
-                    let mut byte = [0u8; 1];
-                    self.exact(&mut byte)?;
-                    header.update(&byte);
-                    if byte[0] == 0 {
-                        break;
+        self.held_len = 0;
+        Ok(())
+    }
+
+    /// The header part after `part`, given the member's flags.
+    fn after(&self, part: HeaderPart) -> Option<HeaderPart> {
+        let order = [
+            (HeaderPart::ExtraLength, FEXTRA),
+            (HeaderPart::Name, FNAME),
+            (HeaderPart::Comment, FCOMMENT),
+            (HeaderPart::Crc, FHCRC),
+        ];
+        let rank = |p: HeaderPart| match p {
+            HeaderPart::Fixed => 0,
+            HeaderPart::ExtraLength | HeaderPart::Extra(_) => 1,
+            HeaderPart::Name => 2,
+            HeaderPart::Comment => 3,
+            HeaderPart::Crc => 4,
+        };
+        order
+            .into_iter()
+            .skip(rank(part))
+            .find(|&(_, flag)| self.flags & flag != 0)
+            .map(|(p, _)| p)
+    }
+
+    /// Reads the header from `part` on; returns once the whole header is
+    /// read (a pause returns the error with the place kept).
+    fn header(&mut self, mut part: HeaderPart) -> io::Result<()> {
+        loop {
+            self.phase = Phase::Header(part);
+            let next = match part {
+                HeaderPart::Fixed => {
+                    self.gather(10)?;
+                    let fixed = self.held;
+                    if fixed[..2] != MAGIC {
+                        return Err(damaged("what follows a gzip member is not another one"));
+                    }
+                    if fixed[2] != DEFLATE {
+                        return Err(damaged(
+                            "a gzip member compressed with a method other than deflate",
+                        ));
+                    }
+                    if fixed[3] & RESERVED != 0 {
+                        return Err(damaged("a gzip header with reserved flags set"));
+                    }
+                    self.flags = fixed[3];
+                    self.header_crc = CRC32.digest();
+                    self.header_crc.update(&fixed);
+                    self.after(part)
+                }
+                HeaderPart::ExtraLength => {
+                    self.gather(2)?;
+                    let len = [self.held[0], self.held[1]];
+                    self.header_crc.update(&len);
+                    Some(HeaderPart::Extra(u16::from_le_bytes(len) as usize))
+                }
+                HeaderPart::Extra(0) => self.after(part),
+                HeaderPart::Extra(left) => {
+                    let input = self.inner.fill_buf()?;
+                    if input.is_empty() {
+                        return Err(cut_short());
+                    }
+                    let k = left.min(input.len());
+                    self.header_crc.update(&input[..k]);
+                    self.inner.consume(k);
+                    Some(HeaderPart::Extra(left - k))
+                }
+                HeaderPart::Name | HeaderPart::Comment => {
+                    // Zero-terminated, of any length: skipped a buffer at a
+                    // time, not a byte at a time.
+                    let input = self.inner.fill_buf()?;
+                    if input.is_empty() {
+                        return Err(cut_short());
+                    }
+                    let end = input.iter().position(|&b| b == 0);
+                    let k = end.map_or(input.len(), |i| i + 1);
+                    self.header_crc.update(&input[..k]);
+                    self.inner.consume(k);
+                    if end.is_some() {
+                        self.after(part)
+                    } else {
+                        Some(part)
                     }
                 }
+                HeaderPart::Crc => {
+                    self.gather(2)?;
+                    let crc16 = u16::from_le_bytes([self.held[0], self.held[1]]);
+                    let crc = std::mem::replace(&mut self.header_crc, CRC32.digest());
+                    if crc16 != crc.finalize() as u16 {
+                        return Err(damaged("a gzip header whose CRC does not match it"));
+                    }
+                    None
+                }
+            };
+            match next {
+                Some(p) => part = p,
+                None => return Ok(()),
             }
         }
-        if flags & FHCRC != 0 {
-            let mut crc16 = [0u8; 2];
-            self.exact(&mut crc16)?;
-            if u16::from_le_bytes(crc16) != header.finalize() as u16 {
-                return Err(damaged("a gzip header whose CRC does not match it"));
-            }
-        }
-        Ok(true)
     }
 
     /// Reads a member's trailer and checks it against what was inflated.
     fn trailer(&mut self) -> io::Result<()> {
-        let mut trailer = [0u8; 8];
-        self.exact(&mut trailer)?;
+        self.gather(8)?;
+        let t = self.held;
         let crc = std::mem::replace(&mut self.crc, CRC32.digest()).finalize();
         let size = std::mem::take(&mut self.size);
-        if u32::from_le_bytes([trailer[0], trailer[1], trailer[2], trailer[3]]) != crc {
+        if u32::from_le_bytes([t[0], t[1], t[2], t[3]]) != crc {
             return Err(damaged(
                 "the CRC of the inflated data does not match the file's",
             ));
         }
-        if u32::from_le_bytes([trailer[4], trailer[5], trailer[6], trailer[7]]) != size {
+        if u32::from_le_bytes([t[4], t[5], t[6], t[7]]) != size {
             return Err(damaged("the inflated data is not as long as the file says"));
         }
         Ok(())
-    }
-
-    /// Fills `buf` from the compressed stream; running out is
-    /// `UnexpectedEof`.
-    fn exact(&mut self, buf: &mut [u8]) -> io::Result<()> {
-        self.inner.read_exact(buf).map_err(|e| {
-            if e.kind() == io::ErrorKind::UnexpectedEof {
-                cut_short()
-            } else {
-                e
-            }
-        })
     }
 
     /// Inflates into `out` until it holds something or the member ends.
@@ -190,17 +291,47 @@ impl<R: BufRead> GzipReader<R> {
         }
     }
 
+    /// Skips zero padding to the end of the file.
+    fn padding(&mut self) -> io::Result<()> {
+        loop {
+            let input = self.inner.fill_buf()?;
+            if input.is_empty() {
+                return Ok(());
+            }
+            if input.iter().any(|&b| b != 0) {
+                return Err(damaged(
+                    "the zero bytes that pad a gzip file are followed by other bytes",
+                ));
+            }
+            let n = input.len();
+            self.inner.consume(n);
+        }
+    }
+
     fn step(&mut self, out: &mut [u8]) -> io::Result<usize> {
         loop {
             match self.phase {
-                Phase::Header => {
-                    if !self.header(self.members == 0)? {
-                        self.phase = Phase::Done;
-                        return Ok(0);
+                Phase::Between => {
+                    if self.members > 0 {
+                        match self.inner.fill_buf()?.first() {
+                            None => {
+                                self.phase = Phase::Done;
+                                return Ok(0);
+                            }
+                            Some(0) => {
+                                self.phase = Phase::Padding;
+                                continue;
+                            }
+                            Some(_) => {}
+                        }
                     }
-                    self.members += 1;
-                    self.state.reset(DataFormat::Raw);
-                    self.phase = Phase::Body;
+                    // An empty file is not gzip: the first header is due.
+                    self.header(HeaderPart::Fixed)?;
+                    self.start_body();
+                }
+                Phase::Header(part) => {
+                    self.header(part)?;
+                    self.start_body();
                 }
                 Phase::Body => {
                     let n = self.body(out)?;
@@ -210,12 +341,36 @@ impl<R: BufRead> GzipReader<R> {
                 }
                 Phase::Trailer => {
                     self.trailer()?;
-                    self.phase = Phase::Header;
+                    self.phase = Phase::Between;
+                }
+                Phase::Padding => {
+                    self.padding()?;
+                    self.phase = Phase::Done;
                 }
                 Phase::Done => return Ok(0),
             }
         }
     }
+
+    fn start_body(&mut self) {
+        self.members += 1;
+        // The least reset: no 32 KB dictionary to clear per member, so a
+        // file of empty members costs little more than reading it. A
+        // member that refers back past its own start can reach only bytes
+        // of the member before it, from the same file, and the trailer's
+        // CRC still checks what it inflates to.
+        self.state.reset_as(MinReset);
+        self.phase = Phase::Body;
+    }
+}
+
+/// "Not now" from the stream underneath: the read stops where it is and
+/// the next one resumes.
+fn is_pause(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+    )
 }
 
 impl<R: BufRead> Read for GzipReader<R> {
@@ -223,7 +378,11 @@ impl<R: BufRead> Read for GzipReader<R> {
         if out.is_empty() {
             return Ok(0);
         }
-        self.step(out).inspect_err(|_| self.phase = Phase::Done)
+        self.step(out).inspect_err(|e| {
+            if !is_pause(e) {
+                self.phase = Phase::Done;
+            }
+        })
     }
 }
 

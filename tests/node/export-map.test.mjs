@@ -41,6 +41,17 @@ test('a resolution that is not a number is named with the text given', () => {
   assert.equal(ok.status, 0, ok.stderr);
 });
 
+test('a resolution past what a number holds is named with the text given, not as 0 or Infinity', () => {
+  const log = path.join(dir, 'small.log');
+  fs.writeFileSync(log, smallLog(3));
+  for (const [text, why] of [['1e-400', 'too small'], ['1e999', 'too large'], ['-1e400', 'too large']]) {
+    const r = run(log, path.join(dir, 'out'), `--resolution=${text}`);
+    assert.equal(r.status, 1);
+    assert.match(r.stderr, new RegExp(`--resolution ${text} is ${why}`), r.stderr);
+    assert.doesNotMatch(r.stderr, /: 0\b|Infinity/);
+  }
+});
+
 test('a log cut mid-line is mapped from the complete scans, with a warning naming the line', () => {
   const text = smallLog(10);
   const cut = text.slice(0, text.length - 700);
