@@ -58,6 +58,7 @@ const RECIPES = {
 /** How to ask an instance of a class without getters that it still answers. */
 const ANSWERS = {
   InverseWorkbench: (x) => x.readout(),
+  RealLogSession: (x) => x.state(),
 };
 
 /** Exports that are the module's loader, not the core. */
