@@ -3,7 +3,7 @@
 //! with Table 5.6's noise, integrated from the first pose, seeded; and the
 //! work budget that bounds each call of a map build.
 
-use occgrid::apps::real_log::{LogMapSettings, LogPane, PoseSource, RealLogSession, MAX_SEED};
+use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses, RealLogSession, MAX_SEED};
 use occgrid::io::carmen::LaserScans;
 use occgrid::sensors::odometry::OdometryParams;
 use std::path::PathBuf;
@@ -21,7 +21,7 @@ fn scans(name: &str) -> LaserScans {
 
 fn dead_reckoning(seed: u64) -> LogMapSettings {
     LogMapSettings {
-        poses: PoseSource::DeadReckoning,
+        poses: LogPoses::DeadReckoning,
         seed,
         ..LogMapSettings::default()
     }
@@ -101,7 +101,7 @@ fn dead_reckoning_is_one_more_pane_beside_the_corrected_map_and_a_change_of_sour
     while !s.build_chunk(usize::MAX).unwrap().finished {}
     // One session, two panes: the chosen source first, the corrected beside.
     let sources: Vec<_> = s.panes().iter().map(|p| p.source()).collect();
-    assert_eq!(sources, [PoseSource::DeadReckoning, PoseSource::Corrected]);
+    assert_eq!(sources, [LogPoses::DeadReckoning, LogPoses::Corrected]);
     let dr = bits(&s.panes()[0]);
     let alone = built(
         scans("aces-corrected.log.gz"),

@@ -3,7 +3,7 @@
 //! last, the chapter's model kept as a choice.
 
 use occgrid::apps::real_log::{
-    LogMapSettings, LogPane, PoseSource, RealLogSession, SettingLimits, Stage,
+    LogMapSettings, LogPane, LogPoses, RealLogSession, SettingLimits, Stage,
 };
 use occgrid::io::carmen::LaserScans;
 use std::path::PathBuf;
@@ -331,9 +331,9 @@ fn the_session_state_runs_from_idle_through_reading_and_building_to_done() {
     }
     assert_eq!(s.stage(), Stage::Building);
     assert_eq!(s.state().panes.len(), 1);
-    assert_eq!(s.state().panes[0].poses, PoseSource::Corrected);
+    assert_eq!(s.state().panes[0].poses, LogPoses::Corrected);
     s.configure(LogMapSettings {
-        poses: PoseSource::DeadReckoning,
+        poses: LogPoses::DeadReckoning,
         seed: 9,
         ..LogMapSettings::default()
     })
@@ -475,7 +475,7 @@ fn a_pane_past_its_tile_budget_fails_the_session_and_keeps_its_map() {
 fn one_cell_budget_bounds_a_slice_across_the_panes() {
     let mut s = RealLogSession::new(dataset("aces-corrected.log.gz"));
     s.configure(LogMapSettings {
-        poses: PoseSource::DeadReckoning,
+        poses: LogPoses::DeadReckoning,
         ..LogMapSettings::default()
     })
     .unwrap();
@@ -528,7 +528,7 @@ fn the_panel_s_limits_legend_cursor_and_export_come_from_the_pane() {
 
     let mut s = RealLogSession::new(corridor(5));
     s.configure(LogMapSettings {
-        poses: PoseSource::DeadReckoning,
+        poses: LogPoses::DeadReckoning,
         seed: 4,
         ..LogMapSettings::default()
     })

@@ -6,7 +6,7 @@
 //!
 //! - `settings`: what a reader chooses ([`LogMapSettings`]), checked once
 //!   into [`CheckedSettings`] with its one model; the pose sources
-//!   ([`PoseSource`]); the limits the controls keep to ([`SettingLimits`]).
+//!   ([`LogPoses`]); the limits the controls keep to ([`SettingLimits`]).
 //! - `pane`: one pose source's map ([`LogPane`]): shared scans, its poses,
 //!   a tiled grid and the mapper, built towards a target scan count.
 //! - `view`: what a pane shows: its view, cursor, readouts, scale legend
@@ -26,6 +26,6 @@ pub use session::{
     FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,
 };
 pub use settings::{
-    CheckedSettings, LogMapSettings, PoseSource, SettingLimits, MAX_SEED, NO_RETURN_REACH,
+    CheckedSettings, LogMapSettings, LogPoses, SettingLimits, MAX_SEED, NO_RETURN_REACH,
 };
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};

@@ -4,7 +4,7 @@
 //! Table 9.2, and the build's progress towards a target scan count. What it
 //! shows (its view, cursor, readouts and export) is in `view.rs`.
 
-use super::settings::{CheckedSettings, LogMapSettings, PoseSource};
+use super::settings::{CheckedSettings, LogMapSettings, LogPoses};
 use crate::apps::pane::{MapPane, ScreenView};
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
@@ -56,7 +56,7 @@ pub struct BuildProgress {
 pub struct LogPane {
     /// The log's scans at its own (corrected) poses, shared by the panes.
     scans: Arc<LaserScans>,
-    source: PoseSource,
+    source: LogPoses,
     /// One laser pose per scan: where this source puts the scans.
     poses: Vec<Pose>,
     /// The odometry noise dead reckoning adds.
@@ -126,7 +126,7 @@ impl LogPane {
     /// view fitted at [`DEFAULT_VIEW_SIZE`].
     pub(super) fn plan(
         scans: Arc<LaserScans>,
-        source: PoseSource,
+        source: LogPoses,
         settings: &CheckedSettings,
         odometry: OdometryParams,
         budget_cells: usize,
@@ -159,7 +159,7 @@ impl LogPane {
     /// stay when the map's limits do (a change of the model keeps the
     /// reader's zoom); otherwise the view shows the whole new map at the
     /// same output size.
-    pub(super) fn replanned(&self, settings: &CheckedSettings, source: PoseSource) -> Result<Self> {
+    pub(super) fn replanned(&self, settings: &CheckedSettings, source: LogPoses) -> Result<Self> {
         let mut pane = Self::plan(
             Arc::clone(&self.scans),
             source,
@@ -367,7 +367,7 @@ impl LogPane {
         &self.scans
     }
 
-    pub fn source(&self) -> PoseSource {
+    pub fn source(&self) -> LogPoses {
         self.source
     }
 
@@ -381,13 +381,13 @@ impl LogPane {
 /// The laser poses `source` puts the scans at.
 fn poses_for(
     scans: &LaserScans,
-    source: PoseSource,
+    source: LogPoses,
     seed: u64,
     odometry: &OdometryParams,
 ) -> Vec<Pose> {
     match source {
-        PoseSource::Corrected => scans.poses().to_vec(),
-        PoseSource::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
+        LogPoses::Corrected => scans.poses().to_vec(),
+        LogPoses::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
     }
 }
 

@@ -5,7 +5,7 @@
 //! ([`SessionState`]) the panel renders.
 
 use super::pane::{BuildProgress, LogPane};
-use super::settings::{CheckedSettings, LogMapSettings, PoseSource, SettingLimits};
+use super::settings::{CheckedSettings, LogMapSettings, LogPoses, SettingLimits};
 use super::view::GeometryReport;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
@@ -64,7 +64,7 @@ pub enum FailedStep {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct PaneState {
-    pub poses: PoseSource,
+    pub poses: LogPoses,
     pub caption: String,
     #[serde(flatten)]
     pub progress: BuildProgress,
@@ -111,7 +111,7 @@ pub struct SessionState {
 ///    [`Self::idle`] none until [`Self::open`];
 /// 2. [`Self::read`] reads up to `n` more laser lines per call, until
 ///    finished (then one pane per pose source is set up with the current
-///    settings: [`PoseSource::panes`]);
+///    settings: [`LogPoses::panes`]);
 /// 3. [`Self::build_slice`] advances every pane within one budget of cell
 ///    updates per call;
 /// 4. [`Self::seek`] scrubs every pane to `k` scans, and
@@ -275,7 +275,7 @@ impl RealLogSession {
         settings: &CheckedSettings,
         target: Option<usize>,
     ) -> Result<Vec<LogPane>> {
-        PoseSource::panes(settings.settings().poses)
+        LogPoses::panes(settings.settings().poses)
             .into_iter()
             .map(|source| {
                 let same_log = self

@@ -1,7 +1,7 @@
 //! What the reader of a real log chooses for its map ([`LogMapSettings`]),
 //! checked once into [`CheckedSettings`] (which carries the one Table 9.2
 //! model built from them), the pose sources a map can be built at
-//! ([`PoseSource`]), and the limits a page's controls keep to
+//! ([`LogPoses`]), and the limits a page's controls keep to
 //! ([`SettingLimits`]).
 
 use crate::error::{self, invalid, OccError, Result};
@@ -13,7 +13,7 @@ use crate::mapping::walls::WallModel;
 /// Where the scans are put on the map: each source is one pane of the
 /// session ([`super::LogPane`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-pub enum PoseSource {
+pub enum LogPoses {
     /// The log's own (corrected) laser poses: the pose oracle.
     #[default]
     #[serde(rename = "corrected")]
@@ -29,7 +29,7 @@ pub enum PoseSource {
     DeadReckoning,
 }
 
-impl PoseSource {
+impl LogPoses {
     /// The names a page and the CLI use.
     pub const NAMES: [&'static str; 2] = ["corrected", "dead-reckoning"];
 
@@ -53,7 +53,7 @@ impl PoseSource {
     /// pose source's map first (the one operated: hover, zoom, export),
     /// then the corrected map beside it for comparison, unless it is the
     /// corrected map itself.
-    pub fn panes(chosen: PoseSource) -> Vec<PoseSource> {
+    pub fn panes(chosen: LogPoses) -> Vec<LogPoses> {
         let mut sources = vec![chosen];
         if chosen != Self::Corrected {
             sources.push(Self::Corrected);
@@ -65,7 +65,7 @@ impl PoseSource {
 /// What the reader of a log chooses for its map: the grid's resolution,
 /// the inverse model of Table 9.2, how far a no-return clears, how free
 /// evidence ends near a wall ([`WallModel`]), the filter's clamp and where
-/// the scans are put ([`PoseSource`], with the seed of its noise). The
+/// the scans are put ([`LogPoses`], with the seed of its noise). The
 /// defaults keep walls and the outside of a building gray
 /// ([`crate::mapping::walls`]); [`Self::chapter`] is Table 9.2 with the
 /// chapter's clamp, exactly workload W1 (BENCHMARKS.md).
@@ -94,7 +94,7 @@ pub struct LogMapSettings {
     /// How a beam's free evidence ends before its reading.
     pub walls: WallModel,
     /// The poses the scans are mapped at.
-    pub poses: PoseSource,
+    pub poses: LogPoses,
     /// The seed of dead reckoning's noise (one seed, one path; unused for
     /// the corrected poses).
     pub seed: u64,
@@ -121,7 +121,7 @@ impl Default for LogMapSettings {
             margin: 1.0,
             no_return_reach: NO_RETURN_REACH,
             walls: WallModel::Incidence,
-            poses: PoseSource::Corrected,
+            poses: LogPoses::Corrected,
             seed: 1,
         }
     }

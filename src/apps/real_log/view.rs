@@ -5,7 +5,7 @@
 //! computed here; the page forwards pointer and key input and draws.
 
 use super::pane::LogPane;
-use super::settings::PoseSource;
+use super::settings::LogPoses;
 use crate::error::{invalid, Result};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
@@ -287,7 +287,7 @@ impl LogPane {
         }
         let stem = if stem.is_empty() { "log" } else { stem };
         match self.source() {
-            PoseSource::Corrected => format!("{stem}-map"),
+            LogPoses::Corrected => format!("{stem}-map"),
             other => format!("{stem}-{}-map", other.name()),
         }
     }
@@ -299,7 +299,7 @@ impl LogPane {
     pub fn export_map(&self, name: Option<&str>) -> MapServerPair {
         let stem = map_server::file_stem(name.unwrap_or(""));
         let mut pair = self.map.export(&format!("{stem}.pgm"));
-        if self.source() != PoseSource::Corrected {
+        if self.source() != LogPoses::Corrected {
             pair.yaml.push_str(&format!(
                 "# poses: {} (seed {}): the log's motion with the odometry noise of Table 5.6, not its corrected poses\n",
                 self.source().name(),
