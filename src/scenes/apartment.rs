@@ -1,4 +1,4 @@
-//! The apartment of Map Weaver (SPEC §9): a 12 m × 9 m flat at 0.10 m
+//! The apartment of Map Weaver (docs/ARCHITECTURE.md, "The simulated world"): a 12 m × 9 m flat at 0.10 m
 //! (120 × 90 = 10,800 cells), a robot driving a lap through it with a
 //! 60-beam LiDAR, a person walking the corridor, and wheel odometry.
 //!

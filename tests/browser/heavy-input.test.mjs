@@ -1,4 +1,4 @@
-// SPEC §12: a link asking for a huge amount of work never freezes the tab.
+// docs/ARCHITECTURE.md, "Bad input": a link asking for a huge amount of work never freezes the tab.
 // Map Weaver's `scans` is checked against the core's work budget and done
 // in time slices with the count on screen; the cell filter's `readings`
 // has a budget and a bounded table. The longest main-thread task of each
