@@ -1,0 +1,334 @@
+//! The traversal against a plain reference and its own promises: one
+//! update per cell per scan, occupied winning, beam order irrelevant, the
+//! tiled map cell for cell the dense one.
+
+use super::*;
+use crate::geometry::raster::supercover;
+use crate::geometry::GridGeometry;
+use crate::geometry::Pose;
+use crate::grid::FilterSettings;
+use crate::grid::LogOddsGrid;
+use crate::inverse::{HandCrafted, HandCraftedParams};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+/// Table 9.2 without its axis profile: the mapper then asks
+/// `evidence` per cell.
+struct PerCell(HandCrafted);
+
+impl InverseModel for PerCell {
+    fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+        self.0.evidence(r, phi, z)
+    }
+    fn reach(&self, z: f64) -> f64 {
+        self.0.reach(z)
+    }
+    fn half_width(&self) -> f64 {
+        self.0.half_width()
+    }
+    fn z_max(&self) -> f64 {
+        self.0.z_max()
+    }
+    fn l0(&self) -> f32 {
+        self.0.l0()
+    }
+}
+
+/// The traversal mapper written plainly on top of `supercover`: the
+/// range of each cell computed afresh, the verdicts of a scan gathered
+/// in a map, occupied (the larger) winning, then one update per cell.
+fn reference_integrate<M: InverseModel>(
+    grid: &mut LogOddsGrid,
+    model: &M,
+    scan: &Scan,
+) -> ScanStats {
+    let g = *grid.geometry();
+    let pose = scan.pose();
+    let (su, sv) = g.world_to_grid(pose.x, pose.y);
+    let res = g.resolution();
+    let mut best = std::collections::BTreeMap::<usize, f32>::new();
+    let mut visits = 0;
+    for (&z, &bearing) in scan.ranges().iter().zip(scan.bearings()) {
+        let reach = model.reach(z);
+        if !(reach > 0.0) {
+            continue;
+        }
+        let (s, c) = (pose.theta + bearing).sin_cos();
+        let end = (su + reach * c / res, sv + reach * s / res);
+        visits += supercover(g.width(), g.height(), (su, sv), end, |ix, iy| {
+            let r = res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s);
+            let e = model.evidence(r, 0.0, z);
+            if e != 0.0 {
+                let slot = best.entry(g.index(ix, iy)).or_insert(e);
+                *slot = slot.max(e);
+            }
+        });
+    }
+    for (&i, &e) in &best {
+        grid.apply(i, e);
+    }
+    ScanStats {
+        cells_visited: visits,
+        cells_updated: best.len(),
+    }
+}
+
+fn random_model(rng: &mut StdRng) -> HandCrafted {
+    HandCrafted::new(HandCraftedParams {
+        alpha: rng.random_range(0.05..0.4),
+        beta: 0.02,
+        z_max: 8.0,
+        l_occ: rng.random_range(0.2..2.0),
+        l_free: rng.random_range(-2.0..-0.2),
+        l0: rng.random_range(-0.3..0.3),
+    })
+    .unwrap()
+}
+
+/// A scan from anywhere near (or outside) a 6 m x 4 m map, with
+/// no-returns, zero readings and repeated bearings among its beams.
+fn random_scan(rng: &mut StdRng) -> Scan {
+    let pose = Pose::new(
+        rng.random_range(-2.0..7.0),
+        rng.random_range(-2.0..5.0),
+        rng.random_range(-4.0..4.0),
+    )
+    .unwrap();
+    let n = rng.random_range(1..120);
+    let ranges = (0..n)
+        .map(|k| match k % 11 {
+            0 => 8.0 + rng.random_range(0.0..2.0),
+            1 => 0.0,
+            _ => rng.random_range(0.0..9.0),
+        })
+        .collect();
+    let span = rng.random_range(0.0..7.0);
+    let bearings = (0..n)
+        .map(|k| {
+            if k % 13 == 5 {
+                0.25
+            } else {
+                rng.random_range(-span..=span)
+            }
+        })
+        .collect();
+    Scan::new(pose, ranges, bearings).unwrap()
+}
+
+fn map() -> LogOddsGrid {
+    let g = GridGeometry::new(60, 40, 0.1, -1.0, -1.0).unwrap();
+    LogOddsGrid::new(
+        g,
+        FilterSettings {
+            prior: 0.5,
+            clamp: 2.0,
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn traversal_builds_the_same_map_as_the_plain_reference() {
+    let mut rng = StdRng::seed_from_u64(5);
+    for _ in 0..40 {
+        let model = random_model(&mut rng);
+        let (mut fast, mut plain, mut per_cell) = (map(), map(), map());
+        let (mut mapper, mut per_cell_mapper) = (RayMapper::new(), RayMapper::new());
+        for _ in 0..6 {
+            let scan = random_scan(&mut rng);
+            let stats = mapper.integrate(&mut fast, &model, &scan);
+            assert_eq!(stats, reference_integrate(&mut plain, &model, &scan));
+            let per_cell_stats = per_cell_mapper.integrate(&mut per_cell, &PerCell(model), &scan);
+            assert_eq!(stats, per_cell_stats);
+        }
+        assert_eq!(fast, plain, "profile path vs reference");
+        assert_eq!(fast, per_cell, "profile path vs per-cell evidence");
+    }
+}
+
+/// Table 9.2 with its evidence scaled by a factor that depends on the
+/// reading: every beam is a step profile, but their values differ, so
+/// the mapper must gather floats (occupied still winning, and between
+/// two verdicts the larger).
+struct ScaledByReading(HandCrafted);
+
+impl ScaledByReading {
+    fn scale(z: f64) -> f32 {
+        1.0 + (z * 4.0).floor().rem_euclid(3.0) as f32 * 0.5
+    }
+}
+
+impl InverseModel for ScaledByReading {
+    fn evidence(&self, r: f64, phi: f64, z: f64) -> f32 {
+        self.0.evidence(r, phi, z) * Self::scale(z)
+    }
+    fn reach(&self, z: f64) -> f64 {
+        self.0.reach(z)
+    }
+    fn half_width(&self) -> f64 {
+        self.0.half_width()
+    }
+    fn z_max(&self) -> f64 {
+        self.0.z_max()
+    }
+    fn l0(&self) -> f32 {
+        self.0.l0()
+    }
+    fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
+        let p = self.0.axis_profile(z)?;
+        Some(AxisProfile {
+            free: p.free * Self::scale(z),
+            occupied: p.occupied * Self::scale(z),
+            ..p
+        })
+    }
+}
+
+#[test]
+fn beams_with_different_step_values_build_the_reference_map() {
+    let mut rng = StdRng::seed_from_u64(6);
+    for _ in 0..40 {
+        let model = ScaledByReading(random_model(&mut rng));
+        let (mut fast, mut plain) = (map(), map());
+        let mut mapper = RayMapper::new();
+        for _ in 0..6 {
+            let scan = random_scan(&mut rng);
+            let stats = mapper.integrate(&mut fast, &model, &scan);
+            assert_eq!(stats, reference_integrate(&mut plain, &model, &scan));
+        }
+        assert_eq!(fast, plain);
+    }
+}
+
+#[test]
+fn each_cell_is_updated_once_per_scan_whatever_the_beam_order() {
+    let mut rng = StdRng::seed_from_u64(9);
+    for _ in 0..30 {
+        let model = random_model(&mut rng);
+        let scan = random_scan(&mut rng);
+        let mut order: Vec<usize> = (0..scan.len()).collect();
+        order.reverse();
+        order.rotate_left(rng.random_range(0..scan.len()));
+        let shuffled = Scan::new(
+            scan.pose(),
+            order.iter().map(|&k| scan.ranges()[k]).collect(),
+            order.iter().map(|&k| scan.bearings()[k]).collect(),
+        )
+        .unwrap();
+        let (mut a, mut b) = (map(), map());
+        let stats = RayMapper::new().integrate(&mut a, &model, &scan);
+        RayMapper::new().integrate(&mut b, &model, &shuffled);
+        assert_eq!(a.log_odds(), b.log_odds());
+        assert!(a.update_counts().iter().all(|&n| n <= 1));
+        let updated = a.update_counts().iter().filter(|&&n| n == 1).count();
+        assert_eq!(stats.cells_updated, updated);
+    }
+}
+
+#[test]
+fn occupied_wins_where_a_wall_cell_lies_on_another_beams_free_path() {
+    // Beam 0 ends at 1.0 m straight ahead; beam 1 passes through the
+    // same cells at a shallow angle and goes on for another metre.
+    let g = GridGeometry::new(40, 5, 0.1, 0.0, 0.0).unwrap();
+    let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    let pose = Pose::new(0.05, 0.25, 0.0).unwrap();
+    let scan = Scan::new(pose, vec![1.0, 2.0], vec![0.0, 0.001]).unwrap();
+    RayMapper::new().integrate(&mut m, &lidar(), &scan);
+    assert!(
+        m.log_odds()[g.index(10, 2)] > 0.0,
+        "the wall cell stays occupied"
+    );
+    assert!(
+        m.log_odds()[g.index(15, 2)] < 0.0,
+        "beyond it, beam 1 carves"
+    );
+}
+
+/// The tiled map holds, cell for cell, what a dense grid of the same
+/// extent holds after the same scans (beams leaving the map included),
+/// with the same counts per scan.
+#[test]
+fn tiled_integration_builds_the_dense_map_cell_for_cell() {
+    use crate::geometry::GridGeometry;
+    use crate::grid::TiledGrid;
+    let mut rng = StdRng::seed_from_u64(12);
+    let (w, h, res, ox, oy) = (150, 97, 0.05, -1.0, -1.0);
+    for _ in 0..20 {
+        let g = GridGeometry::new(w, h, res, ox, oy).unwrap();
+        let settings = FilterSettings {
+            prior: 0.5,
+            clamp: 2.0,
+        };
+        let mut dense = LogOddsGrid::new(g, settings).unwrap();
+        let mut tiled = TiledGrid::new(
+            GridGeometry::sparse(w, h, res, ox, oy).unwrap(),
+            settings,
+            1 << 20,
+        )
+        .unwrap();
+        let (mut a, mut b) = (RayMapper::new(), RayMapper::new());
+        for _ in 0..5 {
+            let scan = random_scan(&mut rng);
+            let bands: Vec<Option<BeamBand>> = scan
+                .ranges()
+                .iter()
+                .map(|&z| {
+                    let z = z.min(3.0);
+                    (z > 0.0).then_some(BeamBand {
+                        reach: z + 0.05,
+                        free_until: z - 0.05,
+                        occupied_from: z - 0.05,
+                        occupied_until: z + 0.05,
+                    })
+                })
+                .collect();
+            let sd = a.integrate_bands(&mut dense, &scan, &bands, -0.4, 0.85);
+            let st = b.integrate_bands(&mut tiled, &scan, &bands, -0.4, 0.85);
+            assert_eq!(sd, st);
+        }
+        for iy in 0..h {
+            for ix in 0..w {
+                let i = g.index(ix, iy);
+                assert_eq!(
+                    tiled.log_odds_at(ix, iy),
+                    Some(dense.log_odds()[i]),
+                    "({ix}, {iy})"
+                );
+                assert_eq!(tiled.updates_at(ix, iy), Some(dense.update_counts()[i]));
+            }
+        }
+        assert!(tiled.tiles_allocated() <= 6);
+    }
+}
+
+#[test]
+fn evidence_of_zero_strength_updates_nothing() {
+    let model = HandCrafted::with_strength(*lidar().params(), 0.0).unwrap();
+    let mut rng = StdRng::seed_from_u64(2);
+    let mut m = map();
+    let stats = RayMapper::new().integrate(&mut m, &model, &random_scan(&mut rng));
+    assert_eq!(stats.cells_updated, 0);
+    assert!(m.update_counts().iter().all(|&n| n == 0));
+}
+
+fn lidar() -> HandCrafted {
+    HandCrafted::new(HandCraftedParams {
+        alpha: 0.15,
+        beta: 0.02,
+        ..HandCraftedParams::laser(8.0)
+    })
+    .unwrap()
+}
+
+#[test]
+fn one_beam_marks_free_then_occupied() {
+    let g = GridGeometry::new(20, 5, 0.1, 0.0, 0.0).unwrap();
+    let mut m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
+    let scan = Scan::new(Pose::new(0.05, 0.25, 0.0).unwrap(), vec![1.0], vec![0.0]).unwrap();
+    let stats = RayMapper::new().integrate(&mut m, &lidar(), &scan);
+    let l = |ix| m.log_odds()[g.index(ix, 2)];
+    assert!(l(3) < 0.0 && l(9) < 0.0, "free in front");
+    assert!(l(10) > 0.0, "occupied at 1.0 m");
+    assert_eq!(l(12), 0.0, "unknown behind");
+    assert_eq!(stats.cells_updated, 11);
+}
