@@ -1,0 +1,75 @@
+// The words and number formats of Map Weaver's captions, readouts and
+// links: what a model, a pose source or a mapper is called on screen and in
+// the maps' text alternatives, how a pane or real-log setting is written
+// back into a link, and how the core's numbers are printed.
+import { fixed } from './ui.js';
+import { invalidValue } from './attributes.js';
+
+export const MODEL_NAMES = { 'hand-crafted': 'hand-crafted model (Table 9.2)', learned: 'learned model (§9.3)' };
+export const POSE_NAMES = { oracle: 'pose oracle', 'dead-reckoning': 'dead reckoning' };
+/** The same, as the maps' text alternatives say them (not the controls' labels). */
+export const SPOKEN_MODELS = { 'hand-crafted': 'the hand-crafted inverse model of Table 9.2', learned: 'the inverse model learned in §9.3' };
+export const SPOKEN_POSES = { oracle: 'at the true poses', 'dead-reckoning': 'at the dead-reckoned poses' };
+
+/** How a map canvas is operated, for its text alternative. */
+export const CURSOR_HINT = 'Gray is unknown, white free, black occupied. Arrow keys move a cursor cell whose values are read out below the maps.';
+/** The hover line while no cell is pointed at. */
+export const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read its log odds, probability and update count.';
+export const GROUPS = ['data', 'playback', 'toggles', 'sliders', 'log-source', 'log-settings', 'export', 'link'];
+/** Every pane attribute, per side, and the pane setting it sets. */
+export const PANE_FIELDS = {
+  model: 'model', pose: 'pose', clamp: 'clamp', strength: 'strength',
+  mapper: 'mapper', sensor: 'sensor', beta: 'betaDeg', beams: 'beams', resolution: 'resolution', 'forget-l0': 'forgetL0',
+};
+/** The pane settings whose change rebuilds the pane from the scans so far. */
+export const REBUILD_FIELDS = ['mapper', 'sensor', 'betaDeg', 'beams', 'resolution', 'forgetL0'];
+/** How a link writes a pane setting back, as its attribute's default is written. */
+export const orAbsent = (v) => (v === null || v === undefined ? null : String(v));
+export const PANE_FORMATS = { forgetL0: (v) => (v ? 'on' : 'off'), beams: orAbsent, resolution: orAbsent };
+export const formatPane = (field, v) => (PANE_FORMATS[field] ? PANE_FORMATS[field](v) : String(v));
+export const MAPPER_NAMES = { traversal: 'ray traversal', sweep: 'every-cell sweep' };
+/** The hover line's words for the core's `leaning` of a cell. */
+export const LEANINGS = { unknown: 'unknown (at the prior)', occupied: 'leaning occupied', free: 'leaning free', even: 'even (p = 0.5)' };
+
+/**
+ * The real-log panel's attributes: the panel setting each sets, and how a
+ * link writes the setting back (as the default is written, so that a
+ * default stays out of the link). The ranges are the panel's controls'.
+ */
+export const LOG_FIELDS = {
+  'log-resolution': { field: 'resolution', format: (v) => String(v) },
+  'log-range-cap': { field: 'rangeCap', format: (v) => String(v) },
+  'log-alpha': { field: 'alpha', format: (v) => fixed(v, 2) },
+  'log-l-occ': { field: 'lOcc', format: (v) => fixed(v, 2) },
+  'log-l-free': { field: 'lFree', format: (v) => fixed(v, 2) },
+  'log-clamp': { field: 'clamp', format: (v) => fixed(v, 1) },
+  'log-no-return-reach': { field: 'noReturnReach', format: (v) => String(v) },
+  'log-walls': { field: 'walls', format: (v) => String(v) },
+  'log-poses': { field: 'poses', format: (v) => String(v) },
+  'log-seed': { field: 'seed', format: (v) => String(v) },
+};
+
+/** A log's file name in the server's /datasets/: one name, no path. */
+export const logName = {
+  describe: 'the file name of a CARMEN log in the server’s /datasets/, such as "intel-corrected.log.gz"',
+  parse(text, name) {
+    const w = text.trim();
+    if (!/^[\w-][\w.-]*\.(log|clf|txt)(\.gz)?$/i.test(w)) throw invalidValue(name, text, this.describe);
+    return w;
+  },
+};
+
+export const count = (n) => Number(n).toLocaleString('en-US');
+
+/** Exercise 5's readout: how long the person's ghost took to fade, from the core's count. */
+export function ghostText(g) {
+  const scans = (n) => `${count(n)} scan${n === 1 ? '' : 's'}`;
+  const lingering = g.lingering ? `; ${count(g.lingering)} ghost cell${g.lingering === 1 ? '' : 's'} still at p ≥ 0.5` : '';
+  if (!g.faded) return `Ghost: none has faded back below p = 0.5 yet${lingering}.`;
+  return `Ghost fade (person gone → p < 0.5): last ${scans(g.lastScans)} (${fixed(g.lastSeconds, 2)} s), ` +
+    `slowest ${scans(g.longestScans)} (${fixed(g.longestSeconds, 2)} s) over ${count(g.faded)} cell${g.faded === 1 ? '' : 's'}${lingering}.`;
+}
+export const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
+export const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
+/** A cell size as the menu says it: 0.10, 0.05, 0.0125. */
+export const metres = (m) => m.toLocaleString('en-US', { minimumFractionDigits: 2, maximumFractionDigits: 6 });
