@@ -18,7 +18,7 @@ export default async function (core, args) {
       const { page, close } = await openPage('/test-fixtures/real-log.html');
       await page.waitForSelector('#panel[data-ready]');
       await page.setInputFiles('.map-weaver-log input[type=file]', file);
-      await page.waitForFunction(() => ['done', 'error'].includes(document.querySelector('.map-weaver-log')?.dataset.state), null, { timeout: 60_000 });
+      await page.waitForFunction(() => ['done', 'failed'].includes(document.querySelector('.map-weaver-log')?.dataset.state), null, { timeout: 60_000 });
       const state = await page.$eval('.map-weaver-log', (e) => ({ ...e.dataset }));
       if (state.state !== 'done') throw new Error(`the Intel log did not build: ${JSON.stringify(state)}`);
       totals.push(Number(state.totalMs));

@@ -63,7 +63,7 @@ function instrument() {
   }, true);
   const seen = new MutationObserver(() => {
     const s = panel.dataset.state;
-    if (w.t0 === null || (s !== 'done' && s !== 'error')) return;
+    if (w.t0 === null || (s !== 'done' && s !== 'failed')) return;
     seen.disconnect();
     // The map is in the canvas; the frame after the next animation frame
     // callback is the one that puts it on screen.
