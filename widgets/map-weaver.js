@@ -53,6 +53,20 @@ const MAX_SCANS_PER_FRAME = 16;
 const CHART_EVERY_MS = 150;
 const MAX_CSS_WIDTH = 480;
 const SIDES = ['left', 'right'];
+/**
+ * A core refusal of a pane setting in the words of the attribute that set
+ * it: "invalid panes[0].beams: 16 (…)" is "invalid left-beams: 16 (…)" to
+ * an instructor who wrote `left-beams="16"`.
+ */
+function inAttributeTerms(error) {
+  const message = error && error.message ? error.message : String(error);
+  const words = message.replace(/panes\[([01])\]\.(\w+)/g, (whole, k, field) => {
+    const suffix = Object.keys(PANE_FIELDS).find((a) => PANE_FIELDS[a] === field);
+    return suffix ? `${SIDES[Number(k)]}-${suffix}` : whole;
+  });
+  return words === message ? error : new Error(words);
+}
+
 
 const ROBOT_COLOR = COLORS.series[1];
 const PERSON_COLOR = '#d01c8b';
@@ -165,6 +179,7 @@ class MapWeaverElement extends HTMLElement {
     }
     if (this.values.mode === 'log') this.setMode('log');
     whenVisible(this, async () => {
+      this.started = true;
       await this.create();
       if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
     });
@@ -207,7 +222,7 @@ class MapWeaverElement extends HTMLElement {
       const k = name.startsWith('left') ? 0 : 1;
       const field = PANE_FIELDS[name.replace(/^(left|right)-/, '')];
       this.setPane(k, { [field]: value ?? (field === 'beams' || field === 'resolution' ? null : value) });
-    } else if (['seed', 'laps', 'scene', 'scans'].includes(name) && this.weaver) this.create();
+    } else if (['seed', 'laps', 'scene', 'scans'].includes(name) && this.started) this.create();
   }
 
   /** The current state as attribute values, for "Copy link". */
@@ -504,7 +519,7 @@ class MapWeaverElement extends HTMLElement {
     } catch (e) {
       if (next && next !== this.weaver) next.free();
       delete this.dataset.fastForward;
-      showError(this, e);
+      showError(this, inAttributeTerms(e));
       this.status.textContent = this.weaver ? 'Kept the previous run.' : 'No run: see the message above.';
       return;
     }
@@ -602,7 +617,7 @@ class MapWeaverElement extends HTMLElement {
       change();
       clearError(this);
     } catch (e) {
-      showError(this, e);
+      showError(this, inAttributeTerms(e));
     }
     this.draw(true);
   }
@@ -615,6 +630,9 @@ class MapWeaverElement extends HTMLElement {
     const o = this.options.panes[k];
     Object.assign(o, patch);
     this.syncControls();
+    // No run yet: the first one starts when the widget is first seen; one
+    // whose settings were refused is made again from the corrected ones.
+    if (!this.weaver) return void (this.started && this.create());
     this.knob(() => {
       this.weaver.setPane(k, patch);
       if (REBUILD_FIELDS.some((f) => f in patch)) {

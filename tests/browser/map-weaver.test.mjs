@@ -170,3 +170,26 @@ test('plays by itself when visible and motion is allowed, and rejects a bad attr
   assert.match(errors[0], /invalid laps/);
   await close();
 });
+
+test('a pane setting the core refuses is reported under the attribute that set it, not the core\'s pane index', async () => {
+  // 16 is a whole number (the attribute's own check passes) but no divisor
+  // of the LiDAR's 60 beams: the core refuses it as "panes[0].beams", which
+  // names nothing an instructor wrote.
+  const { page, errors, close } = await openPage('/?map-weaver.left-beams=16&map-weaver.autoplay=off#map-weaver');
+  try {
+    const w = page.locator(SELECTOR);
+    await w.scrollIntoViewIfNeeded();
+    await page.waitForSelector(`${SELECTOR} .occgrid-error`);
+    const text = await w.locator('.occgrid-error').textContent();
+    assert.match(text, /invalid left-beams: 16/);
+    assert.doesNotMatch(text, /panes\[/);
+    assert.ok(errors.some((e) => /left-beams/.test(e)));
+    // A knob refused later is reported the same way.
+    await w.evaluate((el) => el.setAttribute('left-beams', '60'));
+    await page.waitForFunction((sel) => !document.querySelector(`${sel} .occgrid-error`), SELECTOR);
+    await w.evaluate((el) => el.setAttribute('right-beams', '7'));
+    await page.waitForFunction((sel) => /right-beams: 7/.test(document.querySelector(`${sel} .occgrid-error`)?.textContent ?? ''), SELECTOR);
+  } finally {
+    await close();
+  }
+});
