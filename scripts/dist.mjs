@@ -6,6 +6,7 @@
 //   dist/widgets/                               the widgets (widgets/)
 //   dist/pkg/occgrid.HASH.js, occgrid_bg.HASH.wasm  the core (pkg/)
 //   dist/vendor/uplot/                          uPlot (node_modules/uplot/dist/)
+//   dist/custom-elements.json                   the widgets' Custom Elements Manifest, for editors
 //   dist/occgrid-bundle.json                    what was written, and from which core
 //
 // The core's two files carry a hash of their content in their names and the
@@ -14,18 +15,26 @@
 // Every URL inside the bundle is relative; the run fails if one is not, or if
 // a file the page or a widget imports is missing.
 //
+// The manifest is generated from the attribute declarations each widget
+// module holds (scripts/lib/custom-elements.mjs), so it says what the widgets
+// check, and nothing else.
+//
 // Usage: node scripts/dist.mjs [--out DIR]     (npm run dist)
 // Builds pkg/ first (scripts/build.sh) when it is missing or older than the
-// Rust sources.
+// Rust sources. Progress goes to standard error: standard output stays free
+// for what a caller reads there (`npm pack --json`, whose prepack runs this).
 import fs from 'node:fs';
 import path from 'node:path';
 import crypto from 'node:crypto';
 import { spawnSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
+import { customElementsManifest } from './lib/custom-elements.mjs';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 /** Written into every bundle; a directory without it is never replaced. */
 const MARKER = 'occgrid-bundle.json';
+/** The widgets' Custom Elements Manifest, at the bundle's root. */
+const ELEMENTS = 'custom-elements.json';
 /** The specifiers widgets/lib/core.js loads the core by (rewritten in the bundle). */
 const CORE_GLUE = '../../pkg/occgrid.js';
 const CORE_WASM = '../../pkg/occgrid_bg.wasm';
@@ -69,10 +78,11 @@ function ensureCore() {
   const built = Math.min(newest(wasm), newest(glue));
   const sources = Math.max(...['src', 'Cargo.toml', 'Cargo.lock'].map((p) => newest(path.join(root, p))));
   if (built > 0 && (sources === 0 || built >= sources)) return;
-  console.log(built === 0
+  console.error(built === 0
     ? 'dist: pkg/ has no built core yet; building it (bash scripts/build.sh)'
     : 'dist: pkg/ is older than the Rust sources; rebuilding it (bash scripts/build.sh)');
-  const r = spawnSync('bash', ['scripts/build.sh'], { cwd: root, stdio: 'inherit' });
+  // The build's own output to standard error as well.
+  const r = spawnSync('bash', ['scripts/build.sh'], { cwd: root, stdio: ['ignore', 2, 2] });
   if (r.status !== 0 || !fs.existsSync(wasm) || !fs.existsSync(glue)) {
     throw new DistError('building the wasm core failed (see above). It needs the Rust toolchain and wasm-pack: '
       + 'run `bash scripts/setup.sh`, then `npm run build`, then `npm run dist` again.');
@@ -215,6 +225,10 @@ function build({ out }) {
     // Our own files; vendored and generated code is left as it is.
     checkUrls(stage, files.filter((f) => !/^(?:pkg|vendor)\//.test(path.relative(stage, f).split(path.sep).join('/'))));
 
+    const elements = path.join(stage, ELEMENTS);
+    fs.writeFileSync(elements, JSON.stringify(customElementsManifest(stage, { glue: `pkg/${glueName}`, wasm: `pkg/${wasmName}` }), null, 2) + '\n');
+    files.push(elements);
+
     const version = JSON.parse(fs.readFileSync(path.join(root, 'package.json'), 'utf8')).version;
     const manifest = {
       name: 'occgrid',
@@ -228,7 +242,7 @@ function build({ out }) {
     clearOut(out);
     fs.renameSync(stage, out);
     const bytes = files.reduce((a, f) => a + fs.statSync(path.join(out, path.relative(stage, f))).size, 0);
-    console.log(`dist: wrote ${path.relative(process.cwd(), out) || '.'}/ (${files.length + 1} files, ${(bytes / 1024).toFixed(0)} KiB; core ${manifest.wasm})`);
+    console.error(`dist: wrote ${path.relative(process.cwd(), out) || '.'}/ (${files.length + 1} files, ${(bytes / 1024).toFixed(0)} KiB; core ${manifest.wasm})`);
     return manifest;
   } catch (e) {
     fs.rmSync(stage, { recursive: true, force: true });

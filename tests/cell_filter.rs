@@ -106,6 +106,68 @@ fn clamp_saturates_and_keeps_the_cell_revisable() {
     assert!(steps.last().unwrap().p > 0.99);
 }
 
+/// The chapter's first exercise: a prior of 0.2 (l0 = -1.3863) and ten
+/// readings whose inverse model answers exactly the prior. With the
+/// correction the cell stays at l0; without it each reading adds l0 once
+/// more, to l_10 = 11 l0 = -15.25, p = 2.4e-7. The widget's clamp of 12
+/// would stop the drift at reading 8, so the exercise runs without one.
+#[test]
+fn exercise_1_ten_readings_of_the_prior_drift_to_eleven_l0_without_a_clamp() {
+    let params = CellFilterParams {
+        p_occ: 0.2,
+        p_free: 0.2,
+        prior: 0.2,
+        clamp: f64::INFINITY,
+    };
+    let l0 = logit(0.2);
+    assert_abs_diff_eq!(l0, -1.3863, epsilon = 1e-4);
+    let readings = [true; 10];
+    let kept = cell_filter::run(&params, &readings, true).unwrap();
+    assert!(kept.iter().all(|s| (s.l - l0).abs() < 1e-12), "{kept:?}");
+    let forgot = cell_filter::run(&params, &readings, false).unwrap();
+    let last = forgot.last().unwrap();
+    assert_abs_diff_eq!(last.l, 11.0 * l0, epsilon = 1e-9);
+    assert_abs_diff_eq!(last.l, -15.25, epsilon = 0.01);
+    assert!((last.p - 2.4e-7).abs() < 0.05e-7, "p = {}", last.p);
+    // The drift is l0 per reading, every reading.
+    for pair in forgot.windows(2) {
+        assert_abs_diff_eq!(pair[1].l - pair[0].l, l0, epsilon = 1e-9);
+    }
+
+    // At the widget's default clamp of 12 the same run stops at reading 8.
+    let clamped = CellFilterParams {
+        clamp: CellFilterParams::CLAMP,
+        ..params
+    };
+    let stopped = cell_filter::run(&clamped, &readings, false).unwrap();
+    let first = stopped.iter().position(|s| s.l == -12.0).unwrap();
+    assert_eq!(first + 1, 8);
+    assert_eq!(stopped.last().unwrap().l, -12.0);
+}
+
+#[test]
+fn the_clamp_is_positive_or_none_and_a_bad_one_is_refused_by_name() {
+    for bad in [0.0, -1.0, f64::NAN, f64::NEG_INFINITY] {
+        let params = CellFilterParams {
+            clamp: bad,
+            ..CellFilterParams::WORKED_EXAMPLE
+        };
+        let e = cell_filter::run(&params, &[true], true)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("clamp") && e.contains(&occgrid::error::show(bad)) && e.contains("infinity"),
+            "{e}"
+        );
+    }
+    let none = CellFilterParams {
+        clamp: f64::INFINITY,
+        ..CellFilterParams::WORKED_EXAMPLE
+    };
+    let steps = cell_filter::run(&none, &[true; 20], true).unwrap();
+    assert_abs_diff_eq!(steps.last().unwrap().l, 20.0 * 0.8473, epsilon = 1e-2);
+}
+
 #[test]
 fn a_fresh_map_holds_exactly_one_bit_per_cell() {
     let g = GridGeometry::new(120, 90, 0.1, 0.0, 0.0).unwrap();

@@ -89,6 +89,97 @@ fn joint_tables_sum_to_one_and_marginals_are_their_sums() {
     }
 }
 
+/// Binary entropy in bits, written out here so that the report's figures
+/// are checked against an independent sum.
+fn h_b(p: f64) -> f64 {
+    [p, 1.0 - p]
+        .iter()
+        .filter(|&&q| q > 0.0)
+        .map(|&q| -q * q.log2())
+        .sum()
+}
+
+/// The chapter's exercise on entropy: a factored map states the sum of its
+/// cells' own entropies, which bounds the entropy of the true joint
+/// posterior from above; the gap is the information the cells share (with
+/// two cells, their mutual information), never negative. The two-cell
+/// table shows all three for its presets.
+#[test]
+fn the_sum_of_marginal_entropies_exceeds_the_joint_entropy_by_the_shared_information() {
+    let mut gaps = Vec::new();
+    for name in ["side", "collinear", "apart"] {
+        let q = occgrid::apps::two_cell_table::preset(name).unwrap();
+        let post = JointPosterior::compute(&q).unwrap();
+        let r = post.report();
+        let joint: f64 = r
+            .table
+            .iter()
+            .filter(|row| row.joint > 0.0)
+            .map(|row| -row.joint * row.joint.log2())
+            .sum();
+        let factored: f64 = post.marginals.iter().map(|&m| h_b(m)).sum();
+        assert!((r.joint_entropy_bits - joint).abs() < 1e-12, "{name}");
+        assert!(
+            (r.marginal_entropy_sum_bits - factored).abs() < 1e-12,
+            "{name}"
+        );
+        assert!(
+            (r.shared_information_bits - (factored - joint)).abs() < 1e-9,
+            "{name}: gap {} vs {} - {joint}",
+            r.shared_information_bits,
+            factored
+        );
+        // With two cells the gap is their mutual information.
+        assert!(
+            (r.shared_information_bits - r.mutual_information_bits).abs() < 1e-9,
+            "{name}"
+        );
+        gaps.push(r.shared_information_bits);
+    }
+    // Side by side, either cell alone explains the echo: 0.222 bits shared.
+    assert!((gaps[0] - 0.222).abs() < 2e-3, "{gaps:?}");
+    // Collinear, the reading all but settles both cells: little is left
+    // to share.
+    assert!(gaps[1] > 0.0 && gaps[1] < gaps[0] / 5.0, "{gaps:?}");
+
+    // Never negative, for any cells and readings; one cell shares nothing.
+    let mut rng = StdRng::seed_from_u64(23);
+    for case in 0..200 {
+        let beta_deg = rng.random_range(1.0..40.0);
+        let k = rng.random_range(1..9);
+        let q = JointQuery {
+            prior: rng.random_range(0.01..0.99),
+            beta_deg,
+            cells: (0..k)
+                .map(|_| ConeCell {
+                    range: rng.random_range(0.0..3.5),
+                    bearing_deg: rng.random_range(-0.5..0.5) * beta_deg,
+                })
+                .collect(),
+            readings: (0..rng.random_range(1..6))
+                .map(|_| rng.random_range(0.0..3.2))
+                .collect(),
+            model: BeamModelParams::CHAPTER,
+        };
+        let r = JointPosterior::compute(&q).unwrap().report();
+        assert!(r.shared_information_bits >= 0.0, "case {case}");
+        assert!(
+            r.marginal_entropy_sum_bits >= r.joint_entropy_bits - 1e-9,
+            "case {case}: {} < {}",
+            r.marginal_entropy_sum_bits,
+            r.joint_entropy_bits
+        );
+        assert!(
+            (r.marginal_entropy_sum_bits - r.joint_entropy_bits - r.shared_information_bits).abs()
+                < 1e-9,
+            "case {case}"
+        );
+        if k == 1 {
+            assert_eq!(r.shared_information_bits, 0.0, "case {case}");
+        }
+    }
+}
+
 #[test]
 fn sixteen_cells_enumerate_65536_configurations() {
     let q = JointQuery {

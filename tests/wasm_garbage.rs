@@ -98,10 +98,16 @@ fn the_cell_filter_refuses_every_bad_number_by_name() {
         refused(run_cell_filter(v, 0.3, 0.5, 12.0, &[1], true), &["p_occ"]);
         refused(run_cell_filter(0.7, v, 0.5, 12.0, &[1], true), &["p_free"]);
         refused(run_cell_filter(0.7, 0.3, v, 12.0, &[1], true), &["prior"]);
-        if !(v > 0.0 && v.is_finite()) {
+        // Infinity is the cell filter's "no clamp".
+        if !(v > 0.0) {
             refused(run_cell_filter(0.7, 0.3, 0.5, v, &[1], true), &["clamp"]);
         }
     }
+    let unclamped = run_cell_filter(0.7, 0.3, 0.5, f64::INFINITY, &[1; 20], true).unwrap();
+    assert!(
+        get(&unclamped, "firstAtClamp").is_null(),
+        "never at a clamp"
+    );
     refused(
         run_cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true),
         &["prior", "1"],

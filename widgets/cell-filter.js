@@ -5,12 +5,13 @@
 // toggle shows why the prior must be removed once per update.
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
-// p-occ, p-free, prior (probabilities on the sliders' steps), readings (a
-// string of o/f letters, e.g. "oof"), forget-l0 ("on"/"off"), controls.
+// p-occ, p-free, prior (probabilities on the sliders' steps), clamp (a
+// number of log odds, or "off"), readings (a string of o/f letters, e.g.
+// "oof"), forget-l0 ("on"/"off"), controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, fixed } from './lib/ui.js';
-import { applyControls, controlGroups, flag, formatControls, invalidValue, probability } from './lib/attributes.js';
+import { el, slider, button, toggle, showError, clearError, fixed, grouped } from './lib/ui.js';
+import { applyControls, controlGroups, flag, formatControls, invalidValue, number, probability } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { CELL_FILTER_DEFAULTS as DEFAULTS } from './lib/defaults.js';
 
@@ -30,13 +31,13 @@ const MAX_READINGS = 1000;
 const TABLE_ROWS = 50;
 
 const readingsType = {
-  describe: `at most ${MAX_READINGS} letters o for occupied and f for free, e.g. "oof"`,
+  describe: `at most ${grouped(MAX_READINGS)} letters o for occupied and f for free, e.g. "oof"`,
   parse(text, name) {
     const letters = text.replace(/[\s,]/g, '');
     // Refused on its length before a reading is parsed; the message cites
     // the count, not a kilobyte of letters.
     if (letters.length > MAX_READINGS) {
-      throw new Error(`invalid ${name}: ${letters.length} readings (expected ${this.describe})`);
+      throw new Error(`invalid ${name}: ${grouped(letters.length)} readings (expected ${this.describe})`);
     }
     const out = [];
     for (const ch of letters) {
@@ -50,14 +51,56 @@ const readingsType = {
 
 const lettersOf = (readings) => readings.map((r) => (r ? 'o' : 'f')).join('');
 
+/**
+ * The clamp l_max's control, log odds: from about 1 (a cell that a reading
+ * or two can always move) to well past the 15.25 of the chapter's first
+ * exercise, and then "off", where the update saturates nowhere (the core
+ * takes Infinity for that). The default is the core's
+ * (`constants().cellFilter.workedExample.clamp`).
+ */
+const CLAMP = { min: 1, max: 30, step: 0.5 };
+/** The slider's last notch, past `CLAMP.max`: no clamp. */
+const CLAMP_OFF = CLAMP.max + CLAMP.step;
+const clampType = {
+  describe: `a number from ${CLAMP.min} to ${CLAMP.max} in steps of ${CLAMP.step} (log odds), or "off" for no clamp`,
+  parse(text, name) {
+    if (text.trim().toLowerCase() === 'off') return Infinity;
+    try {
+      return number(CLAMP.min, CLAMP.max, { step: CLAMP.step }).parse(text, name);
+    } catch {
+      throw invalidValue(name, text, this.describe);
+    }
+  },
+};
+const clampText = (clamp) => (clamp === Infinity ? 'off' : String(clamp));
+
+/**
+ * A probability as the table prints it: four decimals, or, where four
+ * decimals would round it to 0 or 1, in powers of ten ("2.4 × 10⁻⁷",
+ * "1 − 2.4 × 10⁻⁷"), so that a cell far out on either side still reads.
+ */
+function probabilityText(p) {
+  if (!Number.isFinite(p) || (p >= 1e-3 && p <= 1 - 1e-3)) return fixed(p, 4);
+  const away = p < 0.5 ? p : 1 - p;
+  if (away === 0) return p < 0.5 ? '0' : '1';
+  const [mantissa, exponent] = away.toExponential(1).split('e');
+  const digits = { '-': '⁻', 0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹' };
+  const power = `${mantissa} × 10${[...exponent.replace('+', '')].map((c) => digits[c]).join('')}`;
+  return p < 0.5 ? power : `1 − ${power}`;
+}
+
 /** Attribute name → the state field it sets. */
-const FIELDS = { 'p-occ': 'pOcc', 'p-free': 'pFree', prior: 'prior', readings: 'readings', 'forget-l0': 'forget' };
+const FIELDS = { 'p-occ': 'pOcc', 'p-free': 'pFree', prior: 'prior', clamp: 'clamp', readings: 'readings', 'forget-l0': 'forget' };
 
 class CellFilterElement extends HTMLElement {
   static attributeSpec = {
     'p-occ': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-occ'], doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
     'p-free': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-free'], doc: 'p(m | free reading): its answer to a free reading' },
     prior: { type: probability({ min: 0.05, max: 0.95, step: 0.05 }), default: DEFAULTS.prior, doc: 'the prior p(m), whose log odds is l0' },
+    clamp: {
+      type: clampType, doc: 'the clamp l_max: the update keeps |l| <= l_max (off: no clamp)',
+      core: (k) => ({ default: clampText(k.cellFilter.workedExample.clamp) }),
+    },
     readings: { type: readingsType, default: DEFAULTS.readings, doc: 'the readings so far, in order' },
     'forget-l0': { type: flag(), default: DEFAULTS['forget-l0'], doc: 'start with the update that forgets to subtract l0' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: readings (the two reading buttons, undo, clear), presets (worked example, l0 lesson), sliders, toggles, link' },
@@ -79,7 +122,12 @@ class CellFilterElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core } = await loadCore());
-      this.presets = this.core.constants().cellFilter;
+      const constants = this.core.constants();
+      this.presets = constants.cellFilter;
+      // The clamp's default is the core's.
+      this.values = this.attrs.resolve(constants);
+      this.state = { ...this.state, clamp: this.values.clamp };
+      this.syncControls();
       this.describeLesson();
       this.ready = true;
       this.render();
@@ -90,6 +138,8 @@ class CellFilterElement extends HTMLElement {
 
   attributeChangedCallback(name) {
     if (!this.built) return;
+    // The page set the model: what it says is not the reader's doing.
+    if (name === 'p-occ' || name === 'p-free') this.modelByReader = false;
     this.applyAttributes([name]);
     if (name === 'controls') applyControls(this, this.values.controls);
     this.syncControls();
@@ -116,6 +166,7 @@ class CellFilterElement extends HTMLElement {
     const s = this.state;
     return {
       'p-occ': s.pOcc.toFixed(2), 'p-free': s.pFree.toFixed(2), prior: s.prior.toFixed(2),
+      clamp: s.clamp === undefined ? null : clampText(s.clamp),
       readings: lettersOf(s.readings), 'forget-l0': s.forget ? 'on' : 'off',
       controls: formatControls(this.values.controls, GROUPS),
     };
@@ -124,9 +175,15 @@ class CellFilterElement extends HTMLElement {
   build() {
     const s = this.state;
     this.sliders = {
-      pOcc: slider({ label: 'p(m | occupied reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pOcc, format: (v) => v.toFixed(2), onInput: (v) => this.set({ pOcc: v }) }),
-      pFree: slider({ label: 'p(m | free reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pFree, format: (v) => v.toFixed(2), onInput: (v) => this.set({ pFree: v }) }),
+      pOcc: slider({ label: 'p(m | occupied reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pOcc, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pOcc: v }) }),
+      pFree: slider({ label: 'p(m | free reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pFree, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pFree: v }) }),
       prior: slider({ label: 'prior p(m)', min: 0.05, max: 0.95, step: 0.05, value: s.prior, format: (v) => v.toFixed(2), onInput: (v) => this.set({ prior: v }) }),
+      // Until the core has given its default, the slider waits at "off".
+      clamp: slider({
+        label: 'clamp l_max', min: CLAMP.min, max: CLAMP_OFF, step: CLAMP.step, value: s.clamp === undefined || s.clamp === Infinity ? CLAMP_OFF : s.clamp,
+        format: (v) => (v > CLAMP.max ? 'off (no clamp)' : `±${v.toFixed(1)}`), onInput: (v) => this.set({ clamp: v > CLAMP.max ? Infinity : v }),
+        name: 'clamp',
+      }),
     };
     this.forgetToggle = toggle('forget to subtract l0', s.forget, (v) => this.set({ forget: v }), { name: 'forget-l0' });
     this.tbody = el('tbody');
@@ -153,7 +210,7 @@ class CellFilterElement extends HTMLElement {
           button('Worked example', () => this.preset('workedExample'), { name: 'worked-example' }),
           this.lessonButton = button('The l0 lesson', () => this.preset('l0Lesson'), { name: 'l0-lesson' }))),
       el('div', { class: 'occgrid-controls' },
-        el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'sliders' } }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root),
+        el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'sliders' } }, this.sliders.pOcc.root, this.sliders.pFree.root, this.sliders.prior.root, this.sliders.clamp.root),
         el('div', { class: 'occgrid-controls cell-filter-group', dataset: { controls: 'toggles' } }, this.forgetToggle.root)),
       el('div', { class: 'cell-filter-layout' },
         el('div', {},
@@ -180,11 +237,18 @@ class CellFilterElement extends HTMLElement {
     });
   }
 
+  /** The reader moved one of the inverse model's two answers. */
+  setModel(patch) {
+    this.modelByReader = true;
+    this.set(patch);
+  }
+
   /** Sets the core's preset `name` (nothing before the core has loaded). */
   preset(name) {
     const p = this.presets?.[name];
     if (!p) return;
-    this.set({ pOcc: p.pOcc, pFree: p.pFree, prior: p.prior, readings: [...p.readings], forget: !p.subtractPrior });
+    this.modelByReader = false;
+    this.set({ pOcc: p.pOcc, pFree: p.pFree, prior: p.prior, clamp: p.clamp, readings: [...p.readings], forget: !p.subtractPrior });
   }
 
   /** The l0 lesson's caption and button title, in the core's numbers. */
@@ -201,6 +265,7 @@ class CellFilterElement extends HTMLElement {
     this.sliders.pOcc.set(s.pOcc);
     this.sliders.pFree.set(s.pFree);
     this.sliders.prior.set(s.prior);
+    if (s.clamp !== undefined) this.sliders.clamp.set(s.clamp === Infinity ? CLAMP_OFF : s.clamp);
     this.forgetToggle.input.checked = s.forget;
   }
 
@@ -212,7 +277,7 @@ class CellFilterElement extends HTMLElement {
 
   add(reading) {
     if (this.state.readings.length >= MAX_READINGS) {
-      showError(this, new Error(`at most ${MAX_READINGS} readings: undo or clear some first`));
+      showError(this, new Error(`at most ${grouped(MAX_READINGS)} readings: undo or clear some first`));
       return;
     }
     this.set({ readings: [...this.state.readings, reading] });
@@ -223,7 +288,7 @@ class CellFilterElement extends HTMLElement {
     const s = this.state;
     let table;
     try {
-      table = this.core.runCellFilter(s.pOcc, s.pFree, s.prior, this.presets.workedExample.clamp, new Uint8Array(s.readings), !s.forget);
+      table = this.core.runCellFilter(s.pOcc, s.pFree, s.prior, s.clamp, new Uint8Array(s.readings), !s.forget);
       clearError(this);
     } catch (e) {
       showError(this, e);
@@ -231,7 +296,7 @@ class CellFilterElement extends HTMLElement {
     }
     const row = (step, reading, l, p, cls) =>
       el('tr', { class: cls, dataset: { l: String(l), p: String(p) } },
-        el('td', {}, step), el('td', {}, reading), el('td', { class: 'cell-filter-l' }, fixed(l, 4)), el('td', { class: 'cell-filter-p' }, fixed(p, 4)));
+        el('td', {}, step), el('td', {}, reading), el('td', { class: 'cell-filter-l' }, fixed(l, 4)), el('td', { class: 'cell-filter-p' }, probabilityText(p)));
     const priorP = s.prior;
     // A bounded table: the prior, then the latest TABLE_ROWS readings (the
     // chart shows every one).
@@ -239,38 +304,42 @@ class CellFilterElement extends HTMLElement {
     const hidden = table.steps.length - shown.length;
     this.tbody.replaceChildren(
       row('0', 'prior', table.l0, priorP, 'cell-filter-prior'),
-      ...(hidden ? [el('tr', { class: 'cell-filter-hidden' }, el('td', { colspan: '4' }, `… ${hidden} earlier reading${hidden === 1 ? '' : 's'} (in the chart)`))] : []),
-      ...shown.map((st) => row(String(st.step), st.occupied ? 'occupied' : 'free', st.l, st.p)),
+      ...(hidden ? [el('tr', { class: 'cell-filter-hidden' }, el('td', { colspan: '4' }, `… ${grouped(hidden)} earlier reading${hidden === 1 ? '' : 's'} (in the chart)`))] : []),
+      ...shown.map((st) => row(grouped(st.step), st.occupied ? 'occupied' : 'free', st.l, st.p)),
     );
     const last = table.steps.at(-1);
     const p = last ? last.p : priorP;
     this.bar.style.width = `${(p * 100).toFixed(1)}%`;
-    this.barLabel.textContent = fixed(p, 4);
+    this.barLabel.textContent = probabilityText(p);
     this.barBox.setAttribute('aria-valuenow', String(p));
-    this.barBox.setAttribute('aria-valuetext', `p = ${fixed(p, 4)}`);
+    this.barBox.setAttribute('aria-valuetext', `p = ${probabilityText(p)}`);
     const full = s.readings.length >= MAX_READINGS;
     for (const b of this.addButtons) b.disabled = full;
     const notes = [];
     if (table.firstAtClamp !== null && table.firstAtClamp !== undefined) {
       const at = table.steps[table.firstAtClamp - 1];
-      notes.push(['clamp', `At the clamp: from reading ${table.firstAtClamp} on, l is held at the clamp of ±${fixed(table.clamp, 1)} (l = ${fixed(at.l, 4)}, p = ${fixed(at.p, 4)}), ` +
-        'so that a few contradicting readings can still move the cell; further readings the same way change nothing.']);
+      notes.push(['clamp', `At the clamp: from reading ${grouped(table.firstAtClamp)} on, l is held at the clamp of ±${fixed(table.clamp, 1)} (l = ${fixed(at.l, 4)}, p = ${probabilityText(at.p)}), ` +
+        'so that a few contradicting readings can still move the cell; further readings the same way change nothing. Set the clamp higher, or off, to follow them.']);
     }
-    if (table.freeIsEvidenceForOccupied) {
+    // Only when it concerns what the reader did: a free reading among the
+    // readings, or the reader's own move of an answer's slider. A page or
+    // a link that lowers p(m | occupied reading) below the default "free"
+    // answer, with only occupied readings, changes nothing this warns of.
+    if (table.freeIsEvidenceForOccupied && (this.modelByReader || table.steps.some((st) => !st.occupied))) {
       notes.push(['inverted', `p(m | free reading) = ${fixed(s.pFree, 2)} is not below p(m | occupied reading) = ${fixed(s.pOcc, 2)}: ` +
         'a “free” reading is now at least as much evidence for occupied as an occupied one.']);
     }
-    if (full) notes.push(['full', `The filter takes at most ${MAX_READINGS} readings: undo or clear to add more.`]);
+    if (full) notes.push(['full', `The filter takes at most ${grouped(MAX_READINGS)} readings: undo or clear to add more.`]);
     this.notices.replaceChildren(...notes.map(([kind, text]) => el('li', { class: `cell-filter-notice cell-filter-notice-${kind}`, dataset: { kind } }, text)));
     this.dataset.notices = notes.map(([k]) => k).join(' ');
     this.summary.textContent =
       `l_occ = ${fixed(table.lOcc, 4)}, l_free = ${fixed(table.lFree, 4)}, l0 = ${fixed(table.l0, 4)}. ` +
-      (last ? `After ${last.step} reading${last.step === 1 ? '' : 's'}: l = ${fixed(last.l, 4)}, p = ${fixed(last.p, 4)}.` : 'No readings yet.');
+      (last ? `After ${grouped(last.step)} reading${last.step === 1 ? '' : 's'}: l = ${fixed(last.l, 4)}, p = ${probabilityText(last.p)}.` : 'No readings yet.');
     this.dataset.l = last ? String(last.l) : String(table.l0);
     const xs = [0, ...table.steps.map((st) => st.step)];
     this.chart.setData(xs, [table.l0, ...table.steps.map((st) => st.l)], xs.map(() => table.l0));
     const ls = [table.l0, ...shown.map((st) => st.l)].map((v) => fixed(v, 2)).join(', ');
-    this.chartBox.setAttribute('aria-label', `Log odds ${hidden ? `from the prior, then after the latest ${shown.length} of ${table.steps.length} readings` : 'after each reading'}: ${ls}; l0 = ${fixed(table.l0, 2)}`);
+    this.chartBox.setAttribute('aria-label', `Log odds ${hidden ? `from the prior, then after the latest ${grouped(shown.length)} of ${grouped(table.steps.length)} readings` : 'after each reading'}: ${ls}; l0 = ${fixed(table.l0, 2)}`);
   }
 }
 

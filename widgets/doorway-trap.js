@@ -8,6 +8,10 @@
 // Right, the MAP hill climb of Table 9.3 on the same readings, one flip at a
 // time: each flipped cell is marked, a bar chart shows how the flip changed
 // each beam's log likelihood, and a curve shows the objective over flips.
+// Before the first scan and the first flip, both panes draw every reading's
+// cone with an arc at its reading, so that a reader can predict where the
+// climb begins. Cells no reading reached are undecided in the MAP map (gray,
+// exported unknown), and the hover says so.
 // Below, the two-cell table (widgets/lib/two-cell-table.js): the exact joint
 // posterior of two cells in one cone against the product of their
 // marginals. Every number comes from the wasm core; this module draws, lays
@@ -20,7 +24,7 @@ import { loadCore } from './lib/core.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import {
   el, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, pacer, showPlaying,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
@@ -44,6 +48,10 @@ const POSE_COLOR = COLORS.series[1];
 
 const GROUPS = ['playback', 'arrangements', 'sliders', 'export', 'link'];
 const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read it.';
+/** What the MAP map says of a cell (the core's `map` of a cell readout). */
+const MAP_CELL_TEXT = { occupied: 'occupied', free: 'free', undecided: 'undecided (no reading reached it)' };
+/** Every reading's cone before the first step: faint, with a firm arc at the reading. */
+const ALL_CONES = { color: COLORS.evidence, fillAlpha: '09', outline: 'arc', lineWidth: 1.25 };
 const MAP_HINT = 'Arrow keys move a cursor cell whose values are read out below the maps.';
 
 class DoorwayTrapElement extends HTMLElement {
@@ -199,12 +207,12 @@ class DoorwayTrapElement extends HTMLElement {
       this.flipText,
       el('div', { class: 'doorway-trap-charts' }, this.barBox, this.curveBox),
       el('p', { class: 'occgrid-caption' },
-        'Orange outlines are the true walls; green wedges are sonar cones out to their readings. ',
+        'Orange outlines are the true walls; green wedges are sonar cones out to their readings (before the first step, every reading’s, with an arc at its range). ',
         'The swept grid paints a cone’s whole arc at its reading: a cone that clips a door jamb reads the jamb’s range, so its arc crosses the doorway, and a one-cell wall closes the door. ',
         'The MAP climb asks instead which single binary map makes all readings most probable under the forward model: one occupied jamb cell explains a clipped cone, ',
         'and an occupied doorway cell would contradict the cone that reads the far wall straight through the door. ',
         'The MAP map holds no uncertainty about the cells it decided: each is free or occupied, nothing in between; ',
-        'gray cells are the ones no cone ever reached, about which it decides nothing (its export marks them unknown). ',
+        'gray cells are undecided: no reading reached them, so it decides nothing about them (its export marks them unknown). ',
         'J(m), the objective, is the log posterior of the binary map up to a constant: the sum over every reading of log p(z | x, m) under the forward model, plus l0 for each occupied cell (the prior of independent cells); each flip is the one that raises it most, and the bars show which readings its flip made more or less probable. ',
         'A red square is a cell the climb set occupied, a purple one a cell it cleared again; the yellow square is the latest flip, with the beams it changed (green raised, red dashed lowered).'),
       (this.twoCell = new TwoCellTable(this, this.values)).root,
@@ -259,8 +267,18 @@ class DoorwayTrapElement extends HTMLElement {
       clearError(this);
     } catch (e) {
       showError(this, e);
+      // With no scene there is nothing to wait for: say so where the
+      // panes would say how far they have got.
+      if (!this.trap) {
+        for (const pane of Object.values(this.panes)) {
+          pane.status.textContent = 'No map: the scene was refused (see the message above).';
+          pane.door.textContent = '';
+        }
+        this.dataset.state = 'refused';
+      }
       return;
     }
+    this.dataset.state = 'ready';
     this.lastFlip = lastFlip;
     this.lastScan = lastScan;
     this.cursor = null;
@@ -369,23 +387,25 @@ class DoorwayTrapElement extends HTMLElement {
   readouts(r, st) {
     const sweep = this.panes.sweep;
     const scan = this.lastScan;
+    const readings = this.view.beams.length;
     sweep.status.textContent = r.scansDone === 0
-      ? `No scan yet: ${r.scans} stops of ${this.view.beamsPerScan} sonars each.`
-      : `Scan ${r.scansDone} of ${r.scans}` + (scan && scan.scan === r.scansDone ? ` · ${scan.cellsVisited} cells visited, ${scan.cellsUpdated} updated` : '') + '.';
-    sweep.door.textContent = `Doorway cells with p > 0.5: ${r.sweepClosed} of ${r.doorCells}` + (r.sweepClosed === r.doorCells ? ' — the door is closed.' : '.');
+      ? `No scan yet: ${grouped(r.scans)} stops of ${grouped(this.view.beamsPerScan)} sonars each; all ${grouped(readings)} readings’ cones are drawn, each with an arc at its reading.`
+      : `Scan ${grouped(r.scansDone)} of ${grouped(r.scans)}` + (scan && scan.scan === r.scansDone ? ` · ${grouped(scan.cellsVisited)} cells visited, ${grouped(scan.cellsUpdated)} updated` : '') + '.';
+    sweep.door.textContent = `Doorway cells with p > 0.5: ${grouped(r.sweepClosed)} of ${grouped(r.doorCells)}` + (r.sweepClosed === r.doorCells ? ' — the door is closed.' : '.');
     const map = this.panes.map;
     const flips = st.flips.length;
-    map.status.textContent = `Flip ${flips} · J = ${fixed(st.objective, 3)} nats · ${st.occupied} cells occupied` +
-      (st.converged ? ' · local maximum: no single flip helps.' : '.');
-    map.door.textContent = `MAP cells in the doorway: ${r.mapInDoorway}; on the far wall behind it: ${r.mapOnFarWall}.`;
+    map.status.textContent = `Flip ${grouped(flips)} · J = ${fixed(st.objective, 3)} nats · ${grouped(st.occupied)} cells occupied` +
+      (st.converged ? ' · local maximum: no single flip helps.' : '.') +
+      (flips === 0 ? ` The ${grouped(readings)} readings’ cones are drawn, each with an arc at its reading.` : '');
+    map.door.textContent = `MAP cells in the doorway: ${grouped(r.mapInDoorway)}; on the far wall behind it: ${grouped(r.mapOnFarWall)}.`;
     sweep.canvas.setAttribute('aria-label',
-      `Swept map (Table 9.1) after ${r.scansDone} of ${r.scans} scans: ${r.sweepClosed} of ${r.doorCells} doorway cells ` +
+      `Swept map (Table 9.1) after ${grouped(r.scansDone)} of ${grouped(r.scans)} scans: ${grouped(r.sweepClosed)} of ${grouped(r.doorCells)} doorway cells ` +
       `above p = 0.5${r.sweepClosed === r.doorCells ? ', the door is closed' : ''}. Gray unknown, white free, black occupied; ` +
       `orange outlines the true walls. ${MAP_HINT}`);
     map.canvas.setAttribute('aria-label',
-      `MAP map (Table 9.3) after ${flips} flip${flips === 1 ? '' : 's'}: ${st.occupied} cells occupied, ${r.mapInDoorway} in the doorway, ` +
-      `${r.mapOnFarWall} on the far wall behind it; J = ${fixed(st.objective, 3)} nats${st.converged ? ', a local maximum' : ''}. ` +
-      `White free, black occupied, gray the ${this.unreached} cells no cone reached; orange outlines the true walls. ${MAP_HINT}`);
+      `MAP map (Table 9.3) after ${grouped(flips)} flip${flips === 1 ? '' : 's'}: ${grouped(st.occupied)} cells occupied, ${grouped(r.mapInDoorway)} in the doorway, ` +
+      `${grouped(r.mapOnFarWall)} on the far wall behind it; J = ${fixed(st.objective, 3)} nats${st.converged ? ', a local maximum' : ''}. ` +
+      `White free, black occupied, gray the ${grouped(this.unreached)} undecided cells no reading reached; orange outlines the true walls. ${MAP_HINT}`);
 
     Object.assign(this.dataset, {
       unreached: String(this.unreached),
@@ -399,11 +419,12 @@ class DoorwayTrapElement extends HTMLElement {
     if (f) {
       const up = f.beams.filter((b) => b.delta > 0).length;
       const down = f.beams.length - up;
-      this.flipText.textContent = `Flip ${f.number}: cell (${f.ix}, ${f.iy}) ${f.toOccupied ? 'set occupied' : 'cleared'}, ` +
+      this.flipText.textContent = `Flip ${grouped(f.number)}: cell (${f.ix}, ${f.iy}) ${f.toOccupied ? 'set occupied' : 'cleared'}, ` +
         `gain ${f.gain >= 0 ? '+' : ''}${fixed(f.gain, 3)} nats — ${up} beam${up === 1 ? '' : 's'} raised, ${down} lowered` +
         (f.priorTerm !== 0 ? `, prior ${f.priorTerm >= 0 ? '+' : ''}${fixed(f.priorTerm, 3)}` : '') + '.';
     } else {
-      this.flipText.textContent = st.converged ? 'The climb ended at the all-free start.' : 'No flip yet: the climb starts from the all-free map.';
+      this.flipText.textContent = st.converged ? 'The climb ended at the all-free start.'
+        : 'No flip yet: the climb starts from the all-free map. Which cell will it flip first? The cones above show every reading.';
     }
     const labels = [];
     const values = [];
@@ -417,47 +438,56 @@ class DoorwayTrapElement extends HTMLElement {
     }
     this.bars.setData(labels, values);
     this.barBox.setAttribute('aria-label', f
-      ? `Change of each beam’s log likelihood for flip ${f.number}, nats: ` + labels.map((l, i) => `${l.replace('\n', ', ')} ${values[i] >= 0 ? '+' : ''}${fixed(values[i], 3)}`).join(', ') + '.'
+      ? `Change of each beam’s log likelihood for flip ${grouped(f.number)}, nats: ` + labels.map((l, i) => `${l.replace('\n', ', ')} ${values[i] >= 0 ? '+' : ''}${fixed(values[i], 3)}`).join(', ') + '.'
       : 'Change of each beam’s log likelihood for the latest flip: no flip yet.');
     Object.assign(this.barBox.dataset, { flip: String(f ? f.number : 0), bars: String(values.length), values: JSON.stringify(values) });
     const xs = st.history.map((_, i) => i);
     this.curve.setData(xs, st.history);
     this.curveBox.setAttribute('aria-label', flips
-      ? `Objective J(m) over ${flips} flip${flips === 1 ? '' : 's'}: from ${fixed(st.history[0], 3)} to ${fixed(st.history[st.history.length - 1], 3)} nats.`
+      ? `Objective J(m) over ${grouped(flips)} flip${flips === 1 ? '' : 's'}: from ${fixed(st.history[0], 3)} to ${fixed(st.history[st.history.length - 1], 3)} nats.`
       : `Objective J(m) over flips: no flip yet; J = ${fixed(st.objective, 3)} nats at the all-free start.`);
     Object.assign(this.curveBox.dataset, { points: String(st.history.length), last: String(st.history[st.history.length - 1]) });
   }
 
-  /** The swept pane's layers: true walls, the current scan's cones, the stops, the cursor. */
+  /**
+   * The swept pane's layers: the current scan's cones, the true walls over
+   * them (so the door's label stays legible), the stops, the cursor.
+   */
   sweepLayers() {
     const layers = layerStack();
-    layers.add((f) => this.drawTruth(f));
     layers.add(({ ctx, s, report }) => {
+      // Before the first scan, every reading's cone: what the sweep will paint.
+      if (report.scansDone === 0) return drawCones(ctx, s, this.view.beams, ALL_CONES);
       const current = report.scansDone - 1;
       for (const b of this.view.beams) if (b.scan === current) drawCones(ctx, s, [b], { color: COLORS.evidence });
     });
+    layers.add((f) => this.drawTruth(f));
     layers.add(({ ctx, s, report }) => this.drawPoses(ctx, s, report.scansDone - 1));
     layers.add((f) => this.drawCursor(f));
     return layers;
   }
 
   /**
-   * The MAP pane's layers: true walls, the stops, the beams the latest flip
-   * changed (raised filled, lowered dashed), every flipped cell (set red,
+   * The MAP pane's layers: the beams the latest flip changed (raised
+   * filled, lowered dashed; before the first flip, every reading's cone),
+   * the true walls over them, the stops, every flipped cell (set red,
    * cleared purple), the latest flip with its number, the cursor.
    */
   mapLayers() {
     const layers = layerStack();
-    layers.add((f) => this.drawTruth(f));
-    layers.add(({ ctx, s }) => this.drawPoses(ctx, s, -1));
     layers.add(({ ctx, s, state }) => {
       const current = state.flips.at(-1);
-      for (const c of current ? current.beams : []) {
+      // Before the first flip, every reading's cone with an arc at its
+      // reading: the climb's first flips lie where the most arcs meet.
+      if (!current) return drawCones(ctx, s, this.view.beams, ALL_CONES);
+      for (const c of current.beams) {
         const beam = this.view.beams[c.beam];
         if (c.delta > 0) drawCones(ctx, s, [beam], { color: COLORS.evidence });
         else drawCones(ctx, s, [beam], { color: LOWERED_COLOR, dashed: true, fillAlpha: null });
       }
     });
+    layers.add((f) => this.drawTruth(f));
+    layers.add(({ ctx, s }) => this.drawPoses(ctx, s, -1));
     layers.add(({ ctx, s, state }) => {
       // Every flipped cell: its last state decides the mark.
       const lastOf = new Map();
@@ -475,7 +505,7 @@ class DoorwayTrapElement extends HTMLElement {
       outlineCell(ctx, s, cell, { color: CURRENT_COLOR, lineWidth: 3, pad: 1.5 });
       const x = cell.col * s;
       const y = cell.row * s;
-      const label = `#${current.number}`;
+      const label = `#${grouped(current.number)}`;
       ctx.save();
       ctx.font = '700 12px system-ui, sans-serif';
       const tw = ctx.measureText(label).width;
@@ -558,9 +588,10 @@ class DoorwayTrapElement extends HTMLElement {
     if (col < 0 || row < 0 || col >= this.view.width || row >= this.view.height) return;
     try {
       const c = this.trap.cellInfo(col, row);
-      this.hoverOut.textContent = `Cell (${c.ix}, ${c.iy}) · swept: l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ${c.updates} update${c.updates === 1 ? '' : 's'} · ` +
-        `MAP: ${c.occupied ? 'occupied' : 'free'}, inside ${c.beams} cone${c.beams === 1 ? '' : 's'}, ` +
+      this.hoverOut.textContent = `Cell (${c.ix}, ${c.iy}) · swept: l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ${grouped(c.updates)} update${c.updates === 1 ? '' : 's'} · ` +
+        `MAP: ${MAP_CELL_TEXT[c.map]}, inside ${grouped(c.beams)} cone${c.beams === 1 ? '' : 's'}, ` +
         `flipping it would change J by ${c.sensitivity >= 0 ? '+' : ''}${fixed(c.sensitivity, 3)} nats.`;
+      this.hoverOut.dataset.map = c.map;
     } catch (e) {
       showError(this, e);
     }

@@ -17,7 +17,7 @@
 // reading, seed, density, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 
@@ -37,6 +37,13 @@ const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
 const densityText = (d) => (d === 0 ? 'buildings as drawn' : `boxes to ${Math.round(100 * d)}%`);
+/** The chart's four lines; the two priors share the l0 blue, told apart by the dash. */
+const SERIES = [
+  { label: 'hand-crafted', color: COLORS.series[0] },
+  { label: 'learned', color: COLORS.series[1] },
+  { label: 'l0 hand-crafted', color: COLORS.l0, dash: [6, 4], width: 1.5 },
+  { label: 'l0 learned', color: COLORS.l0, width: 1.5 },
+];
 
 const deg = (rad) => (rad * 180) / Math.PI;
 
@@ -151,6 +158,8 @@ class InverseWorkbenchElement extends HTMLElement {
     this.seedInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') this.retrain(); });
     this.retrainButton = button('Retrain', () => this.retrain(), { name: 'retrain', title: 'Sample 24,000 new training triplets with this seed and fit the model again' });
     this.status = el('p', { class: 'occgrid-readout inverse-workbench-status', 'aria-live': 'polite' }, 'Training the learned model…');
+    // A refused seed or density, beside the summary of the model that stays.
+    this.refusal = el('p', { class: 'inverse-workbench-refusal', role: 'alert', hidden: true });
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
     this.densitySlider = slider({
       label: 'Training-map density', min: 0, step: 0.05, value: this.density,
@@ -188,7 +197,9 @@ class InverseWorkbenchElement extends HTMLElement {
         this.retrainButton,
         this.densitySlider.root,
         el('span', { class: 'occgrid-readout' }, 'learned l0 = ', this.l0Out)),
-      this.status,
+      // Not a direct child of the widget: the widget's own error box
+      // (widgets/lib/ui.js, showError) is, and clearing it must leave this.
+      el('div', { class: 'inverse-workbench-training' }, this.status, this.refusal),
       el('div', { class: 'inverse-workbench-panes' }, this.panes.map((p) => p.root)),
       el('div', { class: 'inverse-workbench-scale' }, this.legend),
       this.scaleText,
@@ -208,17 +219,34 @@ class InverseWorkbenchElement extends HTMLElement {
     );
     this.chart = lineChart(this.chartBox, {
       xLabel: 'range along the beam axis (m)', yLabel: 'log odds',
-      series: [
-        { label: 'hand-crafted', color: COLORS.series[0] },
-        { label: 'learned', color: COLORS.series[1] },
-        { label: 'l0 hand-crafted', color: COLORS.l0, dash: [6, 4], width: 1.5 },
-        { label: 'l0 learned', color: COLORS.l0, width: 1.5 },
-      ],
+      series: SERIES,
       height: 220,
     });
+    this.legendSamples();
     if ('ResizeObserver' in window) {
       this.resizer = new ResizeObserver(() => this.requestDraw());
       this.resizer.observe(this.querySelector('.inverse-workbench-panes'));
+    }
+  }
+
+  /**
+   * Draws each legend marker as a short sample of its line, dashed where
+   * the line is: as squares, the two priors' markers were the same blue
+   * square.
+   */
+  legendSamples() {
+    for (const row of this.chart.plot.root.querySelectorAll('.u-legend .u-series')) {
+      const line = SERIES.find((l) => l.label === row.querySelector('.u-label')?.textContent);
+      const m = row.querySelector('.u-marker');
+      if (!line || !m) continue;
+      m.classList.add('inverse-workbench-marker');
+      m.dataset.dash = line.dash ? 'dashed' : 'solid';
+      m.style.background = 'none';
+      m.style.border = '0';
+      m.style.borderTop = `${line.width === 1.5 ? 2 : 3}px ${line.dash ? 'dashed' : 'solid'} ${line.color}`;
+      m.style.width = '26px';
+      m.style.height = '0';
+      m.style.verticalAlign = 'middle';
     }
   }
 
@@ -233,10 +261,24 @@ class InverseWorkbenchElement extends HTMLElement {
     this.later(() => this.train(null, density));
   }
 
+  /**
+   * Shows why a seed or a density was refused, beside the summary of the
+   * model that stays (null: clears it).
+   */
+  refuse(message) {
+    this.refusal.hidden = !message;
+    this.refusal.classList.toggle('occgrid-error', Boolean(message));
+    this.refusal.textContent = message
+      ? `${message}${this.info ? `; the model trained with seed ${this.info.run.seed} stays.` : '.'}`
+      : '';
+    if (message) console.error(`${this.localName}: ${message}`);
+  }
+
   /** Trains (or retrains) the learned model with `seed`, or on maps of `density` when `seed` is null. */
   train(seed, density) {
     this.retrainButton.disabled = true;
     let trained = false;
+    let refused = null;
     try {
       if (!this.bench) {
         this.bench = new this.core.InverseWorkbench(seed);
@@ -253,34 +295,56 @@ class InverseWorkbenchElement extends HTMLElement {
       clearError(this);
       trained = true;
     } catch (e) {
-      showError(this, e);
+      refused = e;
     } finally {
       this.retrainButton.disabled = false;
     }
-    // On an error the current model stays, and so does the error message.
+    // On an error the current model stays, and so does its summary; the
+    // refusal is shown beside it (or, with no model yet, as the widget's
+    // error).
     if (!trained) {
-      this.status.textContent = this.info ? `Kept the model trained with seed ${this.info.run.seed}.` : 'No model trained.';
+      if (this.info) {
+        this.status.textContent = this.summary;
+        this.refuse(refused && refused.message ? refused.message : String(refused));
+      } else {
+        showError(this, refused);
+        this.status.textContent = 'No model trained.';
+      }
       return;
     }
+    this.refuse(null);
     const { run, learned } = this.info;
     this.densitySlider.set(run.density);
     this.dataset.density = String(run.density);
     this.l0Out.textContent = fixed(learned.l0, 3);
     this.dataset.seed = String(run.seed);
     this.dataset.learnedL0 = String(learned.l0);
-    this.status.textContent =
-      `Learned from ${run.triplets.toLocaleString('en')} triplets in ${run.maps} sampled maps (${densityText(run.density)}: ${fixed(100 * run.mapOccupancy, 1)}% occupied), ` +
-      `seed ${run.seed}, ${run.epochs} epochs of SGD: ${fixed(run.trainMs, 0)} ms ` +
-      `(sampling ${fixed(run.sampleMs, 0)} ms, fitting ${fixed(run.fitMs, 0)} ms). ` +
+    this.summary =
+      `Learned from ${grouped(run.triplets)} triplets in ${grouped(run.maps)} sampled maps (${densityText(run.density)}: ${fixed(100 * run.mapOccupancy, 1)}% occupied), ` +
+      `seed ${run.seed}, ${grouped(run.epochs)} epochs of SGD: ${grouped(run.trainMs)} ms ` +
+      `(sampling ${grouped(run.sampleMs)} ms, fitting ${grouped(run.fitMs)} ms). ` +
       `Mean free evidence along the axis: ${fixed(learned.freeEvidenceShort, 2)} in front of a ${fixed(learned.shortReading, 0)} m reading, ` +
       `${fixed(learned.freeEvidenceMaxRange, 2)} along a max-range reading.`;
+    this.status.textContent = this.summary;
     this.requestDraw();
   }
 
+  /**
+   * Retrains with the seed in the seed box, read as the `seed` attribute
+   * is: a box left empty or holding anything but a whole number is refused
+   * by name, beside the summary of the model that stays.
+   */
   retrain() {
     const text = this.seedInput.value;
-    this.seed = text.trim() === '' ? NaN : Number(text);
-    this.status.textContent = `Training with seed ${text}…`;
+    let seed;
+    try {
+      seed = InverseWorkbenchElement.attributeSpec.seed.type.parse(text, 'seed');
+    } catch (e) {
+      this.refuse(`Seed box: ${e.message}`);
+      return;
+    }
+    this.seed = seed;
+    this.status.textContent = `Training with seed ${seed}…`;
     this.later(() => this.train(this.seed));
   }
 

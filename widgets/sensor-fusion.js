@@ -15,7 +15,7 @@ import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import {
   el, slider, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, pacer, showPlaying,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying,
 } from './lib/ui.js';
 import { exportButton, exportMap, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
@@ -34,8 +34,8 @@ const FOOTPRINT_COLOR = COLORS.series[3];
 const ROBOT_COLOR = COLORS.series[1];
 
 const PANES = [
-  { key: 'sonar', title: 'Sonar grid', describe: (r) => `${r.sonarCount} cones of ${fixed(r.sonarConeDegrees, 0)}°, at table height` },
-  { key: 'lidar', title: 'LiDAR grid', describe: (r) => `${r.lidarBeams} beams, at shin height` },
+  { key: 'sonar', title: 'Sonar grid', describe: (r) => `${grouped(r.sonarCount)} cones of ${fixed(r.sonarConeDegrees, 0)}°, at table height` },
+  { key: 'lidar', title: 'LiDAR grid', describe: (r) => `${grouped(r.lidarBeams)} beams, at shin height` },
   { key: 'max', title: 'Max fusion', describe: () => 'p = max(p_sonar, p_lidar), eq. 9.9' },
   { key: 'sum', title: 'Summation', describe: () => 'one grid, both streams added' },
 ];
@@ -129,7 +129,7 @@ class SensorFusionElement extends HTMLElement {
       min: 0, max: this.steps.length - 1, step: 1,
       // At the core's beam count once it has loaded (syncSlider).
       value: this.beams === undefined ? 0 : this.steps.indexOf(this.beams),
-      format: (i) => String(this.steps[i] ?? ''),
+      format: (i) => (this.steps[i] === undefined ? '' : grouped(this.steps[i])),
       onInput: (i) => this.requestBeams(this.steps[i]),
       name: 'lidar-beams',
     });
@@ -207,8 +207,15 @@ class SensorFusionElement extends HTMLElement {
       clearError(this);
     } catch (e) {
       showError(this, e);
+      // With no scene there is nothing to wait for: say so where the
+      // status would say how far the lap has got.
+      if (!this.sim) {
+        this.status.textContent = 'No maps: the scene was refused (see the message above).';
+        this.dataset.state = 'refused';
+      }
       return;
     }
+    this.dataset.state = 'ready';
     this.syncSlider();
     this.layout();
   }
@@ -305,7 +312,7 @@ class SensorFusionElement extends HTMLElement {
         p.mean.textContent = fixed(mean, 3);
         p.mean.dataset.value = String(mean);
         p.canvas.setAttribute('aria-label',
-          `${p.title} (${p.describe(r)}) after ${r.step} of ${r.steps} scans: mean occupancy over the table’s footprint ${fixed(mean, 3)}. ` +
+          `${p.title} (${p.describe(r)}) after ${grouped(r.step)} of ${grouped(r.steps)} scans: mean occupancy over the table’s footprint ${fixed(mean, 3)}. ` +
           'Gray unknown, white free, black occupied; the dashed outline is the table top.');
       }
     } catch (e) {
@@ -324,7 +331,7 @@ class SensorFusionElement extends HTMLElement {
 
   statusText(r) {
     this.status.textContent =
-      `Scan ${r.step} of ${r.steps}. Mean occupancy over the table’s ${r.footprintCells} cells: ` +
+      `Scan ${grouped(r.step)} of ${grouped(r.steps)}. Mean occupancy over the table’s ${grouped(r.footprintCells)} cells: ` +
       `max fusion ${fixed(r.footprint.max, 3)}, summation ${fixed(r.footprint.sum, 3)} ` +
       `(sonar alone ${fixed(r.footprint.sonar, 3)}, LiDAR alone ${fixed(r.footprint.lidar, 3)}).`;
   }

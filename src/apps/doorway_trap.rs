@@ -195,6 +195,18 @@ pub struct TrapReport {
     pub scans: usize,
 }
 
+/// What the MAP map says of a cell: occupied, free, or undecided where no
+/// reading's cone reached it and the climb left it free (drawn gray,
+/// exported unknown): no term of Table 9.3's objective but the prior
+/// depends on such a cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MapCell {
+    Occupied,
+    Free,
+    Undecided,
+}
+
 /// One cell as the hover readout shows it in both halves: the swept cell,
 /// the MAP cell, its objective change if flipped, and the cones through it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -202,6 +214,8 @@ pub struct DoorwayCell {
     #[serde(flatten)]
     pub cell: CellReadout,
     pub occupied: bool,
+    /// The MAP map's answer for the cell, as the pane draws it.
+    pub map: MapCell,
     pub sensitivity: f64,
     pub beams: usize,
 }
@@ -316,9 +330,16 @@ impl DoorwayTrapSession {
         let i = g.index(ix, iy);
         let cell = readout_at_cell(self.sweep.grid(), ix, iy)
             .ok_or_else(|| invalid("cell", format!("({ix}, {iy})"), "a cell of the map"))?;
+        let occupied = self.search.occupied()[i];
         Ok(DoorwayCell {
             cell,
-            occupied: self.search.occupied()[i],
+            occupied,
+            // As the pane draws it and the export writes it.
+            map: match (occupied, self.reached[i]) {
+                (true, _) => MapCell::Occupied,
+                (false, true) => MapCell::Free,
+                (false, false) => MapCell::Undecided,
+            },
             sensitivity: self.search.sensitivity()[i],
             beams: self.search.beams_through(i),
         })
@@ -462,6 +483,24 @@ mod tests {
             .count();
         assert_eq!(gray, unknown, "the pane and its export agree");
         assert!(gray > 0, "the room has corners no cone reaches");
+        // The hover readout says the same of every cell: undecided exactly
+        // where the pane is gray.
+        let view = view(s.scene()).unwrap();
+        let mut undecided = 0;
+        for row in 0..view.height {
+            for col in 0..view.width {
+                let c = s.cell_info(col, row).unwrap();
+                let k = row * view.width + col;
+                let drawn_gray = px[4 * k] == UNKNOWN_GRAY;
+                assert_eq!(c.map == MapCell::Undecided, drawn_gray, "({col}, {row})");
+                assert_eq!(c.map == MapCell::Occupied, c.occupied);
+                if c.map == MapCell::Undecided {
+                    assert_eq!(c.beams, 0);
+                }
+                undecided += usize::from(c.map == MapCell::Undecided);
+            }
+        }
+        assert_eq!(undecided, s.unreached_cells());
     }
 
     #[test]

@@ -38,7 +38,8 @@ pub struct CellFilterParams {
     pub p_free: f64,
     /// The prior `p(m)`.
     pub prior: f64,
-    /// Saturation `|l| <= clamp`.
+    /// Saturation `|l| <= clamp`; `f64::INFINITY` for none (the drift of
+    /// a forgotten prior, which a clamp would cut short, in full).
     pub clamp: f64,
 }
 
@@ -72,7 +73,14 @@ impl CellFilterParams {
         error::open_probability("p_occ", self.p_occ)?;
         error::open_probability("p_free", self.p_free)?;
         error::open_probability("prior", self.prior)?;
-        error::positive("clamp", self.clamp)?;
+        // NaN compares false: refused with zero and the negatives.
+        if !(self.clamp > 0.0) {
+            return Err(invalid(
+                "clamp",
+                error::show(self.clamp),
+                "a number greater than 0, or infinity for no clamp",
+            ));
+        }
         Ok(())
     }
 }

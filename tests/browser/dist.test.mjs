@@ -6,6 +6,9 @@
 // course page on another origin (with and without the
 // Access-Control-Allow-Origin header the README asks of such a host). Every
 // one of the five widgets draws from the core, with no console errors.
+// `npm pack --json` prints its JSON alone (the prepack build's progress
+// goes to standard error), and the bundle's Custom Elements Manifest says
+// exactly what the widgets declare.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
@@ -15,11 +18,13 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { canvasColours, openPage, SCREENSHOTS, serveForeign, shutdown } from './harness.mjs';
+import { manifestAttribute } from '../../scripts/lib/custom-elements.mjs';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const dist = path.join(root, 'dist');
 let tmp; // this file's scratch directory
 let tarball; // the packed package's path
+let packed; // `npm pack --json`'s { status, stdout, stderr }
 const servers = [];
 
 /** What each widget shows once it has drawn, as a course page embeds it. */
@@ -197,7 +202,8 @@ before(() => {
   assert.equal(run.status, 0, `npm run dist: ${run.stdout}${run.stderr}`);
   const pack = spawnSync('npm', ['pack', '--json', '--pack-destination', tmp], { cwd: root, encoding: 'utf8' });
   assert.equal(pack.status, 0, `npm pack: ${pack.stderr}`);
-  // prepack's own output goes to stdout ahead of the JSON.
+  packed = pack;
+  // Read leniently here; the test below holds standard output to JSON alone.
   const info = JSON.parse(pack.stdout.slice(pack.stdout.indexOf('[')))[0];
   tarball = path.join(tmp, info.filename);
   const unpacked = path.join(tmp, 'unpacked');
@@ -210,6 +216,71 @@ after(async () => {
   await shutdown();
   for (const child of servers) child.kill();
   if (tmp) fs.rmSync(tmp, { recursive: true, force: true });
+});
+
+test('npm pack --json prints only JSON on standard output; the prepack build’s progress goes to standard error', () => {
+  const info = JSON.parse(packed.stdout);
+  assert.ok(Array.isArray(info) && info.length === 1, packed.stdout.slice(0, 200));
+  assert.equal(info[0].filename, path.basename(tarball));
+  assert.ok(info[0].files.some((f) => f.path === 'dist/custom-elements.json'), 'the manifest is packed');
+  assert.match(packed.stderr, /dist: wrote dist\//, 'the progress line is on standard error');
+  // The same for the script on its own: nothing on standard output.
+  const run = spawnSync('node', ['scripts/dist.mjs', '--out', path.join(tmp, 'quiet')], { cwd: root, encoding: 'utf8' });
+  assert.equal(run.status, 0, run.stderr);
+  assert.equal(run.stdout, '');
+  assert.match(run.stderr, /^dist: wrote /m);
+});
+
+test('dist/ and the package carry a Custom Elements Manifest that says what each widget declares', async () => {
+  const read = (dir) => JSON.parse(fs.readFileSync(path.join(dir, 'custom-elements.json'), 'utf8'));
+  const manifest = read(dist);
+  assert.deepEqual(read(path.join(tmp, 'unpacked/package/dist')), manifest, 'the package holds the same manifest');
+  assert.ok(checkBundle(dist).files.includes('custom-elements.json'), 'listed in occgrid-bundle.json');
+  assert.equal(manifest.schemaVersion, '2.1.0');
+  const declared = manifest.modules.flatMap((m) => m.declarations.map((d) => ({ ...d, module: m.path, exports: m.exports })));
+  // Each module path is a file of the bundle that defines the element.
+  for (const d of declared) {
+    assert.ok(fs.existsSync(path.join(dist, d.module)), d.module);
+    assert.deepEqual(d.exports.find((e) => e.name === d.tagName)?.declaration, { name: d.name, module: d.module });
+  }
+
+  // The widgets' own declarations, as the page holds them once the core has
+  // given its bounds and defaults (as each widget resolves them).
+  const origin = await python(dist);
+  const { page: p, errors, close } = await openPage(`${origin}/index.html`);
+  try {
+    const specs = await p.evaluate(async () => {
+      const { loadCore } = await import(new URL('widgets/lib/core.js', location.href).href);
+      const { core } = await loadCore();
+      const k = core.constants();
+      const tags = [...document.querySelectorAll('*')].map((e) => e.localName).filter((t, i, all) => t.startsWith('occgrid-') && all.indexOf(t) === i);
+      return Object.fromEntries(tags.map((tag) => {
+        const cls = customElements.get(tag);
+        return [tag, {
+          name: cls.name,
+          attributes: Object.entries(cls.attributeSpec).map(([name, s]) => {
+            const r = s.core ? { ...s, ...s.core(k) } : s;
+            return { name, doc: r.doc, default: r.default, describe: r.type.describe };
+          }),
+        }];
+      }));
+    });
+    assert.deepEqual(declared.map((d) => d.tagName).sort(), Object.keys(specs).sort(), 'one declaration per element of the page');
+    for (const d of declared) {
+      const spec = specs[d.tagName];
+      assert.equal(d.name, spec.name, d.tagName);
+      const want = spec.attributes.map((a) => manifestAttribute(a.name, { doc: a.doc, default: a.default, type: { describe: a.describe } }));
+      assert.deepEqual(d.attributes, want, `${d.tagName}'s attributes`);
+    }
+    // A bad value is refused with the words the manifest gives.
+    const clamp = declared.find((d) => d.tagName === 'occgrid-cell-filter').attributes.find((a) => a.name === 'clamp');
+    await p.locator('occgrid-cell-filter').evaluate((el) => el.setAttribute('clamp', 'tight'));
+    const alert = await p.locator('occgrid-cell-filter .occgrid-attribute-error').textContent();
+    assert.ok(clamp.description.endsWith(`Expected: ${/\(expected (.*)\)$/.exec(alert)[1]}.`), `${clamp.description} | ${alert}`);
+    assert.equal(errors.length, 1, errors.join('\n'));
+  } finally {
+    await close();
+  }
 });
 
 test('npm run dist writes a self-contained bundle whose core is named by its content', () => {

@@ -103,7 +103,7 @@ test('readings past the budget are refused naming the attribute; the table stays
   const w = page.locator('occgrid-cell-filter');
   const alert = w.locator(':scope > .occgrid-attribute-error');
   await alert.waitFor();
-  assert.match(await alert.textContent(), /invalid readings: 15000 readings \(expected at most 1000 letters o for occupied and f for free/);
+  assert.match(await alert.textContent(), /invalid readings: 15,000 readings \(expected at most 1,000 letters o for occupied and f for free/);
   await w.locator('.cell-filter-table tbody tr').first().waitFor();
   // The last good value (the default) stands: the worked example.
   assert.equal(await w.locator('.cell-filter-table tbody tr').count(), 4);
@@ -118,13 +118,13 @@ test('readings past the budget are refused naming the attribute; the table stays
   await w2.locator('.cell-filter-table tbody tr.cell-filter-hidden').waitFor();
   assert.equal(await w2.locator('.cell-filter-table tbody tr').count(), 52);
   assert.match(await w2.locator('.cell-filter-table tbody tr.cell-filter-hidden').textContent(), /950 earlier readings/);
-  assert.match(await w2.locator('.cell-filter-table tbody tr').last().textContent(), /^1000free/);
+  assert.match(await w2.locator('.cell-filter-table tbody tr').last().textContent(), /^1,000free/);
   assert.equal(await w2.evaluate((el) => el.chart.plot.data[0].length), 1001);
   // At the cap the reading buttons are disabled and a notice says why;
   // the readings stay as they are.
   assert.equal(await w2.getByRole('button', { name: 'Occupied reading' }).isDisabled(), true);
-  assert.match(await w2.locator('.cell-filter-notice-full').textContent(), /at most 1000 readings/);
-  assert.match(await w2.locator('.cell-filter-table tbody tr').last().textContent(), /^1000free/);
+  assert.match(await w2.locator('.cell-filter-notice-full').textContent(), /at most 1,000 readings/);
+  assert.match(await w2.locator('.cell-filter-table tbody tr').last().textContent(), /^1,000free/);
   await screenshot(w2, 'cell-filter-readings-at-budget');
   assert.deepEqual(e2, []);
   await c2();

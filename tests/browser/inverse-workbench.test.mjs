@@ -2,8 +2,8 @@
 // learned inverse model in the page, draws both models over one beam's
 // neighbourhood and along its axis, and the "max-range reading" button
 // visibly weakens the learned model's free space; retraining with another
-// seed gives another model, and a bad seed is reported without losing the
-// current one.
+// seed gives another model, and a bad seed is reported beside the summary
+// of the current one, which stays.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { canvasColours, openPage, screenshot, shutdown } from './harness.mjs';
@@ -72,7 +72,7 @@ test('both models are drawn and the max-range button weakens the learned free sp
   await close();
 });
 
-test('retraining with another seed gives another model; a bad seed keeps the current one', async () => {
+test('retraining with another seed gives another model; a bad seed keeps the current one, and its summary', async () => {
   const { page, errors, close } = await openPage('/');
   const w = page.locator(SELECTOR);
   await w.scrollIntoViewIfNeeded();
@@ -87,22 +87,44 @@ test('retraining with another seed gives another model; a bad seed keeps the cur
   assert.notEqual(after12.learnedL0, before.learnedL0);
   assert.ok(Number(after12.learnedL0) < 0);
   assert.match(after12.status, /seed 12/);
-  const ms = Number(after12.status.match(/: (\d+) ms/)[1]);
+  const ms = Number(after12.status.match(/: ([\d,]+) ms/)[1].replaceAll(',', ''));
   assert.ok(ms < 1000, `training took ${ms} ms`);
 
-  await seed.fill('-3');
-  await w.getByRole('button', { name: 'Retrain' }).click();
-  const box = w.locator('.occgrid-error');
-  await box.waitFor();
-  assert.match(await box.textContent(), /invalid seed: -3/);
-  const kept = await state(w);
-  assert.equal(kept.seed, '12');
-  assert.equal(kept.learnedL0, after12.learnedL0);
-  assert.match(kept.status, /Kept the model trained with seed 12/);
+  // A refused seed is said beside the summary of the model that stays,
+  // naming the field and what it expects; the summary itself stays.
+  const refusal = w.locator('.inverse-workbench-refusal');
+  for (const [text, shown] of [['-3', '"-3"'], ['', '""']]) {
+    await seed.fill(text);
+    await w.getByRole('button', { name: 'Retrain' }).click();
+    await page.waitForFunction(([s, v]) => document.querySelector(`${s} .inverse-workbench-refusal`)?.textContent.includes(`invalid seed: ${v}`), [SELECTOR, shown]);
+    assert.equal(await refusal.getAttribute('role'), 'alert');
+    assert.ok(await refusal.isVisible(), 'the refusal is on screen');
+    const said = await refusal.textContent();
+    assert.match(said, /^Seed box: invalid seed: .* \(expected a whole number from 0 to 9007199254740991\); the model trained with seed 12 stays\.$/);
+    assert.doesNotMatch(said, /NaN/);
+    const kept = await state(w);
+    assert.equal(kept.seed, '12');
+    assert.equal(kept.learnedL0, after12.learnedL0);
+    assert.equal(kept.status, after12.status, 'the training summary stays as it was');
+  }
   await screenshot(w, 'inverse-workbench-bad-seed');
 
-  // The only console error is the widget's own report of the bad seed.
-  assert.deepEqual(errors, ['occgrid-inverse-workbench: invalid seed: -3 (expected a whole number from 0 to 9007199254740991)']);
+  // A good seed clears the refusal; the next bad one is said again.
+  await seed.fill('9');
+  await w.getByRole('button', { name: 'Retrain' }).click();
+  await until(page, 'seed', '9');
+  assert.equal(await refusal.isVisible(), false);
+  await seed.fill('1.5');
+  await w.getByRole('button', { name: 'Retrain' }).click();
+  await page.waitForFunction((s) => document.querySelector(`${s} .inverse-workbench-refusal`)?.textContent.includes('invalid seed: "1.5"'), SELECTOR);
+  assert.ok(await refusal.isVisible());
+
+  // The only console errors are the widget's own reports of the bad seeds.
+  assert.deepEqual(errors, [
+    'occgrid-inverse-workbench: Seed box: invalid seed: "-3" (expected a whole number from 0 to 9007199254740991)',
+    'occgrid-inverse-workbench: Seed box: invalid seed: "" (expected a whole number from 0 to 9007199254740991)',
+    'occgrid-inverse-workbench: Seed box: invalid seed: "1.5" (expected a whole number from 0 to 9007199254740991)',
+  ]);
   await close();
 });
 

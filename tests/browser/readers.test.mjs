@@ -158,9 +158,10 @@ test('the cell filter says when the cell reaches the clamp, labels p and warns o
   assert.equal(rows, 17, 'the prior row and 16 readings');
   const notice = w.locator('.cell-filter-notice-clamp');
   assert.equal(await notice.count(), 1, 'the clamp is announced');
-  assert.match(await notice.textContent(), /reading 15 on, l is held at the clamp of ±12\.0 \(l = 12\.0000, p = 1\.0000\)/);
+  // p = 1 - 6.1e-6: four decimals would print 1.0000.
+  assert.match(await notice.textContent(), /reading 15 on, l is held at the clamp of ±12\.0 \(l = 12\.0000, p = 1 − 6\.1 × 10⁻⁶\)/);
   const meter = w.getByRole('meter');
-  assert.equal(await meter.getAttribute('aria-valuetext'), 'p = 1.0000');
+  assert.equal(await meter.getAttribute('aria-valuetext'), 'p = 1 − 6.1 × 10⁻⁶');
   assert.match(await meter.getAttribute('aria-label'), /probability that the cell is occupied/);
 
 

@@ -1,17 +1,20 @@
 // The two-cell table of <occgrid-doorway-trap> (Probabilistic Robotics §9.4,
 // docs/ARCHITECTURE.md, "Sessions and panes"): the exact joint posterior of two cells inside one sonar cone
 // against the product of their marginals, with the cells movable (drag, or
-// the arrow keys) and the reading and the prior adjustable. The core
-// (`jointPosterior`, `chapterTwoCellQuery`) computes every number; this
-// module lays out the diagram and the table, draws and forwards input.
+// the arrow keys, as the diagram says under it) and the reading and the
+// prior adjustable; below the table, the joint entropy against the sum of
+// the marginal entropies a factored map states, and the gap between them.
+// The core (`jointPosterior`, `chapterTwoCellQuery`) computes every number;
+// this module lays out the diagram and the table, draws and forwards input.
 //
 // Usage: `const t = new TwoCellTable(host, { reading, prior })`, append
 // `t.root` to the widget, then `t.start(core, values)` once the core is
 // loaded and again whenever the attributes `arrangement`, `cells`,
 // `reading` or `prior` change; `t.linkState()` gives them back as they are
-// now. Errors are shown in `host`.
+// now. The table's own errors are shown in its own box, inside `t.root`,
+// so that clearing them never clears a refusal the widget shows above it.
 import { COLORS } from './chart.js';
-import { el, slider, button, showError, clearError, hiDpiCanvas, fixed } from './ui.js';
+import { el, slider, button, hiDpiCanvas, fixed } from './ui.js';
 import { invalidValue } from './attributes.js';
 import { drawCones } from './layers.js';
 
@@ -112,7 +115,10 @@ export class TwoCellTable {
         el('th', { scope: 'col' }, 'factored p_A · p_B'))),
       this.jointBody);
     this.marginalsOut = el('p', { class: 'occgrid-readout doorway-trap-marginals' });
+    this.entropyOut = el('p', { class: 'occgrid-readout doorway-trap-entropy' });
     this.trapOut = el('p', { class: 'occgrid-readout doorway-trap-verdict', 'aria-live': 'polite' });
+    // Styled as an error (.occgrid-error) only while it holds one.
+    this.errorBox = el('p', { class: 'doorway-trap-two-cell-error', role: 'alert', hidden: true });
 
     this.diagram.addEventListener('pointerdown', (ev) => this.dragStart(ev));
     this.diagram.addEventListener('pointermove', (ev) => this.dragMove(ev));
@@ -124,15 +130,19 @@ export class TwoCellTable {
 
     return el('section', { class: 'doorway-trap-two-cell', 'aria-label': 'Two cells, one cone' },
       el('h3', {}, 'Two cells, one cone'),
+      this.errorBox,
       el('div', { class: 'doorway-trap-two-cell-layout' },
         el('div', { class: 'doorway-trap-diagram-box' },
           this.diagram,
+          el('p', { class: 'occgrid-caption doorway-trap-drag-hint' },
+            'Drag A or B to move it (mouse or touch), or click the diagram and use the arrow keys: ',
+            '← → in range, ↑ ↓ in bearing; Space switches between A and B.'),
           el('div', { class: 'occgrid-buttons', role: 'group', 'aria-label': 'arrangement of the two cells', dataset: { controls: 'arrangements' } }, this.arrangementButtons),
           this.readingSlider.root, this.priorSlider.root),
         el('div', { class: 'doorway-trap-table-box' },
           // Scrolls sideways in a narrow column; focusable so the keyboard can scroll it.
           el('div', { class: 'occgrid-scroll', tabindex: 0, role: 'region', 'aria-label': 'Joint posterior table' }, this.jointTable),
-          this.marginalsOut, this.trapOut,
+          this.marginalsOut, this.entropyOut, this.trapOut,
           el('p', { class: 'occgrid-caption' },
             'Both cells start at the prior. One echo from inside the cone says that something in it is occupied, not which cell: ',
             'the exact posterior puts almost no mass on “both free”, while the factored map, which keeps only p_A and p_B, ',
@@ -147,7 +157,7 @@ export class TwoCellTable {
     try {
       this.query = this.core.chapterTwoCellQuery();
     } catch (e) {
-      showError(this.host, e);
+      this.showError(e);
       return;
     }
     this.query.readings = [v.reading];
@@ -164,7 +174,7 @@ export class TwoCellTable {
     try {
       presets = Object.fromEntries(PRESETS.map((k) => [k, this.core.twoCellPreset(k).cells]));
     } catch (e) {
-      showError(this.host, e);
+      this.showError(e);
       return;
     }
     const same = (a, b) => a.every((c, j) => Math.abs(c.range - b[j].range) < 1e-9 && Math.abs(c.bearing_deg - b[j].bearing_deg) < 1e-9);
@@ -183,7 +193,7 @@ export class TwoCellTable {
       cells = this.core.twoCellPreset(key).cells;
       if (!this.query) this.query = this.core.chapterTwoCellQuery();
     } catch (e) {
-      showError(this.host, e);
+      this.showError(e);
       return;
     }
     this.query.cells = cells.map((c) => ({ ...c }));
@@ -192,13 +202,28 @@ export class TwoCellTable {
     this.updateJoint();
   }
 
+  /** Shows a refusal of the table's in its own box (and in the console). */
+  showError(error) {
+    const message = error && error.message ? error.message : String(error);
+    console.error(`${this.host.localName}: two-cell table: ${message}`);
+    this.errorBox.textContent = message;
+    this.errorBox.classList.add('occgrid-error');
+    this.errorBox.hidden = false;
+  }
+
+  clearError() {
+    this.errorBox.hidden = true;
+    this.errorBox.classList.remove('occgrid-error');
+    this.errorBox.textContent = '';
+  }
+
   updateJoint() {
     let r;
     try {
       r = this.core.jointPosterior(this.query);
-      clearError(this.host);
+      this.clearError();
     } catch (e) {
-      showError(this.host, e);
+      this.showError(e);
       return;
     }
     this.jointReport = r;
@@ -209,9 +234,15 @@ export class TwoCellTable {
     const [pa, pb] = r.marginals;
     this.marginalsOut.replaceChildren(
       'Marginals: p_A = ', el('output', { class: 'doorway-trap-pa', dataset: { value: String(pa) } }, fixed(pa, 4)),
-      ', p_B = ', el('output', { class: 'doorway-trap-pb', dataset: { value: String(pb) } }, fixed(pb, 4)),
-      ` · shared information ${fixed(r.mutualInformationBits, 3)} bits`,
-      el('span', { class: 'occgrid-caption' }, ' (how much knowing one cell tells about the other: 0 when the factored map loses nothing).'));
+      ', p_B = ', el('output', { class: 'doorway-trap-pb', dataset: { value: String(pb) } }, fixed(pb, 4)), '.');
+    const bitsOut = (cls, x) => el('strong', { class: cls, dataset: { value: String(x) } }, fixed(x, 3));
+    this.entropyOut.replaceChildren(
+      'Joint entropy H(m_A, m_B) = ', bitsOut('doorway-trap-joint-entropy', r.jointEntropyBits), ' bits', el('br'),
+      'Sum of the marginal entropies H(m_A) + H(m_B) = ', bitsOut('doorway-trap-marginal-entropy', r.marginalEntropySumBits), ' bits', el('br'),
+      'The gap, shared information = ', bitsOut('doorway-trap-shared-information', r.sharedInformationBits), ' bits',
+      el('span', { class: 'occgrid-caption' }, ' — the factored map states the sum, an upper bound on the joint’s entropy; ',
+        'the gap is what knowing one cell tells about the other (their mutual information), never negative. ',
+        'The sum counts those bits twice, so an explorer that scores information gain on it expects to learn more than there is to learn.'));
     this.trapOut.replaceChildren(
       '“Both free”: truly ', el('strong', { class: 'doorway-trap-free-true', dataset: { value: String(r.allFreeTrue) } }, fixed(r.allFreeTrue, 4)),
       ', factored ', el('strong', { class: 'doorway-trap-free-factored', dataset: { value: String(r.allFreeFactored) } }, fixed(r.allFreeFactored, 4)),

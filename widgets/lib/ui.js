@@ -251,3 +251,13 @@ export function fixed(x, d = 4) {
   const s = x.toFixed(d);
   return s === `-${(0).toFixed(d)}` ? (0).toFixed(d) : s;
 }
+
+/**
+ * Formats a count or a measure with thousands separators and `d` decimals
+ * ("2,000 cells", "11,389 ms"): the one way the widgets write numbers of
+ * four digits and more.
+ */
+export function grouped(x, d = 0) {
+  if (!Number.isFinite(x)) return String(x);
+  return x.toLocaleString('en-US', { minimumFractionDigits: d, maximumFractionDigits: d });
+}
