@@ -7,7 +7,7 @@
 //! and every widget object must stay usable afterwards, unchanged by the
 //! call it refused.
 
-use js_sys::{Array, Error, Object, Reflect, JSON};
+use js_sys::{Array, Object};
 use occgrid::bindings::bench::LaserLog;
 use occgrid::bindings::cell_filter::run_cell_filter;
 use occgrid::bindings::doorway_trap::DoorwayTrap;
@@ -16,8 +16,11 @@ use occgrid::bindings::map_weaver::MapWeaver;
 use occgrid::bindings::real_log::{zip_map_pair, RealLogSession};
 use occgrid::bindings::sensor_fusion::SensorFusion;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_posterior};
-use wasm_bindgen::{JsCast, JsError, JsValue};
+use wasm_bindgen::{JsError, JsValue};
 use wasm_bindgen_test::*;
+
+mod wasm_support;
+use wasm_support::*;
 
 /// The Intel log as shipped (read at build time from the shared datasets,
 /// not copied into the repository).
@@ -25,70 +28,6 @@ const INTEL_GZ: &[u8] = include_bytes!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../shared/datasets/intel-corrected.log.gz"
 ));
-
-const FLASER: &str = "FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
-
-/// The message of the JavaScript `Error` a refused call throws.
-fn message(e: JsError) -> String {
-    let value: JsValue = e.into();
-    let error = value
-        .dyn_into::<Error>()
-        .expect("a refused call throws a JavaScript Error");
-    String::from(error.message())
-}
-
-/// Asserts that `result` is a refusal whose message names every word.
-#[track_caller]
-fn refused<T>(result: Result<T, JsError>, words: &[&str]) -> String {
-    let Err(e) = result else {
-        panic!("expected an error naming {words:?}, the call succeeded");
-    };
-    let text = message(e);
-    for w in words {
-        assert!(text.contains(w), "{text:?} should name {w:?}");
-    }
-    text
-}
-
-/// A JavaScript number: every number parameter of the bindings takes a
-/// `JsValue` and reads it without coercion.
-fn num(v: f64) -> JsValue {
-    JsValue::from_f64(v)
-}
-
-fn json(text: &str) -> JsValue {
-    JSON::parse(text).expect("valid JSON in the test")
-}
-
-/// `value` with `path` (dot-separated keys) set to `v`, creating objects
-/// on the way: how a NaN or an infinity gets into a settings object (JSON
-/// has neither).
-fn with(value: &JsValue, path: &str, v: JsValue) -> JsValue {
-    let keys: Vec<&str> = path.split('.').collect();
-    let mut node = value.clone();
-    for (k, key) in keys.iter().enumerate() {
-        let key = JsValue::from_str(key);
-        if k + 1 == keys.len() {
-            Reflect::set(&node, &key, &v).unwrap();
-        } else {
-            let mut next = Reflect::get(&node, &key).unwrap();
-            if !next.is_object() {
-                next = Object::new().into();
-                Reflect::set(&node, &key, &next).unwrap();
-            }
-            node = next;
-        }
-    }
-    value.clone()
-}
-
-fn stringify(v: &JsValue) -> String {
-    JSON::stringify(v).unwrap().as_string().unwrap()
-}
-
-fn get(v: &JsValue, key: &str) -> JsValue {
-    Reflect::get(v, &JsValue::from_str(key)).unwrap()
-}
 
 const BAD_NUMBERS: [f64; 6] = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 0.0, 1e39];
 

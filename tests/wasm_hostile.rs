@@ -7,7 +7,7 @@
 //! with an `Error` naming the parameter; nothing JavaScript throws unwinds
 //! through the core, and every object stays usable.
 
-use js_sys::{Array, Error, Function, Object, Reflect, Uint8Array, JSON};
+use js_sys::{Array, Function, Object, Reflect, Uint8Array};
 use occgrid::bindings::bench::LaserLog;
 use occgrid::bindings::cell_filter::{run_cell_filter, run_cell_filter_js};
 use occgrid::bindings::doorway_trap::DoorwayTrap;
@@ -15,66 +15,11 @@ use occgrid::bindings::map_weaver::MapWeaver;
 use occgrid::bindings::real_log::{zip_map_pair, RealLogSession};
 use occgrid::bindings::sensor_fusion::SensorFusion;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_answer, joint_posterior};
-use wasm_bindgen::{JsCast, JsError, JsValue};
+use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
-const FLASER: &str = "FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
-
-/// The message of the JavaScript `Error` a refused call throws.
-fn message(e: JsError) -> String {
-    let value: JsValue = e.into();
-    let error = value
-        .dyn_into::<Error>()
-        .expect("a refused call throws a JavaScript Error");
-    String::from(error.message())
-}
-
-/// Asserts that `result` is a refusal whose message names every word.
-#[track_caller]
-fn refused<T>(result: Result<T, JsError>, words: &[&str]) -> String {
-    let Err(e) = result else {
-        panic!("expected an error naming {words:?}, the call succeeded");
-    };
-    let text = message(e);
-    for w in words {
-        assert!(text.contains(w), "{text:?} should name {w:?}");
-    }
-    text
-}
-
-fn num(v: f64) -> JsValue {
-    JsValue::from_f64(v)
-}
-
-fn json(text: &str) -> JsValue {
-    JSON::parse(text).expect("valid JSON in the test")
-}
-
-fn stringify(v: &JsValue) -> String {
-    JSON::stringify(v).unwrap().as_string().unwrap()
-}
-
-fn get(v: &JsValue, key: &str) -> JsValue {
-    Reflect::get(v, &JsValue::from_str(key)).unwrap()
-}
-
-/// `{ key: value }`.
-fn object_with(key: &str, value: &JsValue) -> JsValue {
-    let o = Object::new();
-    Reflect::set(&o, &JsValue::from_str(key), value).unwrap();
-    o.into()
-}
-
-/// A Proxy that has been revoked: `Array.isArray`, `typeof` aside, and
-/// every other question put to it throw a `TypeError`.
-fn revoked() -> JsValue {
-    let pair = js_sys::Proxy::revocable(&Object::new(), &Object::new());
-    get(&pair, "revoke")
-        .unchecked_into::<Function>()
-        .call0(&JsValue::UNDEFINED)
-        .unwrap();
-    get(&pair, "proxy")
-}
+mod wasm_support;
+use wasm_support::*;
 
 /// A fresh run small enough to build in milliseconds.
 fn small_weaver() -> MapWeaver {
