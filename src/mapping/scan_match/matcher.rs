@@ -22,7 +22,7 @@
 //! Nothing else depends on the log's length or the map's size.
 
 use super::points::ScanPoints;
-use super::refine::{gauss_newton, AnchorWeights, GridField, OccupancyField, Refined};
+use super::refine::{gauss_newton, AnchorWeights, GridField, OccupancyField};
 use super::search::{correlative_search, reach_box, PlacedPoint, SearchOutcome};
 use super::window::Pyramid;
 use super::{MatchSettings, Prediction};
@@ -181,6 +181,12 @@ impl ScanMatcher {
         let margin = (s.position_steps(res * coarse as f64) + 2) as f64 * res * coarse as f64;
         let [x0, y0, x1, y1] = reach_box(self.points.points(), predicted, &s);
         let [ox, oy] = g.origin();
+        let (ex, ey) = (ox + g.width() as f64 * res, oy + g.height() as f64 * res);
+        // A scan that cannot reach the map has nothing to match (and a
+        // pose thousands of kilometres away no cell indices).
+        if !(x1 + margin > ox && x0 - margin < ex && y1 + margin > oy && y0 - margin < ey) {
+            return report;
+        }
         let cell = |v: f64, o: f64| ((v - o) / res).floor() as i64;
         let bounds = [
             cell(x0 - margin, ox),
@@ -205,25 +211,35 @@ impl ScanMatcher {
             &mut self.found,
         );
         report.candidates = self.found.candidates;
-        // Each hypothesis refined down to the map; the best there (its
-        // points' evidence against its prior) wins, if it beats the
-        // prediction's.
-        let n = self.points.len() as f64;
-        let mut best: Option<(f64, Refined, f64)> = None;
+        // Each hypothesis refined on the coarse levels; the best on the
+        // finest of them (its points' evidence against its prior) is
+        // refined on the map itself, and kept if it beats the prediction
+        // there.
+        let mut best: Option<(f64, Pose)> = None;
         for i in 0..self.found.best.len() {
             let start = self.found.best[i].pose;
-            let (refined, iterations) = self.refine(grid, start);
+            let (pose, evidence, iterations) = self.refine_coarse(start);
             report.iterations += iterations;
-            let pose = refined.pose;
-            let score = mean_occupancy(&fine, self.points.points(), &pose);
-            let weighted = n * score + prediction.log_prior(&pose);
-            if best.as_ref().map_or(true, |b| weighted > b.0) {
-                best = Some((weighted, refined, score));
+            let weighted = evidence + prediction.log_prior(&pose);
+            if best.map_or(true, |b| weighted > b.0) {
+                best = Some((weighted, pose));
             }
         }
-        let Some((weighted, refined, score)) = best else {
+        let Some((_, coarse_pose)) = best else {
             return report;
         };
+        let refined = gauss_newton(
+            &fine,
+            self.points.points(),
+            coarse_pose,
+            &coarse_pose,
+            self.anchor_weights(),
+            s.max_iterations,
+        );
+        report.iterations += refined.iterations;
+        let n = self.points.len() as f64;
+        let score = mean_occupancy(&fine, self.points.points(), &refined.pose);
+        let weighted = n * score + prediction.log_prior(&refined.pose);
         let pose = refined.pose;
         // Judged where the scan ends up: a prediction that is off by many
         // degrees puts most points on cells the map has not seen, which
@@ -241,21 +257,21 @@ impl ScanMatcher {
         report
     }
 
-    /// Gauss–Newton from `start` on every level from the coarse one down
-    /// to the map itself, held near `start`: the pose found and the steps
-    /// taken.
-    fn refine<M: CellModel, S: Store<M::Cell>>(
-        &mut self,
-        grid: &Grid<M, S>,
-        start: Pose,
-    ) -> (Refined, usize) {
+    fn anchor_weights(&self) -> AnchorWeights {
+        AnchorWeights {
+            translation: self.settings.refine_translation_weight,
+            rotation: self.settings.refine_rotation_weight,
+        }
+    }
+
+    /// Gauss–Newton from `start` on every coarse level, the coarsest
+    /// first, held near `start`: the pose found, its points' evidence on
+    /// the finest coarse level (their match values summed, nats), and the
+    /// steps taken.
+    fn refine_coarse(&mut self, start: Pose) -> (Pose, f64, usize) {
+        let weights = self.anchor_weights();
         let s = &self.settings;
-        let weights = AnchorWeights {
-            translation: s.refine_translation_weight,
-            rotation: s.refine_rotation_weight,
-        };
-        let mut pose = start;
-        let mut iterations = 0;
+        let (mut pose, mut evidence, mut iterations) = (start, 0.0, 0);
         let mut factor = s.coarse_factor;
         while factor > 1 {
             if let Some(level) = self.pyramid.level(factor) {
@@ -271,20 +287,11 @@ impl ScanMatcher {
                 );
                 pose = r.pose;
                 iterations += r.iterations;
+                evidence = self.thinned.len() as f64 * mean_occupancy(level, &self.thinned, &pose);
             }
             factor /= 2;
         }
-        let fine = GridField::new(grid);
-        let r = gauss_newton(
-            &fine,
-            self.points.points(),
-            pose,
-            &start,
-            weights,
-            s.max_iterations,
-        );
-        let iterations = iterations + r.iterations;
-        (r, iterations)
+        (pose, evidence, iterations)
     }
 }
 

@@ -161,9 +161,9 @@ fn linearise(
     Linearised { cost, h, b, fit }
 }
 
-/// Steps smaller than this (metres and radians) end the refinement: a
-/// tenth of a millimetre, far below any map's cell.
-const CONVERGED: f64 = 1e-4;
+/// Steps smaller than this (metres and radians) end the refinement: half
+/// a millimetre, a hundredth of a 5 cm cell.
+const CONVERGED: f64 = 5e-4;
 
 /// Refines `start` on `field` with at most `max_iterations` steps, held
 /// near `anchor` with weights `w`.

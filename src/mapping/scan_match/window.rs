@@ -24,13 +24,16 @@ use crate::grid::{CellModel, Grid, Store};
 /// not seen (Cartographer scores unknown cells at its lowest probability
 /// for the same reason).
 ///
-/// (Computed in f32, as `1 - 2 / (1 + e^d)`: the cells are f32, and a
-/// match reads hundreds of thousands of them per scan.)
+/// (Computed as tanh's [3/2] Padé approximant `x (15 + x^2) / (15 +
+/// 6 x^2)`, `x = d / 2`, capped at 1: increasing like tanh, within 0.006
+/// of it up to the real-log clamp, and free of a library call on each of
+/// the hundreds of thousands of cells a match reads per scan.)
 #[inline]
 pub fn match_value(l: f32, l_unknown: f32) -> f64 {
-    let d = l - l_unknown;
-    if d > 0.0 {
-        (1.0 - 2.0 / (1.0 + d.exp())) as f64
+    let x = 0.5 * (l - l_unknown) as f64;
+    if x > 0.0 {
+        let x2 = x * x;
+        (x * (15.0 + x2) / (15.0 + 6.0 * x2)).min(1.0)
     } else {
         0.0
     }
@@ -293,6 +296,27 @@ impl Pyramid {
 mod tests {
     use super::*;
     use crate::geometry::GridGeometry;
+
+    /// The match value is `2 p - 1` above the prior to within 0.006 over
+    /// the real-log range of log odds, rises with them, and is 0 at
+    /// and below the prior.
+    #[test]
+    fn the_match_value_is_twice_the_probability_less_one_above_the_prior() {
+        let mut last = 0.0;
+        for k in 1..=400 {
+            let l = k as f32 * 0.01;
+            let v = match_value(l, 0.0);
+            let exact = 2.0 * crate::grid::probability(l as f64) - 1.0;
+            if l <= 3.5 {
+                assert!((v - exact).abs() < 0.006, "{l}: {v} against {exact}");
+            }
+            assert!(v >= last && v <= 1.0);
+            last = v;
+        }
+        assert_eq!(match_value(-2.0, 0.0), 0.0);
+        assert_eq!(match_value(0.3, 0.3), 0.0);
+        assert_eq!(match_value(1.25, 0.25), match_value(1.0, 0.0));
+    }
     use crate::grid::{FilterSettings, LogOddsGrid, TiledGrid};
 
     /// One occupied cell makes its whole coarse cell occupied at every
@@ -339,7 +363,7 @@ mod tests {
             "the last column beside the edge"
         );
         let v = four.values()[2 * 20 + (65 + 4) / 4];
-        assert!((v as f64 - (2.0 * crate::grid::probability(3.0) - 1.0)).abs() < 1e-6);
+        assert!((v as f64 - (2.0 * crate::grid::probability(3.0) - 1.0)).abs() < 0.01);
         assert_eq!(four.values()[4 * 20 + 10], 0.0, "free");
         assert_eq!(four.values()[0], 0.0, "unknown");
         assert!(a.level(8).is_none());
