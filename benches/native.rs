@@ -253,4 +253,156 @@ fn main() {
     if run("learn-inverse") {
         learn_inverse();
     }
+    if run("scan-match") {
+        scan_match();
+    }
+}
+
+/// The root-mean-square position error of `poses` against `truth` after
+/// the best rigid 2-D alignment (the aligned ATE), and the mean relative
+/// pose error between consecutive scans (metres, degrees): the measures
+/// of `trajectory_error.py`, so that a workload line carries them.
+fn trajectory_errors(
+    poses: &[occgrid::geometry::Pose],
+    truth: &[occgrid::geometry::Pose],
+) -> (f64, f64, f64) {
+    use occgrid::geometry::wrap_angle;
+    use occgrid::mapping::scan_match::relative_motion;
+    let n = poses.len().min(truth.len()).max(1) as f64;
+    let mean = |v: &[occgrid::geometry::Pose]| {
+        let (x, y) = v.iter().fold((0.0, 0.0), |(x, y), p| (x + p.x, y + p.y));
+        (x / n, y / n)
+    };
+    let ((gx, gy), (rx, ry)) = (mean(poses), mean(truth));
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for (g, r) in poses.iter().zip(truth) {
+        let (ax, ay, bx, by) = (g.x - gx, g.y - gy, r.x - rx, r.y - ry);
+        sxx += ax * bx + ay * by;
+        sxy += ax * by - ay * bx;
+    }
+    let (s, c) = sxy.atan2(sxx).sin_cos();
+    let ate = (poses
+        .iter()
+        .zip(truth)
+        .map(|(g, r)| {
+            let (ax, ay) = (g.x - gx, g.y - gy);
+            (c * ax - s * ay + rx - r.x).powi(2) + (s * ax + c * ay + ry - r.y).powi(2)
+        })
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let (mut rt, mut rr) = (0.0, 0.0);
+    for k in 1..poses.len().min(truth.len()) {
+        let g = relative_motion(&poses[k - 1], &poses[k]);
+        let r = relative_motion(&truth[k - 1], &truth[k]);
+        rt += (g[0] - r[0]).hypot(g[1] - r[1]);
+        rr += wrap_angle(g[2] - r[2]).abs();
+    }
+    let pairs = (n - 1.0).max(1.0);
+    (ate, rt / pairs, (rr / pairs).to_degrees())
+}
+
+/// W8 `scan-match`: every log of the datasets folder at the real-log
+/// defaults (5 cm), its poses found by scan matching from seeded dead
+/// reckoning (seed 1): the time of each scan's match and integration
+/// (median and largest) and of the whole log, beside the plain build at
+/// the corrected poses, with the trajectory's errors against the corrected
+/// poses for dead reckoning and for scan matching.
+fn scan_match() {
+    use occgrid::apps::real_log::{LogMapSettings, LogPane};
+    use occgrid::grid::{storage::DEFAULT_TILE_BUDGET_CELLS, FilterSettings, TiledGrid};
+    use occgrid::inverse::HandCraftedParams;
+    use occgrid::mapping::reach::covering_grid;
+    use occgrid::mapping::scan_match::{MatchSettings, MatchedPath, ScanInsertion};
+    use occgrid::sensors::odometry::OdometryParams;
+    let Ok(dir) = std::fs::read_dir(datasets()) else {
+        return eprintln!("skipping scan-match: cannot read the datasets folder");
+    };
+    let mut logs: Vec<_> = dir
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.to_string_lossy().ends_with(".log.gz"))
+        .collect();
+    logs.sort();
+    let s = LogMapSettings::default();
+    for path in logs {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
+        let scans = carmen::LaserScans::read(&bytes[..]).expect("the corpus's logs parse");
+        let mut plain = Vec::new();
+        for _ in 0..runs().min(3) {
+            let t = Instant::now();
+            let mut b = LogPane::new(scans.clone(), s).expect("default settings");
+            b.advance(usize::MAX);
+            plain.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        let truth = scans.poses().to_vec();
+        let dr = OdometryParams::WHEELS.dead_reckon_path(&truth, 1);
+        // The map covers the corrected and the dead-reckoned extents and a
+        // few metres more: the matched path lies between the two.
+        let mut placed = scans.clone();
+        placed.set_poses(&dr).expect("one pose per scan");
+        let (a, b) = (
+            scans.endpoint_bounds(s.range_cap).expect("laser scans"),
+            placed.endpoint_bounds(s.range_cap).expect("laser scans"),
+        );
+        let extent = [
+            a[0].min(b[0]) - 5.0,
+            a[1].min(b[1]) - 5.0,
+            a[2].max(b[2]) + 5.0,
+            a[3].max(b[3]) + 5.0,
+        ];
+        let filter = FilterSettings {
+            prior: 0.5,
+            clamp: s.clamp,
+        };
+        let grid = TiledGrid::new(
+            covering_grid(extent, s.resolution, s.margin).expect("a map of the corpus"),
+            filter,
+            DEFAULT_TILE_BUDGET_CELLS,
+        )
+        .expect("a map of the corpus");
+        let insertion = ScanInsertion {
+            model: HandCraftedParams {
+                alpha: s.alpha,
+                l_occ: s.l_occ,
+                l_free: s.l_free,
+                ..HandCraftedParams::laser(s.range_cap)
+            },
+            no_return_reach: s.no_return_reach,
+            walls: s.walls,
+        };
+        let mut matched = MatchedPath::new(
+            grid,
+            dr.clone(),
+            OdometryParams::WHEELS,
+            MatchSettings::default(),
+            insertion,
+        )
+        .expect("default settings");
+        let (mut steps, mut trusted) = (Vec::new(), 0);
+        let t = Instant::now();
+        for k in 0..scans.len() {
+            let scan = scans.scan(k).expect("a scan of the log");
+            let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
+            let t = Instant::now();
+            let r = matched
+                .step(&scan, laser_max)
+                .expect("the tile budget holds");
+            steps.push(t.elapsed().as_secs_f64() * 1e3);
+            trusted += r.matched.accepted as usize;
+        }
+        let total = t.elapsed().as_secs_f64() * 1e3;
+        let largest = steps.iter().copied().fold(0.0, f64::max);
+        let (dr_ate, dr_rpe, dr_rpe_deg) = trajectory_errors(&dr, &truth);
+        let (ate, rpe, rpe_deg) = trajectory_errors(matched.poses(), &truth);
+        println!(
+            "{{\"workload\":\"scan-match\",\"runtime\":\"native\",\"log\":\"{name}\",\"scans\":{},\"matches_trusted\":{trusted},\"step_median_ms\":{:.3},\"step_max_ms\":{:.2},\"match_and_map_ms\":{total:.1},\"plain_build_ms\":{:.1},\"dead_reckoning\":{{\"ate_aligned_m\":{dr_ate:.3},\"rpe_m\":{dr_rpe:.4},\"rpe_deg\":{dr_rpe_deg:.3}}},\"scan_matched\":{{\"ate_aligned_m\":{ate:.3},\"rpe_m\":{rpe:.4},\"rpe_deg\":{rpe_deg:.3}}}}}",
+            scans.len(),
+            median(steps),
+            largest,
+            median(plain)
+        );
+    }
 }
