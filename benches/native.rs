@@ -311,9 +311,8 @@ fn trajectory_errors(
 fn scan_match() {
     use occgrid::apps::real_log::{LogMapSettings, LogPane};
     use occgrid::grid::{storage::DEFAULT_TILE_BUDGET_CELLS, FilterSettings, TiledGrid};
-    use occgrid::inverse::HandCraftedParams;
     use occgrid::mapping::reach::covering_grid;
-    use occgrid::mapping::scan_match::{MatchSettings, MatchedPath, ScanInsertion};
+    use occgrid::mapping::scan_match::{MatchSettings, MatchedPath};
     use occgrid::sensors::odometry::OdometryParams;
     let Ok(dir) = std::fs::read_dir(datasets()) else {
         return eprintln!("skipping scan-match: cannot read the datasets folder");
@@ -363,16 +362,7 @@ fn scan_match() {
             DEFAULT_TILE_BUDGET_CELLS,
         )
         .expect("a map of the corpus");
-        let insertion = ScanInsertion {
-            model: HandCraftedParams {
-                alpha: s.alpha,
-                l_occ: s.l_occ,
-                l_free: s.l_free,
-                ..HandCraftedParams::laser(s.range_cap)
-            },
-            no_return_reach: s.no_return_reach,
-            walls: s.walls,
-        };
+        let insertion = s.scan_insertion();
         let mut matched = MatchedPath::new(
             grid,
             dr.clone(),

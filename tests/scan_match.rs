@@ -30,17 +30,7 @@ fn scans(name: &str) -> LaserScans {
 
 /// The real-log map's recipe at the real-log defaults.
 fn insertion() -> ScanInsertion {
-    let s = LogMapSettings::default();
-    ScanInsertion {
-        model: HandCraftedParams {
-            alpha: s.alpha,
-            l_occ: s.l_occ,
-            l_free: s.l_free,
-            ..HandCraftedParams::laser(s.range_cap)
-        },
-        no_return_reach: s.no_return_reach,
-        walls: s.walls,
-    }
+    LogMapSettings::default().scan_insertion()
 }
 
 fn grid(geometry: GridGeometry) -> TiledGrid {

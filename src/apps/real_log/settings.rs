@@ -183,6 +183,16 @@ impl LogMapSettings {
         }
     }
 
+    /// How these settings put one scan into a map, for a pose source that
+    /// builds its own (scan matching).
+    pub fn scan_insertion(&self) -> crate::mapping::scan_match::ScanInsertion {
+        crate::mapping::scan_match::ScanInsertion {
+            model: self.model_params(),
+            no_return_reach: self.no_return_reach,
+            walls: self.walls,
+        }
+    }
+
     fn model_params(&self) -> HandCraftedParams {
         HandCraftedParams {
             alpha: self.alpha,
