@@ -48,26 +48,33 @@ fn chapter_both_free_is_0_0047_truly_and_0_1132_factored_a_factor_of_24() {
     assert_eq!((t, f), (truth, factored));
 }
 
+/// A query of one to eight cells anywhere in a cone of 1 to 40 degrees, with
+/// one to five readings.
+fn random_query(rng: &mut StdRng) -> JointQuery {
+    let beta_deg = rng.random_range(1.0..40.0);
+    let k = rng.random_range(1..9);
+    JointQuery {
+        prior: rng.random_range(0.01..0.99),
+        beta_deg,
+        cells: (0..k)
+            .map(|_| ConeCell {
+                range: rng.random_range(0.0..3.5),
+                bearing_deg: rng.random_range(-0.5..0.5) * beta_deg,
+            })
+            .collect(),
+        readings: (0..rng.random_range(1..6))
+            .map(|_| rng.random_range(0.0..3.2))
+            .collect(),
+        model: BeamModelParams::CHAPTER,
+    }
+}
+
 #[test]
 fn joint_tables_sum_to_one_and_marginals_are_their_sums() {
     let mut rng = StdRng::seed_from_u64(11);
     for case in 0..200 {
-        let beta_deg = rng.random_range(1.0..40.0);
-        let k = rng.random_range(1..9);
-        let q = JointQuery {
-            prior: rng.random_range(0.01..0.99),
-            beta_deg,
-            cells: (0..k)
-                .map(|_| ConeCell {
-                    range: rng.random_range(0.0..3.5),
-                    bearing_deg: rng.random_range(-0.5..0.5) * beta_deg,
-                })
-                .collect(),
-            readings: (0..rng.random_range(1..6))
-                .map(|_| rng.random_range(0.0..3.2))
-                .collect(),
-            model: BeamModelParams::CHAPTER,
-        };
+        let q = random_query(&mut rng);
+        let k = q.cells.len();
         let post = JointPosterior::compute(&q).unwrap();
         assert_eq!(post.joint.len(), 1 << k);
         let total: f64 = post.joint.iter().sum();
@@ -145,22 +152,8 @@ fn the_sum_of_marginal_entropies_exceeds_the_joint_entropy_by_the_shared_informa
     // Never negative, for any cells and readings; one cell shares nothing.
     let mut rng = StdRng::seed_from_u64(23);
     for case in 0..200 {
-        let beta_deg = rng.random_range(1.0..40.0);
-        let k = rng.random_range(1..9);
-        let q = JointQuery {
-            prior: rng.random_range(0.01..0.99),
-            beta_deg,
-            cells: (0..k)
-                .map(|_| ConeCell {
-                    range: rng.random_range(0.0..3.5),
-                    bearing_deg: rng.random_range(-0.5..0.5) * beta_deg,
-                })
-                .collect(),
-            readings: (0..rng.random_range(1..6))
-                .map(|_| rng.random_range(0.0..3.2))
-                .collect(),
-            model: BeamModelParams::CHAPTER,
-        };
+        let q = random_query(&mut rng);
+        let k = q.cells.len();
         let r = JointPosterior::compute(&q).unwrap().report();
         assert!(r.shared_information_bits >= 0.0, "case {case}");
         assert!(
