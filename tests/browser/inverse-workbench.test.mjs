@@ -87,8 +87,8 @@ test('retraining with another seed gives another model; a bad seed keeps the cur
   assert.notEqual(after12.learnedL0, before.learnedL0);
   assert.ok(Number(after12.learnedL0) < 0);
   assert.match(after12.status, /seed 12/);
-  const ms = Number(after12.status.match(/: ([\d,]+) ms/)[1].replaceAll(',', ''));
-  assert.ok(ms < 1000, `training took ${ms} ms`);
+  // The summary says how long training took (a figure, not a bound: speed is the benchmarks' business).
+  assert.match(after12.status, /: [\d,]+ ms/);
 
   // A refused seed is said beside the summary of the model that stays,
   // naming the field and what it expects; the summary itself stays.
