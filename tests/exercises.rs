@@ -8,7 +8,9 @@ use occgrid::apps::map_weaver::{
 };
 use occgrid::inverse::training::{self, TrainingConfig};
 use occgrid::inverse::LearnedInverse;
+use occgrid::io::map_server::map_server_pair;
 use occgrid::scenes::apartment::ApartmentScene;
+use occgrid::world::Rect;
 use std::sync::OnceLock;
 
 fn weaver(settings: WeaverSettings) -> Weaver {
@@ -106,7 +108,8 @@ fn sweep_and_traversal_agree_for_the_thin_lidar_and_part_for_a_22_degree_cone() 
 /// Exercise 5. The fade readout against a count made here from the log
 /// odds of every cell the person stood on, scan by scan (seed 1, strength
 /// 3, clamp 4): a ghost cell is one above p = 0.5 after the last scan in
-/// which the person covered it; its fade is the number of scans from that
+/// which the person stood on it or next to it (their outline marks the
+/// cells within a cell of their footprint; walls excluded); its fade is the number of scans from that
 /// scan until the first scan after which it is below p = 0.5.
 #[test]
 fn the_ghost_fade_readout_matches_a_count_by_hand() {
@@ -123,8 +126,22 @@ fn the_ghost_fade_readout_matches_a_count_by_hand() {
     for scan in 1..=700 {
         assert_eq!(w.advance(1).unwrap(), 1);
         let l = w.grid(0).unwrap().log_odds().to_vec();
-        let now = match w.history().last().unwrap().person {
-            Some(r) => scene.cells_in(&g, &[r]),
+        // The cells the person's outline may have marked: the footprint
+        // grown by a cell, less the walls.
+        let now: Vec<usize> = match w.history().last().unwrap().person {
+            Some(r) => scene
+                .cells_in(
+                    &g,
+                    &[Rect::new(
+                        r.min_x - 0.1,
+                        r.min_y - 0.1,
+                        r.max_x + 0.1,
+                        r.max_y + 0.1,
+                    )],
+                )
+                .into_iter()
+                .filter(|&c| !w.ground_truth()[c])
+                .collect(),
             None => Vec::new(),
         };
         for &(c, ghost) in &under_before {
@@ -364,4 +381,85 @@ fn changing_resolution_mapper_or_beams_rebuilds_the_pane_as_if_set_from_the_star
     assert_eq!(w.work_per_scan(), 60 * 80 + 43_200);
     // The other pane is untouched.
     assert_eq!(w.readout().panes[0].width, 120);
+}
+
+/// Exercise 6 live: the readout's count of cells the two maps' exports
+/// disagree on is the count of differing bytes of the two exported PGM
+/// images. The thin LiDAR's maps differ too (Table 9.2's line 1: the sweep
+/// tests each cell centre against the beam's half-opening beta/2 of half a
+/// degree, the traversal updates every cell the beam's raster crosses), a
+/// 22-degree cone far more; no count for panes of different resolutions.
+#[test]
+fn the_readout_counts_the_cells_where_the_two_exported_maps_differ() {
+    let counts = |sensor: SensorKind| {
+        let mut s = WeaverSettings::default();
+        s.panes = [
+            hand(MapperKind::Traversal, sensor, 0.10),
+            hand(MapperKind::Sweep, sensor, 0.10),
+        ];
+        s.person = false;
+        let mut w = weaver(s);
+        w.advance(653).unwrap();
+        let d = w.readout().difference.expect("same resolution");
+        let image = |k: usize| {
+            let pair = map_server_pair(w.grid(k).unwrap(), "x.pgm");
+            let header = pair.pgm.len() - 10_800;
+            pair.pgm[header..].to_vec()
+        };
+        let (a, b) = (image(0), image(1));
+        let by_bytes = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+        assert_eq!((d.cells, d.of), (by_bytes, 10_800));
+        assert!(d.updated_by_one <= d.cells);
+        (d, w)
+    };
+    let (thin, mut w) = counts(SensorKind::Lidar);
+    let (cone, _) = counts(SensorKind::Cone);
+    assert!(thin.cells > 100, "the thin LiDAR's maps differ: {thin:?}");
+    // Measured at scan 653: 485 cells (52 updated by one mapper only) for
+    // the thin LiDAR, 838 (434) for the cone, whose sweep paints the cone
+    // between the beams.
+    assert!(
+        cone.cells > thin.cells && cone.updated_by_one > 4 * thin.updated_by_one,
+        "{cone:?} vs {thin:?}"
+    );
+    let p = w.settings().panes[1];
+    w.set_pane(
+        1,
+        PaneSettings {
+            resolution: Some(0.05),
+            ..p
+        },
+    )
+    .unwrap();
+    assert_eq!(w.readout().difference, None);
+}
+
+/// Exercise 8 live: with the learned model in both panes and only the
+/// right one forgetting `l0`, the readout's measured drift per update is
+/// the model's own `l0`, over the cells inside the clamp; no drift is
+/// shown when the panes differ in any other knob too.
+#[test]
+fn the_readout_measures_the_drift_of_a_pane_that_forgets_l0() {
+    let mut s = WeaverSettings::default();
+    for p in &mut s.panes {
+        p.model = ModelKind::Learned;
+    }
+    s.panes[1].forget_l0 = true;
+    let mut w = weaver(s);
+    w.advance(120).unwrap();
+    let d = w
+        .readout()
+        .l0_drift
+        .expect("the panes differ in forget-l0 alone");
+    assert_eq!(d.pane, 1);
+    assert!(d.model_l0 < -0.2, "{d:?}");
+    assert!(d.cells > 100, "{d:?}");
+    let per_update = d.per_update.unwrap();
+    assert!((per_update - f64::from(d.model_l0)).abs() < 1e-4, "{d:?}");
+    let p = w.settings().panes[0];
+    w.set_pane(0, PaneSettings { clamp: 8.0, ..p }).unwrap();
+    assert_eq!(w.readout().l0_drift, None);
+    let mut s = WeaverSettings::default();
+    s.panes[1].model = ModelKind::HandCrafted;
+    assert_eq!(weaver(s).readout().l0_drift, None, "nobody forgets");
 }

@@ -1,26 +1,31 @@
 //! The ghost of exercise 5, per pane: the person is seen by the LiDAR, so
-//! the cells they stood on gain occupied evidence, and once they walk on
-//! only later scans through those cells can bring them back below
-//! p = 0.5. The clamp bounds how much evidence a ghost can gather, and with
-//! it how many scans the fade takes (Table 9.1 adds, the clamp caps).
+//! the cells where their outline stood gain occupied evidence, and once
+//! they walk on only later scans through those cells can bring them back
+//! below p = 0.5. The clamp bounds how much evidence a ghost can gather,
+//! and with it how many scans the fade takes (Table 9.1 adds, the clamp
+//! caps): a cell at the clamp `l_max`, contradicted by every scan, needs
+//! `l_max / |l_free|` scans ([`GhostReadout::recursion_scans`]).
 
-/// Cells the person stood on that were above p = 0.5 when they left, and
-/// how many scans each took to fall back below p = 0.5.
+/// Cells near the person that were above p = 0.5 when they left, and how
+/// many scans each took to fall back below p = 0.5.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub(super) struct GhostTracker {
-    /// The cells under the person after the last scan, and whether each
+    /// The cells near the person after the last scan, and whether each
     /// was above p = 0.5 then.
     under: Vec<(usize, bool)>,
     /// Ghost cells not yet faded: (cell, the last scan that saw the
-    /// person on it, counted from 1).
+    /// person near it, counted from 1).
     pending: Vec<(usize, usize)>,
     /// Scans each completed fade took, in the order they completed.
     fades: Vec<usize>,
+    /// Where in `fades` those made at the current clamp and strength begin.
+    current: usize,
 }
 
 impl GhostTracker {
     /// After scan `scan` (counted from 1) was integrated, with the person
-    /// over `now` (sorted cell indices) and the map's log odds `l`.
+    /// near `now` (sorted cell indices: the cells their outline may have
+    /// marked) and the map's log odds `l`.
     pub fn observe(&mut self, scan: usize, now: &[usize], l: &[f32]) {
         let under_now = |c: usize| now.binary_search(&c).is_ok();
         for &(c, ghost) in &self.under {
@@ -47,40 +52,75 @@ impl GhostTracker {
         *self = Self::default();
     }
 
+    /// Forgets the fades under way (a clamp or a strength changed: they
+    /// would mix two settings), keeping those that completed.
+    pub fn forget_pending(&mut self) {
+        self.pending.clear();
+        self.current = self.fades.len();
+        for (_, ghost) in &mut self.under {
+            *ghost = false;
+        }
+    }
+
     /// Scans each completed fade took, in the order they completed.
     pub fn fades(&self) -> &[usize] {
         &self.fades
     }
 
-    /// The readout, with `seconds(n)` the driving time of `n` scans.
-    pub fn readout(&self, seconds: impl Fn(usize) -> f64) -> GhostReadout {
-        let last = self.fades.last().copied();
-        let longest = self.fades.iter().copied().max();
+    /// The readout, with `seconds(n)` the driving time of `n` scans, the
+    /// pane's clamp and its free evidence per scan (`None` for a model
+    /// whose free evidence depends on the range, as the learned one's
+    /// does).
+    pub fn readout(
+        &self,
+        seconds: impl Fn(f64) -> f64,
+        clamp: f64,
+        free_evidence: Option<f32>,
+    ) -> GhostReadout {
+        let now = &self.fades[self.current..];
+        let last = now.last().copied();
+        let longest = now.iter().copied().max();
+        let recursion = free_evidence
+            .filter(|&f| f < 0.0)
+            .map(|f| clamp / (-f64::from(f)));
         GhostReadout {
-            faded: self.fades.len(),
+            faded: self.fades.len() - self.current,
             lingering: self.pending.len(),
             last_scans: last,
-            last_seconds: last.map(&seconds),
+            last_seconds: last.map(|n| seconds(n as f64)),
             longest_scans: longest,
-            longest_seconds: longest.map(&seconds),
+            longest_seconds: longest.map(|n| seconds(n as f64)),
+            free_evidence,
+            recursion_scans: recursion,
+            recursion_seconds: recursion.map(&seconds),
         }
     }
 }
 
-/// Exercise 5's readout: how long the person's ghost took to fade.
+/// Exercise 5's readout: how long the person's ghost took to fade, and
+/// how long the recursion says a cell at the clamp takes when every scan
+/// contradicts it.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct GhostReadout {
-    /// Ghost cells that have faded so far.
+    /// Ghost cells that have faded at the current clamp and strength (a
+    /// change of either starts the count again).
     pub faded: usize,
     /// Ghost cells still at p >= 0.5 since the person left them.
     pub lingering: usize,
     /// Scans and seconds the most recent fade took.
     pub last_scans: Option<usize>,
     pub last_seconds: Option<f64>,
-    /// The slowest fade so far.
+    /// The slowest fade at the current clamp and strength.
     pub longest_scans: Option<usize>,
     pub longest_seconds: Option<f64>,
+    /// The log odds one free reading adds (`l_free - l0` at the pane's
+    /// strength), when the model has one value for it.
+    pub free_evidence: Option<f32>,
+    /// `l_max / |l_free|`: the free readings that take a cell at the
+    /// clamp down to p = 0.5, and their time at the scene's scan rate.
+    pub recursion_scans: Option<f64>,
+    pub recursion_seconds: Option<f64>,
 }
 
 #[cfg(test)]
@@ -98,17 +138,20 @@ mod tests {
         g.observe(1, &[0, 1], &[1.0, 1.0, -0.5]);
         // Scan 2: over 1 and 2; cell 0 left behind at p > 0.5, cell 2 free.
         g.observe(2, &[1, 2], &[0.5, 1.5, -0.1]);
-        assert_eq!(g.readout(|n| n as f64).lingering, 1);
+        assert_eq!(g.readout(|n| n, 12.0, None).lingering, 1);
         // Scan 3: gone. Cell 0 still positive; cell 1 now a ghost too.
         g.observe(3, &[], &[0.1, 1.0, -0.3]);
-        assert_eq!((g.fades(), g.readout(|n| n as f64).lingering), (&[][..], 2));
+        assert_eq!(
+            (g.fades(), g.readout(|n| n, 12.0, None).lingering),
+            (&[][..], 2)
+        );
         // Scan 4: cell 0 below 0.5: it left after scan 1, so 3 scans.
         g.observe(4, &[], &[-0.2, 0.4, -0.3]);
         assert_eq!(g.fades(), [3]);
         // Scan 5: cell 1 fades, 3 scans after scan 2.
         g.observe(5, &[], &[-0.2, -0.1, -0.3]);
         assert_eq!(g.fades(), [3, 3]);
-        let r = g.readout(|n| n as f64 / 12.0);
+        let r = g.readout(|n| n / 12.0, 12.0, Some(-0.5));
         assert_eq!(
             r,
             GhostReadout {
@@ -118,6 +161,9 @@ mod tests {
                 last_seconds: Some(0.25),
                 longest_scans: Some(3),
                 longest_seconds: Some(0.25),
+                free_evidence: Some(-0.5),
+                recursion_scans: Some(24.0),
+                recursion_seconds: Some(2.0),
             }
         );
     }
@@ -130,8 +176,33 @@ mod tests {
         g.observe(2, &[], &[0.0, 0.0, 0.0, 0.0, 1.0]);
         g.observe(3, &[4], &[0.0, 0.0, 0.0, 0.0, -1.0]);
         assert_eq!(g.fades(), [] as [usize; 0]);
-        assert_eq!(g.readout(|n| n as f64).lingering, 0);
+        assert_eq!(g.readout(|n| n, 12.0, None).lingering, 0);
         g.clear();
         assert_eq!(g, GhostTracker::default());
+    }
+
+    /// A new clamp or strength starts the readout again: the fade under
+    /// way is dropped (it would mix two settings), the completed ones stay
+    /// in the run's list.
+    #[test]
+    fn a_new_setting_starts_the_readout_again() {
+        let mut g = GhostTracker::default();
+        g.observe(1, &[0], &[2.0, 0.0]);
+        g.observe(2, &[], &[-1.0, 0.0]);
+        g.observe(3, &[1], &[-1.0, 2.0]);
+        g.observe(4, &[], &[-1.0, 1.0]);
+        assert_eq!(
+            (g.fades(), g.readout(|n| n, 4.0, None).lingering),
+            (&[1][..], 1)
+        );
+        g.forget_pending();
+        g.observe(5, &[], &[-1.0, -1.0]);
+        let r = g.readout(|n| n, 4.0, Some(-0.5));
+        assert_eq!((r.faded, r.lingering, r.longest_scans), (0, 0, None));
+        assert_eq!(r.recursion_scans, Some(8.0));
+        assert_eq!(g.fades(), [1]);
+        g.observe(6, &[1], &[-1.0, 3.0]);
+        g.observe(7, &[], &[-1.0, -0.5]);
+        assert_eq!(g.readout(|n| n, 4.0, None).longest_scans, Some(1));
     }
 }

@@ -18,15 +18,18 @@
 //! at once, a new strength weighs the scans still to come. What a run may
 //! be set to, and the limits the widget shows, are in [`settings`].
 
+mod compare;
 mod ghosts;
 mod pane;
 mod readout;
 mod settings;
+mod situation;
 mod timing;
 
 /// The evidence-strength wrapper lives with the inverse models; named here
 /// too for the benchmark workloads that replay Map Weaver's panes.
 pub use crate::inverse::Scaled;
+pub use compare::{L0Drift, MapDifference};
 pub use ghosts::GhostReadout;
 pub use readout::{CellInfo, Leaning, Overlay, PaneReadout, Readout, TrackedCell};
 pub use settings::{
@@ -35,6 +38,7 @@ pub use settings::{
     MAX_FAST_FORWARD_WORK, MAX_LAPS, MAX_READINGS, MAX_TRAINING_UPDATES, PANE_RESOLUTIONS,
     STRENGTH,
 };
+pub use situation::{Situation, WATCH_PAUSE, WATCH_POST};
 pub use timing::Clock;
 
 use crate::error::{invalid, Result};
@@ -77,7 +81,9 @@ impl Weaver {
 
     /// Like [`Weaver::new`] with an already trained model (a page that
     /// trained one for another widget, or a test that trains once).
-    pub fn with_learned(settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
+    pub fn with_learned(mut settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
+        // The robot's path and the person's walk are the situation's.
+        settings.scene = settings.situation.apply(&settings.scene);
         settings.validate()?;
         let sim = ApartmentSim::new(settings.scene.clone(), settings.seed, settings.person)?;
         let geometry = *sim.ground_truth().geometry();
@@ -350,6 +356,7 @@ impl Weaver {
             .set_clamp(clamp)
             .map_err(|e| settings::renamed(&format!("panes[{pane}].clamp"), e))?;
         p.settings.clamp = clamp;
+        p.ghost.forget_pending();
         p.map.pixels();
         self.settings.panes[pane].clamp = clamp;
         Ok(())
@@ -368,6 +375,7 @@ impl Weaver {
         };
         p.model = PaneModel::build(&settings, &base, &learned)?;
         p.settings.strength = strength;
+        p.ghost.forget_pending();
         self.settings.panes[pane].strength = strength;
         Ok(())
     }

@@ -87,6 +87,16 @@ impl PaneModel {
         }
     }
 
+    /// The log odds one free reading adds (Table 9.2's `l_free - l0` at
+    /// the pane's strength); `None` for the learned model, whose free
+    /// evidence depends on the range.
+    pub fn free_evidence(&self) -> Option<f32> {
+        match self {
+            Self::HandCrafted(m) => Some((m.params().l_free - m.params().l0) as f32),
+            Self::Learned(_) => None,
+        }
+    }
+
     /// The prior the model removes from its scores (0 when `l0` is
     /// forgotten).
     pub fn l0(&self) -> f32 {
@@ -237,13 +247,28 @@ impl Pane {
         self.brier_curve.push(view.brier_region());
         self.tracked
             .push(self.tracked_cells.map(|i| grid.log_odds()[i]));
-        let under = sim
-            .person
-            .map(|r| self.scene.cells_in(&self.geometry, &[r]))
-            .unwrap_or_default();
-        self.ghost
-            .observe(count, &under, self.map.grid().log_odds());
+        let near = sim.person.map(|r| self.near_person(r)).unwrap_or_default();
+        self.ghost.observe(count, &near, self.map.grid().log_odds());
         Ok(())
+    }
+
+    /// The cells a person standing on `footprint` may have marked: the
+    /// beams end on their outline, and Table 9.2 puts the occupied band on
+    /// the cell whose centre lies within `alpha / 2` of the reading, which
+    /// may lie just outside the footprint. So the footprint grown by one
+    /// cell, less the cells the ground truth holds occupied (a wall next to
+    /// the person is no ghost).
+    fn near_person(&self, footprint: crate::world::Rect) -> Vec<usize> {
+        let m = self.geometry.resolution();
+        let grown = crate::world::Rect::new(
+            footprint.min_x - m,
+            footprint.min_y - m,
+            footprint.max_x + m,
+            footprint.max_y + m,
+        );
+        let mut cells = self.scene.cells_in(&self.geometry, &[grown]);
+        cells.retain(|&c| !self.truth[c]);
+        cells
     }
 
     /// Back to the empty map, with the settings it has: the sums start

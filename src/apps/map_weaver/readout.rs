@@ -4,9 +4,11 @@
 //! the robot and beams over each map, the tracked cells, and the choices
 //! of each pane's menus. The page formats these numbers; it computes none.
 
+use super::compare::{L0Drift, MapDifference};
 use super::ghosts::GhostReadout;
 use super::pane::Pane;
 use super::settings::{MapperKind, ModelKind, PaneChoices, PoseSource, SensorKind};
+use super::situation::Situation;
 use super::Weaver;
 use crate::error::Result;
 use crate::grid::readout::{readout_at_pixel, CellReadout};
@@ -81,11 +83,19 @@ pub struct Readout {
     pub time: f64,
     /// True once the run's laps are done.
     pub done: bool,
+    /// The lap, or exercise 5's ghost watch.
+    pub situation: Situation,
     pub person: bool,
     /// Median milliseconds per frame over the last frames, if any were
     /// timed.
     pub frame_ms: Option<f64>,
     pub panes: [PaneReadout; 2],
+    /// Cells the two maps' exports disagree on, when both map at the same
+    /// resolution (exercise 6).
+    pub difference: Option<MapDifference>,
+    /// The drift of a pane that forgets `l0` beside one that does not
+    /// (exercise 8).
+    pub l0_drift: Option<L0Drift>,
     /// What each pane's beam and resolution menus offer in this run.
     pub choices: PaneChoices,
 }
@@ -198,7 +208,11 @@ impl Weaver {
             width: p.geometry.width(),
             height: p.geometry.height(),
             scan_ms: p.scan_ms.mean(),
-            ghost: p.ghost.readout(|n| self.seconds_after(n)),
+            ghost: p.ghost.readout(
+                |n| n / self.settings.scene.scan_rate,
+                s.clamp,
+                p.model.free_evidence(),
+            ),
             l0: p.map.grid().l0(),
             model_l0: p.model.l0(),
             entropy_bits: p.map.view().entropy_bits(),
@@ -220,12 +234,15 @@ impl Weaver {
             lap: (scans.saturating_sub(1) / self.scans_per_lap + 1).min(self.settings.laps),
             time: self.seconds_after(scans),
             done: self.done(),
+            situation: self.settings.situation,
             person: self.sim.person(),
             frame_ms: self.frame_ms(),
             panes: [
                 self.pane_readout(&self.panes[0]),
                 self.pane_readout(&self.panes[1]),
             ],
+            difference: self.map_difference(),
+            l0_drift: self.l0_drift(),
             choices: self.choices(),
         }
     }

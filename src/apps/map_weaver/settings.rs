@@ -6,6 +6,7 @@
 //! by the core's `constants()`) and, for the choices that depend on the
 //! scene, from the session's [`PaneChoices`].
 
+use super::situation::Situation;
 use crate::error::{self, invalid, OccError, Result};
 use crate::grid::FilterSettings;
 use crate::inverse::{HandCraftedParams, TrainingConfig};
@@ -238,6 +239,9 @@ impl PaneSettings {
 #[serde(default, rename_all = "camelCase")]
 pub struct WeaverSettings {
     pub seed: u64,
+    /// The chapter's lap, or the ghost watch of exercise 5 (its own robot
+    /// path and person walk over the scene's).
+    pub situation: Situation,
     pub person: bool,
     pub panes: [PaneSettings; 2],
     /// Table 9.2 at strength 1. The default is a thin LiDAR beam whose
@@ -256,6 +260,7 @@ impl Default for WeaverSettings {
     fn default() -> Self {
         Self {
             seed: 1,
+            situation: Situation::Lap,
             person: true,
             // The learned model on the right, so the two models meet the
             // same scans side by side.
