@@ -31,6 +31,7 @@ import {
 } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
+import { followCellPointer } from './lib/cell-pointer.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import { MIN_RANGE, TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
@@ -166,12 +167,14 @@ class DoorwayTrapElement extends HTMLElement {
         el('div', { class: 'occgrid-controls doorway-trap-buttons', dataset: { controls: 'playback' } }, controls),
         canvas, status, door,
         el('div', { class: 'doorway-trap-foot', dataset: { controls: 'export' } }, save));
-      canvas.addEventListener('pointermove', (ev) => this.hover(key, ev));
-      canvas.addEventListener('pointerleave', () => this.hover(key, null));
-      canvas.addEventListener('keydown', (ev) => this.keyCursor(key, ev));
-      canvas.addEventListener('focus', () => {
-        if (this.trap && (!this.cursor || this.cursor.key !== key)) this.placeCursor(key, this.cursorOn(key));
+      followCellPointer(canvas, {
+        point: (ev) => this.hover(key, ev),
+        leave: () => this.hover(key, null),
+        keyboardFocus: () => {
+          if (this.trap && (!this.cursor || this.cursor.key !== key)) this.placeCursor(key, this.cursorOn(key));
+        },
       });
+      canvas.addEventListener('keydown', (ev) => this.keyCursor(key, ev));
       canvas.addEventListener('blur', () => {
         this.cursor = null;
         this.draw();

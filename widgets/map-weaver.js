@@ -38,6 +38,8 @@ import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, o
 import {
   MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, bits, signed, metres,
 } from './lib/map-weaver-words.js';
+import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
+import { showComparison } from './lib/map-weaver-readouts.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /**
@@ -122,6 +124,7 @@ class MapWeaverElement extends HTMLElement {
       type: whole(1, Number.MAX_SAFE_INTEGER), core: (c) => ({ type: whole(1, c.mapWeaver.maxLaps), default: String(c.mapWeaver.defaults.laps) }),
       doc: 'laps in the run',
     },
+    situation: { type: oneOf(['lap', 'ghost-watch']), default: 'lap', doc: 'the robot’s lap, or exercise 5’s ghost watch: the robot parked in the corridor while the person stands by the kitchen door, then leaves' },
     scene: { type: jsonObject('{"scan_rate": 12}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
     person: { type: flag(), core: (c) => ({ default: c.mapWeaver.defaults.person ? 'on' : 'off' }), doc: 'a person walking the corridor' },
     speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed: 1 is real time, at the scene’s scan rate' },
@@ -142,7 +145,7 @@ class MapWeaverElement extends HTMLElement {
     'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: LOG_DEFAULTS['log-walls'], doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
     'log-poses': { type: oneOf(['corrected', 'dead-reckoning']), default: LOG_DEFAULTS['log-poses'], doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own) or dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map)' },
     'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: LOG_DEFAULTS['log-seed'], doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
-    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
+    controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, the robot’s lap or ghost watch, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
   static observedAttributes = Object.keys(MapWeaverElement.attributeSpec);
@@ -222,7 +225,7 @@ class MapWeaverElement extends HTMLElement {
       const k = name.startsWith('left') ? 0 : 1;
       const field = PANE_FIELDS[name.replace(/^(left|right)-/, '')];
       this.setPane(k, { [field]: value ?? (field === 'beams' || field === 'resolution' ? null : value) });
-    } else if (['seed', 'laps', 'scene', 'scans'].includes(name) && this.started) this.create();
+    } else if (['seed', 'laps', 'situation', 'scene', 'scans'].includes(name) && this.started) this.create();
   }
 
   /** The current state as attribute values, for "Copy link". */
@@ -232,7 +235,7 @@ class MapWeaverElement extends HTMLElement {
     const person = o.person ?? this.values.person;
     const panes = o.panes ?? SIDES.map((side) => this.paneOptions(side));
     const state = {
-      seed: this.values.seed, laps: this.values.laps,
+      seed: this.values.seed, laps: this.values.laps, situation: this.values.situation,
       scene: this.values.scene ? JSON.stringify(this.values.scene) : null,
       person: person === undefined ? null : person ? 'on' : 'off', speed: o.speed,
       autoplay: this.playing ? 'on' : 'off',
@@ -294,11 +297,16 @@ class MapWeaverElement extends HTMLElement {
     this.speedSelect = select('Speed', SPEEDS.map((s) => [String(s), `${s}×`]), String(this.options.speed),
       (v) => { this.options.speed = Number(v); }, { name: 'speed' });
     this.personToggle = toggle('Person in the corridor', false, (on) => this.setPerson(on), { name: 'person' });
+    this.situationSelect = select('Robot', [['lap', 'drives its lap'], ['ghost-watch', 'parked: ghost watch']], 'lap',
+      (v) => this.setAttribute('situation', v), { name: 'situation' });
     this.status = el('p', { class: 'occgrid-readout map-weaver-status', 'aria-live': 'polite' }, 'Loading the core…');
     this.loop = frameLoop(this, (dt) => this.tick(dt));
 
     this.panes = SIDES.map((side, k) => this.buildPane(side, k));
-    this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite' }, HOVER_HINT);
+    // The cell readout floats over the map pointed at; the hint stays below.
+    this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite', hidden: true }, HOVER_HINT);
+    this.hoverHint = el('p', { class: 'occgrid-caption map-weaver-hover-hint' }, HOVER_HINT);
+    this.comparison = el('p', { class: 'occgrid-readout map-weaver-comparison', hidden: true });
     this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart', role: 'img', 'aria-label': 'Map entropy over time: no scans yet.' });
 
     const playback = [
@@ -308,12 +316,13 @@ class MapWeaverElement extends HTMLElement {
       this.speedSelect.root,
     ];
     for (const c of playback) c.dataset.controls = 'playback';
-    this.personToggle.root.dataset.controls = 'toggles';
+    for (const c of [this.personToggle.root, this.situationSelect.root]) c.dataset.controls = 'toggles';
     this.simPanel = el('div', { class: 'map-weaver-sim' },
-      el('div', { class: 'occgrid-controls' }, playback, this.personToggle.root),
+      el('div', { class: 'occgrid-controls' }, playback, this.personToggle.root, this.situationSelect.root),
       this.status,
       el('div', { class: 'map-weaver-panes' }, this.panes.map((p) => p.root)),
-      this.hover,
+      this.comparison,
+      this.hoverHint,
       this.entropyBox,
       el('p', { class: 'occgrid-caption' },
         'Gray is unknown (the prior), white free, black occupied. Green lines are the current scan’s beams, drawn from where the pane believes the robot is; ',
@@ -345,6 +354,7 @@ class MapWeaverElement extends HTMLElement {
       class: 'occgrid-map map-weaver-map', tabindex: 0, role: 'img',
       'aria-label': `${side === 'left' ? 'Left' : 'Right'} map, not built yet. ${CURSOR_HINT}`,
     });
+    const stage = el('div', { class: 'map-weaver-stage' }, canvas);
     // The knobs take their ranges and values once the core has loaded
     // (applyLimits, syncControls) and their menus once the run exists
     // (fillChoices); until then they are hidden.
@@ -405,7 +415,7 @@ class MapWeaverElement extends HTMLElement {
       mapper.root, sensor.root, beta.root, beams.root, resolution.root, forget.root);
     const root = el('figure', { class: `map-weaver-pane map-weaver-${side}`, dataset: { pane: String(k) } },
       el('figcaption', {}, title, ' ', note),
-      canvas,
+      stage,
       el('div', { class: 'map-weaver-readouts occgrid-readout' },
         el('span', {}, 'Entropy ', entropy, ' bits'),
         el('span', {}, 'Brier ', brier),
@@ -416,17 +426,19 @@ class MapWeaverElement extends HTMLElement {
       chartBox,
       el('div', { class: 'map-weaver-foot', dataset: { controls: 'export' } }, save));
     const pane = {
-      side, k, root, canvas, note, knobs, learned, oracle, clamp, strength, mapper, sensor, beta, beams, resolution, forget,
+      side, k, root, canvas, stage, note, knobs, learned, oracle, clamp, strength, mapper, sensor, beta, beams, resolution, forget,
       entropy, brier, visited, scanMs, ghost, chartBox, layers: this.paneLayers(k),
     };
-    canvas.addEventListener('pointermove', (e) => this.pointAt(pane, e));
-    canvas.addEventListener('pointerleave', () => { this.cursor = null; this.draw(); });
+    followCellPointer(canvas, {
+      point: (e) => this.pointAt(pane, e),
+      leave: () => { this.cursor = null; this.draw(); },
+      keyboardFocus: () => {
+        if (!this.cursor || this.cursor.pane !== k) this.cursor = this.startCell(k);
+        this.draw();
+      },
+    });
     canvas.addEventListener('blur', () => { if (this.cursor?.pane === k) { this.cursor = null; this.draw(); } });
     canvas.addEventListener('keydown', (e) => this.keyCursor(pane, e));
-    canvas.addEventListener('focus', () => {
-      if (!this.cursor || this.cursor.pane !== k) this.cursor = this.startCell(k);
-      this.draw();
-    });
     return pane;
   }
 
@@ -498,7 +510,7 @@ class MapWeaverElement extends HTMLElement {
     const v = this.values;
     let next;
     try {
-      const settings = { seed: v.seed, laps: v.laps, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
+      const settings = { seed: v.seed, laps: v.laps, situation: v.situation, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
       next = new this.core.MapWeaver(settings);
       // A link may open the run part-way through: the core refuses more
@@ -593,6 +605,7 @@ class MapWeaverElement extends HTMLElement {
   syncControls() {
     if (!this.options.panes) return;
     this.personToggle.input.checked = this.options.person;
+    this.situationSelect.input.value = this.values.situation;
     this.speedSelect.input.value = String(this.options.speed);
     for (const p of this.panes) {
       const o = this.options.panes[p.k];
@@ -724,6 +737,8 @@ class MapWeaverElement extends HTMLElement {
           mapper: pr.mapper, sensor: pr.sensor, betaDeg: String(pr.betaDeg), beams: String(pr.beams),
           resolution: String(pr.resolution), forgetL0: String(pr.forgetL0), cellsVisited: String(pr.cellsVisited),
           scanMs: String(pr.scanMs ?? ''), ghostFaded: String(pr.ghost.faded), ghostLongest: String(pr.ghost.longestScans ?? ''),
+          ghostLongestSeconds: String(pr.ghost.longestSeconds ?? ''), ghostRecursionSeconds: String(pr.ghost.recursionSeconds ?? ''),
+          clamp: String(pr.clamp), strength: String(pr.strength),
         });
         p.entropy.textContent = bits(pr.entropyBits);
         p.brier.textContent = fixed(pr.brier, 4);
@@ -741,6 +756,7 @@ class MapWeaverElement extends HTMLElement {
         this.chartTime = now;
         this.drawCharts(r);
       }
+      showComparison(this.comparison, r);
       this.readCursor();
     } catch (e) {
       showError(this, e);
@@ -750,6 +766,7 @@ class MapWeaverElement extends HTMLElement {
     this.dataset.scans = String(r.scans);
     this.dataset.lap = String(r.lap);
     this.dataset.done = String(r.done);
+    this.dataset.situation = r.situation;
     this.reading = r;
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
@@ -819,6 +836,7 @@ class MapWeaverElement extends HTMLElement {
   /** The hover line with no cell under the pointer or the keyboard cursor. */
   clearHover() {
     this.hover.textContent = HOVER_HINT;
+    this.hover.hidden = true;
     for (const k of ['l', 'p', 'updates']) delete this.hover.dataset[k];
   }
 
@@ -837,6 +855,7 @@ class MapWeaverElement extends HTMLElement {
     this.hover.dataset.l = String(info.l);
     this.hover.dataset.p = String(info.p);
     this.hover.dataset.updates = String(info.updates);
+    placeReadout(this.hover, this.panes[c.pane].stage, c.row, this.paneSize(c.pane).h);
   }
 
   // ---- modes and export --------------------------------------------------

@@ -61,14 +61,49 @@ export const logName = {
 
 export const count = (n) => Number(n).toLocaleString('en-US');
 
-/** Exercise 5's readout: how long the person's ghost took to fade, from the core's count. */
+/** Exercise 5's readout: how long the person's ghost took to fade at the pane's clamp and strength, and the recursion's time. */
 export function ghostText(g) {
   const scans = (n) => `${count(n)} scan${n === 1 ? '' : 's'}`;
   const lingering = g.lingering ? `; ${count(g.lingering)} ghost cell${g.lingering === 1 ? '' : 's'} still at p ≥ 0.5` : '';
-  if (!g.faded) return `Ghost: none has faded back below p = 0.5 yet${lingering}.`;
-  return `Ghost fade (person gone → p < 0.5): last ${scans(g.lastScans)} (${fixed(g.lastSeconds, 2)} s), ` +
-    `slowest ${scans(g.longestScans)} (${fixed(g.longestSeconds, 2)} s) over ${count(g.faded)} cell${g.faded === 1 ? '' : 's'}${lingering}.`;
+  const recursion = g.recursionScans === null || g.recursionScans === undefined
+    ? ' (the learned model’s free evidence depends on the range: no single l_max / |l_free| to predict from)'
+    : `. The recursion: l_max / |l_free| = ${fixed(g.recursionScans * -g.freeEvidence, 1)} / ${fixed(-g.freeEvidence, 2)} = ` +
+      `${fixed(g.recursionScans, 1)} contradicting scans (${fixed(g.recursionSeconds, 2)} s)`;
+  if (!g.faded) return `Ghost: none has faded back below p = 0.5 at this clamp and strength yet${lingering}${recursion}.`;
+  return `Ghost fade at this clamp and strength (person gone → p < 0.5): slowest ${scans(g.longestScans)} (${fixed(g.longestSeconds, 2)} s) ` +
+    `over ${count(g.faded)} cell${g.faded === 1 ? '' : 's'}, last ${scans(g.lastScans)} (${fixed(g.lastSeconds, 2)} s)${lingering}${recursion}.`;
 }
+
+/**
+ * What the core says about the two maps against each other: how many
+ * cells their exports differ in (exercise 6, with the line of Table 9.2
+ * that parts the traversal from the sweep) and the drift of a map that
+ * forgets l0 (exercise 8). Empty when there is nothing to compare.
+ */
+export function comparisonText(r) {
+  const out = [];
+  const d = r.difference;
+  if (d) {
+    out.push(`The two maps’ exports (free, occupied, unknown) differ in ${count(d.cells)} of ${count(d.of)} cells, ` +
+      `${count(d.updatedByOne)} of them updated by one map only.`);
+    const [a, b] = r.panes;
+    if (a.mapper !== b.mapper) {
+      out.push('Traversal and sweep part at Table 9.2’s line 1 (|φ − θk| > β/2: no information): the sweep gives a cell nothing ' +
+        'when its centre lies more than β/2 off its nearest beam’s axis (β/2 = 0.5° for the thin LiDAR), the traversal updates every ' +
+        'cell a beam’s raster crosses, whatever its offset; for a cone, the sweep paints the cone between the beams, which no raster crosses.');
+    }
+  }
+  const drift = r.l0Drift;
+  if (drift) {
+    const side = drift.pane === 0 ? 'Left' : 'Right';
+    const measured = drift.perUpdate === null || drift.perUpdate === undefined
+      ? 'no cell inside the clamp to measure yet'
+      : `measured ${signed(drift.perUpdate, 3)} per update (median over ${count(drift.cells)} cells inside the clamp)`;
+    out.push(`${side} map forgets l0: every update adds the model’s own l0 = ${signed(drift.modelL0, 3)} on top of the other map’s; ${measured}.`);
+  }
+  return out.join(' ');
+}
+
 export const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 export const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 /** A cell size as the menu says it: 0.10, 0.05, 0.0125. */

@@ -1,0 +1,182 @@
+// The chapter's Map Weaver exercises done in Chromium the way a reader does
+// them: each opens from its link in the page's "Exercises" section, the
+// reader turns the knobs the text names, and the answer is read off the
+// widget's screen text and its data attributes (the core computes them).
+// Exercise 5 (the largest clamp whose ghost fades within about 5 s, and
+// the fade's two proportionalities, in the ghost watch), exercise 6 (the
+// cells where traversal and sweep differ for the thin LiDAR, and why) and
+// exercise 8 (the Brier scores and the drift of a map that forgets l0).
+import { test, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { openPage, screenshot, shutdown } from './harness.mjs';
+
+after(shutdown);
+
+const W = 'occgrid-map-weaver';
+
+/** The page's link for exercise `n`: its query and fragment. */
+async function exerciseLink(n) {
+  const { page, close } = await openPage('/', { reducedMotion: 'reduce' });
+  const href = await page.getAttribute(`#exercises a[data-exercise="${n}"]`, 'href');
+  await close();
+  return `/${href}`;
+}
+
+/** Opens exercise `n`'s link and waits for Map Weaver's run (and the scans the link asks for). */
+async function openExercise(n, viewport) {
+  const opened = await openPage(await exerciseLink(n), { reducedMotion: 'reduce', viewport });
+  const w = opened.page.locator(W);
+  await w.scrollIntoViewIfNeeded();
+  const scans = Number(new URL(await exerciseLink(n), 'http://x/').searchParams.get('map-weaver.scans') ?? 0);
+  await opened.page.waitForFunction(([t, s]) => {
+    const el = document.querySelector(t);
+    return el.weaver && el.dataset.scans === String(s) && !el.dataset.fastForward;
+  }, [W, scans], { timeout: 60_000 });
+  return { ...opened, w };
+}
+
+/** Moves a pane's slider to `value` as a reader would (its input event). */
+async function setSlider(page, name, value) {
+  await page.evaluate(([t, n, v]) => {
+    const input = document.querySelector(`${t} input[name="${n}"]`);
+    input.value = String(v);
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+  }, [W, name, value]);
+}
+
+/** Presses Reset, then plays `n` scans at once (the core's advance, then a full redraw). */
+async function resetAndRun(page, w, n) {
+  await w.getByRole('button', { name: 'Reset' }).click();
+  await page.evaluate(([t, k]) => {
+    const el = document.querySelector(t);
+    el.weaver.advance(k);
+    el.draw(true);
+  }, [W, n]);
+}
+
+/** A pane's ghost-fade line and numbers, as the widget shows them. */
+async function ghost(w, side) {
+  const pane = w.locator(`.map-weaver-${side}`);
+  const text = await pane.locator('.map-weaver-ghost').textContent();
+  const d = await pane.evaluate((p) => ({ ...p.dataset }));
+  const m = /slowest ([\d,]+) scans? \(([\d.]+) s\)/.exec(text);
+  assert.ok(m, `${side}: a slowest fade on screen: ${text}`);
+  const r = /l_max \/ \|l_free\| = ([\d.]+) \/ ([\d.]+) = ([\d.]+) contradicting scans \(([\d.]+) s\)/.exec(text);
+  assert.ok(r, `${side}: the recursion's time on screen: ${text}`);
+  assert.equal(Number(m[2]).toFixed(2), Number(d.ghostLongestSeconds).toFixed(2));
+  return { text, scans: Number(m[1].replaceAll(',', '')), seconds: Number(m[2]), recursionScans: Number(r[3]), clamp: Number(d.clamp), strength: Number(d.strength) };
+}
+
+test('exercise 5: in the ghost watch at strength 0.5, the largest clamp whose ghost fades within about 5 s is 12, and the fade follows l_max / |l_free|', async () => {
+  const { page, errors, close, w } = await openExercise(5, { width: 1280, height: 800 });
+  assert.equal(await w.evaluate((el) => el.dataset.situation), 'ghost-watch');
+  assert.equal(await w.getByLabel('Robot').inputValue(), 'ghost-watch');
+  // The link: clamps 12 and 6 at strength 0.5 (|l_free| = 0.2), 300 scans.
+  const left = await ghost(w, 'left');
+  const right = await ghost(w, 'right');
+  assert.deepEqual([left.clamp, left.strength, right.clamp, right.strength], [12, 0.5, 6, 0.5]);
+  assert.deepEqual([left.recursionScans, right.recursionScans], [60, 30]);
+  console.log(`exercise 5, the link: clamp 12 slowest ${left.scans} scans (${left.seconds} s), clamp 6 ${right.scans} scans (${right.seconds} s)`);
+  await screenshot(w.locator('.map-weaver-panes'), 'exercise-5-ghost-watch');
+
+  // The reader moves the right clamp and times the next departure, from
+  // 10 up in the slider's steps, until the fade passes about 5 s.
+  const fades = new Map();
+  for (const clamp of [10, 10.5, 11, 11.5, 12, 12.5, 13]) {
+    await setSlider(page, 'clamp-right', clamp);
+    await resetAndRun(page, w, 300);
+    const g = await ghost(w, 'right');
+    assert.equal(g.clamp, clamp);
+    fades.set(clamp, g);
+  }
+  // "Within about 5 s": within one scan (1/12 s) of it.
+  const within = [...fades].filter(([, g]) => g.seconds <= 5 + 1 / 12).map(([c]) => c);
+  const answer = Math.max(...within);
+  console.log(`exercise 5: slowest fades ${[...fades].map(([c, g]) => `${c} → ${g.seconds} s`).join(', ')}; largest clamp within about 5 s: ${answer}`);
+  assert.equal(answer, 12);
+  // Linear in l_max: each fade is l_max / |l_free| scans, to one scan.
+  for (const [c, g] of fades) {
+    assert.ok(Math.abs(g.scans - g.recursionScans) <= 1, `clamp ${c}: ${g.scans} scans against ${g.recursionScans}`);
+    assert.equal(g.recursionScans, c / 0.2);
+  }
+  // Inversely proportional to |l_free|: at strength 1 (|l_free| = 0.4) the
+  // clamp-12 fade halves.
+  await setSlider(page, 'clamp-right', 12);
+  await setSlider(page, 'strength-right', 1);
+  await resetAndRun(page, w, 300);
+  const strong = await ghost(w, 'right');
+  const weak = fades.get(12);
+  console.log(`exercise 5: clamp 12 at strength 0.5 → ${weak.scans} scans, at strength 1 → ${strong.scans} scans`);
+  assert.equal(strong.recursionScans, 30);
+  assert.ok(Math.abs(strong.scans * 2 - weak.scans) <= 2, `${weak.scans} → ${strong.scans}`);
+  assert.deepEqual(errors, []);
+  await close();
+});
+
+test('exercise 6: with the thin LiDAR, traversal and sweep differ in cells the widget counts (as the two exports do), and it names Table 9.2’s line 1', async () => {
+  const { page, errors, close, w } = await openExercise(6);
+  await page.selectOption(`${W} select[name="sensor-right"]`, 'lidar');
+  await page.waitForFunction((t) => document.querySelector(`${t} .map-weaver-right`).dataset.sensor === 'lidar', W);
+  await page.evaluate((t) => {
+    const el = document.querySelector(t);
+    el.weaver.advance(653);
+    el.draw(true);
+  }, W);
+  const line = w.locator('.map-weaver-comparison');
+  const text = await line.textContent();
+  const m = /differ in ([\d,]+) of ([\d,]+) cells/.exec(text);
+  assert.ok(m, text);
+  const shown = Number(m[1].replaceAll(',', ''));
+  assert.equal(Number(m[2].replaceAll(',', '')), 10_800);
+  assert.match(text, /Table 9\.2’s line 1 \(\|φ − θk\| > β\/2: no information\)/);
+  // The same count from the two exported maps, byte by byte.
+  const byExport = await w.evaluate((el) => {
+    const [a, b] = [0, 1].map((k) => el.weaver.exportMap(k).pgm);
+    const body = (p) => p.subarray(p.length - 10_800);
+    const [x, y] = [body(a), body(b)];
+    let n = 0;
+    for (let i = 0; i < x.length; i++) if (x[i] !== y[i]) n++;
+    return n;
+  });
+  console.log(`exercise 6: thin LiDAR after 653 scans, traversal against sweep: ${shown} of 10,800 cells differ (exports: ${byExport})`);
+  assert.equal(shown, byExport);
+  assert.ok(shown > 100, `${shown}`);
+  assert.equal(await line.getAttribute('data-cells-differ'), String(shown));
+  await screenshot(w.locator('.map-weaver-sim'), 'exercise-6-thin-lidar-difference');
+  assert.deepEqual(errors, []);
+  await close();
+});
+
+test('exercise 8: the map that forgets l0 scores worse by Brier, and the widget measures its drift per update as the model’s own l0', async () => {
+  const { page, errors, close, w } = await openExercise(8);
+  await page.evaluate((t) => {
+    const el = document.querySelector(t);
+    el.weaver.advance(653);
+    el.draw(true);
+  }, W);
+  const brier = async (side) => Number(await w.locator(`.map-weaver-${side} .map-weaver-brier`).textContent());
+  const [kept, forgot] = [await brier('left'), await brier('right')];
+  const line = w.locator('.map-weaver-comparison');
+  const text = await line.textContent();
+  const m = /model’s own l0 = ([−+\-\d.]+) .*measured ([−+\-\d.]+) per update \(median over ([\d,]+) cells/.exec(text);
+  assert.ok(m, text);
+  const num = (s) => Number(s.replaceAll('−', '-').replaceAll(',', ''));
+  const [l0, drift, cells] = [num(m[1]), num(m[2]), num(m[3])];
+  console.log(`exercise 8 after 653 scans: Brier ${kept} (subtracts l0) vs ${forgot} (forgets); l0 = ${l0}, measured drift ${drift} per update over ${cells} cells`);
+  assert.match(text, /Right map forgets l0/);
+  assert.ok(forgot > kept, `${forgot} vs ${kept}`);
+  assert.ok(l0 < -0.2, `${l0}`);
+  assert.ok(Math.abs(drift - l0) <= 0.001, `${drift} vs ${l0}`);
+  assert.ok(cells > 50, `${cells}`);
+  // The text asks for what is on screen: the Brier scores and this line.
+  const linkText = await openPage('/', { reducedMotion: 'reduce' }).then(async (o) => {
+    const t = await o.page.locator('#exercise-8').textContent();
+    await o.close();
+    return t;
+  });
+  assert.doesNotMatch(linkText, /entropy/i, 'the entropy curves overlap: the text does not ask for them');
+  assert.match(linkText, /Brier/);
+  await screenshot(w.locator('.map-weaver-sim'), 'exercise-8-drift');
+  assert.deepEqual(errors, []);
+  await close();
+});
