@@ -6,6 +6,7 @@
 //   dist/widgets/                               the widgets (widgets/)
 //   dist/pkg/occgrid.HASH.js, occgrid_bg.HASH.wasm  the core (pkg/)
 //   dist/vendor/uplot/                          uPlot (node_modules/uplot/dist/)
+//   dist/datasets/README.md                     an empty list of real logs, for a host to fill
 //   dist/custom-elements.json                   the widgets' Custom Elements Manifest, for editors
 //   dist/occgrid-bundle.json                    what was written, and from which core
 //
@@ -39,6 +40,21 @@ const ELEMENTS = 'custom-elements.json';
 const CORE_GLUE = '../../pkg/occgrid.js';
 const CORE_WASM = '../../pkg/occgrid_bg.wasm';
 const UPLOT_FILES = ['uPlot.esm.js', 'uPlot.min.css'];
+/**
+ * The bundle's datasets/README.md: the real-log panel reads the logs to
+ * offer from the table of a README.md in datasets/ beside widgets/. A
+ * bundle carries no logs, and says so here, so that the panel's question
+ * is answered (no 404) and its menu stays hidden until a host adds logs.
+ */
+const EMPTY_DATASETS = `# Real 2-D laser logs
+
+This bundle carries none. To offer logs in Map Weaver's real-log menu, put
+CARMEN logs (\`.log\` or \`.log.gz\`) in this folder and list each as a row
+of this table: its file name, the place, and its number of FLASER scans.
+
+| file | place | FLASER scans |
+| --- | --- | --- |
+`;
 
 class DistError extends Error {}
 
@@ -189,6 +205,9 @@ function build({ out }) {
   try {
     copyTree(path.join(root, 'www'), stage, files);
     copyTree(path.join(root, 'widgets'), path.join(stage, 'widgets'), files);
+    fs.mkdirSync(path.join(stage, 'datasets'));
+    fs.writeFileSync(path.join(stage, 'datasets/README.md'), EMPTY_DATASETS);
+    files.push(path.join(stage, 'datasets/README.md'));
 
     const pkg = path.join(stage, 'pkg');
     fs.mkdirSync(pkg, { recursive: true });

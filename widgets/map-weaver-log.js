@@ -24,12 +24,8 @@
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
+import { listedLogs } from './lib/dataset-listing.js';
 
-/** Descriptions of the logs the project's /datasets/ holds. */
-const DATASETS = [
-  ['intel-corrected.log.gz', 'Intel Research Lab, Seattle (910 scans)'],
-  ['aces-corrected.log.gz', 'ACES building, UT Austin (440 scans)'],
-];
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
 /**
@@ -466,10 +462,10 @@ export class RealLogPanel {
       const warning = read?.warning ? ` Warning: ${read.warning}.` : '';
       this.timing.textContent =
         `${job.name}: ${count(read?.lines ?? 0)} lines (${count(Math.round((read?.bytesTotal ?? 0) / 1024))} kB) read and ${count(state.panes[MAIN].scansDone)} scans mapped ` +
-        `in ${ms.toFixed(0)} ms, file reading included (reading ${(job.readMs ?? ms).toFixed(0)} ms).${warning}`;
+        `in ${count(Math.round(ms))} ms, file reading included (reading ${count(Math.round(job.readMs ?? ms))} ms).${warning}`;
     } else if (job.kind === 'rebuild') {
       this.timing.textContent =
-        `Rebuilt with the new settings (${state.settings.resolution} m cells): ${count(state.panes[MAIN].scansDone)} scans mapped in ${ms.toFixed(0)} ms.`;
+        `Rebuilt with the new settings (${state.settings.resolution} m cells): ${count(state.panes[MAIN].scansDone)} scans mapped in ${count(Math.round(ms))} ms.`;
     }
   }
 
@@ -505,23 +501,18 @@ export class RealLogPanel {
     if (this.controls.rangeCap.input.max !== max) this.controls.rangeCap.input.max = max;
   }
 
-  /** Shows the dataset menu when the server has /datasets/ beside /widgets/: the logs its README names, or the two known. */
+  /** Shows the dataset menu when the server has /datasets/ beside /widgets/: the logs its README's table lists, by name. */
   async probeDatasets() {
-    let names = [];
+    let logs = [];
     try {
       const r = await fetch(new URL('README.md', DATASET_BASE));
-      if (r.ok) {
-        const text = await r.text();
-        names = [...new Set(text.match(/[\w.-]+\.log(?:\.gz)?\b/g) ?? [])];
-        if (names.length === 0) names = DATASETS.map(([n]) => n);
-      }
+      if (r.ok) logs = listedLogs(await r.text());
     } catch {
       // Not served here: the menu stays hidden.
     }
-    const known = new Map(DATASETS);
     const input = this.datasetMenu.input;
-    input.replaceChildren(el('option', { value: '' }, 'choose a log…'), ...names.map((n) => el('option', { value: n }, known.get(n) ?? n)));
-    this.datasetMenu.root.hidden = names.length === 0;
+    input.replaceChildren(el('option', { value: '' }, 'choose a log…'), ...logs.map(([n, label]) => el('option', { value: n }, label)));
+    this.datasetMenu.root.hidden = logs.length === 0;
     this.showDataset();
   }
 

@@ -36,7 +36,7 @@ import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import {
-  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, bits, signed, metres,
+  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
 } from './lib/map-weaver-words.js';
 import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
 import { showComparison } from './lib/map-weaver-readouts.js';
@@ -124,13 +124,13 @@ class MapWeaverElement extends HTMLElement {
       type: whole(1, Number.MAX_SAFE_INTEGER), core: (c) => ({ type: whole(1, c.mapWeaver.maxLaps), default: String(c.mapWeaver.defaults.laps) }),
       doc: 'laps in the run',
     },
-    situation: { type: oneOf(['lap', 'ghost-watch']), default: 'lap', doc: 'the robot’s lap, or exercise 5’s ghost watch: the robot parked in the corridor while the person stands by the kitchen door, then leaves' },
     scene: { type: jsonObject('{"scan_rate": 12}'), doc: 'fields of the apartment scene to override (the core checks each); absent: the chapter’s apartment' },
     person: { type: flag(), core: (c) => ({ default: c.mapWeaver.defaults.person ? 'on' : 'off' }), doc: 'a person walking the corridor' },
     speed: { type: oneOf(SPEEDS.map(String), Number), default: '1', doc: 'playback speed: 1 is real time, at the scene’s scan rate' },
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
     scans: { type: whole(0, 1_000_000), default: '0', doc: 'scans integrated before the first frame (the run stops at its last lap)' },
     mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
+    situation: { type: oneOf(['lap', 'ghost-watch']), default: 'lap', doc: 'the robot’s lap, or exercise 5’s ghost watch: the robot parked in the corridor while the person stands by the kitchen door, then leaves' },
     ...paneSpec('left', 0),
     ...paneSpec('right', 1),
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
@@ -342,7 +342,7 @@ class MapWeaverElement extends HTMLElement {
 
     this.logPanel = el('div', { class: 'map-weaver-log-host', hidden: true });
     this.append(modes, this.simPanel, this.logPanel,
-      copyLinkControl(this, MapWeaverElement.attributeSpec, () => this.linkState()));
+      copyLinkControl(this, MapWeaverElement.attributeSpec, () => this.linkState(), () => linkKeeps(this.mode, this.realLog)));
 
     this.resizer = followResize(this.querySelector('.map-weaver-panes'), () => this.layout());
   }

@@ -104,6 +104,21 @@ export function comparisonText(r) {
   return out.join(' ');
 }
 
+/**
+ * What Map Weaver's copied link keeps, as its status line says it: in
+ * real-log mode, the settings and a log of the server's datasets/, never a
+ * file of the reader's own (the link cannot carry it), `panel` being the
+ * real-log panel (its `dataset` the datasets/ log shown, `name` any log).
+ */
+export function linkKeeps(mode, panel) {
+  if (mode !== 'log') return 'Link copied: it opens this page with both maps’ settings, replayed to this scan.';
+  if (panel?.dataset) return `Link copied: it opens this page in real-log mode with ${panel.dataset} from the server’s datasets and these settings.`;
+  if (panel?.name) {
+    return `Link copied: it keeps the real-log settings but not ${panel.name}, a file on this computer that a link cannot carry: ` +
+      'the link opens the panel with no log; open the file there again.';
+  }
+  return 'Link copied: it keeps the real-log settings; no log is loaded, so the link opens the panel with none.';
+}
 export const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
 export const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 /** A cell size as the menu says it: 0.10, 0.05, 0.0125. */

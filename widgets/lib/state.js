@@ -100,8 +100,9 @@ export function linkFor(host, spec, state) {
  * copies the link; where the clipboard is not available (a page not
  * served over https, a denied permission) it shows the link selected in a
  * text box instead. The last link is also in `host.dataset.link`.
+ * `copiedText()`, when given, says what the link keeps once it is copied.
  */
-export function copyLinkControl(host, spec, getState) {
+export function copyLinkControl(host, spec, getState, copiedText = null) {
   const status = el('output', { class: 'occgrid-link-status', 'aria-live': 'polite' });
   const field = el('input', {
     type: 'text', readonly: true, class: 'occgrid-link-field', hidden: true,
@@ -125,7 +126,7 @@ export function copyLinkControl(host, spec, getState) {
     try {
       await navigator.clipboard.writeText(href);
       field.hidden = true;
-      status.textContent = 'Link copied: it opens this page with this widget as it is now.';
+      status.textContent = copiedText?.() ?? 'Link copied: it opens this page with this widget as it is now.';
     } catch {
       field.hidden = false;
       field.focus();
