@@ -13,7 +13,8 @@
 //! last.
 
 use occgrid::apps::map_weaver::{
-    GhostReadout, ModelKind, PaneSettings, Situation, Weaver, WeaverSettings, WATCH_PAUSE,
+    GhostReadout, ModelKind, PaneSettings, Situation, Weaver, WeaverSettings, WATCH_GHOST_CELL,
+    WATCH_PAUSE,
 };
 use occgrid::inverse::training::{self, TrainingConfig};
 use occgrid::inverse::LearnedInverse;
@@ -130,4 +131,53 @@ fn the_learned_model_has_no_single_recursion_time() {
     let r = w.readout();
     assert_eq!(r.panes[1].ghost.recursion_scans, None);
     assert_eq!(r.panes[0].ghost.recursion_scans, Some(12.0 / 0.4f32 as f64));
+}
+
+/// The chart's "ghost cell" climbs to the clamp while the person stands
+/// on it and falls by |l_free| a scan once they have gone: a straight line
+/// from the clamp to p = 0.5 in l_max / |l_free| scans.
+#[test]
+fn the_charted_ghost_cell_rises_to_the_clamp_and_falls_in_a_straight_line() {
+    let mut s = WeaverSettings {
+        situation: Situation::GhostWatch,
+        laps: 1,
+        ..WeaverSettings::default()
+    };
+    s.panes[0].strength = 0.5;
+    let mut w = weaver(s);
+    w.advance(300).unwrap();
+    let names: Vec<String> = w
+        .tracked_readout(0)
+        .unwrap()
+        .iter()
+        .map(|t| t.name.clone())
+        .collect();
+    assert_eq!(names, ["corridor wall", "ghost cell", "closet"]);
+    let t = &w.tracked_readout(0).unwrap()[1];
+    assert_eq!(t.at, WATCH_GHOST_CELL);
+    let l: Vec<f32> = w.tracked_history(0).unwrap().iter().map(|c| c[1]).collect();
+    let top = l
+        .iter()
+        .rposition(|&v| v == 12.0)
+        .expect("the ghost cell reaches the clamp");
+    let faded = top + l[top..].iter().position(|&v| v < 0.0).expect("and fades");
+    assert_eq!(
+        faded - top,
+        61,
+        "12 / 0.2 = 60 steps of -0.2 from the clamp, the last to just below 0"
+    );
+    for i in top + 1..=faded {
+        assert!(
+            (l[i - 1] - l[i] - 0.2).abs() < 1e-5,
+            "scan {i}: {} -> {}",
+            l[i - 1],
+            l[i]
+        );
+    }
+    assert!(
+        WATCH_PAUSE * 12.0 > top as f64 - 12.0,
+        "it stood there until about scan 96: {top}"
+    );
+    let wall = w.tracked_history(0).unwrap().last().unwrap()[0];
+    assert_eq!(wall, 12.0, "the robot sees the corridor's north wall");
 }

@@ -770,7 +770,7 @@ class MapWeaverElement extends HTMLElement {
     this.reading = r;
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
-      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of driving · ` +
+      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
       `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}`;
   }
 

@@ -38,7 +38,7 @@ pub use settings::{
     MAX_FAST_FORWARD_WORK, MAX_LAPS, MAX_READINGS, MAX_TRAINING_UPDATES, PANE_RESOLUTIONS,
     STRENGTH,
 };
-pub use situation::{Situation, WATCH_PAUSE, WATCH_POST};
+pub use situation::{Situation, WATCH_GHOST_CELL, WATCH_PAUSE, WATCH_POST};
 pub use timing::Clock;
 
 use crate::error::{invalid, Result};

@@ -12,7 +12,7 @@
 //! scan), so the fade time is linear in the clamp and inversely
 //! proportional to the free evidence.
 
-use crate::scenes::apartment::ApartmentScene;
+use crate::scenes::apartment::{ApartmentScene, TrackedPoint};
 use crate::scenes::paths::{LapPath, WalkerParams};
 
 /// Where the robot drives and where the person walks.
@@ -41,6 +41,10 @@ pub const WATCH_PAUSE: f64 = 8.0;
 /// through the kitchen door (x 10.3 to 11.3).
 const WATCH_STAND: [f64; 2] = [10.83, 4.63];
 const WATCH_HIDE: [f64; 2] = [10.83, 2.45];
+/// A cell of the ghost the chart follows (metres): on the person's west
+/// outline, where the robot's beam at -18 degrees ends, and clear of the
+/// beams that end on the person while they walk away south.
+pub const WATCH_GHOST_CELL: [f64; 2] = [10.55, 4.65];
 /// How far the robot's two waypoints lie apart, metres: the least a lap
 /// allows is 1 mm; 2 mm keeps clear of it after rounding.
 const PARKED_STEP: f64 = 0.002;
@@ -67,6 +71,7 @@ impl Situation {
             // Start the cycle (walk out, stand, walk back, stand) at its
             // last part, standing in the corridor: the first ghost builds
             // from the first scan.
+            let [x, y] = WATCH_POST;
             let walk = (WATCH_HIDE[1] - WATCH_STAND[1]).abs() / person.speed;
             let cycle = 2.0 * (walk + WATCH_PAUSE);
             scene.person = WalkerParams {
@@ -76,7 +81,16 @@ impl Situation {
             // One "lap" of the parked robot lasts two of the person's
             // cycles, plus half a scan so that its turns fall between scans.
             let half = cycle + 0.5 / scene.scan_rate;
-            let [x, y] = WATCH_POST;
+            // The chart follows a wall cell the robot sees and a cell of
+            // the ghost (the closet stays, never seen).
+            scene.tracked[0] = TrackedPoint {
+                name: "corridor wall".into(),
+                at: [x, 5.55],
+            };
+            scene.tracked[1] = TrackedPoint {
+                name: "ghost cell".into(),
+                at: WATCH_GHOST_CELL,
+            };
             scene.path = LapPath {
                 waypoints: vec![[x, y], [x + PARKED_STEP, y]],
                 speed: PARKED_STEP / half,
