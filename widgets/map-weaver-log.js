@@ -24,6 +24,7 @@
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
+import { POSE_OPTIONS, drawMatch, livePath } from './lib/log-match.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
 const DATASETS = [
@@ -209,7 +210,7 @@ export class RealLogPanel {
       clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
       noReturnReach: slider({ label: 'no-return reach', min: 1, max: 80, step: 1, value: s.noReturnReach, format: (v) => `${v} m`, onInput: (v) => this.change({ noReturnReach: v }), name: 'no-return-reach' }),
       walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
-      poses: select('Poses', [['corrected', 'corrected (the log’s)'], ['dead-reckoning', 'dead reckoning (Table 5.6 noise)']], s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
+      poses: select('Poses', POSE_OPTIONS, s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
       seed: this.seedControl(s.seed),
     };
 
@@ -262,7 +263,7 @@ export class RealLogPanel {
         'Poses: the log’s are corrected (the pose oracle); its odometry fields repeat them, so dead reckoning makes its own: ',
         'each motion between two scans, split into rotate, translate, rotate, gets the odometry noise of Table 5.6 (and the drift ',
         'of slightly unequal wheels) drawn from the seed, and the noisy motions are added up from the first pose. The ',
-        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend.'));
+        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend. Scan-matched poses start from the same dead reckoning and move each scan to where it best fits the map built so far, before integrating it (while it builds, the scan’s returns are drawn where the match put them and a gray robot where the odometry predicted it); the corrected and dead-reckoned maps are drawn beside it.'));
 
     const drag = (on) => (e) => {
       e.preventDefault();
@@ -382,7 +383,7 @@ export class RealLogPanel {
             break;
           }
           const ms = performance.now() - t;
-          const did = next.cellUpdates - s.cellUpdates;
+          const did = next.work - s.work;
           this.trace.push(['build', ms, cells, did, next.scansDone]);
           // A rebuild restarted the count: no duration to learn from.
           if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
@@ -748,11 +749,12 @@ export class RealLogPanel {
     const unit = dpr(canvas) / v.scale;
     const done = this.state?.panes[k]?.scansDone ?? 0;
     if (path && done >= 1) {
-      drawPath(ctx, 1, path, done, { color: PATH_COLOR, lineWidth: unit });
+      drawPath(ctx, 1, livePath(this, k, path), done, { color: PATH_COLOR, lineWidth: unit });
       drawRobot(ctx, 1, this.session.robotAt(k, done - 1), {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
+    drawMatch(ctx, this, k, canvas, unit);
     if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
     ctx.restore();
   }
