@@ -754,7 +754,7 @@ export class RealLogPanel {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
-    drawMatch(ctx, this, k, canvas, unit);
+    drawMatch(ctx, this, k, unit);
     if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
     ctx.restore();
   }

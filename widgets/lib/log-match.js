@@ -43,13 +43,15 @@ function drawPoints(ctx, points, color, r) {
   ctx.restore();
 }
 
-/** The line of figures under a scan-matched pane, made when first needed. */
-function figuresLine(canvas) {
-  const figure = canvas.closest('figure');
-  let line = figure?.querySelector(':scope > .map-weaver-log-match');
-  if (figure && !line) {
+/**
+ * The line of figures of a scan-matched pane, made when first needed: under
+ * the maps (beside the stage, so that the three maps keep their row).
+ */
+function figuresLine(panel) {
+  let line = panel.root.querySelector('.map-weaver-log-match');
+  if (!line) {
     line = el('p', { class: 'map-weaver-log-match occgrid-readout', 'aria-live': 'off' });
-    figure.append(line);
+    panel.stage.after(line);
   }
   return line;
 }
@@ -63,9 +65,12 @@ function figuresLine(canvas) {
  * finished only the figures of the last match stay. Nothing for another
  * pane.
  */
-export function drawMatch(ctx, panel, k, canvas, unit) {
-  if (!matched(panel.state, k)) return void canvas.closest('figure')?.querySelector(':scope > .map-weaver-log-match')?.remove();
-  const line = figuresLine(canvas);
+export function drawMatch(ctx, panel, k, unit) {
+  if (!matched(panel.state, k)) {
+    if (k === 0) panel.root.querySelector('.map-weaver-log-match')?.remove();
+    return;
+  }
+  const line = figuresLine(panel);
   const m = panel.session.matchView(k);
   if (!m) {
     if (line) line.textContent = '';
@@ -76,7 +81,7 @@ export function drawMatch(ctx, panel, k, canvas, unit) {
     drawRobot(ctx, 1, m.predicted, { color: PREDICTED_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit });
     drawPoints(ctx, m.points, m.accepted ? POINT_COLOR : REFUSED_COLOR, 1.6 * unit);
   }
-  if (line) {
+  {
     const how = m.accepted
       ? `matched: moved ${fixed(m.correctionM * 100, 1)} cm and ${fixed(m.correctionDeg, 2)}° from the odometry’s prediction`
       : 'not trusted (too little of the scan on measured cells, or too weak a fit): put at the odometry’s prediction';

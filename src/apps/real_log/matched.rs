@@ -21,9 +21,12 @@ use crate::render::overlay::RobotMark;
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::Scan;
 
-/// Metres of drift the map holds beyond the corrected and the odometry's
-/// extents: the matched path lies between the two, and a little past
-/// either where the matcher has strayed.
+/// Metres of drift the map holds beyond the extent of the scans at the
+/// log's own poses: a matched path that strays further has its beams
+/// clipped at the map's edge (and its pane shows the path leaving it). Not
+/// the odometry's extent: the map of a matched path should look like the
+/// building, at the scale of the maps beside it, not like the space dead
+/// reckoning wandered through.
 pub const MATCH_DRIFT_MARGIN: f64 = 5.0;
 
 /// The matching work one step costs, in the units of a cell update: so
@@ -194,37 +197,16 @@ impl PoseMatching {
     }
 }
 
-/// The grid a scan-matched pane builds in: the extents of the scans at
-/// the corrected poses and at the odometry's, and [`MATCH_DRIFT_MARGIN`]
-/// more, covered on whole cells with the settings' margin.
-pub(super) fn matched_grid(
-    scans: &LaserScans,
-    odometry: &[Pose],
-    s: &LogMapSettings,
-) -> Option<Result<GridGeometry>> {
-    let at = |poses: &[Pose]| {
-        scan_extent(
-            (0..scans.len()).filter_map(|k| {
-                let scan = scans.scan(k)?;
-                let scan = match poses.get(k) {
-                    Some(p) if *p != scan.pose() => {
-                        Scan::new(*p, scan.ranges().to_vec(), scan.bearings().to_vec()).ok()?
-                    }
-                    _ => scan,
-                };
-                Some((scan, scans.max_range(k).unwrap_or(f64::INFINITY)))
-            }),
-            s.range_cap,
-        )
-    };
-    let (a, b) = (at(scans.poses())?, at(odometry)?);
+/// The grid a scan-matched pane builds in: the extent of the scans at the
+/// log's own poses (for a raw log, its odometry's) and
+/// [`MATCH_DRIFT_MARGIN`] more, covered on whole cells with the settings'
+/// margin.
+pub(super) fn matched_grid(scans: &LaserScans, s: &LogMapSettings) -> Option<Result<GridGeometry>> {
+    let placed = (0..scans.len())
+        .filter_map(|k| Some((scans.scan(k)?, scans.max_range(k).unwrap_or(f64::INFINITY))));
+    let a = scan_extent(placed, s.range_cap)?;
     let m = MATCH_DRIFT_MARGIN;
-    let extent = [
-        a[0].min(b[0]) - m,
-        a[1].min(b[1]) - m,
-        a[2].max(b[2]) + m,
-        a[3].max(b[3]) + m,
-    ];
+    let extent = [a[0] - m, a[1] - m, a[2] + m, a[3] + m];
     Some(covering_grid(extent, s.resolution, s.margin))
 }
 

@@ -461,7 +461,7 @@ fn plan_grid(
         )
     };
     if source == LogPoses::ScanMatched {
-        let grid = matched_grid(scans, poses, s).ok_or_else(no_scans)??;
+        let grid = matched_grid(scans, s).ok_or_else(no_scans)??;
         s.check_reach()?;
         return Ok(grid);
     }
