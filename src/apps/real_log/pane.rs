@@ -258,9 +258,9 @@ impl LogPane {
 
     /// Integrates up to `max_scans` more scans towards the target, and
     /// stops after the scan whose cell updates (and matching, counted as
-    /// [`BuildProgress::work`]) bring this call's to `max_cells` or more: the work of a call is bounded by what it does
-    /// (a scan down a long corridor updates ten times the cells of one in
-    /// an office), so a page that sizes the next call from the last one's
+    /// [`BuildProgress::work`]) bring this call's to `max_cells` or more:
+    /// the work of a call is bounded by what it does (a scan down a long
+    /// corridor updates ten times the cells of one in an office), so a page that sizes the next call from the last one's
     /// duration keeps every call near its time slice. At least one scan is
     /// integrated when any is left (and `max_scans` is not 0), whatever the
     /// budget: a caller looping until the build is finished always gets
