@@ -42,6 +42,13 @@ for (const [log, scans, shot] of [['aces-corrected.log.gz', 440, 'real-log-aces-
     // The match's figures under the pane while it builds: recorded by the
     // page as they change (the test waits on states, not on time).
     await page.evaluate(() => {
+      // Long tasks from the file's choice on, reported (not asserted: a
+      // machine's speed decides them; the slices' budgets are asserted).
+      window.longTasks = [];
+      new PerformanceObserver((list) => {
+        for (const e of list.getEntries()) window.longTasks.push([e.startTime, e.duration]);
+      }).observe({ type: 'longtask', buffered: true });
+      document.addEventListener('change', (e) => { if (e.target.type === 'file') window.chosenAt ??= e.timeStamp; }, true);
       window.matchLines = [];
       new MutationObserver(() => {
         const line = document.querySelector('.map-weaver-log-match');
@@ -70,6 +77,8 @@ for (const [log, scans, shot] of [['aces-corrected.log.gz', 440, 'real-log-aces-
     assert.ok(scales.every((s) => Math.abs(s - scales[0]) < 0.01 * scales[0]), `scales ${scales}`);
     // The match was drawn while the map built, and its last figures stay.
     const lines = await page.evaluate(() => window.matchLines);
+    const longTasks = await page.evaluate(() => window.longTasks.filter(([start, ms]) => start + ms > window.chosenAt).map(([, ms]) => Math.round(ms)));
+    t.diagnostic(`file to maps ${done.totalMs} ms; long tasks: ${longTasks.length ? longTasks.join(', ') : 'none (all under 50)'} ms`);
     t.diagnostic(`${lines.length} match drawings while building; ${(await page.evaluate(() => window.realLogPanel.trace.filter(([w]) => w === 'build').length))} build slices`);
     assert.ok(lines.length >= 1, 'the match was drawn while building');
     assert.ok(lines.every((l) => Number(l.scan) < scans));
