@@ -441,7 +441,7 @@ export class RealLogPanel {
   /** Draws the operated map, then each map beside it, each in a task of its own; false if the panel went away. */
   async drawEach() {
     const steps = [() => this.draw()];
-    if (this.state.panes.length > 1) steps.push(() => this.drawSidePanes());
+    for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
     for (const step of steps) {
       await this.pause();
       if (this.disposed || !this.session) return false;
@@ -765,11 +765,11 @@ export class RealLogPanel {
     this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
-  /** The maps beside the operated one, whole, with their paths and robots. */
-  drawSidePanes() {
+  /** The maps beside the operated one (or pane `only` of them: one per task while building), whole, with their paths and robots. */
+  drawSidePanes(only = null) {
     if (!this.session) return;
     this.sidePanes.forEach((side, i) => {
-      if (!side.geometry || side.figure.hidden) return;
+      if (!side.geometry || side.figure.hidden || (only !== null && only !== i + 1)) return;
       const ptr = this.session.renderView(i + 1);
       this.paint(side.canvas, i + 1, ptr, this.session.view(i + 1), side.path);
     });
