@@ -304,16 +304,13 @@ fn trajectory_errors(
 
 /// W8 `scan-match`: every log of the datasets folder at the real-log
 /// defaults (5 cm), its poses found by scan matching from seeded dead
-/// reckoning (seed 1): the time of each scan's match and integration
-/// (median and largest) and of the whole log, beside the plain build at
-/// the corrected poses, with the trajectory's errors against the corrected
-/// poses for dead reckoning and for scan matching.
+/// reckoning (seed 1) in the scan-matched pane the page drives: the time
+/// of each scan's match and integration (median and largest) and of the
+/// whole log, beside the plain build at the corrected poses, with the
+/// trajectory's errors against the corrected poses for dead reckoning and
+/// for scan matching.
 fn scan_match() {
-    use occgrid::apps::real_log::{LogMapSettings, LogPane};
-    use occgrid::grid::{storage::DEFAULT_TILE_BUDGET_CELLS, FilterSettings, TiledGrid};
-    use occgrid::mapping::reach::covering_grid;
-    use occgrid::mapping::scan_match::{MatchSettings, MatchedPath};
-    use occgrid::sensors::odometry::OdometryParams;
+    use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses};
     let Ok(dir) = std::fs::read_dir(datasets()) else {
         return eprintln!("skipping scan-match: cannot read the datasets folder");
     };
@@ -323,6 +320,11 @@ fn scan_match() {
         .collect();
     logs.sort();
     let s = LogMapSettings::default();
+    let matched_settings = LogMapSettings {
+        poses: LogPoses::ScanMatched,
+        seed: 1,
+        ..s
+    };
     for path in logs {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         let Ok(bytes) = std::fs::read(&path) else {
@@ -337,62 +339,28 @@ fn scan_match() {
             plain.push(t.elapsed().as_secs_f64() * 1e3);
         }
         let truth = scans.poses().to_vec();
-        let dr = OdometryParams::WHEELS.dead_reckon_path(&truth, 1);
-        // The map covers the corrected and the dead-reckoned extents and a
-        // few metres more: the matched path lies between the two.
-        let mut placed = scans.clone();
-        placed.set_poses(&dr).expect("one pose per scan");
-        let (a, b) = (
-            scans.endpoint_bounds(s.range_cap).expect("laser scans"),
-            placed.endpoint_bounds(s.range_cap).expect("laser scans"),
-        );
-        let extent = [
-            a[0].min(b[0]) - 5.0,
-            a[1].min(b[1]) - 5.0,
-            a[2].max(b[2]) + 5.0,
-            a[3].max(b[3]) + 5.0,
-        ];
-        let filter = FilterSettings {
-            prior: 0.5,
-            clamp: s.clamp,
-        };
-        let grid = TiledGrid::new(
-            covering_grid(extent, s.resolution, s.margin).expect("a map of the corpus"),
-            filter,
-            DEFAULT_TILE_BUDGET_CELLS,
-        )
-        .expect("a map of the corpus");
-        let insertion = s.scan_insertion();
-        let mut matched = MatchedPath::new(
-            grid,
-            dr.clone(),
-            OdometryParams::WHEELS,
-            MatchSettings::default(),
-            insertion,
-        )
-        .expect("default settings");
-        let (mut steps, mut trusted) = (Vec::new(), 0);
+        let mut pane = LogPane::new(scans.clone(), matched_settings).expect("default settings");
+        let mut steps = Vec::new();
         let t = Instant::now();
-        for k in 0..scans.len() {
-            let scan = scans.scan(k).expect("a scan of the log");
-            let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
+        while !pane.progress().finished {
             let t = Instant::now();
-            let r = matched
-                .step(&scan, laser_max)
-                .expect("the tile budget holds");
+            pane.advance(1);
             steps.push(t.elapsed().as_secs_f64() * 1e3);
-            trusted += r.matched.accepted as usize;
         }
         let total = t.elapsed().as_secs_f64() * 1e3;
+        assert!(pane.failure().is_none(), "the tile budget holds");
         let largest = steps.iter().copied().fold(0.0, f64::max);
-        let (dr_ate, dr_rpe, dr_rpe_deg) = trajectory_errors(&dr, &truth);
-        let (ate, rpe, rpe_deg) = trajectory_errors(matched.poses(), &truth);
+        let dr = pane.matched_odometry().expect("a scan-matched pane");
+        let (dr_ate, dr_rpe, dr_rpe_deg) = trajectory_errors(dr, &truth);
+        let (ate, rpe, rpe_deg) = trajectory_errors(pane.poses(), &truth);
+        let p = pane.progress();
         println!(
-            "{{\"workload\":\"scan-match\",\"runtime\":\"native\",\"log\":\"{name}\",\"scans\":{},\"matches_trusted\":{trusted},\"step_median_ms\":{:.3},\"step_max_ms\":{:.2},\"match_and_map_ms\":{total:.1},\"plain_build_ms\":{:.1},\"dead_reckoning\":{{\"ate_aligned_m\":{dr_ate:.3},\"rpe_m\":{dr_rpe:.4},\"rpe_deg\":{dr_rpe_deg:.3}}},\"scan_matched\":{{\"ate_aligned_m\":{ate:.3},\"rpe_m\":{rpe:.4},\"rpe_deg\":{rpe_deg:.3}}}}}",
+            "{{\"workload\":\"scan-match\",\"runtime\":\"native\",\"log\":\"{name}\",\"scans\":{},\"step_median_ms\":{:.3},\"step_max_ms\":{:.2},\"match_and_map_ms\":{total:.1},\"plain_build_ms\":{:.1},\"match_work_share\":{:.3},\"dead_reckoning\":{{\"ate_aligned_m\":{dr_ate:.3},\"rpe_m\":{dr_rpe:.4},\"rpe_deg\":{dr_rpe_deg:.3}}},\"scan_matched\":{{\"ate_aligned_m\":{ate:.3},\"rpe_m\":{rpe:.4},\"rpe_deg\":{rpe_deg:.3}}}}}",
             scans.len(),
             median(steps),
             largest,
-            median(plain)
+            median(plain),
+            1.0 - p.cell_updates as f64 / p.work.max(1) as f64
         );
     }
 }

@@ -2,10 +2,11 @@
 // as a ROS map_server pair:
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
-//     [--poses corrected|dead-reckoning] [--seed N]
+//     [--poses corrected|dead-reckoning|scan-matched] [--seed N]
 //
 // writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
-// PGM beside it) and prints a one-line JSON summary with the paths written.
+// PGM beside it), and OUT_PREFIX.poses.tsv, the poses the map was built
+// with (one line per scan, `scan x y theta`, metres and radians), and prints a one-line JSON summary with the paths written.
 // In the file name, characters other than letters, digits, `.`, `_` and `-`
 // become `_`, so that the YAML can name the image without quoting. LOG may
 // be gzipped.
@@ -17,12 +18,15 @@
 // poses; `--poses dead-reckoning` maps it at dead-reckoned ones instead (the
 // log's motion increments with Table 5.6's odometry noise, integrated from
 // the first pose), the noise drawn from `--seed` (default 1; one seed, one
-// map).
+// map); `--poses scan-matched` starts from the same dead reckoning (or from
+// the log's own odometry, where its odometry fields differ from its
+// corrected poses) and corrects each scan's pose by matching the scan
+// against the map built so far, before integrating it.
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning] [--seed N]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched] [--seed N]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -78,7 +82,7 @@ function parseArgs(argv) {
       settings.walls = text;
     } else if (is(a, '--poses')) {
       let text;
-      [text, i] = optionText(argv, i, '--poses', 'corrected or dead-reckoning');
+      [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning or scan-matched');
       // The core names the field and the value it refuses.
       settings.poses = text;
     } else if (is(a, '--seed')) {
@@ -120,8 +124,8 @@ async function main() {
     let read;
     do read = session.read(1 << 30); while (!read.finished);
     if (read.warning) console.error(`export-map: warning: ${read.warning}`);
-    // Pane 0 is the map at the chosen poses (a dead-reckoned run also
-    // builds the corrected map beside it).
+    // Pane 0 is the map at the chosen poses (a dead-reckoned or
+    // scan-matched run also builds the maps the page shows beside it).
     let state;
     do state = session.buildSlice(Infinity); while (!state.finished);
     const built = state.panes[0];
@@ -136,17 +140,19 @@ async function main() {
     const yamlPath = `${path.join(dir, path.basename(pgmPath, '.pgm'))}.yaml`;
     fs.writeFileSync(pgmPath, pair.pgm);
     fs.writeFileSync(yamlPath, pair.yaml);
+    const posesPath = `${path.join(dir, path.basename(pgmPath, '.pgm'))}.poses.tsv`;
+    fs.writeFileSync(posesPath, session.posesTsv(0));
     const g = session.geometry(0);
     const c = session.counts(0);
     console.log(JSON.stringify({
       log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected',
-      seed: settings.poses === 'dead-reckoning' ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      seed: ['dead-reckoning', 'scan-matched'].includes(settings.poses) ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.
       cells_allocated: built.cellsAllocated, bytes_allocated: built.bytesAllocated, cells: built.cells,
       // Counted with the YAML's own thresholds: what map_server loads.
       occupied: c.occupied, free: c.free, unknown: c.unknown,
-      occupied_thresh: c.occupiedThresh, free_thresh: c.freeThresh, pgm: pgmPath, yaml: yamlPath,
+      occupied_thresh: c.occupiedThresh, free_thresh: c.freeThresh, pgm: pgmPath, yaml: yamlPath, poses_tsv: posesPath,
     }));
   } finally {
     session.free();

@@ -2,10 +2,11 @@
 //! Scan matching on real and built logs: a known offset of an Intel scan
 //! recovered against the map of the other scans, the matched path of a
 //! real log against its dead reckoning, one seed one path bit for bit,
-//! bad parameters refused by name, and a featureless corridor that only
-//! the odometry can place along its length.
+//! bad parameters refused by name, a featureless corridor that only
+//! the odometry can place along its length, and the panel's scan-matched
+//! pane (built in slices, deterministic, from a raw log's own odometry).
 
-use occgrid::apps::real_log::LogMapSettings;
+use occgrid::apps::real_log::{LogMapSettings, LogPoses, RealLogSession};
 use occgrid::geometry::{wrap_angle, GridGeometry, Pose};
 use occgrid::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use occgrid::grid::{FilterSettings, TiledGrid};
@@ -568,4 +569,210 @@ fn a_featureless_corridor_keeps_heading_and_walls_and_follows_the_odometry_along
         )
         .unwrap();
     assert!(!r.accepted && r.pose == far && r.points > 0, "{r:?}");
+}
+
+/// The first `n` laser lines of a log of the datasets folder, as text.
+fn first_scans(name: &str, n: usize) -> Vec<u8> {
+    use std::io::Read;
+    let dir: PathBuf = std::env::var_os("OCCGRID_DATASETS")
+        .map(Into::into)
+        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(std::fs::File::open(dir.join(name)).unwrap())
+        .read_to_string(&mut text)
+        .unwrap();
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("FLASER"))
+        .take(n)
+        .collect();
+    (lines.join("\n") + "\n").into_bytes()
+}
+
+/// A session over `bytes` at `settings`, read to the end.
+fn session_of(bytes: Vec<u8>, settings: LogMapSettings) -> RealLogSession {
+    let mut s = RealLogSession::new(bytes);
+    s.configure(settings).unwrap();
+    while !s.read(1 << 20).unwrap().progress.finished {}
+    s
+}
+
+fn pose_bits(poses: &[Pose]) -> Vec<[u64; 3]> {
+    poses
+        .iter()
+        .map(|q| [q.x.to_bits(), q.y.to_bits(), q.theta.to_bits()])
+        .collect()
+}
+
+fn scan_matched(seed: u64) -> LogMapSettings {
+    LogMapSettings {
+        poses: LogPoses::ScanMatched,
+        seed,
+        ..LogMapSettings::default()
+    }
+}
+
+/// The panel's scan-matched pane: beside it the corrected and the
+/// dead-reckoned maps (the same seed); built in slices whose budget counts
+/// the matching too, it finds the poses the core's matched path finds on
+/// the same grid, bit for bit, maps there, and says so in its export and
+/// its `poses.tsv`.
+#[test]
+fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
+    let n = 150;
+    let bytes = first_scans("intel-corrected.log.gz", n);
+    let mut session = session_of(bytes.clone(), scan_matched(3));
+    let sources: Vec<LogPoses> = session.panes().iter().map(|p| p.source()).collect();
+    assert_eq!(
+        sources,
+        [
+            LogPoses::ScanMatched,
+            LogPoses::Corrected,
+            LogPoses::DeadReckoning
+        ]
+    );
+    assert_eq!(
+        session.state().panes[0].caption,
+        "Scan-matched (from dead reckoning, seed 3)"
+    );
+    let budget = 200_000;
+    let mut slices = 0;
+    let mut last = session.state();
+    let mut most_per_scan = 0u64;
+    while !last.finished {
+        let next = session.build_slice(budget).unwrap();
+        let did = next.work - last.work;
+        let scans = (next.scans_done - last.scans_done).max(1) as u64;
+        most_per_scan = most_per_scan.max(did / scans);
+        // A slice stops at the scan that reaches its budget: it does less
+        // than the budget plus one scan of each pane.
+        assert!(did < budget + 3 * 2_000_000, "slice {slices}: {did}");
+        assert!(next.work >= next.cell_updates);
+        slices += 1;
+        last = next;
+        assert!(slices < 10 * n, "the build ends");
+    }
+    assert!(slices > 3, "{slices} slices");
+    let pane = &session.panes()[0];
+    assert!(
+        pane.progress().work > pane.progress().cell_updates,
+        "matching counted"
+    );
+    // The same matcher on the same grid outside the session.
+    let log = LaserScans::read(&bytes[..]).unwrap();
+    let odometry = pane.matched_odometry().unwrap().to_vec();
+    assert_eq!(
+        odometry,
+        OdometryParams::WHEELS.dead_reckon_path(log.poses(), 3),
+        "a corrected log's odometry fields repeat its poses: dead reckoning is the start"
+    );
+    let settings = scan_matched(3);
+    let mut path = MatchedPath::new(
+        grid(*pane.grid().geometry()),
+        odometry,
+        OdometryParams::WHEELS,
+        occgrid::apps::real_log::match_settings(&settings),
+        settings.scan_insertion(),
+    )
+    .unwrap();
+    for k in 0..n {
+        path.step(&log.scan(k).unwrap(), log.max_range(k).unwrap())
+            .unwrap();
+    }
+    assert_eq!(pose_bits(pane.poses()), pose_bits(path.poses()));
+    assert!(pane.grid() == path.grid(), "the same map, cell for cell");
+    // Its poses as a file, every number read back bit for bit.
+    let tsv = pane.poses_tsv();
+    let read: Vec<Pose> = tsv
+        .lines()
+        .enumerate()
+        .map(|(k, line)| {
+            let t: Vec<&str> = line.split(' ').collect();
+            assert_eq!(t[0], k.to_string());
+            Pose {
+                x: t[1].parse().unwrap(),
+                y: t[2].parse().unwrap(),
+                theta: t[3].parse().unwrap(),
+            }
+        })
+        .collect();
+    assert_eq!(pose_bits(&read), pose_bits(path.poses()));
+    let yaml = pane.export_map(Some("m")).yaml;
+    assert!(yaml.contains("\n# poses: scan-matched (seed 3)"), "{yaml}");
+    assert_eq!(pane.export_stem("intel.log.gz"), "intel-scan-matched-map");
+    // The last match is there to draw: its scan's points at its pose.
+    let view = pane.match_view().unwrap();
+    assert_eq!(view.scan, n - 1);
+    assert!(view.points.len() > 100 && view.points.len() % 2 == 0);
+    assert!(session.panes()[1].match_view().is_none());
+}
+
+/// One seed, one scan-matched map, bit for bit (also after scrubbing back
+/// and building again); another seed, other poses.
+#[test]
+fn one_seed_one_scan_matched_pane_bit_for_bit_and_after_a_scrub() {
+    let bytes = first_scans("aces-corrected.log.gz", 100);
+    let build = |seed: u64| {
+        let mut s = session_of(bytes.clone(), scan_matched(seed));
+        while !s.build_slice(500_000).unwrap().finished {}
+        s
+    };
+    let (mut a, b) = (build(5), build(5));
+    let (pa, pb) = (&a.panes()[0], &b.panes()[0]);
+    assert_eq!(pose_bits(pa.poses()), pose_bits(pb.poses()));
+    assert!(pa.grid() == pb.grid());
+    assert_eq!(pa.poses_tsv(), pb.poses_tsv());
+    let (poses, map) = (pa.poses().to_vec(), pa.grid().clone());
+    a.seek(40).unwrap();
+    assert_eq!(a.panes()[0].progress().work, 0, "going back starts again");
+    while !a.build_slice(500_000).unwrap().finished {}
+    assert_eq!(a.panes()[0].poses_tsv().lines().count(), 40);
+    a.seek(100).unwrap();
+    while !a.build_slice(500_000).unwrap().finished {}
+    assert_eq!(pose_bits(a.panes()[0].poses()), pose_bits(&poses));
+    assert!(a.panes()[0].grid() == &map);
+    assert_ne!(pose_bits(build(6).panes()[0].poses()), pose_bits(&poses));
+}
+
+/// A raw log, whose odometry fields differ from its laser poses, is
+/// matched from its own odometry, not from dead reckoning made up; an
+/// unknown pose source is refused by name and changes nothing.
+#[test]
+fn a_raw_log_is_matched_from_its_own_odometry_and_a_bad_source_is_refused() {
+    let mut text = String::new();
+    for k in 0..8 {
+        let (x, odom) = (k as f64 * 0.2, k as f64 * 0.21 + 10.0);
+        text.push_str(&format!(
+            "FLASER 4 1.0 1.5 2.0 2.5 {x} 0.0 0.1 {odom} -1.0 0.2 0 h 0\n"
+        ));
+    }
+    let mut s = session_of(text.clone().into_bytes(), scan_matched(1));
+    while !s.build_slice(u64::MAX).unwrap().finished {}
+    let odometry = s.panes()[0].matched_odometry().unwrap();
+    assert_eq!(odometry.len(), 8);
+    assert_eq!(
+        odometry[3],
+        Pose {
+            x: 3.0 * 0.21 + 10.0,
+            y: -1.0,
+            theta: 0.2
+        }
+    );
+    // The path starts where the odometry does.
+    assert_eq!(s.panes()[0].poses()[0], odometry[0]);
+    let bad: Result<LogMapSettings, _> = serde_json::from_str(r#"{"poses": "scan-match"}"#);
+    let e = bad.unwrap_err().to_string();
+    assert!(
+        e.contains("scan-match") && e.contains("scan-matched"),
+        "{e}"
+    );
+    let before = s.state();
+    let e = s
+        .configure(LogMapSettings {
+            resolution: -1.0,
+            ..scan_matched(1)
+        })
+        .unwrap_err();
+    expect_invalid(e, "resolution", "-1");
+    assert_eq!(s.state(), before);
 }

@@ -25,6 +25,7 @@ import { el, slider, select, button, showError, clearError, ensureStyles, fixed,
 import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 import { listedLogs } from './lib/dataset-listing.js';
+import { POSE_OPTIONS, drawMatch, livePath } from './lib/log-match.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -205,7 +206,7 @@ export class RealLogPanel {
       clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
       noReturnReach: slider({ label: 'no-return reach', min: 1, max: 80, step: 1, value: s.noReturnReach, format: (v) => `${v} m`, onInput: (v) => this.change({ noReturnReach: v }), name: 'no-return-reach' }),
       walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
-      poses: select('Poses', [['corrected', 'corrected (the log’s)'], ['dead-reckoning', 'dead reckoning (Table 5.6 noise)']], s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
+      poses: select('Poses', POSE_OPTIONS, s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
       seed: this.seedControl(s.seed),
     };
 
@@ -258,7 +259,7 @@ export class RealLogPanel {
         'Poses: the log’s are corrected (the pose oracle); its odometry fields repeat them, so dead reckoning makes its own: ',
         'each motion between two scans, split into rotate, translate, rotate, gets the odometry noise of Table 5.6 (and the drift ',
         'of slightly unequal wheels) drawn from the seed, and the noisy motions are added up from the first pose. The ',
-        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend.'));
+        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend. Scan-matched poses start from the same dead reckoning and move each scan to where it best fits the map built so far, before integrating it (while it builds, the scan’s returns are drawn where the match put them and a gray robot where the odometry predicted it); the corrected and dead-reckoned maps are drawn beside it.'));
 
     const drag = (on) => (e) => {
       e.preventDefault();
@@ -378,7 +379,7 @@ export class RealLogPanel {
             break;
           }
           const ms = performance.now() - t;
-          const did = next.cellUpdates - s.cellUpdates;
+          const did = next.work - s.work;
           this.trace.push(['build', ms, cells, did, next.scansDone]);
           // A rebuild restarted the count: no duration to learn from.
           if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
@@ -436,7 +437,7 @@ export class RealLogPanel {
   /** Draws the operated map, then each map beside it, each in a task of its own; false if the panel went away. */
   async drawEach() {
     const steps = [() => this.draw()];
-    if (this.state.panes.length > 1) steps.push(() => this.drawSidePanes());
+    for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
     for (const step of steps) {
       await this.pause();
       if (this.disposed || !this.session) return false;
@@ -739,11 +740,12 @@ export class RealLogPanel {
     const unit = dpr(canvas) / v.scale;
     const done = this.state?.panes[k]?.scansDone ?? 0;
     if (path && done >= 1) {
-      drawPath(ctx, 1, path, done, { color: PATH_COLOR, lineWidth: unit });
+      drawPath(ctx, 1, livePath(this, k, path), done, { color: PATH_COLOR, lineWidth: unit });
       drawRobot(ctx, 1, this.session.robotAt(k, done - 1), {
         color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
       });
     }
+    drawMatch(ctx, this, k, unit);
     if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
     ctx.restore();
   }
@@ -754,11 +756,11 @@ export class RealLogPanel {
     this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
-  /** The maps beside the operated one, whole, with their paths and robots. */
-  drawSidePanes() {
+  /** The maps beside the operated one (or pane `only` of them: one per task while building), whole, with their paths and robots. */
+  drawSidePanes(only = null) {
     if (!this.session) return;
     this.sidePanes.forEach((side, i) => {
-      if (!side.geometry || side.figure.hidden) return;
+      if (!side.geometry || side.figure.hidden || (only !== null && only !== i + 1)) return;
       const ptr = this.session.renderView(i + 1);
       this.paint(side.canvas, i + 1, ptr, this.session.view(i + 1), side.path);
     });

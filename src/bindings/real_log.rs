@@ -330,9 +330,30 @@ impl RealLogSession {
         to_js(&robot.ok_or_else(|| crate::error::invalid("scan", k, "a scan of the log"))?)
     }
 
+    /// What pane `pane`'s last scan match did, for a scan-matched pane
+    /// (`null` for the others, and before the first scan): `{ scan,
+    /// accepted, score, predictedScore, overlap, predicted: { x, y,
+    /// heading }, pose: { x, y, heading }, correctionM, correctionDeg,
+    /// points: [u0, v0, ...] }`, the robot and the matched points in image
+    /// units.
+    #[wasm_bindgen(js_name = matchView)]
+    pub fn match_view(&self, pane: JsValue) -> Result<JsValue, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        to_js(&self.session.pane(pane)?.match_view())
+    }
+
+    /// The poses pane `pane`'s map so far was built with, one line per
+    /// scan: `scan x y theta` (metres, radians): a `poses.tsv` file.
+    #[wasm_bindgen(js_name = posesTsv)]
+    pub fn poses_tsv(&self, pane: JsValue) -> Result<String, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        Ok(self.session.pane(pane)?.poses_tsv())
+    }
+
     /// The file stem pane `pane`'s export takes for a log file named
     /// `fileName`: `intel-corrected-map`, or
-    /// `intel-corrected-dead-reckoning-map` for dead reckoning.
+    /// `intel-corrected-dead-reckoning-map` for dead reckoning
+    /// (`-scan-matched-map` for scan matching).
     #[wasm_bindgen(js_name = exportStem)]
     pub fn export_stem(&self, pane: JsValue, file_name: JsValue) -> Result<String, JsError> {
         let (pane, name) = (

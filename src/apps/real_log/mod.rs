@@ -11,16 +11,21 @@
 //!   a tiled grid and the mapper, built towards a target scan count.
 //! - `view`: what a pane shows: its view, cursor, readouts, scale legend
 //!   and export.
+//! - `matched`: the scan-matched pose source inside a pane
+//!   ([`MatchView`] what the page draws of its last match), and every
+//!   pane's poses as a `poses.tsv` text.
 //! - `session`: [`RealLogSession`], the read, the panes (the corrected map,
 //!   and the dead-reckoned one beside it when asked for: a further pose
 //!   source is one more pane) and the one state a panel renders
 //!   ([`SessionState`]).
 
+mod matched;
 mod pane;
 mod session;
 mod settings;
 mod view;
 
+pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
 pub use session::{
     FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,

@@ -4,6 +4,7 @@
 //! Table 9.2, and the build's progress towards a target scan count. What it
 //! shows (its view, cursor, readouts and export) is in `view.rs`.
 
+use super::matched::{matched_grid, PoseMatching};
 use super::settings::{CheckedSettings, LogMapSettings, LogPoses};
 use crate::apps::pane::{MapPane, ScreenView};
 use crate::error::{invalid, OccError, Result};
@@ -38,6 +39,10 @@ pub struct BuildProgress {
     pub scans_total: usize,
     /// Cell updates since the map was last reset.
     pub cell_updates: u64,
+    /// The build's work in cell updates: the updates, and for a
+    /// scan-matched pane the matching's cost in the same units
+    /// ([`super::matched::match_work`]): what a time slice's budget counts.
+    pub work: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
     pub finished: bool,
@@ -71,6 +76,9 @@ pub struct LogPane {
     budget_cells: usize,
     /// Why the build stopped short (the tile budget), once it has.
     failure: Option<OccError>,
+    /// The scan matching that finds each pose before its scan is
+    /// integrated (the scan-matched source only).
+    pub(super) matching: Option<PoseMatching>,
     /// Scratch: the current scan's beam bands.
     bands: Vec<Option<BeamBand>>,
     done: usize,
@@ -131,8 +139,17 @@ impl LogPane {
         odometry: OdometryParams,
         budget_cells: usize,
     ) -> Result<Self> {
-        let poses = poses_for(&scans, source, settings.settings().seed, &odometry);
-        let extent = plan_grid(&scans, &poses, settings.settings())?;
+        let seed = settings.settings().seed;
+        let poses = poses_for(&scans, source, seed, &odometry);
+        let matching = match source {
+            LogPoses::ScanMatched => Some(PoseMatching::new(
+                poses.clone(),
+                odometry,
+                settings.settings(),
+            )?),
+            _ => None,
+        };
+        let extent = plan_grid(&scans, &poses, source, settings.settings())?;
         let grid = TiledGrid::new(extent, settings.filter(), budget_cells)?;
         let (w, h) = DEFAULT_VIEW_SIZE;
         let view = ScreenView::new(&extent, w, h)?;
@@ -147,6 +164,7 @@ impl LogPane {
             short_model: None,
             budget_cells,
             failure: None,
+            matching,
             bands: Vec::new(),
             done: 0,
             target,
@@ -192,7 +210,7 @@ impl LogPane {
             settings.seed,
             &OdometryParams::WHEELS,
         );
-        plan_grid(scans, &poses, checked.settings())
+        plan_grid(scans, &poses, settings.poses, checked.settings())
     }
 
     /// New settings: a new grid (the extent depends on the range cap, the
@@ -207,6 +225,9 @@ impl LogPane {
 
     fn restart(&mut self) {
         self.map.reset();
+        if let Some(m) = &mut self.matching {
+            m.reset();
+        }
         self.failure = None;
         self.done = 0;
     }
@@ -236,20 +257,20 @@ impl LogPane {
     }
 
     /// Integrates up to `max_scans` more scans towards the target, and
-    /// stops after the scan whose cell updates bring this call's to
-    /// `max_cells` or more: the work of a call is bounded by what it does
-    /// (a scan down a long corridor updates ten times the cells of one in
-    /// an office), so a page that sizes the next call from the last one's
+    /// stops after the scan whose cell updates (and matching, counted as
+    /// [`BuildProgress::work`]) bring this call's to `max_cells` or more:
+    /// the work of a call is bounded by what it does (a scan down a long
+    /// corridor updates ten times the cells of one in an office), so a page that sizes the next call from the last one's
     /// duration keeps every call near its time slice. At least one scan is
     /// integrated when any is left (and `max_scans` is not 0), whatever the
     /// budget: a caller looping until the build is finished always gets
     /// there.
     pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
         let end = self.target.min(self.done.saturating_add(max_scans));
-        let start_updates = self.map.work().cell_updates;
+        let start = self.progress().work;
         while self.done < end && self.failure.is_none() {
             self.integrate_next();
-            if self.map.work().cell_updates - start_updates >= max_cells {
+            if self.progress().work - start >= max_cells {
                 break;
             }
         }
@@ -259,6 +280,10 @@ impl LogPane {
     /// Integrates scan `done` (at this pane's pose for it) and moves on.
     fn integrate_next(&mut self) {
         let k = self.done;
+        if let Err(e) = self.match_next(k) {
+            self.failure = Some(e);
+            return;
+        }
         if let Some(scan) = self.scan_at_pose(k) {
             let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
             let model = self.model_for(laser_max);
@@ -291,6 +316,21 @@ impl LogPane {
             }
         }
         self.done += 1;
+    }
+
+    /// A scan-matched pane's pose of scan `k`: the scan matched against
+    /// the map of the scans before it (nothing to do for other sources).
+    fn match_next(&mut self, k: usize) -> Result<()> {
+        let Some(matching) = self.matching.as_mut() else {
+            return Ok(());
+        };
+        let Some(scan) = self.scans.scan(k) else {
+            return Ok(());
+        };
+        let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+        let pose = matching.pose_of(k, &self.poses, self.map.grid(), &scan, laser_max)?;
+        self.poses[k] = pose;
+        Ok(())
     }
 
     /// The model for a scan whose laser reaches `laser_max` metres.
@@ -335,6 +375,7 @@ impl LogPane {
             scans_target: self.target,
             scans_total: self.scans.len(),
             cell_updates: self.map.work().cell_updates,
+            work: self.map.work().cell_updates + self.matching.as_ref().map_or(0, |m| m.work()),
             beams: self.map.work().beams,
             finished: self.done == self.target,
             cells_allocated: self.map.grid().cells_allocated(),
@@ -378,7 +419,9 @@ impl LogPane {
     }
 }
 
-/// The laser poses `source` puts the scans at.
+/// The laser poses `source` puts the scans at (for scan matching, the
+/// odometry it starts from: each pose is replaced by the one found as its
+/// scan is matched).
 fn poses_for(
     scans: &LaserScans,
     source: LogPoses,
@@ -388,6 +431,7 @@ fn poses_for(
     match source {
         LogPoses::Corrected => scans.poses().to_vec(),
         LogPoses::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
+        LogPoses::ScanMatched => PoseMatching::odometry_of(scans, seed, odometry),
     }
 }
 
@@ -403,18 +447,29 @@ fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> {
 /// The grid for `scans` at `poses` under valid settings: the extent of
 /// their poses and endpoints (each source's path wanders its own way),
 /// covered on whole cells, and a range cap whose reach fits the traversal.
-fn plan_grid(scans: &LaserScans, poses: &[Pose], s: &LogMapSettings) -> Result<GridGeometry> {
-    let placed = (0..scans.len()).filter_map(|k| {
-        let scan = at_pose(scans, k, *poses.get(k)?)?;
-        Some((scan, scans.max_range(k).unwrap_or(f64::INFINITY)))
-    });
-    let extent = scan_extent(placed, s.range_cap).ok_or_else(|| {
+fn plan_grid(
+    scans: &LaserScans,
+    poses: &[Pose],
+    source: LogPoses,
+    s: &LogMapSettings,
+) -> Result<GridGeometry> {
+    let no_scans = || {
         invalid(
             "log",
             "no FLASER or ROBOTLASER1 lines",
             "at least one laser scan",
         )
-    })?;
+    };
+    if source == LogPoses::ScanMatched {
+        let grid = matched_grid(scans, s).ok_or_else(no_scans)??;
+        s.check_reach()?;
+        return Ok(grid);
+    }
+    let placed = (0..scans.len()).filter_map(|k| {
+        let scan = at_pose(scans, k, *poses.get(k)?)?;
+        Some((scan, scans.max_range(k).unwrap_or(f64::INFINITY)))
+    });
+    let extent = scan_extent(placed, s.range_cap).ok_or_else(no_scans)?;
     let grid = covering_grid(extent, s.resolution, s.margin)?;
     // A scan is gathered in a window as wide as its longest beam: that
     // window's scratch is what bounds the reach in cells.

@@ -1,7 +1,8 @@
 //! The session a real-log panel drives ([`RealLogSession`]): a CARMEN log
 //! read a few lines at a time, then mapped a few scans at a time into one
-//! pane per pose source (the corrected map, and the dead-reckoned one
-//! beside it when the reader asks for it), with the one state
+//! pane per pose source (the corrected map, and beside it the
+//! dead-reckoned and scan-matched ones when the reader asks for them),
+//! with the one state
 //! ([`SessionState`]) the panel renders.
 
 use super::pane::{BuildProgress, LogPane};
@@ -96,6 +97,10 @@ pub struct SessionState {
     pub scans_target: usize,
     pub scans_total: usize,
     pub cell_updates: u64,
+    /// The panes' work together in cell updates (their updates, and the
+    /// scan matching's cost in the same units): what `build_slice`'s
+    /// budget counts.
+    pub work: u64,
     pub beams: u64,
     pub finished: bool,
     /// The panes, the one the reader operates first.
@@ -331,7 +336,8 @@ impl RealLogSession {
     }
 
     /// Advances every pane towards its target within one budget of
-    /// `max_cells` cell updates for the whole call, the pane furthest
+    /// `max_cells` cell updates for the whole call (scan matching counted
+    /// in the same units: [`BuildProgress::work`]), the pane furthest
     /// behind first, one scan at a time; the call stops after the scan that
     /// reaches the budget. At least one scan is integrated while any is
     /// left, whatever the budget. An error once a pane's beams reach past
@@ -352,9 +358,9 @@ impl RealLogSession {
                 .filter(|p| !p.progress().finished)
                 .min_by_key(|p| p.progress().scans_done);
             let Some(pane) = behind else { break };
-            let before = pane.progress().cell_updates;
+            let before = pane.progress().work;
             let after = pane.advance(1);
-            spent += after.cell_updates - before;
+            spent += after.work - before;
             if let Some(e) = pane.failure() {
                 return Err(e.clone());
             }
@@ -493,6 +499,7 @@ impl RealLogSession {
             scans_target: first.map_or(0, |p| p.scans_target),
             scans_total: first.map_or(0, |p| p.scans_total),
             cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
+            work: panes.iter().map(|p| p.progress.work).sum(),
             beams: panes.iter().map(|p| p.progress.beams).sum(),
             finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
             panes,

@@ -27,17 +27,24 @@ pub enum LogPoses {
     /// on a real building.
     #[serde(rename = "dead-reckoning")]
     DeadReckoning,
+    /// Scan matching: dead reckoning (or the log's own odometry, where its
+    /// odometry fields differ from its corrected poses) corrected scan by
+    /// scan by matching each scan against the map built so far, before
+    /// integrating it ([`crate::mapping::scan_match`]).
+    #[serde(rename = "scan-matched")]
+    ScanMatched,
 }
 
 impl LogPoses {
     /// The names a page and the CLI use.
-    pub const NAMES: [&'static str; 2] = ["corrected", "dead-reckoning"];
+    pub const NAMES: [&'static str; 3] = ["corrected", "dead-reckoning", "scan-matched"];
 
     /// The name a page uses (one of [`Self::NAMES`]).
     pub fn name(self) -> &'static str {
         match self {
             Self::Corrected => Self::NAMES[0],
             Self::DeadReckoning => Self::NAMES[1],
+            Self::ScanMatched => Self::NAMES[2],
         }
     }
 
@@ -46,19 +53,35 @@ impl LogPoses {
         match self {
             Self::Corrected => "Corrected poses (the log\u{2019}s own)".into(),
             Self::DeadReckoning => format!("Dead reckoning (seed {seed})"),
+            Self::ScanMatched => format!("Scan-matched (from dead reckoning, seed {seed})"),
+        }
+    }
+
+    /// What a map exported at these poses says of them (a comment line of
+    /// its YAML), or `None` for the log's own.
+    pub fn described(self, seed: u64) -> Option<String> {
+        match self {
+            Self::Corrected => None,
+            Self::DeadReckoning => Some(format!(
+                "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses"
+            )),
+            Self::ScanMatched => Some(format!(
+                "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses"
+            )),
         }
     }
 
     /// The panes a session shows when the reader maps at `chosen`: that
     /// pose source's map first (the one operated: hover, zoom, export),
     /// then the corrected map beside it for comparison, unless it is the
-    /// corrected map itself.
+    /// corrected map itself; a scan-matched map has the dead-reckoned one
+    /// it started from beside it too (the same seed).
     pub fn panes(chosen: LogPoses) -> Vec<LogPoses> {
-        let mut sources = vec![chosen];
-        if chosen != Self::Corrected {
-            sources.push(Self::Corrected);
+        match chosen {
+            Self::Corrected => vec![chosen],
+            Self::DeadReckoning => vec![chosen, Self::Corrected],
+            Self::ScanMatched => vec![chosen, Self::Corrected, Self::DeadReckoning],
         }
-        sources
     }
 }
 
@@ -95,8 +118,8 @@ pub struct LogMapSettings {
     pub walls: WallModel,
     /// The poses the scans are mapped at.
     pub poses: LogPoses,
-    /// The seed of dead reckoning's noise (one seed, one path; unused for
-    /// the corrected poses).
+    /// The seed of dead reckoning's noise (one seed, one path, and one
+    /// scan-matched path from it; unused for the corrected poses).
     pub seed: u64,
 }
 

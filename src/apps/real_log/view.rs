@@ -299,12 +299,8 @@ impl LogPane {
     pub fn export_map(&self, name: Option<&str>) -> MapServerPair {
         let stem = map_server::file_stem(name.unwrap_or(""));
         let mut pair = self.map.export(&format!("{stem}.pgm"));
-        if self.source() != LogPoses::Corrected {
-            pair.yaml.push_str(&format!(
-                "# poses: {} (seed {}): the log's motion with the odometry noise of Table 5.6, not its corrected poses\n",
-                self.source().name(),
-                self.settings().seed
-            ));
+        if let Some(poses) = self.source().described(self.settings().seed) {
+            pair.yaml.push_str(&format!("# poses: {poses}\n"));
         }
         pair
     }

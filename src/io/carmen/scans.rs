@@ -26,6 +26,9 @@ fn mib(bytes: usize) -> String {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LaserScans {
     poses: Vec<Pose>,
+    /// The odometry pose of each scan (FLASER's `odom_*` fields; the laser
+    /// pose where the line has none).
+    odometry: Vec<Pose>,
     /// `[first_bearing, bearing_step]`, radians.
     angles: Vec<[f64; 2]>,
     /// The laser's own maximum range, metres; infinite when the log does
@@ -49,9 +52,9 @@ impl LaserScans {
         LogLoader::new(reader).read_to_end().map(|(scans, _)| scans)
     }
 
-    /// Bytes kept per scan besides its ranges: pose, angles, maximum range,
+    /// Bytes kept per scan besides its ranges: pose, odometry, angles, maximum range,
     /// offset and line number.
-    pub const SCAN_BYTES: usize = std::mem::size_of::<Pose>()
+    pub const SCAN_BYTES: usize = 2 * std::mem::size_of::<Pose>()
         + std::mem::size_of::<[f64; 2]>()
         + std::mem::size_of::<f32>()
         + 2 * std::mem::size_of::<usize>();
@@ -104,6 +107,7 @@ impl LaserScans {
         let beams_most = budget / std::mem::size_of::<f32>();
         let n = self.len();
         let ok = Self::grow(&mut self.poses, 1, scans_most).is_ok()
+            && Self::grow(&mut self.odometry, 1, scans_most).is_ok()
             && Self::grow(&mut self.angles, 1, scans_most).is_ok()
             && Self::grow(&mut self.max_range, 1, scans_most).is_ok()
             && Self::grow(
@@ -125,6 +129,7 @@ impl LaserScans {
             self.offsets.push(0);
         }
         self.poses.push(record.pose);
+        self.odometry.push(record.odometry.unwrap_or(record.pose));
         self.angles
             .push([record.first_bearing, record.bearing_step]);
         self.max_range
@@ -185,6 +190,13 @@ impl LaserScans {
     /// Every scan's laser pose, in order.
     pub fn poses(&self) -> &[Pose] {
         &self.poses
+    }
+
+    /// The log's own odometry, one pose per scan, when it is raw: `None`
+    /// when it repeats the laser poses (a corrected log's odometry fields
+    /// copy its corrected poses; ROBOTLASER1 lines carry none).
+    pub fn raw_odometry(&self) -> Option<&[Pose]> {
+        (self.odometry != self.poses).then_some(&self.odometry[..])
     }
 
     /// Puts the scans at other poses (a dead-reckoned path), one per scan:
