@@ -16,6 +16,7 @@
 //!   source is one more pane) and the one state a panel renders
 //!   ([`SessionState`]).
 
+mod map;
 mod pane;
 mod session;
 mod settings;
@@ -26,6 +27,8 @@ pub use session::{
     FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,
 };
 pub use settings::{
-    CheckedSettings, LogMapSettings, LogPoses, SettingLimits, MAX_SEED, NO_RETURN_REACH,
+    CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
+    NO_RETURN_REACH,
 };
+pub use map::LogGrid;
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
