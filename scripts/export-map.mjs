@@ -3,6 +3,7 @@
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
 //     [--poses corrected|dead-reckoning] [--seed N]
+//     [--model hit-counting|log-odds|hit-miss-odds]
 //
 // writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
 // PGM beside it) and prints a one-line JSON summary with the paths written.
@@ -17,12 +18,14 @@
 // poses; `--poses dead-reckoning` maps it at dead-reckoned ones instead (the
 // log's motion increments with Table 5.6's odometry noise, integrated from
 // the first pose), the noise drawn from `--seed` (default 1; one seed, one
-// map).
+// map). `--model` chooses what a cell believes: hit-counting (the default:
+// GMapping's hits and visits), log-odds (Table 9.2's filter with the
+// chapter's clamp) or hit-miss-odds (Cartographer's odds tables).
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning] [--seed N]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning] [--seed N] [--model hit-counting|log-odds|hit-miss-odds]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -81,6 +84,11 @@ function parseArgs(argv) {
       [text, i] = optionText(argv, i, '--poses', 'corrected or dead-reckoning');
       // The core names the field and the value it refuses.
       settings.poses = text;
+    } else if (is(a, '--model')) {
+      let text;
+      [text, i] = optionText(argv, i, '--model', 'hit-counting, log-odds or hit-miss-odds');
+      // The core names the field and the value it refuses.
+      settings.model = text;
     } else if (is(a, '--seed')) {
       const what = 'a whole number from 0 to 9007199254740991, such as 7';
       let text;
@@ -139,7 +147,7 @@ async function main() {
     const g = session.geometry(0);
     const c = session.counts(0);
     console.log(JSON.stringify({
-      log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected',
+      log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected', model: state.settings.model,
       seed: settings.poses === 'dead-reckoning' ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.

@@ -24,6 +24,7 @@
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
+import { modelControls, modelNote } from './lib/log-models.js';
 
 /** Descriptions of the logs the project's /datasets/ holds. */
 const DATASETS = [
@@ -104,7 +105,7 @@ function pick(settings) {
 }
 
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
-export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed'];
+export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed', 'model', 'compareModel'];
 /** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
 const SEED_TEXT = /^\d{1,16}$/;
 /** The longest range cap `core` takes at `resolution`, whole metres (80 if it refuses the resolution: it says why at the load). */
@@ -211,6 +212,7 @@ export class RealLogPanel {
       walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
       poses: select('Poses', [['corrected', 'corrected (the log’s)'], ['dead-reckoning', 'dead reckoning (Table 5.6 noise)']], s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
       seed: this.seedControl(s.seed),
+      ...modelControls(s, (patch) => this.change(patch)),
     };
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
@@ -251,7 +253,7 @@ export class RealLogPanel {
       this.progress, this.status, this.timing,
       this.stage, this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
-      this.readout, this.counts,
+      this.readout, this.counts, modelNote(),
       el('p', { class: 'occgrid-caption' },
         'FLASER and ROBOTLASER1 lines are read with their corrected poses; the map covers every pose and every ',
         'reading closer than z_max, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
@@ -549,7 +551,6 @@ export class RealLogPanel {
     const root = el('div', { class: 'occgrid-control' }, el('label', { for: id }, 'Seed of the odometry noise'), input);
     return { root, input };
   }
-
 
   /** Canvas device pixels of a pointer event (inside the canvas's border). */
   viewPoint(e) {
@@ -874,7 +875,7 @@ export class RealLogPanel {
     this.controls.walls.input.value = String(s.walls);
     this.controls.poses.input.value = String(s.poses);
     this.controls.seed.input.value = String(s.seed);
-    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach']) this.controls[key].set(s[key]);
+    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'model', 'compareModel']) this.controls[key].set(s[key]);
   }
 
   async seek(k) {
