@@ -96,15 +96,30 @@ impl<'a> LogGrid<'a> {
     }
     /// Cells with storage.
     pub fn cells_allocated(self) -> usize {
-        each_grid(self, |g| g.cells_allocated(), |g| g.cells_allocated(), |g| g.cells_allocated())
+        each_grid(
+            self,
+            |g| g.cells_allocated(),
+            |g| g.cells_allocated(),
+            |g| g.cells_allocated(),
+        )
     }
     /// Bytes a cell takes.
     pub fn bytes_per_cell(self) -> usize {
-        each_grid(self, |g| g.bytes_per_cell(), |g| g.bytes_per_cell(), |g| g.bytes_per_cell())
+        each_grid(
+            self,
+            |g| g.bytes_per_cell(),
+            |g| g.bytes_per_cell(),
+            |g| g.bytes_per_cell(),
+        )
     }
     /// Bytes the allocated cells hold.
     pub fn bytes_allocated(self) -> usize {
-        each_grid(self, |g| g.bytes_allocated(), |g| g.bytes_allocated(), |g| g.bytes_allocated())
+        each_grid(
+            self,
+            |g| g.bytes_allocated(),
+            |g| g.bytes_allocated(),
+            |g| g.bytes_allocated(),
+        )
     }
     /// True once a cell's evidence was dropped for want of storage.
     pub fn refused(self) -> bool {
@@ -172,4 +187,3 @@ fn as_log_odds<M: CellModel>(grid: &Grid<M, Tiled<M::Cell>>) -> Result<LogOddsGr
     }
     Ok(out)
 }
-

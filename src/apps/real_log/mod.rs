@@ -22,6 +22,7 @@ mod session;
 mod settings;
 mod view;
 
+pub use map::LogGrid;
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
 pub use session::{
     FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,
@@ -30,5 +31,4 @@ pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
 };
-pub use map::LogGrid;
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};

@@ -5,12 +5,12 @@
 //! progress towards a target scan count. What it shows (its view, cursor,
 //! readouts and export) is in `view.rs`.
 
+use super::map::{each_map, LogGrid, LogMap};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
 use crate::apps::pane::ScreenView;
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
-use super::map::{each_map, LogGrid, LogMap};
 use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{covering_grid, scan_extent, tiles_reached, BeamReach};

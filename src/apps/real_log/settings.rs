@@ -107,7 +107,13 @@ impl LogCellModel {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == name)
-            .ok_or_else(|| invalid(field, format!("\"{name}\""), "log-odds, hit-counting or hit-miss-odds"))
+            .ok_or_else(|| {
+                invalid(
+                    field,
+                    format!("\"{name}\""),
+                    "log-odds, hit-counting or hit-miss-odds",
+                )
+            })
     }
 
     /// How a caption names the model.

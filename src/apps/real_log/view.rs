@@ -74,13 +74,13 @@ impl LogPane {
         }
     }
 
-    /// The caption of this pane: its pose source, and its cell model
-    /// when that is not the chapter's.
+    /// The caption of this pane: its pose source, and its cell model when
+    /// the session compares two.
     pub fn caption(&self) -> String {
         let poses = self.source().caption(self.settings().seed);
-        match self.model() {
-            super::LogCellModel::LogOdds if self.settings().compare_model.is_none() => poses,
-            model => format!("{poses}, {}", model.caption()),
+        match self.settings().compare_model {
+            None => poses,
+            Some(_) => format!("{poses}, {}", self.model().caption()),
         }
     }
 
