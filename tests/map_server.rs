@@ -167,8 +167,8 @@ fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     }
     // A building and the clearing its no-returns carve: the chapter's
     // no-returns clear 30 m through windows and doors, and the map's
-    // extent holds all of it (1657 x 1597 cells, where its poses and
-    // readings alone span 850 x 811): walls under one percent of the map,
+    // extent holds all of it (1657 x 1597 cells; 850 x 811 with the
+    // real-log default's 5 m clearing): walls under one percent of the map,
     // free space an
     // eighth (with l_free = -0.40, one or two free readings leave p at
     // 0.40 or 0.31, above free_thresh), the rest gray.
