@@ -278,6 +278,7 @@ fn real_logs() {
     for path in logs {
         let bytes = std::fs::read(&path).expect("a readable log");
         let (mut read, mut build, mut last) = (Vec::new(), Vec::new(), None);
+        let (mut render, mut counting) = (Vec::new(), Vec::new());
         for _ in 0..runs() {
             let t = Instant::now();
             let scans = carmen::LaserScans::read(&bytes[..]).expect("the corpus's logs parse");
@@ -290,13 +291,23 @@ fn real_logs() {
             .expect("default settings");
             let p = b.advance(usize::MAX);
             build.push(t.elapsed().as_secs_f64() * 1e3);
-            last = Some((p, b.counts()));
+            // What a page's redraw costs: the whole map in a 1200 x 900
+            // view, and the counts beside it.
+            b.set_view_size(1200, 900)
+                .expect("a view size within bounds");
+            let t = Instant::now();
+            b.render_view();
+            render.push(t.elapsed().as_secs_f64() * 1e3);
+            let t = Instant::now();
+            let c = b.counts();
+            counting.push(t.elapsed().as_secs_f64() * 1e3);
+            last = Some((p, c));
         }
         let (p, c) = last.expect("at least one run");
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         println!(
-            "{{\"workload\":\"real-log\",\"runtime\":\"native\",\"log\":\"{}\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"cells_allocated\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
-            name, p.scans_total, p.beams, median(read), median(build), p.cells_allocated, p.cell_updates, c.occupied, c.free, c.unknown
+            "{{\"workload\":\"real-log\",\"runtime\":\"native\",\"log\":\"{}\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"render_ms\":{:.2},\"counts_ms\":{:.2},\"cells_allocated\":{},\"cells_visited\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
+            name, p.scans_total, p.beams, median(read), median(build), median(render), median(counting), p.cells_allocated, p.cells_visited, p.cell_updates, c.occupied, c.free, c.unknown
         );
     }
 }

@@ -36,6 +36,9 @@ pub struct BuildProgress {
     pub scans_total: usize,
     /// Cell updates since the map was last reset.
     pub cell_updates: u64,
+    /// Cells the beams' walks looked at since then (a cell near the sensor
+    /// lies on many beams of a scan and is updated once).
+    pub cells_visited: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
     pub finished: bool,
@@ -340,6 +343,7 @@ impl LogPane {
             scans_target: self.target,
             scans_total: self.scans.len(),
             cell_updates: self.map.work().cell_updates,
+            cells_visited: self.map.work().cells_visited,
             beams: self.map.work().beams,
             finished: self.done == self.target,
             cells_allocated: self.grid().cells_allocated(),

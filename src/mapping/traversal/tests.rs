@@ -332,3 +332,21 @@ fn one_beam_marks_free_then_occupied() {
     assert_eq!(l(12), 0.0, "unknown behind");
     assert_eq!(stats.cells_updated, 11);
 }
+
+/// The window index's division by multiplication is exact over the whole
+/// range a window can have (every width up to 4,095 cells, every index
+/// below 2^25), and refuses widths past it.
+#[test]
+fn division_by_the_window_width_is_exact_over_every_window() {
+    for d in 1..4096usize {
+        let div = super::DivideBy::new(d).unwrap();
+        let last = (1usize << 25) - 1;
+        for w in [0, 1, d - 1, d, d + 1, 7 * d + 3, last - d, last - 1, last]
+            .into_iter()
+            .chain((0..64).map(|k| (k * 524_287 + d) % (last + 1)))
+        {
+            assert_eq!(div.div_rem(w), (w / d, w % d), "{w} / {d}");
+        }
+    }
+    assert!(super::DivideBy::new(0).is_none() && super::DivideBy::new(4096).is_none());
+}
