@@ -306,8 +306,8 @@ fn real_logs() {
         let (p, c) = last.expect("at least one run");
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         println!(
-            "{{\"workload\":\"real-log\",\"runtime\":\"native\",\"log\":\"{}\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"render_ms\":{:.2},\"counts_ms\":{:.2},\"cells_allocated\":{},\"cells_visited\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
-            name, p.scans_total, p.beams, median(read), median(build), median(render), median(counting), p.cells_allocated, p.cells_visited, p.cell_updates, c.occupied, c.free, c.unknown
+            "{{\"workload\":\"real-log\",\"runtime\":\"native\",\"log\":\"{}\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"render_ms\":{:.2},\"counts_ms\":{:.2},\"cells_allocated\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
+            name, p.scans_total, p.beams, median(read), median(build), median(render), median(counting), p.cells_allocated, p.cell_updates, c.occupied, c.free, c.unknown
         );
     }
 }

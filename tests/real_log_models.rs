@@ -279,3 +279,33 @@ fn a_second_pane_shows_the_same_log_under_another_model() {
     s.configure(LogMapSettings::default()).unwrap();
     assert_eq!(s.state().panes.len(), 1);
 }
+
+/// Floor between two beams' axes, where they part by more than a cell, is
+/// free under the defaults (each beam as wide as the beam spacing, Table
+/// 9.2's β); with thin beams it stays gray in one-cell pinholes.
+#[test]
+fn floor_between_neighbouring_beams_is_free_under_the_defaults() {
+    // A wall 10 m ahead; between beams 90 (bearing 0) and 91 (1°), 8 m
+    // out, they are 14 cm apart, and the cell midway lies on neither.
+    let bytes = flaser_log(&[(0.0, 0.0, 0.0, vec![10.0; 180])]);
+    let (x, y) = (
+        8.0 * 0.5f64.to_radians().cos(),
+        8.0 * 0.5f64.to_radians().sin(),
+    );
+    let run = |between_beams: bool| {
+        let mut b = pane(
+            &bytes,
+            LogMapSettings {
+                between_beams,
+                ..LogMapSettings::default()
+            },
+        );
+        b.advance(usize::MAX);
+        p_at(&b, x, y)
+    };
+    assert!(LogMapSettings::default().between_beams);
+    assert!(!LogMapSettings::chapter().between_beams);
+    let (wide, thin) = (run(true), run(false));
+    assert!(wide < FREE, "p = {wide}");
+    assert_eq!(thin, 0.5, "never crossed: unknown");
+}

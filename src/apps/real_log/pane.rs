@@ -14,7 +14,7 @@ use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
 use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{covering_grid, scan_extent, tiles_reached, BeamReach};
-use crate::mapping::traversal::BeamBand;
+use crate::mapping::traversal::{BeamBand, RayMapper};
 use crate::mapping::walls::beam_bands;
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::Scan;
@@ -36,9 +36,6 @@ pub struct BuildProgress {
     pub scans_total: usize,
     /// Cell updates since the map was last reset.
     pub cell_updates: u64,
-    /// Cells the beams' walks looked at since then (a cell near the sensor
-    /// lies on many beams of a scan and is updated once).
-    pub cells_visited: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
     pub finished: bool,
@@ -76,6 +73,9 @@ pub struct LogPane {
     failure: Option<OccError>,
     /// Scratch: the current scan's beam bands.
     bands: Vec<Option<BeamBand>>,
+    /// The ray traversal (and its scratch), which also fills the free
+    /// space between neighbouring beams when the settings ask for it.
+    mapper: RayMapper,
     done: usize,
     target: usize,
     /// The keyboard cursor's image cell `(col, row)`, if any.
@@ -152,6 +152,7 @@ impl LogPane {
             budget_cells,
             failure: None,
             bands: Vec::new(),
+            mapper: RayMapper::new(),
             done: 0,
             target,
             cursor: None,
@@ -284,8 +285,17 @@ impl LogPane {
                 (s.l_free - model.params().l0) as f32,
                 (s.l_occ - model.params().l0) as f32,
             );
-            let bands = &self.bands;
-            each_map!(&mut self.map, m => m.integrate_bands(&scan, bands, free, occupied));
+            let (bands, mapper, between) = (&self.bands, &mut self.mapper, s.between_beams);
+            each_map!(&mut self.map, m => {
+                let stats = mapper.integrate_bands_between(
+                    m.grid_mut(),
+                    &scan,
+                    bands,
+                    (free, occupied),
+                    between,
+                );
+                m.count(&scan, stats);
+            });
             if self.grid().refused() {
                 let needed = self.tiles_reached();
                 let grid = self.grid();
@@ -343,7 +353,6 @@ impl LogPane {
             scans_target: self.target,
             scans_total: self.scans.len(),
             cell_updates: self.map.work().cell_updates,
-            cells_visited: self.map.work().cells_visited,
             beams: self.map.work().beams,
             finished: self.done == self.target,
             cells_allocated: self.grid().cells_allocated(),

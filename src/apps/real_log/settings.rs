@@ -186,6 +186,11 @@ pub struct LogMapSettings {
     /// A second map of the same scans at the same poses with another cell
     /// model, shown beside the first (`None`: no comparison).
     pub compare_model: Option<LogCellModel>,
+    /// Free space between neighbouring beams: each beam as wide as the
+    /// beam spacing (Table 9.2's `β`), so that floor seen between two
+    /// beams' axes is not left gray in one-cell pinholes
+    /// ([`crate::mapping::traversal::RayMapper::integrate_bands_between`]).
+    pub between_beams: bool,
 }
 
 /// The default no-return reach, metres (Cartographer's
@@ -213,6 +218,7 @@ impl Default for LogMapSettings {
             seed: 1,
             model: LogCellModel::default(),
             compare_model: None,
+            between_beams: true,
         }
     }
 }
@@ -249,7 +255,7 @@ impl SettingLimits {
 
 impl LogMapSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 13] = [
+    pub const FIELDS: [&'static str; 14] = [
         "resolution",
         "rangeCap",
         "alpha",
@@ -263,6 +269,7 @@ impl LogMapSettings {
         "seed",
         "model",
         "compareModel",
+        "betweenBeams",
     ];
 
     /// Table 9.2 with the chapter's clamp, no-returns carving out to
@@ -272,6 +279,7 @@ impl LogMapSettings {
             no_return_reach: 30.0,
             walls: WallModel::Table92,
             model: LogCellModel::LogOdds,
+            between_beams: false,
             ..Self::default()
         }
     }
