@@ -536,27 +536,7 @@ impl BeamFrame {
     /// to range `reach` (metres), and the state at its first cell; `None`
     /// when the beam misses the map.
     #[inline]
-    fn beam(&self, trig: (f64, f64), reach: f64) -> Option<(Walk, BeamState)> {
-        self.segment_from(trig, None, reach)
-    }
-
-    /// As [`Self::beam`], from range `from` (metres) on; `None` also when
-    /// its first cell lies outside the window (a segment longer than the
-    /// reach the window was made for).
-    fn segment(&self, trig: (f64, f64), from: f64, to: f64) -> Option<(Walk, BeamState)> {
-        if !(from >= 0.0 && from < to) {
-            return None;
-        }
-        self.segment_from(trig, Some(from), to)
-    }
-
-    #[inline(always)]
-    fn segment_from(
-        &self,
-        (sin_b, cos_b): (f64, f64),
-        from: Option<f64>,
-        reach: f64,
-    ) -> Option<(Walk, BeamState)> {
+    fn beam(&self, (sin_b, cos_b): (f64, f64), reach: f64) -> Option<(Walk, BeamState)> {
         let (su, sv, res) = (self.su, self.sv, self.res);
         // Beam direction theta + bearing by the angle-addition formulas
         // (within a few ulps of sin_cos of the sum).
@@ -564,11 +544,7 @@ impl BeamFrame {
         let c = self.cos_t * cos_b - self.sin_t * sin_b;
         let cells = reach * self.per_metre;
         let end = (su + cells * c, sv + cells * s);
-        let start = match from {
-            None => (su, sv),
-            Some(r) => (su + r * self.per_metre * c, sv + r * self.per_metre * s),
-        };
-        let walk = Walk::new(self.width, self.height, start, end)?;
+        let walk = Walk::new(self.width, self.height, (su, sv), end)?;
         // Per cell the walk needs the cell's index and the range of its
         // centre along the beam axis (metres); both change by a fixed
         // amount per step on each axis, so they are carried along. The
@@ -576,12 +552,39 @@ impl BeamFrame {
         let (ix, iy) = walk.start;
         let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let w = &self.window;
-        // (A beam starts in the sensor's cell, always in the window.)
-        if from.is_some()
-            && !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows)
-        {
+        let at = BeamState {
+            index: (iy - w.y0) * w.stride + (ix - w.x0),
+            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
+            index_step: (
+                walk.step.0 as isize,
+                walk.step.1 as isize * w.stride as isize,
+            ),
+            range_step: (step_x * res * c, step_y * res * s),
+        };
+        Some((walk, at))
+    }
+
+    /// As [`Self::beam`], from range `from` (metres) on, out to `to`;
+    /// `None` also when its first cell lies outside the window (a segment
+    /// past the reach the window was made for). (A function of its own:
+    /// the beam's walk is the hot one, and stays as it was.)
+    fn segment(&self, (sin_b, cos_b): (f64, f64), from: f64, to: f64) -> Option<(Walk, BeamState)> {
+        if !(from >= 0.0 && from < to) {
             return None;
         }
+        let (su, sv, res) = (self.su, self.sv, self.res);
+        let s = self.sin_t * cos_b + self.cos_t * sin_b;
+        let c = self.cos_t * cos_b - self.sin_t * sin_b;
+        let (near, far) = (from * self.per_metre, to * self.per_metre);
+        let start = (su + near * c, sv + near * s);
+        let end = (su + far * c, sv + far * s);
+        let walk = Walk::new(self.width, self.height, start, end)?;
+        let (ix, iy) = walk.start;
+        let w = &self.window;
+        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows) {
+            return None;
+        }
+        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let at = BeamState {
             index: (iy - w.y0) * w.stride + (ix - w.x0),
             range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
