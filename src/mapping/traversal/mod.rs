@@ -331,64 +331,16 @@ impl RayMapper {
             visits += n;
         }
         if between {
-            let bearings = scan.bearings();
-            for i in 1..bands.len().min(bearings.len()) {
-                let (Some(a), Some(b)) = (bands[i - 1], bands[i]) else {
-                    continue;
-                };
-                if !(walkable(a.reach) && walkable(b.reach)) {
-                    continue;
-                }
-                let spacing = (bearings[i] - bearings[i - 1]).abs();
-                // Neighbours only: a gap in the scan's bearings is no beam.
-                if !(spacing > 0.0 && spacing <= MAX_BEAM_SPACING) {
-                    continue;
-                }
-                let parted = res / spacing;
-                let nearer = a.free_until.min(b.free_until);
-                let ((s0, c0), (s1, c1)) = (self.bearing_trig[i - 1], self.bearing_trig[i]);
-                // Level k's walks split the pair's angle in 2^k, from
-                // where level k - 1's walks part by a cell (the new ones)
-                // or where they ended (the earlier ones), out to 2^k times
-                // the range where the two beams part by a cell.
-                for level in 1..=BETWEEN_LEVELS {
-                    let parts = 1usize << level;
-                    let begun = parted * (parts / 2) as f64;
-                    let to = (parted * parts as f64).min(nearer);
-                    if !(to > 0.9 * begun) {
-                        break;
-                    }
-                    for j in 1..parts {
-                        let from = if j % 2 == 1 {
-                            0.9 * begun
-                        } else {
-                            0.99 * begun
-                        };
-                        if !(to > from) {
-                            continue;
-                        }
-                        // The direction at fraction j / parts from the
-                        // first beam to the second (a chord's point,
-                        // normalised: within a hair of the angle's).
-                        let f = j as f64 / parts as f64;
-                        let (sv, cv) = (s0 + f * (s1 - s0), c0 + f * (c1 - c0));
-                        let norm = sv.hypot(cv);
-                        let Some((walk, at)) = frame.segment((sv / norm, cv / norm), from, to)
-                        else {
-                            continue;
-                        };
-                        let band = BeamBand {
-                            reach: to,
-                            free_until: to,
-                            occupied_from: to,
-                            occupied_until: to,
-                        };
-                        let n;
-                        (n, gathered) = trace(walk, at, BandCodes(band), gathered);
-                        visits += n;
-                    }
-                }
-            }
+            let n;
+            (n, gathered) = between::trace_between(
+                &frame,
+                bands,
+                scan.bearings(),
+                &self.bearing_trig,
+                walkable,
+                gathered,
+            );
+            visits += n;
         }
         let count = gathered.count;
         gathered.settle(grid, &frame.window, ScanEvidence { free, occupied });
@@ -398,15 +350,6 @@ impl RayMapper {
         }
     }
 }
-
-/// The widest spacing of two neighbouring beams whose between is filled
-/// ([`RayMapper::integrate_bands_between`]), radians: 5°, past any
-/// scanner's spacing; wider is a gap in the scan.
-const MAX_BEAM_SPACING: f64 = 5.0 * std::f64::consts::PI / 180.0;
-
-/// Levels of walks between two beams: level `k` fills out to `2^k` times
-/// the range at which the beams part by a cell.
-const BETWEEN_LEVELS: u32 = 2;
 
 /// The most cells a beam of a windowed (tiled) map may reach from its
 /// sensor (range cap over resolution): the scan's window of `(2 n + 5)^2`
@@ -552,39 +495,6 @@ impl BeamFrame {
         let (ix, iy) = walk.start;
         let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let w = &self.window;
-        let at = BeamState {
-            index: (iy - w.y0) * w.stride + (ix - w.x0),
-            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
-            index_step: (
-                walk.step.0 as isize,
-                walk.step.1 as isize * w.stride as isize,
-            ),
-            range_step: (step_x * res * c, step_y * res * s),
-        };
-        Some((walk, at))
-    }
-
-    /// As [`Self::beam`], from range `from` (metres) on, out to `to`;
-    /// `None` also when its first cell lies outside the window (a segment
-    /// past the reach the window was made for). (A function of its own:
-    /// the beam's walk is the hot one, and stays as it was.)
-    fn segment(&self, (sin_b, cos_b): (f64, f64), from: f64, to: f64) -> Option<(Walk, BeamState)> {
-        if !(from >= 0.0 && from < to) {
-            return None;
-        }
-        let (su, sv, res) = (self.su, self.sv, self.res);
-        let s = self.sin_t * cos_b + self.cos_t * sin_b;
-        let c = self.cos_t * cos_b - self.sin_t * sin_b;
-        let (near, far) = (from * self.per_metre, to * self.per_metre);
-        let start = (su + near * c, sv + near * s);
-        let end = (su + far * c, sv + far * s);
-        let walk = Walk::new(self.width, self.height, start, end)?;
-        let (ix, iy) = walk.start;
-        let w = &self.window;
-        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows) {
-            return None;
-        }
-        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let at = BeamState {
             index: (iy - w.y0) * w.stride + (ix - w.x0),
             range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
@@ -826,102 +736,6 @@ impl<'a, T: Slot> Gathered<'a, T> {
     }
 }
 
-/// `w / d` by one multiplication and a shift, exact for `w < 2^25` and
-/// `d < 2^12` (Granlund & Montgomery's division by invariant integers with
-/// `m = ceil(2^37 / d)`: the error `m d - 2^37 < 2^12` times `w` stays under
-/// `2^37`). A windowed map's window index is `row * stride + column`, and
-/// a hardware division per updated cell was a tenth of a real log's build.
-#[derive(Clone, Copy)]
-struct DivideBy {
-    magic: u64,
-    d: usize,
-}
-
-impl DivideBy {
-    const SHIFT: u32 = 37;
-    const MAX_DIVISOR: usize = 1 << 12;
-    const MAX_DIVIDEND: usize = 1 << 25;
-
-    /// `None` for a divisor past the range the multiplication is exact for.
-    fn new(d: usize) -> Option<Self> {
-        (d > 0 && d < Self::MAX_DIVISOR).then(|| Self {
-            magic: (1u64 << Self::SHIFT).div_ceil(d as u64),
-            d,
-        })
-    }
-
-    /// `(w / d, w % d)` for `w < 2^25`.
-    #[inline(always)]
-    fn div_rem(self, w: usize) -> (usize, usize) {
-        debug_assert!(w < Self::MAX_DIVIDEND);
-        let q = ((w as u64 * self.magic) >> Self::SHIFT) as usize;
-        (q, w - q * self.d)
-    }
-}
-
-/// [`Gathered::settle`] on a windowed (tiled) store: each touched window
-/// index turned into its map cell by [`DivideBy`], then the update through
-/// the store. Clears the slots as it goes.
-#[inline(always)]
-fn settle_windowed<T: Slot, C: CellModel, S: Store<C::Cell>>(
-    touched: &[u32],
-    slots: &mut [T],
-    mask: usize,
-    model: &C,
-    store: &mut S,
-    window: &Window,
-    evidence: ScanEvidence,
-) {
-    let unknown = model.unknown();
-    let (x0, y0) = (window.x0, window.y0);
-    let Some(rows) = DivideBy::new(window.stride).filter(|_| window.len() < DivideBy::MAX_DIVIDEND)
-    else {
-        // (Windows are at most 4,095 cells wide, MAX_REACH_CELLS: this is
-        // for a store that would gather in wider ones.)
-        let cells = &mut store.window_cells(*window, unknown);
-        for &w in touched {
-            let w = w as usize;
-            let slot = &mut slots[w & mask];
-            if let Some((cell, updates)) = cells.slot(w) {
-                slot.apply(model, cell, updates, evidence);
-            }
-            *slot = T::UNTOUCHED;
-        }
-        return;
-    };
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn one<T: Slot, C: CellModel, S: Store<C::Cell>>(
-        slots: &mut [T],
-        mask: usize,
-        model: &C,
-        store: &mut S,
-        rows: DivideBy,
-        (x0, y0, unknown): (usize, usize, C::Cell),
-        evidence: ScanEvidence,
-        w: u32,
-    ) {
-        let w = w as usize;
-        let slot = &mut slots[w & mask];
-        let (row, col) = rows.div_rem(w);
-        if let Some((cell, updates)) = store.slot(x0 + col, y0 + row, unknown) {
-            slot.apply(model, cell, updates, evidence);
-        }
-        *slot = T::UNTOUCHED;
-    }
-    let at = (x0, y0, unknown);
-    let mut fours = touched.chunks_exact(4);
-    for four in &mut fours {
-        one(slots, mask, model, store, rows, at, evidence, four[0]);
-        one(slots, mask, model, store, rows, at, evidence, four[1]);
-        one(slots, mask, model, store, rows, at, evidence, four[2]);
-        one(slots, mask, model, store, rows, at, evidence, four[3]);
-    }
-    for &w in fours.remainder() {
-        one(slots, mask, model, store, rows, at, evidence, w);
-    }
-}
-
 impl<T> Gathered<'_, T> {
     /// The length of the buffers for a map of `cells` cells: a power of
     /// two, and more than `cells`, so that the touched list always has a
@@ -1053,6 +867,10 @@ impl<G, V: Verdict<G>> Cursor for BeamCursor<G, V> {
         self.at.range -= self.at.range_step.0;
     }
 }
+
+mod between;
+mod windowed;
+use windowed::settle_windowed;
 
 #[cfg(test)]
 mod tests;

@@ -339,7 +339,7 @@ fn one_beam_marks_free_then_occupied() {
 #[test]
 fn division_by_the_window_width_is_exact_over_every_window() {
     for d in 1..4096usize {
-        let div = super::DivideBy::new(d).unwrap();
+        let div = super::windowed::DivideBy::new(d).unwrap();
         let last = (1usize << 25) - 1;
         for w in [0, 1, d - 1, d, d + 1, 7 * d + 3, last - d, last - 1, last]
             .into_iter()
@@ -348,7 +348,10 @@ fn division_by_the_window_width_is_exact_over_every_window() {
             assert_eq!(div.div_rem(w), (w / d, w % d), "{w} / {d}");
         }
     }
-    assert!(super::DivideBy::new(0).is_none() && super::DivideBy::new(4096).is_none());
+    assert!(
+        super::windowed::DivideBy::new(0).is_none()
+            && super::windowed::DivideBy::new(4096).is_none()
+    );
 }
 
 /// Two beams 1° apart reading 20 m: alone, their walks leave cells between
