@@ -256,6 +256,60 @@ fn main() {
     if run("scan-match") {
         scan_match();
     }
+    if run("real-logs") {
+        real_logs();
+    }
+}
+
+/// Every log of the datasets folder mapped natively at the real-log
+/// defaults (5 cm), read and built timed apart: the core's share of W6.
+/// `OCCGRID_LOG` keeps the logs whose file name contains it.
+fn real_logs() {
+    let only = std::env::var("OCCGRID_LOG").unwrap_or_default();
+    let Ok(dir) = std::fs::read_dir(datasets()) else {
+        return eprintln!("skipping real-logs: no datasets folder");
+    };
+    let mut logs: Vec<_> = dir
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.to_string_lossy().ends_with(".log.gz"))
+        .filter(|p| p.to_string_lossy().contains(&only))
+        .collect();
+    logs.sort();
+    for path in logs {
+        let bytes = std::fs::read(&path).expect("a readable log");
+        let (mut read, mut build, mut last) = (Vec::new(), Vec::new(), None);
+        let (mut render, mut counting) = (Vec::new(), Vec::new());
+        for _ in 0..runs() {
+            let t = Instant::now();
+            let scans = carmen::LaserScans::read(&bytes[..]).expect("the corpus's logs parse");
+            read.push(t.elapsed().as_secs_f64() * 1e3);
+            let t = Instant::now();
+            let mut b = occgrid::apps::real_log::LogPane::new(
+                scans,
+                occgrid::apps::real_log::LogMapSettings::default(),
+            )
+            .expect("default settings");
+            let p = b.advance(usize::MAX);
+            build.push(t.elapsed().as_secs_f64() * 1e3);
+            // What a page's redraw costs: the whole map in a 1200 x 900
+            // view, and the counts beside it.
+            b.set_view_size(1200, 900)
+                .expect("a view size within bounds");
+            let t = Instant::now();
+            b.render_view();
+            render.push(t.elapsed().as_secs_f64() * 1e3);
+            let t = Instant::now();
+            let c = b.counts();
+            counting.push(t.elapsed().as_secs_f64() * 1e3);
+            last = Some((p, c));
+        }
+        let (p, c) = last.expect("at least one run");
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        println!(
+            "{{\"workload\":\"real-log\",\"runtime\":\"native\",\"log\":\"{}\",\"scans\":{},\"beams\":{},\"read_ms\":{:.2},\"build_ms\":{:.2},\"render_ms\":{:.2},\"counts_ms\":{:.2},\"cells_allocated\":{},\"cell_updates\":{},\"occupied\":{},\"free\":{},\"unknown\":{}}}",
+            name, p.scans_total, p.beams, median(read), median(build), median(render), median(counting), p.cells_allocated, p.cell_updates, c.occupied, c.free, c.unknown
+        );
+    }
 }
 
 /// The root-mean-square position error of `poses` against `truth` after

@@ -3,6 +3,7 @@
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
 //     [--poses corrected|dead-reckoning|scan-matched] [--seed N]
+//     [--model hit-counting|log-odds|hit-miss-odds]
 //
 // writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
 // PGM beside it), and OUT_PREFIX.poses.tsv, the poses the map was built
@@ -21,12 +22,15 @@
 // map); `--poses scan-matched` starts from the same dead reckoning (or from
 // the log's own odometry, where its odometry fields differ from its
 // corrected poses) and corrects each scan's pose by matching the scan
-// against the map built so far, before integrating it.
+// against the map built so far, before integrating it. `--model` chooses
+// what a cell believes: hit-counting (the default: GMapping's hits and
+// visits), log-odds (Table 9.2's filter with the chapter's clamp) or
+// hit-miss-odds (Cartographer's odds tables).
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched] [--seed N]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched] [--seed N] [--model hit-counting|log-odds|hit-miss-odds]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -85,6 +89,11 @@ function parseArgs(argv) {
       [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning or scan-matched');
       // The core names the field and the value it refuses.
       settings.poses = text;
+    } else if (is(a, '--model')) {
+      let text;
+      [text, i] = optionText(argv, i, '--model', 'hit-counting, log-odds or hit-miss-odds');
+      // The core names the field and the value it refuses.
+      settings.model = text;
     } else if (is(a, '--seed')) {
       const what = 'a whole number from 0 to 9007199254740991, such as 7';
       let text;
@@ -145,7 +154,7 @@ async function main() {
     const g = session.geometry(0);
     const c = session.counts(0);
     console.log(JSON.stringify({
-      log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected',
+      log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected', model: state.settings.model,
       seed: ['dead-reckoning', 'scan-matched'].includes(settings.poses) ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.

@@ -630,12 +630,15 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
         }
     }
     assert_eq!(endpoints, 163_800 - INTEL.beyond_30m);
-    // Tight: the box is no more than a cell plus the margin beyond the data.
+    // Tight: beyond the endpoints the box holds what the beams carved (a
+    // no-return's clearing, a return's α/2) plus a cell and the margin.
     let [x0, y0, x1, y1] = scans.endpoint_bounds(settings.range_cap).unwrap();
-    assert!(x0 - ox <= settings.margin + r && y0 - oy <= settings.margin + r);
+    let carved = settings.no_return_reach.max(settings.alpha / 2.0);
+    let slack = settings.margin + r + carved;
+    assert!(x0 - ox <= slack && y0 - oy <= slack);
     let far_x = ox + geo.width() as f64 * r;
     let far_y = oy + geo.height() as f64 * r;
-    assert!(far_x - x1 <= settings.margin + r && far_y - y1 <= settings.margin + r);
+    assert!(far_x - x1 <= slack && far_y - y1 <= slack);
 }
 
 #[test]

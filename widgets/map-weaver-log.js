@@ -26,6 +26,7 @@ import { exportMap, followResize } from './lib/pane.js';
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 import { listedLogs } from './lib/dataset-listing.js';
 import { POSE_OPTIONS, drawMatch, livePath } from './lib/log-match.js';
+import { modelControls, modelNote } from './lib/log-models.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -44,9 +45,9 @@ const SLICE_MS = 25;
  */
 const FIRST_SLICE_CELLS = 250_000;
 /**
- * Least time between two redraws while building: a redraw costs 10 to
- * 40 ms, so the Intel log is drawn once, when done, a long log a few times
- * a second.
+ * Least time between two redraws while building (and four times the last
+ * redraw, which costs 10 ms on the Intel log and 200 ms on the campus):
+ * the Intel log is drawn once, when done, a long log a few times a second.
  */
 const DRAW_EVERY_MS = 250;
 /** Least time between two updates of the progress bar and status line. */
@@ -101,7 +102,7 @@ function pick(settings) {
 }
 
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
-export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed'];
+export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed', 'model', 'compareModel'];
 /** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
 const SEED_TEXT = /^\d{1,16}$/;
 /** The longest range cap `core` takes at `resolution`, whole metres (80 if it refuses the resolution: it says why at the load). */
@@ -208,6 +209,7 @@ export class RealLogPanel {
       walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
       poses: select('Poses', POSE_OPTIONS, s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
       seed: this.seedControl(s.seed),
+      ...modelControls(s, (patch) => this.change(patch)),
     };
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
@@ -248,7 +250,7 @@ export class RealLogPanel {
       this.progress, this.status, this.timing,
       this.stage, this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
-      this.readout, this.counts,
+      this.readout, this.counts, modelNote(),
       el('p', { class: 'occgrid-caption' },
         'FLASER and ROBOTLASER1 lines are read with their corrected poses; the map covers every pose and every ',
         'reading closer than z_max, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
@@ -385,7 +387,7 @@ export class RealLogPanel {
           if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
           msPerScan = ms / Math.max(1, next.panes[MAIN].scansDone - last.scansDone);
           const remaining = (next.scansTarget - next.scansDone) * msPerScan;
-          if (next.finished || (performance.now() - drawn > DRAW_EVERY_MS && remaining > DRAW_EVERY_MS)) {
+          if (next.finished || (performance.now() - drawn > Math.max(DRAW_EVERY_MS, 4 * (this.drawMs ?? 0)) && remaining > DRAW_EVERY_MS)) {
             // The panel shows a finished state once it has drawn it.
             if (next.finished) this.state = next;
             else this.show(next, this.progressDue());
@@ -443,7 +445,7 @@ export class RealLogPanel {
       if (this.disposed || !this.session) return false;
       const t1 = performance.now();
       step();
-      this.trace.push(['draw', performance.now() - t1]);
+      this.trace.push(['draw', (this.drawMs = performance.now() - t1)]);
     }
     return true;
   }
@@ -541,7 +543,6 @@ export class RealLogPanel {
     const root = el('div', { class: 'occgrid-control' }, el('label', { for: id }, 'Seed of the odometry noise'), input);
     return { root, input };
   }
-
 
   /** Canvas device pixels of a pointer event (inside the canvas's border). */
   viewPoint(e) {
@@ -867,7 +868,7 @@ export class RealLogPanel {
     this.controls.walls.input.value = String(s.walls);
     this.controls.poses.input.value = String(s.poses);
     this.controls.seed.input.value = String(s.seed);
-    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach']) this.controls[key].set(s[key]);
+    for (const key of ['rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'model', 'compareModel']) this.controls[key].set(s[key]);
   }
 
   async seek(k) {

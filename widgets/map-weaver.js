@@ -21,7 +21,7 @@
 // forget-l0, map-width, controls; for the real-log
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
-// log-poses, log-seed.
+// log-poses, log-seed, log-model, log-compare-model.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import {
@@ -33,6 +33,7 @@ import {
 } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
+import { LOG_MODEL_ATTRIBUTES } from './lib/log-models.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import {
@@ -145,6 +146,7 @@ class MapWeaverElement extends HTMLElement {
     'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: LOG_DEFAULTS['log-walls'], doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
     'log-poses': { type: oneOf(['corrected', 'dead-reckoning', 'scan-matched']), default: LOG_DEFAULTS['log-poses'], doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own), dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map) or scan-matched (that dead reckoning corrected by matching each scan against the map built so far; shown beside the corrected and dead-reckoned maps)' },
     'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: LOG_DEFAULTS['log-seed'], doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
+    ...LOG_MODEL_ATTRIBUTES,
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, the robot’s lap or ghost watch, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 

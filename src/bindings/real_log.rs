@@ -72,7 +72,9 @@ impl RealLogSession {
     }
 
     /// The real-log defaults: `{ resolution, rangeCap, alpha, lOcc, lFree,
-    /// clamp, margin, noReturnReach, walls, poses, seed }`.
+    /// clamp, margin, noReturnReach, walls, poses, seed, model,
+    /// compareModel, betweenBeams }` (`model` one of `hit-counting`,
+    /// `log-odds`, `hit-miss-odds`; `compareModel` another, or `null`).
     #[wasm_bindgen(js_name = defaultSettings)]
     pub fn default_settings() -> Result<JsValue, JsError> {
         to_js(&LogMapSettings::default())

@@ -137,26 +137,39 @@ pub struct HitCount {
 /// crossed the cell does not make it occupied, and one beam through a cell
 /// makes it free.
 ///
-/// Its probability is the hit ratio placed on the export's scale, so that
-/// the trinary export (occupied above 0.65, free below 0.196) classifies
-/// each cell exactly as the model does: a ratio above the threshold maps
-/// into (0.65, 1], one at or below it into [0, 0.196).
+/// Its log odds are the hit ratio placed on the export's scale, so that
+/// the trinary export (occupied above p = 0.65, free below 0.196)
+/// classifies each cell exactly as the model does: a ratio above the
+/// threshold maps linearly onto log odds from `logit(0.651)` to
+/// `logit(0.999)`, one at or below it onto `logit(0.001)` to
+/// `logit(0.195)`. (Linear in log odds rather than in probability: a map's
+/// counts and its render read every cell, and a logarithm per cell cost
+/// more than the whole build.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HitCounting {
     /// The hit ratio above which a cell is occupied (GMapping's 0.25).
     pub occupied_ratio: f32,
 }
 
+/// The log odds the counting model places its ratios between (see
+/// [`HitCounting`]): `logit(0.651)`, `logit(0.999)`, `logit(0.195)` and
+/// `logit(0.001)`.
+const COUNT_OCCUPIED_FROM: f32 = 0.623_437_7;
+const COUNT_OCCUPIED_TO: f32 = 6.906_755;
+const COUNT_FREE_FROM: f32 = -1.417_842_7;
+const COUNT_FREE_TO: f32 = -6.906_755;
+
 impl HitCounting {
-    /// The probability a ratio `r` of hits to visits stands for (see the
-    /// type's doc): continuous on each side of the threshold.
+    /// The log odds a ratio `r` of hits to visits stands for (see the
+    /// type's doc): continuous and increasing on each side of the
+    /// threshold.
     #[inline]
     fn placed(&self, r: f32) -> f32 {
         let t = self.occupied_ratio;
         if r > t {
-            0.651 + 0.348 * (r - t) / (1.0 - t)
+            COUNT_OCCUPIED_FROM + (r - t) / (1.0 - t) * (COUNT_OCCUPIED_TO - COUNT_OCCUPIED_FROM)
         } else {
-            0.195 * r / t
+            COUNT_FREE_TO + r / t * (COUNT_FREE_FROM - COUNT_FREE_TO)
         }
     }
 
@@ -197,11 +210,7 @@ impl CellModel for HitCounting {
         if cell.visits == 0 {
             return 0.0;
         }
-        let p = self.placed(cell.hits as f32 / cell.visits as f32);
-        // p = 0 (never hit) is the most certain free cell the f32 ramp
-        // draws white.
-        let p = p.clamp(1e-6, 1.0 - 1e-6);
-        (p / (1.0 - p)).ln()
+        self.placed(cell.hits as f32 / cell.visits as f32)
     }
     #[inline(always)]
     fn is_unknown(&self, cell: HitCount) -> bool {
@@ -226,6 +235,9 @@ pub struct HitMissOdds {
     pub p_max: f32,
     hit_table: std::sync::Arc<[u16]>,
     miss_table: std::sync::Arc<[u16]>,
+    /// Per cell value, its log odds (0 for the unknown value): a map's
+    /// counts and render read every cell.
+    log_odds_table: std::sync::Arc<[f32]>,
 }
 
 impl HitMissOdds {
@@ -250,6 +262,15 @@ impl HitMissOdds {
                 })
                 .collect()
         };
+        let log_odds_table = (0..=ODDS_STEPS)
+            .map(|v| {
+                if v == 0 {
+                    return 0.0;
+                }
+                let p = p_min + (v - 1) as f32 / (ODDS_STEPS - 1) as f32 * (p_max - p_min);
+                (p / (1.0 - p)).ln()
+            })
+            .collect();
         Self {
             p_hit,
             p_miss,
@@ -257,6 +278,7 @@ impl HitMissOdds {
             p_max,
             hit_table: table(p_hit),
             miss_table: table(p_miss),
+            log_odds_table,
         }
     }
 
@@ -297,11 +319,7 @@ impl CellModel for HitMissOdds {
     }
     #[inline]
     fn log_odds(&self, v: u16) -> f32 {
-        if v == 0 {
-            return 0.0;
-        }
-        let p = self.probability_of(v);
-        (p / (1.0 - p)).ln()
+        self.log_odds_table[v as usize & ODDS_STEPS]
     }
     #[inline(always)]
     fn is_unknown(&self, v: u16) -> bool {
@@ -361,6 +379,32 @@ mod tests {
                 visits: 32_768
             }
         );
+    }
+
+    /// The counting model's log odds classify a cell as the model does,
+    /// under the export's thresholds, at and around the hit ratio.
+    #[test]
+    fn counting_log_odds_put_the_hit_ratio_on_the_export_s_thresholds() {
+        let m = HitCounting {
+            occupied_ratio: 0.25,
+        };
+        let p = |hits, visits| m.probability(HitCount { hits, visits });
+        assert!(p(1, 4) < 0.196 && p(1, 4) > 0.19, "at the ratio: free");
+        assert!(p(1001, 4000) > 0.65, "just above it: occupied");
+        assert!(p(0, 1) < 0.002 && p(1, 1) > 0.998);
+        let mut last = 0.0;
+        for hits in 0..=40 {
+            let now = p(hits, 40);
+            assert!(now > last, "increasing in the ratio");
+            last = now;
+        }
+        assert_eq!(m.log_odds(m.unknown()), 0.0);
+        let odds = HitMissOdds::cartographer();
+        for v in [1u16, 2, 100, 20_000, 32_767] {
+            let q = odds.probability_of(v);
+            assert!((odds.probability(v) - q as f64).abs() < 1e-5);
+        }
+        assert_eq!(odds.log_odds(0), 0.0);
     }
 
     /// Cartographer's odds: an unknown cell takes p_hit or p_miss at once,

@@ -17,13 +17,15 @@ use crate::mapping::walls::{beam_bands, WallModel};
 use crate::sensors::Scan;
 
 /// The box `[min_x, min_y, max_x, max_y]` (metres) holding every laser
-/// pose and every beam endpoint closer than `range_cap` and than the
-/// laser's own maximum range (a no-return has no endpoint), or `None` when
-/// there are no scans. Each item is a scan and its laser's maximum range
-/// (infinite when the log does not say).
+/// pose and every cell the beams carve or mark: each beam's band out to its
+/// reach (a return's `z + α/2`, a no-return's clearing out to
+/// `no_return_reach`), as [`beam_bands`] makes them with each scan's model
+/// (the one of its laser's own maximum range). `None` when there are no
+/// scans. A box of endpoints alone would cut off the free space that
+/// no-returns carve past the last wall (docs/ARCHITECTURE.md, "Real logs").
 pub fn scan_extent(
-    scans: impl IntoIterator<Item = (Scan, f64)>,
-    range_cap: f64,
+    scans: impl IntoIterator<Item = (Scan, HandCrafted)>,
+    no_return_reach: f64,
 ) -> Option<[f64; 4]> {
     let mut b = [
         f64::INFINITY,
@@ -35,13 +37,24 @@ pub fn scan_extent(
     let mut grow = |x: f64, y: f64| {
         b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
     };
-    for (scan, laser_max) in scans {
+    let mut bands = Vec::new();
+    for (scan, model) in scans {
         any = true;
         let pose = scan.pose();
         grow(pose.x, pose.y);
-        for (&r, &bearing) in scan.ranges().iter().zip(scan.bearings()) {
-            if r < laser_max && r < range_cap {
-                let (x, y) = pose.point_at(r, bearing);
+        // (Where free evidence ends near a wall does not move a band's
+        // reach: the cheaper Table 9.2 bands serve.)
+        beam_bands(
+            &scan,
+            &model,
+            no_return_reach,
+            WallModel::Table92,
+            1.0,
+            &mut bands,
+        );
+        for (band, &bearing) in bands.iter().zip(scan.bearings()) {
+            if let Some(band) = band {
+                let (x, y) = pose.point_at(band.reach, bearing);
                 grow(x, y);
             }
         }
@@ -175,15 +188,27 @@ mod tests {
     use super::*;
     use crate::geometry::Pose;
 
+    /// A return's band ends `α/2` past it; a no-return clears out to the
+    /// no-return reach (or its laser's own maximum, if shorter): the box
+    /// holds both.
     #[test]
-    fn the_extent_holds_poses_and_endpoints_closer_than_the_cap() {
+    fn the_extent_holds_poses_and_every_band_s_reach() {
+        use crate::inverse::HandCraftedParams;
         let scan = |x: f64| {
             Scan::uniform(Pose::new(x, 0.0, 0.0).unwrap(), vec![2.0, 50.0], 0.0, 1.0).unwrap()
         };
-        let e = scan_extent([(scan(0.0), f64::INFINITY), (scan(1.0), 1.5)], 30.0).unwrap();
-        // Scan 0's 2 m beam along x; scan 1's beams are no-returns of its laser.
-        assert_eq!(e, [0.0, 0.0, 2.0, 0.0]);
-        assert!(scan_extent(std::iter::empty(), 30.0).is_none());
+        let model = |z_max: f64| HandCrafted::new(HandCraftedParams::laser(z_max)).unwrap();
+        let alpha = model(30.0).params().alpha;
+        let e = scan_extent([(scan(0.0), model(30.0))], 5.0).unwrap();
+        // The 2 m return along x ends at 2 + α/2; the 50 m no-return
+        // (bearing 1 rad) clears 5 m.
+        let (x1, y1) = (5.0 * 1f64.cos(), 5.0 * 1f64.sin());
+        let near = |a: [f64; 4], b: [f64; 4]| a.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-9);
+        assert!(near(e, [0.0, 0.0, x1.max(2.0 + alpha / 2.0), y1]), "{e:?}");
+        // A laser whose own maximum is 1.5 m: both readings are its no-returns.
+        let e = scan_extent([(scan(1.0), model(1.5))], 5.0).unwrap();
+        assert!(near(e, [1.0, 0.0, 2.5, 1.5 * 1f64.sin()]), "{e:?}");
+        assert!(scan_extent(std::iter::empty(), 5.0).is_none());
     }
 
     #[test]

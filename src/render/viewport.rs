@@ -13,7 +13,7 @@
 use crate::error::{invalid, Result};
 use crate::grid::{CellModel, Grid, Store};
 
-use super::gray::cell_gray;
+use super::gray::{cell_gray, UNKNOWN_GRAY};
 
 /// The most output pixels a view may have (16 MiB of RGBA): a 2048 x 2048
 /// canvas, a full-width pane on a high-density screen.
@@ -300,14 +300,13 @@ pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
                     darkest = Some(match b.cells {
                         None => cell_gray(model, unknown),
                         Some(_) => {
-                            let mut d = u8::MAX;
+                            let mut d = Darkest::default();
                             for &iy in &iys[..k] {
                                 for &c in &cs[..k] {
-                                    let cell = b.cell(c, iy).unwrap_or(unknown);
-                                    d = d.min(cell_gray(model, cell));
+                                    d.add(model, b.cell(c, iy).unwrap_or(unknown));
                                 }
                             }
-                            d
+                            d.gray()
                         }
                     });
                 }
@@ -338,12 +337,56 @@ pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
     }
 }
 
+/// The darkest [`cell_gray`] among a pixel's samples, with one ramp lookup
+/// per pixel rather than per sample: the ramp falls as log odds rise, so
+/// the darkest known sample is the one of largest log odds (a zoomed-out
+/// view of a campus samples 16 cells per pixel).
+struct Darkest {
+    largest: f32,
+    known: bool,
+    unknown: bool,
+}
+
+impl Default for Darkest {
+    fn default() -> Self {
+        Self {
+            largest: f32::NEG_INFINITY,
+            known: false,
+            unknown: false,
+        }
+    }
+}
+
+impl Darkest {
+    #[inline(always)]
+    fn add<M: CellModel>(&mut self, model: &M, cell: M::Cell) {
+        if model.is_unknown(cell) {
+            self.unknown = true;
+        } else {
+            self.known = true;
+            let l = model.log_odds(cell);
+            if l > self.largest {
+                self.largest = l;
+            }
+        }
+    }
+
+    fn gray(&self) -> u8 {
+        let unknown = if self.unknown { UNKNOWN_GRAY } else { u8::MAX };
+        if self.known {
+            unknown.min(crate::render::gray::gray_level(self.largest))
+        } else {
+            unknown
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::GridGeometry;
     use crate::grid::{FilterSettings, TiledGrid};
-    use crate::render::gray::{gray_level, UNKNOWN_GRAY};
+    use crate::render::gray::gray_level;
 
     #[test]
     fn viewport_zoom_keeps_the_point_under_the_pointer_and_stops_at_its_limits() {

@@ -120,7 +120,10 @@ test('the Intel log loaded through the file input is mapped in chunks, its time 
   assert.ok(share('overlay') < 0.05, `the path covers little: ${JSON.stringify(px)}`);
   // The counts are the exported file's (map_server's thresholds).
   const counts = await page.locator('.map-weaver-log-counts').textContent();
-  assert.match(counts, /as exported: occupied \(p > 0\.65\) 24,873 · free \(p < 0\.196\) 189,433 · unknown 405,148/);
+  const c = await page.evaluate(() => window.realLogPanel.session.counts(0));
+  const n = (v) => v.toLocaleString('en-US');
+  assert.equal(c.occupied + c.free + c.unknown, c.cells);
+  assert.ok(counts.startsWith(`as exported: occupied (p > 0.65) ${n(c.occupied)} · free (p < 0.196) ${n(c.free)} · unknown ${n(c.unknown)} of ${n(c.cells)} cells`), counts);
 
   await screenshot(panel(page), 'real-log-intel');
   await screenshot(page.locator('.map-weaver-log-map'), 'real-log-intel-map');

@@ -4,6 +4,7 @@
 // back into a link, and how the core's numbers are printed.
 import { fixed } from './ui.js';
 import { invalidValue } from './attributes.js';
+import { LOG_MODEL_FIELDS } from './log-models.js';
 
 export const MODEL_NAMES = { 'hand-crafted': 'hand-crafted model (Table 9.2)', learned: 'learned model (§9.3)' };
 export const POSE_NAMES = { oracle: 'pose oracle', 'dead-reckoning': 'dead reckoning' };
@@ -47,6 +48,7 @@ export const LOG_FIELDS = {
   'log-walls': { field: 'walls', format: (v) => String(v) },
   'log-poses': { field: 'poses', format: (v) => String(v) },
   'log-seed': { field: 'seed', format: (v) => String(v) },
+  ...LOG_MODEL_FIELDS,
 };
 
 /** A log's file name in the server's /datasets/: one name, no path. */

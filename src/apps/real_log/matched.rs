@@ -10,10 +10,10 @@
 //! match (the scan's points where the match put them).
 
 use super::pane::LogPane;
-use super::settings::LogMapSettings;
+use super::settings::{CheckedSettings, LogMapSettings};
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
-use crate::grid::TiledGrid;
+use crate::grid::{CellModel, Grid, Store};
 use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{covering_grid, scan_extent};
 use crate::mapping::scan_match::{MatchReport, MatchSettings, Prediction, ScanMatcher};
@@ -127,11 +127,11 @@ impl PoseMatching {
     /// The pose of scan `k`, found by matching `scan` (its own pose
     /// ignored) against `grid`, the map of scans `0..k` at `matched[..k]`.
     /// The first scan is put where the odometry starts.
-    pub(super) fn pose_of(
+    pub(super) fn pose_of<M: CellModel, S: Store<M::Cell>>(
         &mut self,
         k: usize,
         matched: &[Pose],
-        grid: &TiledGrid,
+        grid: &Grid<M, S>,
         scan: &Scan,
         laser_max: f64,
     ) -> Result<Pose> {
@@ -201,10 +201,19 @@ impl PoseMatching {
 /// log's own poses (for a raw log, its odometry's) and
 /// [`MATCH_DRIFT_MARGIN`] more, covered on whole cells with the settings'
 /// margin.
-pub(super) fn matched_grid(scans: &LaserScans, s: &LogMapSettings) -> Option<Result<GridGeometry>> {
-    let placed = (0..scans.len())
-        .filter_map(|k| Some((scans.scan(k)?, scans.max_range(k).unwrap_or(f64::INFINITY))));
-    let a = scan_extent(placed, s.range_cap)?;
+pub(super) fn matched_grid(
+    scans: &LaserScans,
+    c: &CheckedSettings,
+) -> Option<Result<GridGeometry>> {
+    let s = c.settings();
+    let placed = (0..scans.len()).filter_map(|k| {
+        let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
+        Some((
+            scans.scan(k)?,
+            c.model_for_laser(laser_max).unwrap_or(*c.model()),
+        ))
+    });
+    let a = scan_extent(placed, s.no_return_reach)?;
     let m = MATCH_DRIFT_MARGIN;
     let extent = [a[0] - m, a[1] - m, a[2] + m, a[3] + m];
     Some(covering_grid(extent, s.resolution, s.margin))

@@ -19,18 +19,21 @@
 //!   source is one more pane) and the one state a panel renders
 //!   ([`SessionState`]).
 
+mod map;
 mod matched;
 mod pane;
 mod session;
 mod settings;
 mod view;
 
+pub use map::LogGrid;
 pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
 pub use session::{
     FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,
 };
 pub use settings::{
-    CheckedSettings, LogMapSettings, LogPoses, SettingLimits, MAX_SEED, NO_RETURN_REACH,
+    CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
+    NO_RETURN_REACH,
 };
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};

@@ -1,20 +1,21 @@
 //! One pose source's map of a log ([`LogPane`]): the log's scans (shared
 //! with the session's other panes), the poses this source puts them at, a
-//! tiled grid, the ray traversal of Table 9.1 with the inverse model of
-//! Table 9.2, and the build's progress towards a target scan count. What it
-//! shows (its view, cursor, readouts and export) is in `view.rs`.
+//! tiled grid of the chosen cell model ([`LogCellModel`]), the ray
+//! traversal of Table 9.1 with the bands of Table 9.2, and the build's
+//! progress towards a target scan count. What it shows (its view, cursor,
+//! readouts and export) is in `view.rs`.
 
+use super::map::{each_map, LogGrid, LogMap};
 use super::matched::{matched_grid, PoseMatching};
-use super::settings::{CheckedSettings, LogMapSettings, LogPoses};
-use crate::apps::pane::{MapPane, ScreenView};
+use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
+use crate::apps::pane::ScreenView;
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
-use crate::grid::{LogOdds, Tiled, TiledGrid};
 use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{covering_grid, scan_extent, tiles_reached, BeamReach};
-use crate::mapping::traversal::BeamBand;
+use crate::mapping::traversal::{BeamBand, RayMapper};
 use crate::mapping::walls::beam_bands;
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::Scan;
@@ -23,9 +24,6 @@ use std::sync::Arc;
 /// The output size a pane's view starts at, pixels, until a page sets its
 /// own.
 pub const DEFAULT_VIEW_SIZE: (usize, usize) = (480, 360);
-
-/// A real log's map: tiled, seen through a screen-sized view.
-pub(super) type LogMap = MapPane<LogOdds, Tiled<f32>, ScreenView>;
 
 /// How far a pane's build has got.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -62,6 +60,8 @@ pub struct LogPane {
     /// The log's scans at its own (corrected) poses, shared by the panes.
     scans: Arc<LaserScans>,
     source: LogPoses,
+    /// What this pane's cells believe.
+    model: LogCellModel,
     /// One laser pose per scan: where this source puts the scans.
     poses: Vec<Pose>,
     /// The odometry noise dead reckoning adds.
@@ -81,6 +81,9 @@ pub struct LogPane {
     pub(super) matching: Option<PoseMatching>,
     /// Scratch: the current scan's beam bands.
     bands: Vec<Option<BeamBand>>,
+    /// The ray traversal (and its scratch), which also fills the free
+    /// space between neighbouring beams when the settings ask for it.
+    mapper: RayMapper,
     done: usize,
     target: usize,
     /// The keyboard cursor's image cell `(col, row)`, if any.
@@ -104,7 +107,7 @@ impl LogPane {
         let checked = settings.validate()?;
         Self::plan(
             Arc::new(scans),
-            settings.poses,
+            (settings.poses, settings.model),
             &checked,
             OdometryParams::WHEELS,
             budget_cells,
@@ -123,18 +126,18 @@ impl LogPane {
         odometry.validate()?;
         Self::plan(
             Arc::new(scans),
-            settings.poses,
+            (settings.poses, settings.model),
             &checked,
             odometry,
             DEFAULT_TILE_BUDGET_CELLS,
         )
     }
 
-    /// A pane of `source` over shared scans, heading for all of them, its
-    /// view fitted at [`DEFAULT_VIEW_SIZE`].
+    /// A pane of `source` with cells of `model` over shared scans, heading
+    /// for all of them, its view fitted at [`DEFAULT_VIEW_SIZE`].
     pub(super) fn plan(
         scans: Arc<LaserScans>,
-        source: LogPoses,
+        (source, model): (LogPoses, LogCellModel),
         settings: &CheckedSettings,
         odometry: OdometryParams,
         budget_cells: usize,
@@ -149,45 +152,51 @@ impl LogPane {
             )?),
             _ => None,
         };
-        let extent = plan_grid(&scans, &poses, source, settings.settings())?;
-        let grid = TiledGrid::new(extent, settings.filter(), budget_cells)?;
+        let extent = plan_grid(&scans, &poses, source, settings)?;
         let (w, h) = DEFAULT_VIEW_SIZE;
         let view = ScreenView::new(&extent, w, h)?;
+        let map = LogMap::new(model, extent, settings.filter(), budget_cells, view)?;
         let target = scans.len();
         Ok(Self {
             scans,
             source,
+            model,
             poses,
             odometry,
             settings: *settings,
-            map: MapPane::new(grid, view),
+            map,
             short_model: None,
             budget_cells,
             failure: None,
             matching,
             bands: Vec::new(),
+            mapper: RayMapper::new(),
             done: 0,
             target,
             cursor: None,
         })
     }
 
-    /// This pane's map under new checked settings (and pose source), heading
-    /// for the same target, built from the first scan. The view and cursor
-    /// stay when the map's limits do (a change of the model keeps the
-    /// reader's zoom); otherwise the view shows the whole new map at the
-    /// same output size.
-    pub(super) fn replanned(&self, settings: &CheckedSettings, source: LogPoses) -> Result<Self> {
+    /// This pane's map under new checked settings (and pose source and cell
+    /// model), heading for the same target, built from the first scan. The
+    /// view and cursor stay when the map's limits do (a change of the model
+    /// keeps the reader's zoom); otherwise the view shows the whole new map
+    /// at the same output size.
+    pub(super) fn replanned(
+        &self,
+        settings: &CheckedSettings,
+        plan: (LogPoses, LogCellModel),
+    ) -> Result<Self> {
         let mut pane = Self::plan(
             Arc::clone(&self.scans),
-            source,
+            plan,
             settings,
             self.odometry,
             self.budget_cells,
         )?;
         pane.target = self.target;
         let old = self.map.view().viewport;
-        if pane.map.grid().geometry() == self.map.grid().geometry() {
+        if pane.grid().geometry() == self.grid().geometry() {
             pane.map.view_mut().viewport = old;
             pane.cursor = self.cursor;
         } else {
@@ -210,7 +219,7 @@ impl LogPane {
             settings.seed,
             &OdometryParams::WHEELS,
         );
-        plan_grid(scans, &poses, settings.poses, checked.settings())
+        plan_grid(scans, &poses, settings.poses, &checked)
     }
 
     /// New settings: a new grid (the extent depends on the range cap, the
@@ -219,12 +228,12 @@ impl LogPane {
     /// changes.
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<()> {
         let checked = settings.validate()?;
-        *self = self.replanned(&checked, settings.poses)?;
+        *self = self.replanned(&checked, (settings.poses, settings.model))?;
         Ok(())
     }
 
     fn restart(&mut self) {
-        self.map.reset();
+        each_map!(&mut self.map, m => m.reset());
         if let Some(m) = &mut self.matching {
             m.reset();
         }
@@ -288,7 +297,7 @@ impl LogPane {
             let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
             let model = self.model_for(laser_max);
             let s = self.settings.settings();
-            let res = self.map.grid().geometry().resolution();
+            let res = self.grid().geometry().resolution();
             beam_bands(
                 &scan,
                 &model,
@@ -301,11 +310,20 @@ impl LogPane {
                 (s.l_free - model.params().l0) as f32,
                 (s.l_occ - model.params().l0) as f32,
             );
-            self.map.integrate_bands(&scan, &self.bands, free, occupied);
-            let grid = self.map.grid();
-            if grid.refused() {
+            let (bands, mapper, between) = (&self.bands, &mut self.mapper, s.between_beams);
+            each_map!(&mut self.map, m => {
+                let stats = mapper.integrate_bands_between(
+                    m.grid_mut(),
+                    &scan,
+                    bands,
+                    (free, occupied),
+                    between,
+                );
+                m.count(&scan, stats);
+            });
+            if self.grid().refused() {
                 let needed = self.tiles_reached();
-                let grid = self.map.grid();
+                let grid = self.grid();
                 self.failure = Some(OccError::State(budget_message(
                     grid.geometry(),
                     needed,
@@ -328,7 +346,9 @@ impl LogPane {
             return Ok(());
         };
         let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
-        let pose = matching.pose_of(k, &self.poses, self.map.grid(), &scan, laser_max)?;
+        let poses = &self.poses;
+        let pose =
+            each_map!(&self.map, m => matching.pose_of(k, poses, m.grid(), &scan, laser_max))?;
         self.poses[k] = pose;
         Ok(())
     }
@@ -359,7 +379,7 @@ impl LogPane {
     fn tiles_reached(&self) -> usize {
         let s = self.settings.settings();
         tiles_reached(
-            self.map.grid().geometry(),
+            self.grid().geometry(),
             (0..self.scans.len()).filter_map(|k| self.scan_at_pose(k)),
             BeamReach {
                 model: self.settings.model(),
@@ -378,9 +398,9 @@ impl LogPane {
             work: self.map.work().cell_updates + self.matching.as_ref().map_or(0, |m| m.work()),
             beams: self.map.work().beams,
             finished: self.done == self.target,
-            cells_allocated: self.map.grid().cells_allocated(),
-            bytes_allocated: self.map.grid().bytes_allocated(),
-            cells: self.map.grid().geometry().len(),
+            cells_allocated: self.grid().cells_allocated(),
+            bytes_allocated: self.grid().bytes_allocated(),
+            cells: self.grid().geometry().len(),
         }
     }
 
@@ -389,8 +409,14 @@ impl LogPane {
         self.failure.as_ref()
     }
 
-    pub fn grid(&self) -> &TiledGrid {
+    /// The map's grid, of this pane's cell model.
+    pub fn grid(&self) -> LogGrid<'_> {
         self.map.grid()
+    }
+
+    /// What this pane's cells believe.
+    pub fn model(&self) -> LogCellModel {
+        self.model
     }
 
     /// The log's scans at its own (corrected) poses.
@@ -445,31 +471,39 @@ fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> {
 }
 
 /// The grid for `scans` at `poses` under valid settings: the extent of
-/// their poses and endpoints (each source's path wanders its own way),
-/// covered on whole cells, and a range cap whose reach fits the traversal.
+/// their poses and of every cell their beams carve or mark (each source's
+/// path wanders its own way), covered on whole cells, and a range cap whose
+/// reach fits the traversal.
 fn plan_grid(
     scans: &LaserScans,
     poses: &[Pose],
     source: LogPoses,
-    s: &LogMapSettings,
+    c: &CheckedSettings,
 ) -> Result<GridGeometry> {
-    let no_scans = || {
-        invalid(
-            "log",
-            "no FLASER or ROBOTLASER1 lines",
-            "at least one laser scan",
-        )
-    };
+    let s = c.settings();
     if source == LogPoses::ScanMatched {
-        let grid = matched_grid(scans, s).ok_or_else(no_scans)??;
+        let grid = matched_grid(scans, c).ok_or_else(|| {
+            invalid(
+                "log",
+                "no FLASER or ROBOTLASER1 lines",
+                "at least one laser scan",
+            )
+        })??;
         s.check_reach()?;
         return Ok(grid);
     }
     let placed = (0..scans.len()).filter_map(|k| {
         let scan = at_pose(scans, k, *poses.get(k)?)?;
-        Some((scan, scans.max_range(k).unwrap_or(f64::INFINITY)))
+        let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
+        Some((scan, c.model_for_laser(laser_max).unwrap_or(*c.model())))
     });
-    let extent = scan_extent(placed, s.range_cap).ok_or_else(no_scans)?;
+    let extent = scan_extent(placed, s.no_return_reach).ok_or_else(|| {
+        invalid(
+            "log",
+            "no FLASER or ROBOTLASER1 lines",
+            "at least one laser scan",
+        )
+    })?;
     let grid = covering_grid(extent, s.resolution, s.margin)?;
     // A scan is gathered in a window as wide as its longest beam: that
     // window's scratch is what bounds the reach in cells.
@@ -499,7 +533,7 @@ mod tests {
         a.seek(3).unwrap();
         let p = a.advance(100);
         assert_eq!((p.scans_done, p.finished), (3, true));
-        let at3 = a.grid().clone();
+        let at3 = a.grid().to_dense().unwrap();
         a.seek(6).unwrap();
         a.advance(2);
         a.advance(2);
@@ -507,7 +541,7 @@ mod tests {
         a.seek(3).unwrap();
         assert_eq!(a.progress().scans_done, 0, "going back resets");
         a.advance(10);
-        assert_eq!(a.grid(), &at3);
+        assert_eq!(a.grid().to_dense().unwrap(), at3);
         assert!(a.seek(7).is_err());
     }
 

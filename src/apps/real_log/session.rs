@@ -6,7 +6,7 @@
 //! ([`SessionState`]) the panel renders.
 
 use super::pane::{BuildProgress, LogPane};
-use super::settings::{CheckedSettings, LogMapSettings, LogPoses, SettingLimits};
+use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits};
 use super::view::GeometryReport;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
@@ -66,6 +66,7 @@ pub enum FailedStep {
 #[serde(rename_all = "camelCase")]
 pub struct PaneState {
     pub poses: LogPoses,
+    pub model: LogCellModel,
     pub caption: String,
     #[serde(flatten)]
     pub progress: BuildProgress,
@@ -280,19 +281,22 @@ impl RealLogSession {
         settings: &CheckedSettings,
         target: Option<usize>,
     ) -> Result<Vec<LogPane>> {
-        LogPoses::panes(settings.settings().poses)
+        settings
+            .settings()
+            .pane_plan()
             .into_iter()
-            .map(|source| {
-                let same_log = self
-                    .panes
-                    .iter()
-                    .find(|p| p.source() == source && Arc::ptr_eq(p.shared_scans(), scans));
+            .map(|(source, model)| {
+                let same_log = self.panes.iter().find(|p| {
+                    p.source() == source
+                        && p.model() == model
+                        && Arc::ptr_eq(p.shared_scans(), scans)
+                });
                 let mut pane = match same_log {
-                    Some(old) => old.replanned(settings, source)?,
+                    Some(old) => old.replanned(settings, (source, model))?,
                     None => {
                         let mut pane = LogPane::plan(
                             Arc::clone(scans),
-                            source,
+                            (source, model),
                             settings,
                             OdometryParams::WHEELS,
                             self.budget_cells,
@@ -454,6 +458,7 @@ impl RealLogSession {
             .iter()
             .map(|p| PaneState {
                 poses: p.source(),
+                model: p.model(),
                 caption: p.caption(),
                 progress: p.progress(),
             })

@@ -5,7 +5,7 @@
 //! ([`SettingLimits`]).
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::grid::FilterSettings;
+use crate::grid::{FilterSettings, HitCounting, HitMissOdds};
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::mapping::traversal::MAX_REACH_CELLS;
 use crate::mapping::walls::WallModel;
@@ -85,6 +85,89 @@ impl LogPoses {
     }
 }
 
+/// What a cell of a real log's map believes (docs/ARCHITECTURE.md, "Real
+/// logs"): the chapter's filter, or one of the models the tools of the
+/// field use on real buildings ([`crate::grid::cell`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum LogCellModel {
+    /// Table 9.1's log-odds filter with Table 9.2's evidence and the
+    /// settings' clamp: the chapter's lesson (one return prints a wall,
+    /// four beams clear a cell).
+    #[serde(rename = "log-odds")]
+    LogOdds,
+    /// GMapping's counting model: hits and visits per cell, occupied above
+    /// a hit ratio, free once visited with a lower one. The real-log
+    /// default: on every log of the corpus its walls are as complete as
+    /// Table 9.2's or more, with fewer specks on five of six, and one beam
+    /// through a cell clears it (docs/ARCHITECTURE.md, "Real logs").
+    #[default]
+    #[serde(rename = "hit-counting")]
+    HitCounting,
+    /// Cartographer's probability grid: a hit multiplies the odds by
+    /// odds(0.55), a miss by odds(0.49), within [0.1, 0.9].
+    #[serde(rename = "hit-miss-odds")]
+    HitMissOdds,
+}
+
+impl LogCellModel {
+    /// The names a page and the CLI use.
+    pub const NAMES: [&'static str; 3] = ["log-odds", "hit-counting", "hit-miss-odds"];
+    /// Every model, in the order of [`Self::NAMES`].
+    pub const ALL: [LogCellModel; 3] = [Self::LogOdds, Self::HitCounting, Self::HitMissOdds];
+
+    /// The name a page uses (one of [`Self::NAMES`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::LogOdds => Self::NAMES[0],
+            Self::HitCounting => Self::NAMES[1],
+            Self::HitMissOdds => Self::NAMES[2],
+        }
+    }
+
+    /// The model named `name` (one of [`Self::NAMES`]), or an error naming
+    /// `field` and the text.
+    pub fn from_name(field: &str, name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| {
+                invalid(
+                    field,
+                    format!("\"{name}\""),
+                    "log-odds, hit-counting or hit-miss-odds",
+                )
+            })
+    }
+
+    /// How a caption names the model.
+    pub fn caption(self) -> &'static str {
+        match self {
+            Self::LogOdds => "log odds (Table 9.2)",
+            Self::HitCounting => "hit counting (GMapping)",
+            Self::HitMissOdds => "hit/miss odds (Cartographer)",
+        }
+    }
+
+    /// GMapping's counting model at the hit ratio chosen for real logs.
+    pub fn hit_counting() -> HitCounting {
+        HitCounting {
+            occupied_ratio: HIT_RATIO,
+        }
+    }
+
+    /// Cartographer's 2-D probability grid defaults.
+    pub fn hit_miss_odds() -> HitMissOdds {
+        HitMissOdds::cartographer()
+    }
+}
+
+/// The hit ratio above which a counting cell is occupied (GMapping's
+/// `occupancyThreshold`, 0.25). A lower ratio (0.15) completes walls a
+/// little more (wall recall +0.3 to +1.6 points on the corpus) but keeps a
+/// person who stood still for `n` scans on the map for `5.7 n` scans of
+/// beams through the empty place instead of `3 n`.
+pub const HIT_RATIO: f32 = 0.25;
+
 /// What the reader of a log chooses for its map: the grid's resolution,
 /// the inverse model of Table 9.2, how far a no-return clears, how free
 /// evidence ends near a wall ([`WallModel`]), the filter's clamp and where
@@ -121,6 +204,16 @@ pub struct LogMapSettings {
     /// The seed of dead reckoning's noise (one seed, one path, and one
     /// scan-matched path from it; unused for the corrected poses).
     pub seed: u64,
+    /// What a cell believes ([`LogCellModel`]).
+    pub model: LogCellModel,
+    /// A second map of the same scans at the same poses with another cell
+    /// model, shown beside the first (`None`: no comparison).
+    pub compare_model: Option<LogCellModel>,
+    /// Free space between neighbouring beams: each beam as wide as the
+    /// beam spacing (Table 9.2's `β`), so that floor seen between two
+    /// beams' axes is not left gray in one-cell pinholes
+    /// ([`crate::mapping::traversal::RayMapper::integrate_bands_between`]).
+    pub between_beams: bool,
 }
 
 /// The default no-return reach, metres (Cartographer's
@@ -146,6 +239,9 @@ impl Default for LogMapSettings {
             walls: WallModel::Incidence,
             poses: LogPoses::Corrected,
             seed: 1,
+            model: LogCellModel::default(),
+            compare_model: None,
+            between_beams: true,
         }
     }
 }
@@ -182,7 +278,7 @@ impl SettingLimits {
 
 impl LogMapSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 11] = [
+    pub const FIELDS: [&'static str; 14] = [
         "resolution",
         "rangeCap",
         "alpha",
@@ -194,6 +290,9 @@ impl LogMapSettings {
         "walls",
         "poses",
         "seed",
+        "model",
+        "compareModel",
+        "betweenBeams",
     ];
 
     /// Table 9.2 with the chapter's clamp, no-returns carving out to
@@ -202,8 +301,25 @@ impl LogMapSettings {
         Self {
             no_return_reach: 30.0,
             walls: WallModel::Table92,
+            model: LogCellModel::LogOdds,
+            between_beams: false,
             ..Self::default()
         }
+    }
+
+    /// The maps a session shows under these settings, the one the reader
+    /// operates first: one per pose source ([`LogPoses::panes`]) with
+    /// [`Self::model`], then the first pose source's map again with
+    /// [`Self::compare_model`] when one is chosen.
+    pub fn pane_plan(&self) -> Vec<(LogPoses, LogCellModel)> {
+        let mut plan: Vec<_> = LogPoses::panes(self.poses)
+            .into_iter()
+            .map(|source| (source, self.model))
+            .collect();
+        if let Some(other) = self.compare_model {
+            plan.push((self.poses, other));
+        }
+        plan
     }
 
     /// How these settings put one scan into a map, for a pose source that
@@ -269,6 +385,13 @@ impl LogMapSettings {
                 "lFree",
                 error::show(self.l_free),
                 "log odds below 0 (at most -1e-38)",
+            ));
+        }
+        if self.compare_model == Some(self.model) {
+            return Err(invalid(
+                "compareModel",
+                format!("\"{}\"", self.model.name()),
+                "another cell model than `model`, or none",
             ));
         }
         // The model checks what is left of it (evidence past f32) under its

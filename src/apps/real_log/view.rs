@@ -4,6 +4,7 @@
 //! the `map_server` export. Every number a panel prints about a pane is
 //! computed here; the page forwards pointer and key input and draws.
 
+use super::map::{each_map, LogMap};
 use super::pane::LogPane;
 use super::settings::LogPoses;
 use crate::error::{invalid, Result};
@@ -73,35 +74,41 @@ impl LogPane {
         }
     }
 
-    /// The caption of this pane.
+    /// The caption of this pane: its pose source, and its cell model when
+    /// the session compares two.
     pub fn caption(&self) -> String {
-        self.source().caption(self.settings().seed)
+        let poses = self.source().caption(self.settings().seed);
+        match self.settings().compare_model {
+            None => poses,
+            Some(_) => format!("{poses}, {}", self.model().caption()),
+        }
     }
 
     /// How many cells are occupied, free and unknown now, counted with the
     /// thresholds of the exported file (what the PGM would show and
     /// `map_server` load), which the counts carry.
     pub fn counts(&self) -> ExportCounts {
-        self.map.counts()
+        each_map!(&self.map, m => m.counts())
     }
 
     /// The laser positions of all scans in image units (x to the right, y
     /// down, pixel `(c, r)` spanning `[c, c+1) x [r, r+1)`), as
     /// `[x0, y0, x1, y1, ...]`: a page draws the robot's path from it.
     pub fn path_in_pixels(&self) -> Vec<f32> {
-        self.map.path_pixels(self.poses())
+        each_map!(&self.map, m => m.path_pixels(self.poses()))
     }
 
     /// The robot at scan `k` in image units, heading as an image angle
     /// (see [`crate::render::overlay`]), or `None` past the last scan.
     pub fn robot_at(&self, k: usize) -> Option<RobotMark> {
-        Some(self.map.robot_at(self.poses().get(k)?))
+        let pose = self.poses().get(k)?;
+        Some(each_map!(&self.map, m => m.robot_at(pose)))
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top, north
     /// up), or `None` outside the map.
     pub fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
-        readout_at_pixel(self.grid(), col, row)
+        each_map!(&self.map, m => readout_at_pixel(m.grid(), col, row))
     }
 
     pub fn view(&self) -> &MapViewport {
@@ -135,7 +142,7 @@ impl LogPane {
 
     /// Draws the view into `out` (its `width * height * 4` RGBA bytes).
     pub fn render_view(&mut self) -> &[u8] {
-        self.map.pixels()
+        each_map!(&mut self.map, m => m.pixels())
     }
 
     /// The cell under output position `(x, y)` (pixels, finite), or `None`
@@ -148,7 +155,7 @@ impl LogPane {
                 "finite pixels",
             ));
         }
-        Ok(self.map.readout_at_view(x, y))
+        Ok(each_map!(&self.map, m => m.readout_at_view(x, y)))
     }
 
     /// The view's scale in words and numbers, for an output of
@@ -298,7 +305,7 @@ impl LogPane {
     /// then tells a dead-reckoned map from the corrected one.
     pub fn export_map(&self, name: Option<&str>) -> MapServerPair {
         let stem = map_server::file_stem(name.unwrap_or(""));
-        let mut pair = self.map.export(&format!("{stem}.pgm"));
+        let mut pair = each_map!(&self.map, m => m.export(&format!("{stem}.pgm")));
         if let Some(poses) = self.source().described(self.settings().seed) {
             pair.yaml.push_str(&format!("# poses: {poses}\n"));
         }

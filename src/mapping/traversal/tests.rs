@@ -332,3 +332,92 @@ fn one_beam_marks_free_then_occupied() {
     assert_eq!(l(12), 0.0, "unknown behind");
     assert_eq!(stats.cells_updated, 11);
 }
+
+/// The window index's division by multiplication is exact over the whole
+/// range a window can have (every width up to 4,095 cells, every index
+/// below 2^25), and refuses widths past it.
+#[test]
+fn division_by_the_window_width_is_exact_over_every_window() {
+    for d in 1..4096usize {
+        let div = super::windowed::DivideBy::new(d).unwrap();
+        let last = (1usize << 25) - 1;
+        for w in [0, 1, d - 1, d, d + 1, 7 * d + 3, last - d, last - 1, last]
+            .into_iter()
+            .chain((0..64).map(|k| (k * 524_287 + d) % (last + 1)))
+        {
+            assert_eq!(div.div_rem(w), (w / d, w % d), "{w} / {d}");
+        }
+    }
+    assert!(
+        super::windowed::DivideBy::new(0).is_none()
+            && super::windowed::DivideBy::new(4096).is_none()
+    );
+}
+
+/// Two beams 1° apart reading 20 m: alone, their walks leave cells between
+/// them unvisited once they part by more than a cell (2.9 m at 5 cm);
+/// with the space between them filled, every cell whose centre lies
+/// between the two axes is free out to four times that range, and each
+/// cell is still updated once.
+#[test]
+fn the_space_between_two_beams_is_free_out_to_four_times_where_they_part() {
+    use crate::grid::TiledGrid;
+    let spacing = 1f64.to_radians();
+    let scan = Scan::new(
+        Pose::new(0.0, 0.0, 0.0).unwrap(),
+        vec![20.0, 20.0],
+        vec![0.3, 0.3 + spacing],
+    )
+    .unwrap();
+    let band = Some(BeamBand {
+        reach: 20.05,
+        free_until: 19.95,
+        occupied_from: 19.95,
+        occupied_until: 20.05,
+    });
+    let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
+    let settings = FilterSettings {
+        prior: 0.5,
+        clamp: 3.5,
+    };
+    let run = |between: bool| {
+        let mut grid = TiledGrid::new(g, settings, 1 << 22).unwrap();
+        let stats = RayMapper::new().integrate_bands_between(
+            &mut grid,
+            &scan,
+            &[band, band],
+            (-0.4, 0.85),
+            between,
+        );
+        (grid, stats)
+    };
+    let (thin, thin_stats) = run(false);
+    let (wide, wide_stats) = run(true);
+    let parted = 0.05 / spacing;
+    let between_axes = |r: f64, f: f64| {
+        let a = 0.3 + f * spacing;
+        g.world_to_cell(r * a.cos(), r * a.sin()).unwrap()
+    };
+    let (mut holes_thin, mut holes_wide) = (0, 0);
+    for k in 0..400 {
+        let r = 1.0 + k as f64 * (4.0 * parted - 1.5) / 400.0;
+        for f in [0.2, 0.35, 0.5, 0.65, 0.8] {
+            let (ix, iy) = between_axes(r, f);
+            holes_thin += (thin.updates_at(ix, iy).unwrap() == 0) as usize;
+            let l = wide.log_odds_at(ix, iy).unwrap();
+            holes_wide += (l != -0.4) as usize;
+            assert!(wide.updates_at(ix, iy).unwrap() <= 1, "once per scan");
+        }
+    }
+    assert!(holes_thin > 500, "thin beams leave {holes_thin} holes");
+    assert_eq!(holes_wide, 0);
+    assert!(wide_stats.cells_updated > thin_stats.cells_updated);
+    // The walls stay the beams' own: nothing occupied between them.
+    let occupied = |grid: &TiledGrid| {
+        (0..900)
+            .flat_map(|iy| (0..900).map(move |ix| (ix, iy)))
+            .filter(|&(ix, iy)| grid.log_odds_at(ix, iy).unwrap() > 0.0)
+            .count()
+    };
+    assert_eq!(occupied(&thin), occupied(&wide));
+}

@@ -1,0 +1,125 @@
+//! The free space between neighbouring beams
+//! ([`super::RayMapper::integrate_bands_between`]): a scanner's beams are as
+//! wide as their spacing (Table 9.2's `β`), and the cells a supercover
+//! walk leaves between two beams' axes, once they part by more than a
+//! cell, are filled by walks along directions between them.
+
+use super::{trace, BandCodes, BeamBand, BeamFrame, BeamState, Codes};
+use crate::geometry::raster::Walk;
+
+/// The widest spacing of two neighbouring beams whose between is filled
+/// ([`super::RayMapper::integrate_bands_between`]), radians: 5°, past any
+/// scanner's spacing; wider is a gap in the scan.
+const MAX_BEAM_SPACING: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// Levels of walks between two beams: level `k` fills out to `2^k` times
+/// the range at which the beams part by a cell.
+const BETWEEN_LEVELS: u32 = 2;
+
+/// Walks the space between each pair of neighbouring beams (`bands[i -
+/// 1]`, `bands[i]`, bearings with `(sin, cos)` in `trig`) into `gathered`
+/// as free verdicts, out to `2^BETWEEN_LEVELS` times the range where the
+/// two axes part by a cell and never past the nearer free range; returns
+/// the cells visited and the gathering.
+pub(super) fn trace_between<'a>(
+    frame: &BeamFrame,
+    bands: &[Option<BeamBand>],
+    bearings: &[f64],
+    trig: &[(f64, f64)],
+    walkable: impl Fn(f64) -> bool,
+    mut gathered: Codes<'a>,
+) -> (usize, Codes<'a>) {
+    let mut visits = 0;
+    for i in 1..bands.len().min(bearings.len()) {
+        let (Some(a), Some(b)) = (bands[i - 1], bands[i]) else {
+            continue;
+        };
+        if !(walkable(a.reach) && walkable(b.reach)) {
+            continue;
+        }
+        let spacing = (bearings[i] - bearings[i - 1]).abs();
+        // Neighbours only: a gap in the scan's bearings is no beam.
+        if !(spacing > 0.0 && spacing <= MAX_BEAM_SPACING) {
+            continue;
+        }
+        let parted = frame.res / spacing;
+        let nearer = a.free_until.min(b.free_until);
+        let ((s0, c0), (s1, c1)) = (trig[i - 1], trig[i]);
+        // Level k's walks split the pair's angle in 2^k, from
+        // where level k - 1's walks part by a cell (the new ones)
+        // or where they ended (the earlier ones), out to 2^k times
+        // the range where the two beams part by a cell.
+        for level in 1..=BETWEEN_LEVELS {
+            let parts = 1usize << level;
+            let begun = parted * (parts / 2) as f64;
+            let to = (parted * parts as f64).min(nearer);
+            if !(to > 0.9 * begun) {
+                break;
+            }
+            for j in 1..parts {
+                let from = if j % 2 == 1 {
+                    0.9 * begun
+                } else {
+                    0.99 * begun
+                };
+                if !(to > from) {
+                    continue;
+                }
+                // The direction at fraction j / parts from the
+                // first beam to the second (a chord's point,
+                // normalised: within a hair of the angle's).
+                let f = j as f64 / parts as f64;
+                let (sv, cv) = (s0 + f * (s1 - s0), c0 + f * (c1 - c0));
+                let norm = sv.hypot(cv);
+                let Some((walk, at)) = frame.segment((sv / norm, cv / norm), from, to) else {
+                    continue;
+                };
+                let band = BeamBand {
+                    reach: to,
+                    free_until: to,
+                    occupied_from: to,
+                    occupied_until: to,
+                };
+                let n;
+                (n, gathered) = trace(walk, at, BandCodes(band), gathered);
+                visits += n;
+            }
+        }
+    }
+    (visits, gathered)
+}
+
+impl BeamFrame {
+    /// As [`Self::beam`], from range `from` (metres) on, out to `to`;
+    /// `None` also when its first cell lies outside the window (a segment
+    /// past the reach the window was made for). (A function of its own:
+    /// the beam's walk is the hot one, and stays as it was.)
+    fn segment(&self, (sin_b, cos_b): (f64, f64), from: f64, to: f64) -> Option<(Walk, BeamState)> {
+        if !(from >= 0.0 && from < to) {
+            return None;
+        }
+        let (su, sv, res) = (self.su, self.sv, self.res);
+        let s = self.sin_t * cos_b + self.cos_t * sin_b;
+        let c = self.cos_t * cos_b - self.sin_t * sin_b;
+        let (near, far) = (from * self.per_metre, to * self.per_metre);
+        let start = (su + near * c, sv + near * s);
+        let end = (su + far * c, sv + far * s);
+        let walk = Walk::new(self.width, self.height, start, end)?;
+        let (ix, iy) = walk.start;
+        let w = &self.window;
+        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows) {
+            return None;
+        }
+        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
+        let at = BeamState {
+            index: (iy - w.y0) * w.stride + (ix - w.x0),
+            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
+            index_step: (
+                walk.step.0 as isize,
+                walk.step.1 as isize * w.stride as isize,
+            ),
+            range_step: (step_x * res * c, step_y * res * s),
+        };
+        Some((walk, at))
+    }
+}

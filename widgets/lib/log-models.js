@@ -1,0 +1,66 @@
+// The real-log panel's cell models (docs/ARCHITECTURE.md, "Real logs"):
+// what a cell of a real log's map believes, chosen by the reader (a select,
+// the `log-model` attribute, `npm run export-map -- --model NAME`), and a
+// second map of the same log with another model beside the first, as Map
+// Weaver's two panes are (`log-compare-model`). The core builds and counts
+// every map; this module only names the models, makes their controls and
+// says where each comes from.
+import { el, select } from './ui.js';
+import { oneOf } from './attributes.js';
+
+/** The models as the core names them, with the words a select shows. */
+export const LOG_MODELS = [
+  ['hit-counting', 'hit counting (GMapping)'],
+  ['log-odds', 'log odds (Table 9.2)'],
+  ['hit-miss-odds', 'hit/miss odds (Cartographer)'],
+];
+const NAMES = LOG_MODELS.map(([name]) => name);
+
+/**
+ * The real-log default, as a link writes it: the core's
+ * `RealLogSession.defaultSettings().model` (tests/browser/real-log-models
+ * checks that the two agree).
+ */
+export const LOG_MODEL_DEFAULT = 'hit-counting';
+
+/** The panel's settings the two attributes stand for, and how a link writes each. */
+export const LOG_MODEL_FIELDS = {
+  'log-model': { field: 'model', format: (v) => String(v) },
+  'log-compare-model': { field: 'compareModel', format: (v) => v ?? 'none' },
+};
+
+/** Map Weaver's two real-log attributes, checked as every attribute is (widgets/lib/attributes.js). */
+export const LOG_MODEL_ATTRIBUTES = {
+  'log-model': { type: oneOf(NAMES), default: LOG_MODEL_DEFAULT, doc: 'real-log mode: what a cell believes: hit-counting (GMapping’s hits and visits), log-odds (Table 9.2 with the chapter’s clamp) or hit-miss-odds (Cartographer’s odds tables)' },
+  'log-compare-model': { type: oneOf(['none', ...NAMES], (w) => (w === 'none' ? null : w)), default: 'none', doc: 'real-log mode: a second map of the same log with another cell model, beside the first; none for one map' },
+};
+
+/**
+ * The model's select and the comparison's, as the panel's controls (each
+ * with `set(value)` for when the settings change elsewhere); `change` takes
+ * a settings patch.
+ */
+export function modelControls(settings, change) {
+  const model = select('Cell model', LOG_MODELS, settings.model, (v) => change({ model: v }), { name: 'model' });
+  const compare = select('Beside it, the same log with', [['', 'no second map'], ...LOG_MODELS], settings.compareModel ?? '',
+    (v) => change({ compareModel: v || null }), { name: 'compare-model' });
+  return {
+    model: { ...model, set: (v) => { model.input.value = String(v); } },
+    compareModel: { ...compare, set: (v) => { compare.input.value = v ?? ''; } },
+  };
+}
+
+/** What each model does and where it comes from, beside the panel's explanation of its settings. */
+export function modelNote() {
+  return el('p', { class: 'occgrid-caption map-weaver-log-models' },
+    'Cell models. Hit counting (the default; GMapping’s “reflection map”, Grisetti, Stachniss & Burgard 2007, and Hector SLAM’s ',
+    'GridMapReflectanceCount): each cell counts the beams that ended in it (hits) and the beams that passed through or ended in it ',
+    '(visits), at most once per scan; it is occupied when more than a quarter of its visits are hits, free once visited with fewer, ',
+    'unknown while never visited. One stray return among later beams through the cell leaves it free, and one beam through a cell ',
+    'makes it white. Log odds is the chapter’s filter (Table 9.1 with Table 9.2’s l_occ and l_free and the clamp): one return makes a ',
+    'cell black and four beams are needed to make one white. Hit/miss odds is Cartographer’s probability grid (Hess et al. 2016): a hit ',
+    'multiplies a cell’s odds by odds(0.55), a miss by odds(0.49), within [0.1, 0.9], through lookup tables; its misses are so weak ',
+    'that little of the floor passes the export’s free threshold (0.196). Under every model a beam is as wide as the beams’ spacing ',
+    '(Table 9.2’s β), so floor between two beams, nearer than both readings, is free too. Choose a second model to see both maps of ',
+    'the same log side by side.');
+}
