@@ -237,19 +237,22 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
     assert_eq!((black, white), (c.occupied, c.free));
 }
 
-/// A budget too small for a log refuses it, saying how many tiles, cells
-/// and bytes the whole log would need; the same log fits the default.
+/// A budget too small for a log refuses its resolution before a cell is
+/// allocated, saying how many tiles, cells and bytes the whole log would
+/// need and the finest resolution that fits; that resolution then maps the
+/// whole log within the budget.
 #[test]
-fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
+fn a_tile_budget_refuses_a_resolution_it_cannot_hold_before_building_and_names_one_that_fits() {
     let scans = LaserScans::read(&dataset("aces-corrected.log.gz")[..]).unwrap();
     let mut whole = LogPane::new(scans.clone(), LogMapSettings::default()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && whole.failure().is_none());
     let budget = p.cells_allocated / 2;
-    let mut s = LogPane::with_tile_budget(scans, LogMapSettings::default(), budget).unwrap();
-    let p2 = s.advance(usize::MAX);
-    assert!(!p2.finished && p2.cells_allocated <= budget);
-    let e = s.failure().unwrap().to_string();
+    let Err(e) = LogPane::with_tile_budget(scans.clone(), LogMapSettings::default(), budget) else {
+        panic!("a budget of half the map was accepted");
+    };
+    let e = e.to_string();
+    assert!(e.starts_with("invalid resolution: 0.05 m"), "{e}");
     let tiles: usize = e
         .split("reach ")
         .nth(1)
@@ -263,9 +266,27 @@ fn a_tile_budget_refuses_only_what_does_not_fit_and_says_what_it_would_need() {
     assert!(tiles * 4096 >= p.cells_allocated, "{e}");
     assert!(tiles * 4096 <= p.cells_allocated * 3 / 2, "{e}");
     assert!(
-        e.contains(&format!("budget of {budget} cells")) && e.contains("MiB"),
+        e.contains(&format!("the {budget} cells")) && e.contains("MiB"),
         "{e}"
     );
+    let fits: f64 = e
+        .split("; ")
+        .last()
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap_or_else(|_| panic!("no resolution named: {e}"));
+    assert!(fits > 0.05 && fits <= 0.1, "{e}");
+    let coarser = LogMapSettings {
+        resolution: fits,
+        ..LogMapSettings::default()
+    };
+    let mut pane = LogPane::with_tile_budget(scans, coarser, budget).unwrap();
+    let done = pane.advance(usize::MAX);
+    assert!(done.finished && pane.failure().is_none());
+    assert!(done.cells_allocated <= budget);
 }
 
 /// A small log: `n` scans of 90 beams along a corridor, 4 m to either wall.
@@ -449,24 +470,39 @@ fn a_refused_read_fails_by_line_and_keeps_the_map_read_before() {
     assert_eq!(s.stage(), Stage::Building);
 }
 
-/// A pane past its tile budget fails the session, saying what the log
-/// would need; the map so far stays.
+/// A log read under a resolution its tile budget cannot hold waits for
+/// settings that fit, saying which resolution does; that one maps it.
 #[test]
-fn a_pane_past_its_tile_budget_fails_the_session_and_keeps_its_map() {
+fn a_log_past_its_tile_budget_waits_for_the_resolution_that_fits() {
     let mut s = RealLogSession::with_tile_budget(dataset("aces-corrected.log.gz"), 40 * 4096);
-    read_all(&mut s);
     let e = loop {
-        match s.build_slice(100_000) {
-            Ok(state) => assert!(!state.finished, "the budget held the whole log"),
+        match s.read(usize::MAX) {
+            Ok(r) => assert!(!r.progress.finished, "the budget held the whole log"),
             Err(e) => break e.to_string(),
         }
     };
-    assert!(e.contains("budget of 163840 cells"), "{e}");
-    let state = s.state();
-    assert_eq!(state.state, Stage::Failed);
-    assert_eq!(state.error.as_deref(), Some(&e[..]));
-    assert!(state.scans_done > 0 && state.scans_done < 440);
-    assert_eq!(s.build_slice(1).unwrap_err().to_string(), e);
+    assert!(e.contains("invalid resolution: 0.05 m"), "{e}");
+    assert!(e.contains("the 163840 cells"), "{e}");
+    assert!(s.awaiting_settings(), "{:?}", s.stage());
+    let fits: f64 = e
+        .rsplit("; ")
+        .next()
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no resolution named: {e}"));
+    s.configure(LogMapSettings {
+        resolution: fits,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    let state = loop {
+        let state = s.build_slice(100_000).unwrap();
+        if state.finished {
+            break state;
+        }
+    };
+    assert_eq!(state.state, Stage::Done);
+    assert_eq!(state.scans_done, 440);
 }
 
 /// One budget bounds a whole slice, both panes together: the call stops at

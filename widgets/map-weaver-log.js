@@ -494,10 +494,12 @@ export class RealLogPanel {
       this.status.textContent = `Mapping: scan ${count(main.scansDone)} of ${count(main.scansTarget)}…`;
     }
     if (main && (state.state === 'building' || state.state === 'done')) this.scrub.set(main.scansDone);
-    // The maps can be scrubbed and exported whenever there are maps, but not while a log is read.
+    // The maps can be scrubbed whenever there are maps, but not while a log
+    // is read; exported only once built to the scan chosen (never a map cut
+    // short by its budget, or half built).
     const mapped = state.panes.length > 0 && !!this.geometry;
     this.scrub.input.disabled = !mapped || state.state === 'reading';
-    this.exportButton.disabled = !mapped;
+    this.exportButton.disabled = !mapped || state.state !== 'done';
     // The range cap's slider ends where the core's limit at the resolution
     // in force does (or at the value in force, if a log waits for settings).
     const max = String(Math.max(Math.floor(state.limits.rangeCapMax), Math.ceil(state.settings.rangeCap)));

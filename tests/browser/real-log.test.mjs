@@ -392,6 +392,27 @@ test('a log read under settings too large for it waits for settings that fit, th
   await close();
 });
 
+test('a resolution too fine for the map budget is refused once the log is read, naming one that fits, with nothing to export', async () => {
+  const { page, errors, close } = await openPanel();
+  await page.selectOption('.map-weaver-log select[name=resolution]', '0.025');
+  await page.waitForFunction(() => window.realLogPanel.applied.resolution === 0.025);
+  await page.locator('.map-weaver-log select[name=dataset]').selectOption('freiburg-campus-corrected.log.gz');
+  const stopped = await settled(page, 120_000);
+  // Refused before a scan is mapped, not part way through the build.
+  assert.equal(stopped.state, 'awaiting-settings');
+  const error = await page.locator('.map-weaver-log .occgrid-error').textContent();
+  assert.match(error, /invalid resolution: 0\.025 m .*tiles of 64 x 64 cells.*; (0\.0[3-9]\d*) m or coarser fits/);
+  assert.match(await page.locator('.map-weaver-log-status').textContent(), /is read; choose a coarser resolution/);
+  assert.equal(await page.locator('.map-weaver-log button[name=export]').isDisabled(), true);
+  assert.equal(errors.length, 1, errors.join('\n'));
+  assert.match(errors[0], /invalid resolution: 0\.025 m/);
+  await page.selectOption('.map-weaver-log select[name=resolution]', '0.1');
+  await page.waitForFunction(() => window.realLogPanel.root.dataset.state === 'done', null, { timeout: 120_000 });
+  assert.equal(await page.locator('.map-weaver-log .occgrid-error').count(), 0);
+  assert.equal(await page.locator('.map-weaver-log button[name=export]').isDisabled(), false);
+  await close();
+});
+
 test('the Infinite Corridor maps at 5 cm and zooms to one doorway, the readout in metres and cells, the drawn buffer the canvas size', async () => {
   const { page, errors, close } = await openPanel();
   // Tall enough that the whole map is on screen, where the pointer can reach it.

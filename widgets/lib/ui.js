@@ -108,7 +108,7 @@ const RUNTIME_ERROR = ':scope > .occgrid-error:not(.occgrid-attribute-error)';
 /** Shows an error inside the widget (and in the console), instead of a blank box. */
 export function showError(host, error, context = '') {
   const message = error && error.message ? error.message : String(error);
-  console.error(`${host.localName}: ${context}${message}`);
+  console.error(`${widgetName(host)}: ${context}${message}`);
   let box = host.querySelector(RUNTIME_ERROR);
   if (!box) {
     box = el('div', { class: 'occgrid-error', role: 'alert' });
@@ -119,6 +119,12 @@ export function showError(host, error, context = '') {
   }
   box.textContent = `${context}${message}`;
   return box;
+}
+
+/** The widget `host` belongs to (its own tag, or the nearest custom element's around it), as the console names it. */
+function widgetName(host) {
+  for (let e = host; e; e = e.parentElement) if (e.localName.includes('-')) return e.localName;
+  return host.localName;
 }
 
 /** Clears an error shown by `showError`. */

@@ -19,6 +19,7 @@
 //!   source is one more pane) and the one state a panel renders
 //!   ([`SessionState`]).
 
+mod budget;
 mod map;
 mod matched;
 mod pane;

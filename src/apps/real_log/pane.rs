@@ -5,6 +5,7 @@
 //! progress towards a target scan count. What it shows (its view, cursor,
 //! readouts and export) is in `view.rs`.
 
+use super::budget::{at_pose, check_tile_budget, estimate_poses, tiles_needed};
 use super::map::{each_map, LogGrid, LogMap};
 use super::matched::{matched_grid, PoseMatching};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
@@ -14,7 +15,7 @@ use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
 use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
-use crate::mapping::reach::{covering_grid, scan_extent, tiles_reached, BeamReach};
+use crate::mapping::reach::{covering_grid, scan_extent};
 use crate::mapping::traversal::{BeamBand, RayMapper};
 use crate::mapping::walls::beam_bands;
 use crate::sensors::odometry::OdometryParams;
@@ -156,6 +157,17 @@ impl LogPane {
         let (w, h) = DEFAULT_VIEW_SIZE;
         let view = ScreenView::new(&extent, w, h)?;
         let map = LogMap::new(model, extent, settings.filter(), budget_cells, view)?;
+        // Refused now, with the resolution that fits, rather than part way
+        // through the build (the map above has allocated no tile yet).
+        check_tile_budget(
+            &scans,
+            estimate_poses(&scans, source, &poses),
+            map.grid().geometry(),
+            settings,
+            budget_cells,
+            map.grid().bytes_per_cell(),
+            |c| plan_grid(&scans, &poses, source, c),
+        )?;
         let target = scans.len();
         Ok(Self {
             scans,
@@ -377,15 +389,11 @@ impl LogPane {
     /// The tiles the beams of every scan reach: what the whole log would
     /// allocate, said when the budget refuses it.
     fn tiles_reached(&self) -> usize {
-        let s = self.settings.settings();
-        tiles_reached(
+        tiles_needed(
+            &self.scans,
+            &self.poses,
             self.grid().geometry(),
-            (0..self.scans.len()).filter_map(|k| self.scan_at_pose(k)),
-            BeamReach {
-                model: self.settings.model(),
-                no_return_reach: s.no_return_reach,
-                walls: s.walls,
-            },
+            &self.settings,
         )
     }
 
@@ -459,15 +467,6 @@ fn poses_for(
         LogPoses::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
         LogPoses::ScanMatched => PoseMatching::odometry_of(scans, seed, odometry),
     }
-}
-
-/// Scan `k` of `scans` at `pose`.
-fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> {
-    let scan = scans.scan(k)?;
-    if scan.pose() == pose {
-        return Some(scan);
-    }
-    Scan::new(pose, scan.ranges().to_vec(), scan.bearings().to_vec()).ok()
 }
 
 /// The grid for `scans` at `poses` under valid settings: the extent of
