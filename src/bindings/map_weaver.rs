@@ -66,6 +66,36 @@ impl MapWeaver {
         Ok(self.0.set_pane(pane, settings)?)
     }
 
+    /// Like `setPane`, but the pane is only emptied here: `work` rebuilds
+    /// it over the scans so far in budgeted calls, before any new scan.
+    /// Returns false when the patch changed nothing. A refused patch
+    /// changes nothing.
+    #[wasm_bindgen(js_name = stagePane)]
+    pub fn stage_pane(&mut self, pane: JsValue, patch: JsValue) -> Result<bool, JsError> {
+        let pane = pane_from_js(&pane)?;
+        let current = self.0.settings().panes[pane];
+        let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
+        Ok(self.0.stage_pane(pane, settings)?)
+    }
+
+    /// Works for about `budget` cell visits (a whole number; `Infinity`
+    /// for no limit): first the scans a pane lacks (a rebuild, a sweep
+    /// spread over calls), then up to `scans` new scans. A page playing the
+    /// lap calls this once a frame with a budget sized from the last call's
+    /// time. Returns `{ scans, cellVisits, behind: [left, right], done }`:
+    /// new scans taken, the visits spent, the scans each pane still lacks,
+    /// and whether the run is over with both panes caught up.
+    pub fn work(&mut self, scans: JsValue, budget: JsValue) -> Result<JsValue, JsError> {
+        let scans = budget_from_js("scans", &scans)?;
+        let budget = budget_from_js("budget", &budget)? as u64;
+        to_js(&self.0.work(scans, budget)?)
+    }
+
+    /// Where the work stands (`work`'s answer, with nothing done).
+    pub fn progress(&self) -> Result<JsValue, JsError> {
+        to_js(&self.0.progress())
+    }
+
     /// Map width in cells (= image width in pixels).
     #[wasm_bindgen(getter)]
     pub fn width(&self) -> usize {

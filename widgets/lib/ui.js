@@ -231,6 +231,8 @@ export function pacer(perSecond, maxPerFrame) {
   let owed = 0;
   return {
     reset(initial = 0) { owed = initial; },
+    /** Owes again `n` of the items taken that were not done (a frame whose work budget ran out), up to a frame's worth. */
+    giveBack(n) { owed = Math.min(maxPerFrame, owed + Math.max(0, n)); },
     take(dt, speed = 1) {
       owed += (dt / 1000) * perSecond * speed;
       const n = Math.min(maxPerFrame, Math.floor(owed));
