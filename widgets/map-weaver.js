@@ -696,12 +696,15 @@ class MapWeaverElement extends HTMLElement {
     }
     if (this.playing) this.pace.giveBack(owed - r.scans);
     else this.stepsOwed = r.done ? 0 : this.stepsOwed - r.scans;
-    this.draw(!this.playing);
+    const more = this.stepsOwed > 0 || r.behind[0] + r.behind[1] > 0;
+    // Paused, the charts catch up once the work is done (a rebuild's
+    // frames redraw them no more often than playing ones).
+    this.draw(!this.playing && !more);
     if (this.playing && r.done) {
       this.pause();
       return false;
     }
-    return this.playing || this.stepsOwed > 0 || r.behind[0] + r.behind[1] > 0;
+    return this.playing || more;
   }
 
   /** Stops playing; a rebuild under way goes on over the next frames. */
@@ -734,8 +737,15 @@ class MapWeaverElement extends HTMLElement {
         const p = this.panes[k];
         if (!p.ctx) return;
         const { width: w, height: h } = pr;
-        drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
-        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });
+        // The map and its layers change only with a finished scan, a new
+        // size or the cursor: a frame of a sweep spread over frames, or of
+        // a rebuild, leaves them as they are.
+        const shown = JSON.stringify([r.scans - behind[k], pr.cellsVisited, w, p.canvas.width, p.canvas.height, this.cursor]);
+        if (charts || shown !== p.shown) {
+          p.shown = shown;
+          drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
+          p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });
+        }
         const sensor = pr.sensor === 'cone' ? `${fixed(pr.betaDeg, 0)}° cone` : 'LiDAR';
         p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
           `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`;

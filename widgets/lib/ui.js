@@ -261,5 +261,10 @@ export function fixed(x, d = 4) {
  */
 export function grouped(x, d = 0) {
   if (!Number.isFinite(x)) return String(x);
-  return x.toLocaleString('en-US', { minimumFractionDigits: d, maximumFractionDigits: d });
+  // One formatter per number of decimals: toLocaleString makes one per
+  // call, too slow for readouts redrawn every frame.
+  let f = formatters.get(d);
+  if (!f) formatters.set(d, (f = new Intl.NumberFormat('en-US', { minimumFractionDigits: d, maximumFractionDigits: d })));
+  return f.format(x);
 }
+const formatters = new Map();
