@@ -7,7 +7,9 @@ use super::{
     number_from_js, object_or_default, patch_from_js, to_js,
 };
 use crate::apps::map_weaver::{Weaver, WeaverSettings};
+use crate::inverse::{training, LearnedInverse, TrainingConfig};
 use crate::io::map_server as export;
+use std::cell::RefCell;
 use wasm_bindgen::prelude::*;
 
 /// A Map Weaver run held in wasm memory.
@@ -38,7 +40,10 @@ impl MapWeaver {
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
         let settings: WeaverSettings =
             object_or_default("settings", settings, WeaverSettings::default)?;
-        let mut weaver = Weaver::new(settings)?;
+        // Refused settings are refused before any training.
+        settings.validate()?;
+        let learned = learned_for(&settings.training)?;
+        let mut weaver = Weaver::with_learned(settings, learned)?;
         weaver.set_clock(Some(page_clock));
         Ok(MapWeaver(weaver))
     }
@@ -244,6 +249,28 @@ impl MapWeaver {
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         map_pair_to_js(&pair)
     }
+}
+
+thread_local! {
+    /// The last model trained for a run, with its training settings: a
+    /// page that makes a new run (another seed, scene or number of laps)
+    /// trains only when the training settings change, once per page
+    /// otherwise (training is the longest part of making a run).
+    static LEARNED: RefCell<Option<(TrainingConfig, LearnedInverse)>> = const { RefCell::new(None) };
+}
+
+/// The model `config` trains, trained once per page for the same config.
+fn learned_for(config: &TrainingConfig) -> Result<LearnedInverse, JsError> {
+    if let Some(model) = LEARNED.with_borrow(|c| {
+        c.as_ref()
+            .filter(|(k, _)| k == config)
+            .map(|(_, m)| m.clone())
+    }) {
+        return Ok(model);
+    }
+    let (model, _, _) = training::train(config)?;
+    LEARNED.set(Some((*config, model.clone())));
+    Ok(model)
 }
 
 /// A pane index from JavaScript: 0 (left) or 1 (right), checked here with

