@@ -25,7 +25,7 @@
 import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
-import { workBudget, workOnce } from './lib/work-budget.js';
+import { fastForward, trainInSlices, workBudget, workOnce } from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
   whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
@@ -169,6 +169,7 @@ class MapWeaverElement extends HTMLElement {
     this.pace = pacer(1, MAX_SCANS_PER_FRAME);
     this.frameBudget = workBudget(FRAME_WORK_MS, AT_ONCE_VISITS);
     this.sliceBudget = workBudget(SLICE_MS, AT_ONCE_VISITS);
+    this.trainBudget = workBudget(SLICE_MS, 2_000);
     /** Scans Step asked for that are not integrated yet. */
     this.stepsOwed = 0;
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
@@ -496,7 +497,15 @@ class MapWeaverElement extends HTMLElement {
     try {
       const settings = { seed: v.seed, laps: v.laps, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
-      next = new this.core.MapWeaver(settings);
+      // The learned model trains in slices (once per page for the same
+      // training settings), the page painting in between.
+      const start = new this.core.MapWeaverStart(settings);
+      try {
+        next = await trainInSlices(start, this.trainBudget, () => generation === this.generation);
+      } finally {
+        start.free();
+      }
+      if (!next) return;
       // A link may open the run part-way through: the core refuses more
       // work than its budget (naming `scans`), and the rest is done in
       // slices with the count on screen.
@@ -524,26 +533,12 @@ class MapWeaverElement extends HTMLElement {
     this.layout();
   }
 
-  /**
-   * Advances `weaver` by `target` scans in calls of about SLICE_MS,
-   * yielding to the page between them and showing the count; false when a
-   * later create() took over (the caller frees `weaver`).
-   */
-  async fastForward(weaver, target, generation) {
-    let done = 0;
-    for (;;) {
-      const r = workOnce(weaver, this.sliceBudget, target - done);
-      done += r.scans;
-      if (done >= target && r.behind[0] + r.behind[1] === 0) break;
+  /** Advances `weaver` by `target` scans in slices, the count on screen; false when a later create() took over. */
+  fastForward(weaver, target, generation) {
+    return fastForward(weaver, target, this.sliceBudget, (done) => {
       this.dataset.fastForward = `${done}/${target}`;
       this.status.textContent = `Integrating the first ${count(target)} scans: ${count(done)} done…`;
-      // A task boundary, not a frame: the page paints and handles input in
-      // between, and a hidden tab still gets on with the work.
-      await new Promise((r) => setTimeout(r, 0));
-      if (generation !== this.generation) return false;
-    }
-    delete this.dataset.fastForward;
-    return true;
+    }, () => generation === this.generation).finally(() => delete this.dataset.fastForward);
   }
 
   /** Each pane's tracked cells, in its own image units (a pane may map at 0.05 m). */

@@ -7,7 +7,8 @@ use super::{
     number_from_js, object_or_default, patch_from_js, to_js,
 };
 use crate::apps::map_weaver::{Weaver, WeaverSettings};
-use crate::inverse::{training, LearnedInverse, TrainingConfig};
+use crate::inverse::training::{self, Trainer};
+use crate::inverse::{LearnedInverse, TrainingConfig};
 use crate::io::map_server as export;
 use std::cell::RefCell;
 use wasm_bindgen::prelude::*;
@@ -248,6 +249,66 @@ impl MapWeaver {
         let side = if pane == 0 { "left" } else { "right" };
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         map_pair_to_js(&pair)
+    }
+}
+
+/// A Map Weaver run being made: the learned model trained in calls of a
+/// bounded amount of work (`work`), then the run (`finish`), so that a page
+/// keeps its frames while the model trains. The model is the one
+/// `new MapWeaver(settings)` trains, bit for bit, and is kept for the
+/// page's later runs as that one is.
+#[wasm_bindgen]
+pub struct MapWeaverStart {
+    settings: WeaverSettings,
+    trainer: Option<Trainer>,
+}
+
+#[wasm_bindgen]
+impl MapWeaverStart {
+    /// Checks `settings` as `new MapWeaver(settings)` does (a refusal
+    /// names the field), before any training.
+    #[wasm_bindgen(constructor)]
+    pub fn new(settings: JsValue) -> Result<MapWeaverStart, JsError> {
+        let settings: WeaverSettings =
+            object_or_default("settings", settings, WeaverSettings::default)?;
+        settings.validate()?;
+        let trained =
+            LEARNED.with_borrow(|c| c.as_ref().is_some_and(|(k, _)| k == &settings.training));
+        let trainer = if trained {
+            None
+        } else {
+            Some(Trainer::new(&settings.training)?)
+        };
+        Ok(MapWeaverStart { settings, trainer })
+    }
+
+    /// Trains for about `budget` units (a triplet drawn or an SGD update; a
+    /// whole number, or `Infinity`); returns true once the model is
+    /// trained.
+    pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        match &mut self.trainer {
+            Some(t) => {
+                t.step(budget)?;
+                Ok(t.done())
+            }
+            None => Ok(true),
+        }
+    }
+
+    /// The run, training what is left of the model first.
+    pub fn finish(&mut self) -> Result<MapWeaver, JsError> {
+        let learned = match self.trainer.take() {
+            Some(t) => {
+                let (model, _, _) = t.finish()?;
+                LEARNED.set(Some((self.settings.training, model.clone())));
+                model
+            }
+            None => learned_for(&self.settings.training)?,
+        };
+        let mut weaver = Weaver::with_learned(self.settings.clone(), learned)?;
+        weaver.set_clock(Some(page_clock));
+        Ok(MapWeaver(weaver))
     }
 }
 

@@ -41,3 +41,40 @@ export function workOnce(weaver, budget, scans, floor = 1) {
   budget.learn(report.cellVisits, ms);
   return { ...report, ms };
 }
+
+/**
+ * Trains a Map Weaver run's learned model (`start`, a `MapWeaverStart`) in
+ * calls of about `budget`'s target time, each in a task of its own, and
+ * returns the run; null (with `start` left to the caller to free) when
+ * `stillWanted()` turns false between calls (a newer run was asked for).
+ */
+export async function trainInSlices(start, budget, stillWanted) {
+  for (;;) {
+    const t = performance.now();
+    const units = budget.value;
+    const trained = start.work(units);
+    budget.learn(units, performance.now() - t);
+    if (trained) return start.finish();
+    // A task boundary: the page paints and handles input in between.
+    await new Promise((r) => setTimeout(r, 0));
+    if (!stillWanted()) return null;
+  }
+}
+
+/**
+ * Advances a Map Weaver run by `target` scans in calls of about `budget`'s
+ * target time, each in a task of its own (a hidden tab still gets on with
+ * the work), calling `progress(done)` between them; false when
+ * `stillWanted()` turns false (the caller frees `weaver`).
+ */
+export async function fastForward(weaver, target, budget, progress, stillWanted) {
+  let done = 0;
+  for (;;) {
+    const r = workOnce(weaver, budget, target - done);
+    done += r.scans;
+    if (done >= target && r.behind[0] + r.behind[1] === 0) return true;
+    progress(done);
+    await new Promise((resolve) => setTimeout(resolve, 0));
+    if (!stillWanted()) return false;
+  }
+}
