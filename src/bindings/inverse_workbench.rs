@@ -4,8 +4,12 @@
 //! and their log odds along its axis for one reading, and retrains the
 //! learned model with another seed; it draws what it gets.
 
-use super::{number_from_js, object_from_js, object_or_default, optional_number_from_js, to_js};
+use super::{
+    budget_from_js, number_from_js, object_from_js, object_or_default, optional_number_from_js,
+    to_js,
+};
 use crate::apps::inverse_workbench::WorkbenchSession;
+use crate::apps::workbench_training::WorkbenchTraining;
 use crate::inverse::probes::BeamLattice;
 use crate::inverse::training;
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
@@ -140,4 +144,85 @@ pub fn forward_density(z: JsValue, z_star: JsValue, params: JsValue) -> Result<f
     crate::error::non_negative("z", z)?;
     crate::error::finite("z_star", z_star)?;
     Ok(model.density(z, z_star))
+}
+
+/// A training of the workbench's learned model spread over calls of a
+/// bounded amount of work ([`WorkbenchTraining`]), so that a page keeps its
+/// frames while it trains: `work` until it says true, then `finish` (a new
+/// workbench) or `InverseWorkbench.adopt` (a retraining).
+#[wasm_bindgen]
+pub struct InverseWorkbenchTraining(Option<WorkbenchTraining>);
+
+#[wasm_bindgen]
+impl InverseWorkbenchTraining {
+    /// The training `new InverseWorkbench(seed)` does (`seed`: a whole
+    /// number, or `undefined` for the chapter's), checked before any work.
+    #[wasm_bindgen(constructor)]
+    pub fn new(seed: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+        let seed = optional_number_from_js("seed", &seed)?;
+        let seed = seed.map(training::seed_from_number).transpose()?;
+        Ok(InverseWorkbenchTraining(Some(WorkbenchTraining::for_seed(
+            seed,
+        )?)))
+    }
+
+    /// Trains for about `budget` units (a triplet drawn or an SGD update; a
+    /// whole number, or `Infinity`); true once trained.
+    pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        Ok(self.training()?.step(budget, &now_ms)?)
+    }
+
+    /// The workbench with the trained model (training what is left first).
+    pub fn finish(&mut self) -> Result<InverseWorkbench, JsError> {
+        let session = self.take()?.into_session(&now_ms)?;
+        Ok(InverseWorkbench {
+            session,
+            images: [Vec::new(), Vec::new()],
+        })
+    }
+}
+
+impl InverseWorkbenchTraining {
+    fn training(&mut self) -> Result<&mut WorkbenchTraining, JsError> {
+        self.0
+            .as_mut()
+            .ok_or_else(|| JsError::new("invalid training: already used (start another)"))
+    }
+    fn take(&mut self) -> Result<WorkbenchTraining, JsError> {
+        self.0
+            .take()
+            .ok_or_else(|| JsError::new("invalid training: already used (start another)"))
+    }
+}
+
+#[wasm_bindgen]
+impl InverseWorkbench {
+    /// The training `retrain(seed)` does, to be worked in calls and then
+    /// `adopt`ed; a refused seed is refused here, the model staying.
+    #[wasm_bindgen(js_name = startRetrain)]
+    pub fn start_retrain(&self, seed: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+        let seed = training::seed_from_number(number_from_js("seed", &seed)?)?;
+        Ok(InverseWorkbenchTraining(Some(WorkbenchTraining::retrain(
+            &self.session,
+            seed,
+        )?)))
+    }
+
+    /// The training `setDensity(density)` does, to be worked in calls and
+    /// then `adopt`ed; a refused density is refused here, the model staying.
+    #[wasm_bindgen(js_name = startDensity)]
+    pub fn start_density(&self, density: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+        let density = number_from_js("density", &density)?;
+        Ok(InverseWorkbenchTraining(Some(
+            WorkbenchTraining::with_density(&self.session, density)?,
+        )))
+    }
+
+    /// Takes `training`'s model (training what is left first) in place of
+    /// the current one and returns the readout.
+    pub fn adopt(&mut self, training: &mut InverseWorkbenchTraining) -> Result<JsValue, JsError> {
+        training.take()?.apply(&mut self.session, &now_ms)?;
+        self.readout()
+    }
 }

@@ -586,6 +586,11 @@ impl Trainer {
         self.fitter.as_ref().is_some_and(|(f, _)| f.done())
     }
 
+    /// True while triplets are being drawn (then the weights are fitted).
+    pub fn sampling(&self) -> bool {
+        self.sampler.is_some()
+    }
+
     /// Works for about `budget` units; returns the units done.
     pub fn step(&mut self, budget: usize) -> Result<usize> {
         let budget = budget.max(1);
