@@ -850,6 +850,8 @@ class MapWeaverElement extends HTMLElement {
     this.logPanel.hidden = mode !== 'log';
     if (mode !== 'log') {
       this.layout();
+      // A rebuild left off in the real-log mode goes on.
+      this.workNow();
       return;
     }
     this.pause();

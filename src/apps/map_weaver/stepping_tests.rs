@@ -201,7 +201,7 @@ fn the_end_of_the_run_is_done_and_work_stops() {
     );
 }
 
-/// Issue: a clamp dragged to 1 and back left the map pulled in. Each knob
+/// A clamp dragged to 1 and back used to leave the map pulled in. Each knob
 /// now gives, over the scans so far, the map of a run that had its value
 /// all along, and a knob turned and turned back the map it had.
 #[test]
