@@ -679,6 +679,9 @@ class MapWeaverElement extends HTMLElement {
   tick(dt, floor = 1) {
     if (!this.weaver || this.mode !== 'sim') return this.playing;
     const owed = this.playing ? this.pace.take(dt, this.options.speed * this.weaver.scanRate) : this.stepsOwed;
+    // A frame that owes no scan and has no rebuild to go on with draws
+    // nothing either (at speed 1 most frames owe none).
+    if (owed === 0 && this.behind().every((n) => n === 0)) return this.playing;
     let r;
     try {
       r = workOnce(this.weaver, this.frameBudget, owed, floor);

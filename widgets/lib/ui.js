@@ -92,9 +92,7 @@ export function select(label, options, value, onChange, { name } = {}) {
  * `cssWidth x cssHeight` CSS pixels, drawn in CSS-pixel units.
  */
 export function hiDpiCanvas(canvas, cssWidth, cssHeight) {
-  // Past 2 device pixels per CSS pixel a canvas looks no sharper but costs
-  // more than twice the pixels to draw and composite (a phone at 3).
-  const dpr = Math.min(2, Math.max(1, window.devicePixelRatio || 1));
+  const dpr = Math.max(1, window.devicePixelRatio || 1);
   canvas.width = Math.round(cssWidth * dpr);
   canvas.height = Math.round(cssHeight * dpr);
   canvas.style.width = `${cssWidth}px`;
