@@ -280,24 +280,20 @@ class InverseWorkbenchElement extends HTMLElement {
   }
 
   /**
-   * Works `job` (a training of the core's) in calls sized to TRAIN_SLICE_MS
-   * from the last call's time, each in a task of its own, then returns
-   * `done(job)`; null when `current()` turns false in between (a newer
-   * training took over). Frees `job` either way.
+   * Calls `step(units)` (a training call of the core's: true once trained)
+   * with budgets sized to TRAIN_SLICE_MS from the last call's time, each
+   * call in a task of its own; true once trained, false when `current()`
+   * turns false in between (a newer training took over).
    */
-  async inSlices(job, current, done) {
-    try {
-      for (;;) {
-        const t = performance.now();
-        const units = this.trainBudget.value;
-        const finished = job.work(units);
-        this.trainBudget.learn(units, performance.now() - t);
-        if (finished) return done(job);
-        await new Promise((r) => setTimeout(r, 0));
-        if (!current()) return null;
-      }
-    } finally {
-      job.free();
+  async inSlices(step, current) {
+    for (;;) {
+      const t = performance.now();
+      const units = this.trainBudget.value;
+      const finished = step(units);
+      this.trainBudget.learn(units, performance.now() - t);
+      if (finished) return true;
+      await new Promise((r) => setTimeout(r, 0));
+      if (!current()) return false;
     }
   }
 
@@ -315,14 +311,21 @@ class InverseWorkbenchElement extends HTMLElement {
     let refused = null;
     try {
       if (!this.bench) {
-        const bench = await this.inSlices(new this.core.InverseWorkbenchTraining(seed), current, (job) => job.finish());
-        if (!bench) return;
-        this.bench = bench;
-        const d = this.densitySlider.value;
-        if (d !== 0 && !(await this.inSlices(this.bench.startDensity(d), current, (job) => this.bench.adopt(job)))) return;
-      } else {
-        const job = seed === null ? this.bench.startDensity(density) : this.bench.startRetrain(seed);
-        if (!(await this.inSlices(job, current, (j) => this.bench.adopt(j)))) return;
+        const job = new this.core.InverseWorkbenchTraining(seed);
+        try {
+          if (!(await this.inSlices((units) => job.work(units), current))) return;
+          this.bench = job.finish();
+        } finally {
+          job.free();
+        }
+        density = this.densitySlider.value;
+        seed = null;
+      }
+      if (seed !== null || density !== 0 || this.info) {
+        // A retraining goes on inside the workbench; a newer one replaces it.
+        if (seed === null) this.bench.startDensity(density);
+        else this.bench.startRetrain(seed);
+        if (!(await this.inSlices((units) => this.bench.trainWork(units), current))) return;
       }
       this.info = this.bench.readout();
       this.zMax = this.info.zMax;

@@ -35,6 +35,8 @@ fn now_ms() -> f64 {
 pub struct InverseWorkbench {
     session: WorkbenchSession,
     images: [Vec<u8>; 2],
+    /// A retraining under way (`startRetrain`, `startDensity`).
+    pending: Option<WorkbenchTraining>,
 }
 
 #[wasm_bindgen]
@@ -49,6 +51,7 @@ impl InverseWorkbench {
         Ok(InverseWorkbench {
             session: WorkbenchSession::new(seed, &now_ms)?,
             images: [Vec::new(), Vec::new()],
+            pending: None,
         })
     }
 
@@ -149,7 +152,7 @@ pub fn forward_density(z: JsValue, z_star: JsValue, params: JsValue) -> Result<f
 /// A training of the workbench's learned model spread over calls of a
 /// bounded amount of work ([`WorkbenchTraining`]), so that a page keeps its
 /// frames while it trains: `work` until it says true, then `finish` (a new
-/// workbench) or `InverseWorkbench.adopt` (a retraining).
+/// workbench; a retraining goes through `InverseWorkbench.startRetrain`).
 #[wasm_bindgen]
 pub struct InverseWorkbenchTraining(Option<WorkbenchTraining>);
 
@@ -166,6 +169,12 @@ impl InverseWorkbenchTraining {
         )?)))
     }
 
+    /// True once the model is trained (false once `finish` took it).
+    #[wasm_bindgen(getter)]
+    pub fn trained(&self) -> bool {
+        self.0.as_ref().is_some_and(WorkbenchTraining::done)
+    }
+
     /// Trains for about `budget` units (a triplet drawn or an SGD update; a
     /// whole number, or `Infinity`); true once trained.
     pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
@@ -179,6 +188,7 @@ impl InverseWorkbenchTraining {
         Ok(InverseWorkbench {
             session,
             images: [Vec::new(), Vec::new()],
+            pending: None,
         })
     }
 }
@@ -198,31 +208,40 @@ impl InverseWorkbenchTraining {
 
 #[wasm_bindgen]
 impl InverseWorkbench {
-    /// The training `retrain(seed)` does, to be worked in calls and then
-    /// `adopt`ed; a refused seed is refused here, the model staying.
+    /// Starts the training `retrain(seed)` does, held by the workbench and
+    /// worked by `trainWork` (a later start replaces it); a refused seed is
+    /// refused here, the model staying.
     #[wasm_bindgen(js_name = startRetrain)]
-    pub fn start_retrain(&self, seed: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+    pub fn start_retrain(&mut self, seed: JsValue) -> Result<(), JsError> {
         let seed = training::seed_from_number(number_from_js("seed", &seed)?)?;
-        Ok(InverseWorkbenchTraining(Some(WorkbenchTraining::retrain(
-            &self.session,
-            seed,
-        )?)))
+        self.pending = Some(WorkbenchTraining::retrain(&self.session, seed)?);
+        Ok(())
     }
 
-    /// The training `setDensity(density)` does, to be worked in calls and
-    /// then `adopt`ed; a refused density is refused here, the model staying.
+    /// Starts the training `setDensity(density)` does, as `startRetrain`.
     #[wasm_bindgen(js_name = startDensity)]
-    pub fn start_density(&self, density: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+    pub fn start_density(&mut self, density: JsValue) -> Result<(), JsError> {
         let density = number_from_js("density", &density)?;
-        Ok(InverseWorkbenchTraining(Some(
-            WorkbenchTraining::with_density(&self.session, density)?,
-        )))
+        self.pending = Some(WorkbenchTraining::with_density(&self.session, density)?);
+        Ok(())
     }
 
-    /// Takes `training`'s model (training what is left first) in place of
-    /// the current one and returns the readout.
-    pub fn adopt(&mut self, training: &mut InverseWorkbenchTraining) -> Result<JsValue, JsError> {
-        training.take()?.apply(&mut self.session, &now_ms)?;
-        self.readout()
+    /// Works the started training for about `budget` units (a whole
+    /// number, or `Infinity`); once it is trained its model takes the
+    /// current one's place and this returns true (true too with none
+    /// started).
+    #[wasm_bindgen(js_name = trainWork)]
+    pub fn train_work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        let Some(training) = &mut self.pending else {
+            return Ok(true);
+        };
+        if !training.step(budget, &now_ms)? {
+            return Ok(false);
+        }
+        if let Some(training) = self.pending.take() {
+            training.apply(&mut self.session, &now_ms)?;
+        }
+        Ok(true)
     }
 }

@@ -282,6 +282,12 @@ impl MapWeaverStart {
         Ok(MapWeaverStart { settings, trainer })
     }
 
+    /// True once the model is trained.
+    #[wasm_bindgen(getter)]
+    pub fn trained(&self) -> bool {
+        self.trainer.as_ref().is_none_or(Trainer::done)
+    }
+
     /// Trains for about `budget` units (a triplet drawn or an SGD update; a
     /// whole number, or `Infinity`); returns true once the model is
     /// trained.
