@@ -33,6 +33,8 @@ const RUNS = Number(process.env.OCCGRID_PAGE_RUNS || 3);
 const WIDGETS = ['cell-filter', 'map-weaver', 'inverse-workbench', 'sensor-fusion', 'doorway-trap'];
 /** The widgets that play, and the control that starts them. */
 const PLAYERS = ['map-weaver', 'sensor-fusion', 'doorway-trap'];
+/** The data attribute each player sets once its run exists. */
+const READY = { 'map-weaver': 'scans', 'sensor-fusion': 'step', 'doorway-trap': 'flips' };
 /** The heavy Map Weaver links, desktop only: where each opens. */
 const LINKS = {
   'link-sweep': '/?map-weaver.scene=' + encodeURIComponent('{"width":1024,"height":1024,"resolution":0.01171875}') +
@@ -131,10 +133,15 @@ async function oneRun(browser, port, viewportName, situation) {
       const name = situation.slice('play-'.length);
       const widget = page.locator(`occgrid-${name}`).first();
       await widget.scrollIntoViewIfNeeded();
-      // Autoplay starts it when it comes into view; a Play button starts it
-      // where autoplay is off or reduced motion holds it.
-      const play = widget.getByRole('button', { name: /^Play/ }).first();
-      if (await play.count()) await play.click().catch(() => {});
+      // Autoplay starts it once its run exists; a Play button starts it
+      // where autoplay is off or reduced motion holds it. Pressed before the
+      // run exists, Play would do nothing, and pressed after autoplay it
+      // would pause: wait for the run, then press only a Play not pressed.
+      await page.waitForFunction(([tag, key]) => document.querySelector(tag)?.dataset[key] !== undefined,
+        [`occgrid-${name}`, READY[name]], { timeout: 120_000 });
+      await page.waitForTimeout(300);
+      const play = widget.getByRole('button', { name: /^(Play|Pause)/ }).first();
+      if ((await play.count()) && (await play.getAttribute('aria-pressed')) !== 'true') await play.click().catch(() => {});
       await page.evaluate(() => { window.__pageBench.frames = 0; window.__pageBench.counting = true; });
       const start = await page.evaluate(() => performance.now());
       await page.waitForTimeout(5000);
