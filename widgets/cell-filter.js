@@ -10,7 +10,7 @@
 // "oof"), forget-l0 ("on"/"off"), controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, fixed, grouped } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, fixed, grouped, whenVisible } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, invalidValue, number, probability } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { CELL_FILTER_DEFAULTS as DEFAULTS } from './lib/defaults.js';
@@ -129,11 +129,16 @@ class CellFilterElement extends HTMLElement {
       this.state = { ...this.state, clamp: this.values.clamp };
       this.syncControls();
       this.describeLesson();
-      this.ready = true;
-      this.render();
     } catch (e) {
       showError(this, e, 'could not load the core: ');
+      return;
     }
+    // The table and its chart are made when the widget is first seen: a
+    // reader opening the chapter waits for no widget below the screen.
+    whenVisible(this, () => {
+      this.ready = true;
+      this.render();
+    });
   }
 
   attributeChangedCallback(name) {
@@ -230,7 +235,12 @@ class CellFilterElement extends HTMLElement {
         this.lessonText = el('span')),
       copyLinkControl(this, CellFilterElement.attributeSpec, () => this.linkState()),
     );
-    this.chart = lineChart(this.chartBox, {
+    // The chart is made with the first table (when the widget is first seen).
+    this.chart = null;
+  }
+
+  makeChart() {
+    return lineChart(this.chartBox, {
       xLabel: 'step', yLabel: 'log odds l', wholeX: true,
       series: [{ label: 'l', color: COLORS.series[0] }, { label: 'l0', color: COLORS.l0, dash: [6, 4], width: 1.5 }],
       height: 200,
@@ -337,6 +347,7 @@ class CellFilterElement extends HTMLElement {
       (last ? `After ${grouped(last.step)} reading${last.step === 1 ? '' : 's'}: l = ${fixed(last.l, 4)}, p = ${probabilityText(last.p)}.` : 'No readings yet.');
     this.dataset.l = last ? String(last.l) : String(table.l0);
     const xs = [0, ...table.steps.map((st) => st.step)];
+    this.chart ??= this.makeChart();
     this.chart.setData(xs, [table.l0, ...table.steps.map((st) => st.l)], xs.map(() => table.l0));
     const ls = [table.l0, ...shown.map((st) => st.l)].map((v) => fixed(v, 2)).join(', ');
     this.chartBox.setAttribute('aria-label', `Log odds ${hidden ? `from the prior, then after the latest ${grouped(shown.length)} of ${grouped(table.steps.length)} readings` : 'after each reading'}: ${ls}; l0 = ${fixed(table.l0, 2)}`);

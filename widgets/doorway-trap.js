@@ -104,14 +104,17 @@ class DoorwayTrapElement extends HTMLElement {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    this.create();
-    this.twoCell.start(this.core, this.values);
+    // The runs are made when the widget first nears the screen: a reader
+    // opening the chapter waits for no widget further down.
     whenVisible(this, () => {
+      this.started = true;
+      this.create();
+      this.twoCell.start(this.core, this.values);
       if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
         this.play('sweep');
         this.play('map');
       }
-    });
+    }, { ahead: true });
   }
 
   disconnectedCallback() {
@@ -129,7 +132,7 @@ class DoorwayTrapElement extends HTMLElement {
     else if (name === 'map-width') {
       resetPaneSizes(Object.values(this.panes));
       this.layout();
-    } else if (!this.core) return;
+    } else if (!this.core || !this.started) return;
     else if (['seed', 'scene', 'scans', 'flips'].includes(name)) this.create();
     else if (['arrangement', 'cells', 'reading', 'prior'].includes(name)) this.twoCell.start(this.core, this.values);
   }

@@ -20,6 +20,7 @@ import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
+import { workBudget } from './lib/work-budget.js';
 
 // The reading's and the density's upper bounds are the core's
 // (`constants().inverseWorkbench`: the training sensor's z_max, the densest
@@ -33,6 +34,8 @@ const PAST_MAX = 1.2;
 const ZOOM = 1.5;
 /** Size of each image, CSS pixels. */
 const IMAGE_HEIGHT = 150;
+/** The time of one training call, ms: the page paints and takes input between calls. */
+const TRAIN_SLICE_MS = 20;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
@@ -68,6 +71,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.bench = null;
     this.frame = 0;
     this.zMax = null;
+    this.trainBudget = workBudget(TRAIN_SLICE_MS, 2_000);
   }
 
   async connectedCallback() {
@@ -94,8 +98,9 @@ class InverseWorkbenchElement extends HTMLElement {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    // Training takes a few tens of milliseconds: do it when the reader
-    // scrolls here, after the status has been painted.
+    // Training takes a few hundred milliseconds of work: it starts when the
+    // reader scrolls here, after the status has been painted, and goes in
+    // slices that leave the page its frames.
     whenVisible(this, () => this.later(() => this.train(this.seed)));
   }
 
@@ -274,19 +279,53 @@ class InverseWorkbenchElement extends HTMLElement {
     if (message) console.error(`${this.localName}: ${message}`);
   }
 
-  /** Trains (or retrains) the learned model with `seed`, or on maps of `density` when `seed` is null. */
-  train(seed, density) {
+  /**
+   * Calls `step(units)` (a training call of the core's: true once trained)
+   * with budgets sized to TRAIN_SLICE_MS from the last call's time, each
+   * call in a task of its own; true once trained, false when `current()`
+   * turns false in between (a newer training took over).
+   */
+  async inSlices(step, current) {
+    for (;;) {
+      const t = performance.now();
+      const units = this.trainBudget.value;
+      const finished = step(units);
+      this.trainBudget.learn(units, performance.now() - t);
+      if (finished) return true;
+      await new Promise((r) => setTimeout(r, 0));
+      if (!current()) return false;
+    }
+  }
+
+  /**
+   * Trains (or retrains) the learned model with `seed`, or on maps of
+   * `density` when `seed` is null, in calls of about TRAIN_SLICE_MS with the
+   * page painting in between; a training asked for later supersedes this
+   * one.
+   */
+  async train(seed, density) {
+    const generation = (this.trainings = (this.trainings ?? 0) + 1);
+    const current = () => generation === this.trainings;
     this.retrainButton.disabled = true;
     let trained = false;
     let refused = null;
     try {
       if (!this.bench) {
-        this.bench = new this.core.InverseWorkbench(seed);
-        if (this.densitySlider.value !== 0) this.bench.setDensity(this.densitySlider.value);
-      } else if (seed === null) {
-        this.bench.setDensity(density);
-      } else {
-        this.bench.retrain(seed);
+        const job = new this.core.InverseWorkbenchTraining(seed);
+        try {
+          if (!(await this.inSlices((units) => job.work(units), current))) return;
+          this.bench = job.finish();
+        } finally {
+          job.free();
+        }
+        density = this.densitySlider.value;
+        seed = null;
+      }
+      if (seed !== null || density !== 0 || this.info) {
+        // A retraining goes on inside the workbench; a newer one replaces it.
+        if (seed === null) this.bench.startDensity(density);
+        else this.bench.startRetrain(seed);
+        if (!(await this.inSlices((units) => this.bench.trainWork(units), current))) return;
       }
       this.info = this.bench.readout();
       this.zMax = this.info.zMax;
@@ -297,7 +336,7 @@ class InverseWorkbenchElement extends HTMLElement {
     } catch (e) {
       refused = e;
     } finally {
-      this.retrainButton.disabled = false;
+      if (current()) this.retrainButton.disabled = false;
     }
     // On an error the current model stays, and so does its summary; the
     // refusal is shown beside it (or, with no model yet, as the widget's

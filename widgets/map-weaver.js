@@ -23,7 +23,9 @@
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed, log-model, log-compare-model.
 import { loadCore } from './lib/core.js';
-import { lineChart, COLORS } from './lib/chart.js';
+import { COLORS } from './lib/chart.js';
+import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
+import { fastForward, trainInSlices, workBudget, workOnce } from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
   whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
@@ -40,7 +42,7 @@ import {
   MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
 } from './lib/map-weaver-words.js';
 import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
-import { showComparison } from './lib/map-weaver-readouts.js';
+import { showComparison, showPaneReadout } from './lib/map-weaver-readouts.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /**
@@ -52,6 +54,19 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 const SLICE_MS = 25;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
+/**
+ * The core's share of an animation frame while playing or rebuilding, ms:
+ * its calls get a budget of cell visits sized from the last call's time,
+ * so that a fine grid or the every-cell sweep slows the lap down instead
+ * of freezing the page.
+ */
+const FRAME_WORK_MS = 8;
+/**
+ * The least budget of a call made at once on Step or a knob, cell visits:
+ * a scan of the chapter's apartment in both panes (9,600) fits, so there
+ * Step is done before the click returns; a fine grid's sweep is not.
+ */
+const AT_ONCE_VISITS = 50_000;
 /** Least time between two chart redraws while playing, ms. */
 const CHART_EVERY_MS = 150;
 const MAX_CSS_WIDTH = 480;
@@ -73,8 +88,6 @@ function inAttributeTerms(error) {
 
 const ROBOT_COLOR = COLORS.series[1];
 const PERSON_COLOR = '#d01c8b';
-/** The tracked cells: a wall cell, a corridor floor cell, a closet cell. */
-const TRACK_COLORS = [COLORS.series[2], COLORS.series[3], '#8c510a'];
 
 /** Any number: an attribute's type until the core's bounds are known. */
 const ANY_NUMBER = number(-Number.MAX_VALUE, Number.MAX_VALUE);
@@ -159,6 +172,11 @@ class MapWeaverElement extends HTMLElement {
     // Speed 1 is real time: the rate is the session's scans per second
     // (`scanRate`), passed with each frame, since a new scene may change it.
     this.pace = pacer(1, MAX_SCANS_PER_FRAME);
+    this.frameBudget = workBudget(FRAME_WORK_MS, AT_ONCE_VISITS);
+    this.sliceBudget = workBudget(SLICE_MS, AT_ONCE_VISITS);
+    this.trainBudget = workBudget(SLICE_MS, 2_000);
+    /** Scans Step asked for that are not integrated yet. */
+    this.stepsOwed = 0;
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
@@ -192,6 +210,7 @@ class MapWeaverElement extends HTMLElement {
 
   disconnectedCallback() {
     this.pause();
+    this.loop?.stop();
   }
 
   /** One pane's settings from the attributes. */
@@ -313,7 +332,7 @@ class MapWeaverElement extends HTMLElement {
 
     const playback = [
       this.playButton,
-      button('Step', () => { this.pause(); this.advance(1); }, { name: 'step', title: 'Integrate one scan' }),
+      button('Step', () => this.step(), { name: 'step', title: 'Integrate one scan' }),
       button('Reset', () => this.reset(), { name: 'reset', title: 'Start the lap again with the current settings' }),
       this.speedSelect.root,
     ];
@@ -332,8 +351,8 @@ class MapWeaverElement extends HTMLElement {
         'and only later scans through that spot can erase it. The clamp caps how sure a cell can get, and with it how many contradicting scans a ghost needs to fade. ',
         'Switch a pane to dead reckoning and its map is rebuilt from the same scans at the odometry’s poses: walls double and the corridor bends. ',
         'The far halves of the two north rooms and the closet are never seen and stay at the prior. ',
-        'Changing a pane’s model or pose source rebuilds it over the scans so far. The sliders act as the lap goes on: ',
-        'a lower clamp pulls saturated cells in at once, a new strength weighs the scans still to come.'),
+        'Every knob of a pane (model, pose source, clamp, strength, mapper, sensor, β, beams, cells) rebuilds it over the scans so far, ',
+        'a slice each frame: the map shows what that setting gives for the same scans, and a knob turned and turned back gives the same map again.'),
       el('details', { class: 'occgrid-caption map-weaver-explain' },
         el('summary', {}, 'What the readouts mean'),
         el('ul', {},
@@ -473,29 +492,7 @@ class MapWeaverElement extends HTMLElement {
   }
 
   makeCharts() {
-    if (this.entropyChart) return;
-    this.entropyChart = lineChart(this.entropyBox, {
-      title: 'Map entropy over time (bits)', xLabel: 'time (s)', yLabel: 'bits', height: 210,
-      series: [
-        { label: 'left map', color: COLORS.series[0] },
-        { label: 'right map', color: COLORS.series[1], dash: [6, 3] },
-      ],
-    });
-    const names = this.tracked[0].map((t) => t.name);
-    for (const p of this.panes) {
-      p.chart = lineChart(p.chartBox, {
-        title: `${p.side === 'left' ? 'Left' : 'Right'} map: three cells’ log odds`, xLabel: 'time (s)', yLabel: 'log odds', height: 230,
-        // Symmetric about 0, so "up" is occupied and "down" free at a glance.
-        yRange: (u, lo, hi) => {
-          const m = 1.08 * Math.max(2, Math.abs(lo ?? 0), Math.abs(hi ?? 0));
-          return [-m, m];
-        },
-        series: [
-          ...names.map((name, i) => ({ label: name, color: TRACK_COLORS[i], width: i === 2 ? 3 : 2 })),
-          { label: 'l0 (prior)', color: COLORS.l0, dash: [5, 4], width: 1.5 },
-        ],
-      });
-    }
+    makeCharts(this);
   }
 
   // ---- the core ----------------------------------------------------------
@@ -514,7 +511,15 @@ class MapWeaverElement extends HTMLElement {
     try {
       const settings = { seed: v.seed, laps: v.laps, situation: v.situation, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
-      next = new this.core.MapWeaver(settings);
+      // The learned model trains in slices (once per page for the same
+      // training settings), the page painting in between.
+      const start = new this.core.MapWeaverStart(settings);
+      try {
+        next = await trainInSlices(start, this.trainBudget, () => generation === this.generation);
+      } finally {
+        start.free();
+      }
+      if (!next) return;
       // A link may open the run part-way through: the core refuses more
       // work than its budget (naming `scans`), and the rest is done in
       // slices with the count on screen.
@@ -542,26 +547,12 @@ class MapWeaverElement extends HTMLElement {
     this.layout();
   }
 
-  /**
-   * Advances `weaver` by `target` scans in slices of about SLICE_MS,
-   * yielding to the page between them and showing the count; false when a
-   * later create() took over (the caller frees `weaver`).
-   */
-  async fastForward(weaver, target, generation) {
-    let done = 0;
-    while (done < target) {
-      const start = performance.now();
-      do done += weaver.advance(1);
-      while (done < target && performance.now() - start < SLICE_MS);
+  /** Advances `weaver` by `target` scans in slices, the count on screen; false when a later create() took over. */
+  fastForward(weaver, target, generation) {
+    return fastForward(weaver, target, this.sliceBudget, (done) => {
       this.dataset.fastForward = `${done}/${target}`;
       this.status.textContent = `Integrating the first ${count(target)} scans: ${count(done)} done…`;
-      // A task boundary, not a frame: the page paints and handles input in
-      // between, and a hidden tab still gets on with the work.
-      await new Promise((r) => setTimeout(r, 0));
-      if (generation !== this.generation) return false;
-    }
-    delete this.dataset.fastForward;
-    return true;
+    }, () => generation === this.generation).finally(() => delete this.dataset.fastForward);
   }
 
   /** Each pane's tracked cells, in its own image units (a pane may map at 0.05 m). */
@@ -648,12 +639,15 @@ class MapWeaverElement extends HTMLElement {
     // No run yet: the first one starts when the widget is first seen; one
     // whose settings were refused is made again from the corrected ones.
     if (!this.weaver) return void (this.started && this.create());
+    // The pane is emptied now and rebuilt over the scans so far in
+    // budgeted calls (the first one at once), before any new scan.
     this.knob(() => {
-      this.weaver.setPane(k, patch);
+      this.weaver.stagePane(k, patch);
       if (REBUILD_FIELDS.some((f) => f in patch)) {
         this.readTracked();
       }
     });
+    this.workNow();
   }
 
   setPerson(on) {
@@ -664,7 +658,20 @@ class MapWeaverElement extends HTMLElement {
 
   reset() {
     this.pause();
+    this.stepsOwed = 0;
     this.knob(() => this.weaver.reset());
+  }
+
+  /** Step: one more scan, at once where it is small, else over the next frames. */
+  step() {
+    this.pause();
+    this.stepsOwed += 1;
+    this.workNow();
+  }
+
+  /** One call of the core's work now, the rest (if any) over the next frames. */
+  workNow() {
+    if (this.weaver && this.tick(0, AT_ONCE_VISITS)) this.loop.start();
   }
 
   play() {
@@ -678,20 +685,45 @@ class MapWeaverElement extends HTMLElement {
     this.loop.start();
   }
 
-  /** One animation frame: the scans owed for `dt` ms at the chosen speed. */
-  tick(dt) {
-    if (!this.playing) return false;
-    if (this.mode !== 'sim') return true;
-    const n = this.pace.take(dt, this.options.speed * this.weaver.scanRate);
-    if (n > 0 && !this.advance(n)) {
+  /**
+   * One animation frame: one call of the core's work within the frame's
+   * budget (at least `floor` cell visits): the scans owed for `dt` ms at
+   * the chosen speed while playing, or those Step asked for, after what a
+   * rebuild still lacks. False when nothing is left to do.
+   */
+  tick(dt, floor = 1) {
+    if (!this.weaver || this.mode !== 'sim') return this.playing;
+    const owed = this.playing ? this.pace.take(dt, this.options.speed * this.weaver.scanRate) : this.stepsOwed;
+    // A frame that owes no scan and has no rebuild to go on with draws
+    // nothing either (at speed 1 most frames owe none).
+    if (owed === 0 && this.behind().every((n) => n === 0)) return this.playing;
+    let r;
+    try {
+      r = workOnce(this.weaver, this.frameBudget, owed, floor);
+      this.weaver.recordFrameMs(r.ms);
+    } catch (e) {
+      showError(this, e);
+      this.stepsOwed = 0;
       this.pause();
       return false;
     }
-    return true;
+    if (this.playing) this.pace.giveBack(owed - r.scans);
+    else this.stepsOwed = r.done ? 0 : this.stepsOwed - r.scans;
+    const more = this.stepsOwed > 0 || r.behind[0] + r.behind[1] > 0;
+    // Paused, the charts catch up once the work is done (a rebuild's
+    // frames redraw them no more often than playing ones).
+    this.draw(!this.playing && !more);
+    if (this.playing && r.done) {
+      this.pause();
+      return false;
+    }
+    return this.playing || more;
   }
 
+  /** Stops playing; a rebuild under way goes on over the next frames. */
   pause() {
     this.loop?.stop();
+    if (this.weaver && this.stepsOwed + this.behind().reduce((a, b) => a + b, 0) > 0) this.loop.start();
     if (!this.playing) return;
     this.playing = false;
     showPlaying(this.playButton, false);
@@ -699,21 +731,9 @@ class MapWeaverElement extends HTMLElement {
     this.draw(true);
   }
 
-  /** Integrates up to `n` scans and redraws; false once the run is over. */
-  advance(n) {
-    if (!this.weaver) return false;
-    let taken;
-    try {
-      const t = performance.now();
-      taken = this.weaver.advance(n);
-      this.weaver.recordFrameMs(performance.now() - t);
-    } catch (e) {
-      showError(this, e);
-      this.pause();
-      return false;
-    }
-    this.draw(!this.playing);
-    return taken > 0 && !this.weaver.readout().done;
+  /** Scans each pane still lacks (a rebuild or a sweep under way). */
+  behind() {
+    return this.weaver.progress().behind;
   }
 
   // ---- drawing -----------------------------------------------------------
@@ -722,36 +742,24 @@ class MapWeaverElement extends HTMLElement {
   draw(charts = false) {
     if (!this.weaver) return;
     let r;
+    let behind;
     try {
       r = this.weaver.readout();
+      behind = this.behind();
       r.panes.forEach((pr, k) => {
         const p = this.panes[k];
         if (!p.ctx) return;
         const { width: w, height: h } = pr;
-        drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
-        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });
-        const sensor = pr.sensor === 'cone' ? `${fixed(pr.betaDeg, 0)}° cone` : 'LiDAR';
-        p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
-          `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`;
-        p.scanMs.textContent = pr.scanMs === null || pr.scanMs === undefined ? '–' : fixed(pr.scanMs, 2);
-        p.ghost.textContent = ghostText(pr.ghost);
-        Object.assign(p.root.dataset, {
-          mapper: pr.mapper, sensor: pr.sensor, betaDeg: String(pr.betaDeg), beams: String(pr.beams),
-          resolution: String(pr.resolution), forgetL0: String(pr.forgetL0), cellsVisited: String(pr.cellsVisited),
-          scanMs: String(pr.scanMs ?? ''), ghostFaded: String(pr.ghost.faded), ghostLongest: String(pr.ghost.longestScans ?? ''),
-          ghostLongestSeconds: String(pr.ghost.longestSeconds ?? ''), ghostRecursionSeconds: String(pr.ghost.recursionSeconds ?? ''),
-          clamp: String(pr.clamp), strength: String(pr.strength),
-        });
-        p.entropy.textContent = bits(pr.entropyBits);
-        p.brier.textContent = fixed(pr.brier, 4);
-        p.visited.textContent = count(pr.cellsVisited);
-        p.root.dataset.entropy = String(pr.entropyBits);
-        p.root.dataset.brier = String(pr.brier);
-        p.root.dataset.model = pr.model;
-        p.root.dataset.pose = pr.pose;
-        p.canvas.setAttribute('aria-label',
-          `${p.side === 'left' ? 'Left' : 'Right'} map: ${SPOKEN_MODELS[pr.model]} ${SPOKEN_POSES[pr.pose]}, after ${count(r.scans)} ` +
-          `scan${r.scans === 1 ? '' : 's'}: entropy ${bits(pr.entropyBits)} bits, Brier score ${fixed(pr.brier, 4)}. ${CURSOR_HINT}`);
+        // The map and its layers change only with a finished scan, a new
+        // size or the cursor: a frame of a sweep spread over frames, or of
+        // a rebuild, leaves them as they are.
+        const shown = JSON.stringify([r.scans - behind[k], pr.cellsVisited, w, p.canvas.width, p.canvas.height, this.cursor]);
+        if (charts || shown !== p.shown) {
+          p.shown = shown;
+          drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
+          p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });
+        }
+        showPaneReadout(p, pr, r, behind[k]);
       });
       const now = performance.now();
       if (charts || !this.chartTime || now - this.chartTime > CHART_EVERY_MS) {
@@ -773,40 +781,12 @@ class MapWeaverElement extends HTMLElement {
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
       `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
-      `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}`;
+      `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}` +
+      behind.map((n, k) => (n > 0 ? ` · rebuilding the ${SIDES[k]} map: ${count(r.scans - n)} of ${count(r.scans)} scans` : '')).join('');
   }
 
   drawCharts(r) {
-    if (!this.entropyChart) return;
-    // The time of each point comes from the core, at the scene's scan rate.
-    const times = Array.from(this.weaver.curveTimes());
-    const t = (n) => times.slice(0, n);
-    // The curves hold one point per scan, taken as the scan came in; a
-    // slider moved since (while paused, say) has changed the maps, so
-    // each curve ends at the core's value now, as the readouts do.
-    const now = (curve, value) => {
-      const a = Array.from(curve);
-      if (a.length) a[a.length - 1] = value;
-      return a;
-    };
-    const e0 = now(this.weaver.entropyCurve(0), r.panes[0].entropyBits);
-    const e1 = now(this.weaver.entropyCurve(1), r.panes[1].entropyBits);
-    this.entropyChart.setData(t(e0.length), e0, e1);
-    this.entropyBox.dataset.last = JSON.stringify([e0[e0.length - 1] ?? null, e1[e1.length - 1] ?? null]);
-    this.entropyBox.setAttribute('aria-label',
-      `Map entropy over time, after ${fixed(r.time, 1)} s of driving: left map ${bits(r.panes[0].entropyBits)} bits, ` +
-      `right map ${bits(r.panes[1].entropyBits)} bits.`);
-    r.panes.forEach((pr, k) => {
-      const flat = this.weaver.trackedHistory(k);
-      const n = flat.length / 3;
-      const series = [0, 1, 2].map((j) => now(Array.from({ length: n }, (_, i) => flat[3 * i + j]), pr.tracked[j]));
-      const p = this.panes[k];
-      p.chartBox.dataset.last = JSON.stringify(series.map((a) => a[a.length - 1] ?? null));
-      p.chart.setData(t(n), ...series, new Array(n).fill(pr.l0));
-      p.chartBox.setAttribute('aria-label',
-        `${p.side === 'left' ? 'Left' : 'Right'} map: log odds over time of three cells, now ` +
-        this.tracked[k].map((c, i) => `${c.name} ${signed(pr.tracked[i], 2)}`).join(', ') + `; the prior l0 is ${fixed(pr.l0, 2)}.`);
-    });
+    drawCharts(this, r);
   }
 
   // ---- hover and keyboard cursor ----------------------------------------
@@ -869,6 +849,8 @@ class MapWeaverElement extends HTMLElement {
     this.logPanel.hidden = mode !== 'log';
     if (mode !== 'log') {
       this.layout();
+      // A rebuild left off in the real-log mode goes on.
+      this.workNow();
       return;
     }
     this.pause();

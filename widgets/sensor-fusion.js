@@ -84,10 +84,13 @@ class SensorFusionElement extends HTMLElement {
       showError(this, e, 'could not load the core: ');
       return;
     }
-    this.create();
+    // The run is made when the widget first nears the screen: a reader
+    // opening the chapter waits for no widget further down.
     whenVisible(this, () => {
+      this.started = true;
+      this.create();
       if (this.values.autoplay && !prefersReducedMotion() && this.sim) this.play();
-    });
+    }, { ahead: true });
   }
 
   disconnectedCallback() {
@@ -104,7 +107,7 @@ class SensorFusionElement extends HTMLElement {
     else if (name === 'map-width') {
       resetPaneSizes(this.panes);
       this.layout();
-    } else if (!this.core) return;
+    } else if (!this.core || !this.started) return;
     else if (['seed', 'scene', 'scans'].includes(name)) this.create();
     else if (name === 'lidar-beams') this.requestBeams(this.values['lidar-beams']);
   }

@@ -7,7 +7,17 @@
 // - `load`: the page loads and nothing is scrolled, 15 s recorded;
 // - `scroll`: each widget is scrolled into view, one a second, 15 s in all;
 // - `play-WIDGET`: the widget scrolled into view and playing for 5 s
-//   (frames per second counted with requestAnimationFrame).
+//   (frames per second counted with requestAnimationFrame);
+// - `link-sweep` (desktop): the link that froze the tab, Map Weaver's
+//   every-cell sweep in both panes over a 1024 x 1024 scene at speed 8,
+//   playing for 8 s from its first scan;
+// - `knob-sweep` (desktop): 20 laps (13,060 scans) integrated before the
+//   first frame, then the left Mapper menu set to "Every-cell sweep",
+//   recorded from the choice until the pane is rebuilt.
+//
+// `OCCGRID_PAGE_SITUATIONS` (a comma list of situations) and
+// `OCCGRID_PAGE_VIEWPORTS` (desktop, phone) pick a part; `OCCGRID_PAGE_RUNS`
+// sets the runs per line.
 //
 // Every main-thread task over 50 ms is a `longtask` entry (buffered from the
 // page's start); total blocking time is the sum of each one's part over
@@ -23,6 +33,15 @@ const RUNS = Number(process.env.OCCGRID_PAGE_RUNS || 3);
 const WIDGETS = ['cell-filter', 'map-weaver', 'inverse-workbench', 'sensor-fusion', 'doorway-trap'];
 /** The widgets that play, and the control that starts them. */
 const PLAYERS = ['map-weaver', 'sensor-fusion', 'doorway-trap'];
+/** The data attribute each player sets once its run exists. */
+const READY = { 'map-weaver': 'scans', 'sensor-fusion': 'step', 'doorway-trap': 'flips' };
+/** The heavy Map Weaver links, desktop only: where each opens. */
+const LINKS = {
+  'link-sweep': '/?map-weaver.scene=' + encodeURIComponent('{"width":1024,"height":1024,"resolution":0.01171875}') +
+    '&map-weaver.left-mapper=sweep&map-weaver.right-mapper=sweep&map-weaver.speed=8#map-weaver',
+  'knob-sweep': '/?map-weaver.laps=20&map-weaver.scans=13060&map-weaver.autoplay=off#map-weaver',
+};
+const pick = (name, all) => (process.env[name] ? all.filter((x) => process.env[name].split(',').includes(x)) : all);
 const VIEWPORTS = {
   desktop: { viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1, throttle: 1 },
   phone: { viewport: { width: 390, height: 844 }, deviceScaleFactor: 3, hasTouch: true, isMobile: true, throttle: 4 },
@@ -80,10 +99,29 @@ async function oneRun(browser, port, viewportName, situation) {
       const cdp = await context.newCDPSession(page);
       await cdp.send('Emulation.setCPUThrottlingRate', { rate: v.throttle });
     }
-    await page.goto(`http://127.0.0.1:${port}/`, { waitUntil: 'load' });
-    const t0 = await page.evaluate(() => performance.now());
+    await page.goto(`http://127.0.0.1:${port}${LINKS[situation] ?? '/'}`, { waitUntil: 'load' });
+    let t0 = await page.evaluate(() => performance.now());
     let fps = null;
-    if (situation === 'load') {
+    const weaver = page.locator('occgrid-map-weaver').first();
+    if (situation === 'link-sweep') {
+      await weaver.scrollIntoViewIfNeeded();
+      await page.waitForFunction(() => Number(document.querySelector('occgrid-map-weaver').dataset.scans) >= 1, null, { timeout: 120_000 });
+      t0 = await page.evaluate(() => { window.__pageBench.frames = 0; window.__pageBench.counting = true; return performance.now(); });
+      await page.waitForTimeout(8000);
+      const r = await page.evaluate(() => ({ frames: window.__pageBench.frames, now: performance.now() }));
+      fps = r.frames / ((r.now - t0) / 1000);
+    } else if (situation === 'knob-sweep') {
+      await weaver.scrollIntoViewIfNeeded();
+      await page.waitForFunction(() => {
+        const el = document.querySelector('occgrid-map-weaver');
+        return el.dataset.scans === '13060' && !el.dataset.fastForward;
+      }, null, { timeout: 300_000 });
+      await page.waitForTimeout(500);
+      t0 = await page.evaluate(() => performance.now());
+      await weaver.locator('.map-weaver-left').getByLabel('Mapper, left map').selectOption('sweep');
+      await page.waitForFunction(() => document.querySelector('occgrid-map-weaver .map-weaver-left').dataset.mapper === 'sweep',
+        null, { timeout: 300_000, polling: 100 });
+    } else if (situation === 'load') {
       await page.waitForTimeout(15_000);
     } else if (situation === 'scroll') {
       for (const name of WIDGETS) {
@@ -95,10 +133,15 @@ async function oneRun(browser, port, viewportName, situation) {
       const name = situation.slice('play-'.length);
       const widget = page.locator(`occgrid-${name}`).first();
       await widget.scrollIntoViewIfNeeded();
-      // Autoplay starts it when it comes into view; a Play button starts it
-      // where autoplay is off or reduced motion holds it.
-      const play = widget.getByRole('button', { name: /^Play/ }).first();
-      if (await play.count()) await play.click().catch(() => {});
+      // Autoplay starts it once its run exists; a Play button starts it
+      // where autoplay is off or reduced motion holds it. Pressed before the
+      // run exists, Play would do nothing, and pressed after autoplay it
+      // would pause: wait for the run, then press only a Play not pressed.
+      await page.waitForFunction(([tag, key]) => document.querySelector(tag)?.dataset[key] !== undefined,
+        [`occgrid-${name}`, READY[name]], { timeout: 120_000 });
+      await page.waitForTimeout(300);
+      const play = widget.getByRole('button', { name: /^(Play|Pause)/ }).first();
+      if ((await play.count()) && (await play.getAttribute('aria-pressed')) !== 'true') await play.click().catch(() => {});
       await page.evaluate(() => { window.__pageBench.frames = 0; window.__pageBench.counting = true; });
       const start = await page.evaluate(() => performance.now());
       await page.waitForTimeout(5000);
@@ -107,7 +150,7 @@ async function oneRun(browser, port, viewportName, situation) {
     }
     await page.waitForTimeout(200);
     const w = await page.evaluate(() => window.__pageBench);
-    const from = situation.startsWith('play-') ? t0 : 0;
+    const from = situation === 'load' || situation === 'scroll' ? 0 : t0;
     const widgets = situation === 'load' ? [] : situation === 'scroll' ? WIDGETS.map((n) => `occgrid-${n}`) : [];
     return { ...summary(w, from, Infinity, widgets), fps };
   } finally {
@@ -129,8 +172,9 @@ export default async function (core, args) {
   });
   const rows = [];
   try {
-    for (const viewport of Object.keys(VIEWPORTS)) {
-      for (const situation of ['load', 'scroll', ...PLAYERS.map((p) => `play-${p}`)]) {
+    for (const viewport of pick('OCCGRID_PAGE_VIEWPORTS', Object.keys(VIEWPORTS))) {
+      const links = viewport === 'desktop' ? Object.keys(LINKS) : [];
+      for (const situation of pick('OCCGRID_PAGE_SITUATIONS', ['load', 'scroll', ...PLAYERS.map((p) => `play-${p}`), ...links])) {
         const runs = [];
         for (let k = 0; k < RUNS; k++) runs.push(await oneRun(browser, port, viewport, situation));
         const med = (key) => {

@@ -149,6 +149,35 @@ impl WorkbenchSession {
         })
     }
 
+    /// A session around a model trained elsewhere (in calls spread over a
+    /// page's frames: [`super::workbench_training`]) with `config`.
+    pub fn with_model(
+        config: TrainingConfig,
+        learned: LearnedInverse,
+        run: TrainingRun,
+    ) -> Result<Self> {
+        let hand = HandCrafted::new(config.hand_crafted_counterpart()?)?;
+        Ok(Self {
+            config,
+            hand,
+            learned,
+            run,
+        })
+    }
+
+    /// Takes a model trained elsewhere with `config` (another seed or
+    /// density, same sensor) in place of the current one.
+    pub fn adopt(&mut self, config: TrainingConfig, learned: LearnedInverse, run: TrainingRun) {
+        self.config = config;
+        self.learned = learned;
+        self.run = run;
+    }
+
+    /// The training settings of the current model.
+    pub fn config(&self) -> &TrainingConfig {
+        &self.config
+    }
+
     /// Retrains the learned model with another seed. On an error the
     /// current model stays.
     pub fn retrain(&mut self, seed: u64, now: &dyn Fn() -> f64) -> Result<()> {

@@ -9,6 +9,7 @@ pub mod pane;
 pub mod real_log;
 pub mod sensor_fusion;
 pub mod two_cell_table;
+pub mod workbench_training;
 
 use crate::mapping::cell_filter::CellFilterPreset;
 

@@ -4,8 +4,12 @@
 //! and their log odds along its axis for one reading, and retrains the
 //! learned model with another seed; it draws what it gets.
 
-use super::{number_from_js, object_from_js, object_or_default, optional_number_from_js, to_js};
+use super::{
+    budget_from_js, number_from_js, object_from_js, object_or_default, optional_number_from_js,
+    to_js,
+};
 use crate::apps::inverse_workbench::WorkbenchSession;
+use crate::apps::workbench_training::WorkbenchTraining;
 use crate::inverse::probes::BeamLattice;
 use crate::inverse::training;
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
@@ -31,6 +35,8 @@ fn now_ms() -> f64 {
 pub struct InverseWorkbench {
     session: WorkbenchSession,
     images: [Vec<u8>; 2],
+    /// A retraining under way (`startRetrain`, `startDensity`).
+    pending: Option<WorkbenchTraining>,
 }
 
 #[wasm_bindgen]
@@ -45,6 +51,7 @@ impl InverseWorkbench {
         Ok(InverseWorkbench {
             session: WorkbenchSession::new(seed, &now_ms)?,
             images: [Vec::new(), Vec::new()],
+            pending: None,
         })
     }
 
@@ -140,4 +147,101 @@ pub fn forward_density(z: JsValue, z_star: JsValue, params: JsValue) -> Result<f
     crate::error::non_negative("z", z)?;
     crate::error::finite("z_star", z_star)?;
     Ok(model.density(z, z_star))
+}
+
+/// A training of the workbench's learned model spread over calls of a
+/// bounded amount of work ([`WorkbenchTraining`]), so that a page keeps its
+/// frames while it trains: `work` until it says true, then `finish` (a new
+/// workbench; a retraining goes through `InverseWorkbench.startRetrain`).
+#[wasm_bindgen]
+pub struct InverseWorkbenchTraining(Option<WorkbenchTraining>);
+
+#[wasm_bindgen]
+impl InverseWorkbenchTraining {
+    /// The training `new InverseWorkbench(seed)` does (`seed`: a whole
+    /// number, or `undefined` for the chapter's), checked before any work.
+    #[wasm_bindgen(constructor)]
+    pub fn new(seed: JsValue) -> Result<InverseWorkbenchTraining, JsError> {
+        let seed = optional_number_from_js("seed", &seed)?;
+        let seed = seed.map(training::seed_from_number).transpose()?;
+        Ok(InverseWorkbenchTraining(Some(WorkbenchTraining::for_seed(
+            seed,
+        )?)))
+    }
+
+    /// True once the model is trained (false once `finish` took it).
+    #[wasm_bindgen(getter)]
+    pub fn trained(&self) -> bool {
+        self.0.as_ref().is_some_and(WorkbenchTraining::done)
+    }
+
+    /// Trains for about `budget` units (a triplet drawn or an SGD update; a
+    /// whole number, or `Infinity`); true once trained.
+    pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        Ok(self.training()?.step(budget, &now_ms)?)
+    }
+
+    /// The workbench with the trained model (training what is left first).
+    pub fn finish(&mut self) -> Result<InverseWorkbench, JsError> {
+        let session = self.take()?.into_session(&now_ms)?;
+        Ok(InverseWorkbench {
+            session,
+            images: [Vec::new(), Vec::new()],
+            pending: None,
+        })
+    }
+}
+
+impl InverseWorkbenchTraining {
+    fn training(&mut self) -> Result<&mut WorkbenchTraining, JsError> {
+        self.0
+            .as_mut()
+            .ok_or_else(|| JsError::new("invalid training: already used (start another)"))
+    }
+    fn take(&mut self) -> Result<WorkbenchTraining, JsError> {
+        self.0
+            .take()
+            .ok_or_else(|| JsError::new("invalid training: already used (start another)"))
+    }
+}
+
+#[wasm_bindgen]
+impl InverseWorkbench {
+    /// Starts the training `retrain(seed)` does, held by the workbench and
+    /// worked by `trainWork` (a later start replaces it); a refused seed is
+    /// refused here, the model staying.
+    #[wasm_bindgen(js_name = startRetrain)]
+    pub fn start_retrain(&mut self, seed: JsValue) -> Result<(), JsError> {
+        let seed = training::seed_from_number(number_from_js("seed", &seed)?)?;
+        self.pending = Some(WorkbenchTraining::retrain(&self.session, seed)?);
+        Ok(())
+    }
+
+    /// Starts the training `setDensity(density)` does, as `startRetrain`.
+    #[wasm_bindgen(js_name = startDensity)]
+    pub fn start_density(&mut self, density: JsValue) -> Result<(), JsError> {
+        let density = number_from_js("density", &density)?;
+        self.pending = Some(WorkbenchTraining::with_density(&self.session, density)?);
+        Ok(())
+    }
+
+    /// Works the started training for about `budget` units (a whole
+    /// number, or `Infinity`); once it is trained its model takes the
+    /// current one's place and this returns true (true too with none
+    /// started).
+    #[wasm_bindgen(js_name = trainWork)]
+    pub fn train_work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        let Some(training) = &mut self.pending else {
+            return Ok(true);
+        };
+        if !training.step(budget, &now_ms)? {
+            return Ok(false);
+        }
+        if let Some(training) = self.pending.take() {
+            training.apply(&mut self.session, &now_ms)?;
+        }
+        Ok(true)
+    }
 }

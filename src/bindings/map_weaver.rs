@@ -7,7 +7,10 @@ use super::{
     number_from_js, object_or_default, patch_from_js, to_js,
 };
 use crate::apps::map_weaver::{Weaver, WeaverSettings};
+use crate::inverse::training::{self, Trainer};
+use crate::inverse::{LearnedInverse, TrainingConfig};
 use crate::io::map_server as export;
+use std::cell::RefCell;
 use wasm_bindgen::prelude::*;
 
 /// A Map Weaver run held in wasm memory.
@@ -38,7 +41,10 @@ impl MapWeaver {
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
         let settings: WeaverSettings =
             object_or_default("settings", settings, WeaverSettings::default)?;
-        let mut weaver = Weaver::new(settings)?;
+        // Refused settings are refused before any training.
+        settings.validate()?;
+        let learned = learned_for(&settings.training)?;
+        let mut weaver = Weaver::with_learned(settings, learned)?;
         weaver.set_clock(Some(page_clock));
         Ok(MapWeaver(weaver))
     }
@@ -64,6 +70,36 @@ impl MapWeaver {
         let current = self.0.settings().panes[pane];
         let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
         Ok(self.0.set_pane(pane, settings)?)
+    }
+
+    /// Like `setPane`, but the pane is only emptied here: `work` rebuilds
+    /// it over the scans so far in budgeted calls, before any new scan.
+    /// Returns false when the patch changed nothing. A refused patch
+    /// changes nothing.
+    #[wasm_bindgen(js_name = stagePane)]
+    pub fn stage_pane(&mut self, pane: JsValue, patch: JsValue) -> Result<bool, JsError> {
+        let pane = pane_from_js(&pane)?;
+        let current = self.0.settings().panes[pane];
+        let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
+        Ok(self.0.stage_pane(pane, settings)?)
+    }
+
+    /// Works for about `budget` cell visits (a whole number; `Infinity`
+    /// for no limit): first the scans a pane lacks (a rebuild, a sweep
+    /// spread over calls), then up to `scans` new scans. A page playing the
+    /// lap calls this once a frame with a budget sized from the last call's
+    /// time. Returns `{ scans, cellVisits, behind: [left, right], done }`:
+    /// new scans taken, the visits spent, the scans each pane still lacks,
+    /// and whether the run is over with both panes caught up.
+    pub fn work(&mut self, scans: JsValue, budget: JsValue) -> Result<JsValue, JsError> {
+        let scans = budget_from_js("scans", &scans)?;
+        let budget = budget_from_js("budget", &budget)? as u64;
+        to_js(&self.0.work(scans, budget)?)
+    }
+
+    /// Where the work stands (`work`'s answer, with nothing done).
+    pub fn progress(&self) -> Result<JsValue, JsError> {
+        to_js(&self.0.progress())
     }
 
     /// Map width in cells (= image width in pixels).
@@ -214,6 +250,94 @@ impl MapWeaver {
         let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
         map_pair_to_js(&pair)
     }
+}
+
+/// A Map Weaver run being made: the learned model trained in calls of a
+/// bounded amount of work (`work`), then the run (`finish`), so that a page
+/// keeps its frames while the model trains. The model is the one
+/// `new MapWeaver(settings)` trains, bit for bit, and is kept for the
+/// page's later runs as that one is.
+#[wasm_bindgen]
+pub struct MapWeaverStart {
+    settings: WeaverSettings,
+    trainer: Option<Trainer>,
+}
+
+#[wasm_bindgen]
+impl MapWeaverStart {
+    /// Checks `settings` as `new MapWeaver(settings)` does (a refusal
+    /// names the field), before any training.
+    #[wasm_bindgen(constructor)]
+    pub fn new(settings: JsValue) -> Result<MapWeaverStart, JsError> {
+        let settings: WeaverSettings =
+            object_or_default("settings", settings, WeaverSettings::default)?;
+        settings.validate()?;
+        let trained =
+            LEARNED.with_borrow(|c| c.as_ref().is_some_and(|(k, _)| k == &settings.training));
+        let trainer = if trained {
+            None
+        } else {
+            Some(Trainer::new(&settings.training)?)
+        };
+        Ok(MapWeaverStart { settings, trainer })
+    }
+
+    /// True once the model is trained.
+    #[wasm_bindgen(getter)]
+    pub fn trained(&self) -> bool {
+        self.trainer.as_ref().is_none_or(Trainer::done)
+    }
+
+    /// Trains for about `budget` units (a triplet drawn or an SGD update; a
+    /// whole number, or `Infinity`); returns true once the model is
+    /// trained.
+    pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
+        let budget = budget_from_js("budget", &budget)?;
+        match &mut self.trainer {
+            Some(t) => {
+                t.step(budget)?;
+                Ok(t.done())
+            }
+            None => Ok(true),
+        }
+    }
+
+    /// The run, training what is left of the model first.
+    pub fn finish(&mut self) -> Result<MapWeaver, JsError> {
+        let learned = match self.trainer.take() {
+            Some(t) => {
+                let (model, _, _) = t.finish()?;
+                LEARNED.set(Some((self.settings.training, model.clone())));
+                model
+            }
+            None => learned_for(&self.settings.training)?,
+        };
+        let mut weaver = Weaver::with_learned(self.settings.clone(), learned)?;
+        weaver.set_clock(Some(page_clock));
+        Ok(MapWeaver(weaver))
+    }
+}
+
+thread_local! {
+    /// The last model trained for a run, with its training settings: a
+    /// page that makes a new run (another seed, scene or number of laps)
+    /// trains only when the training settings change, once per page
+    /// otherwise (training is the longest part of making a run).
+    static LEARNED: RefCell<Option<(TrainingConfig, LearnedInverse)>> = const { RefCell::new(None) };
+}
+
+/// The model `config` trains, trained once per page for the same config.
+fn learned_for(config: &TrainingConfig) -> Result<LearnedInverse, JsError> {
+    if let Some(model) = LEARNED.with_borrow(|c| {
+        c.as_ref()
+            .filter(|(k, _)| k == config)
+            .map(|(_, m)| m.clone())
+    }) {
+        return Ok(model);
+    }
+    let (model, _, _) = training::train(config)?;
+    LEARNED.set(Some((*config, model.clone())));
+    Ok(model)
 }
 
 /// A pane index from JavaScript: 0 (left) or 1 (right), checked here with

@@ -247,21 +247,72 @@ pub fn sample_map<R: Rng + ?Sized>(config: &TrainingConfig, rng: &mut R) -> Resu
 
 /// Samples the training set of `config` (step 2 of the module's recipe).
 pub fn sample_triplets(config: &TrainingConfig) -> Result<TrainingSet> {
-    config.validate()?;
-    let mut rng = StdRng::seed_from_u64(config.seed);
-    let sensor = BeamModel::new(config.sensor)?;
-    let shape = BeamShape::cone(config.half_width, config.sub_rays)?;
-    let z_max = config.sensor.z_max;
-    let field = FIELD * config.half_width;
-    let (near_lo, near_hi) = (SPLINE_START - 0.15, SPLINE_END + BEHIND_BAND + 0.3);
-    let mut triplets = Vec::with_capacity(config.triplets);
-    let (mut maps, mut readings, mut no_returns) = (0, 0usize, 0usize);
-    let (mut occupied_cells, mut all_cells) = (0usize, 0usize);
-    while triplets.len() < config.triplets {
-        let world = sample_map(config, &mut rng)?;
-        maps += 1;
-        occupied_cells += world.occupied().iter().filter(|&&o| o).count();
-        all_cells += world.occupied().len();
+    let mut sampler = Sampler::new(config)?;
+    while !sampler.done() {
+        sampler.next_map()?;
+    }
+    Ok(sampler.finish())
+}
+
+/// [`sample_triplets`] a map at a time, for a caller that spreads the work
+/// over several calls ([`Trainer`]): the same triplets, in the same order.
+#[derive(Debug, Clone)]
+pub struct Sampler {
+    config: TrainingConfig,
+    rng: StdRng,
+    sensor: BeamModel,
+    shape: BeamShape,
+    triplets: Vec<Triplet>,
+    maps: usize,
+    readings: usize,
+    no_returns: usize,
+    occupied_cells: usize,
+    all_cells: usize,
+}
+
+impl Sampler {
+    pub fn new(config: &TrainingConfig) -> Result<Self> {
+        config.validate()?;
+        Ok(Self {
+            config: *config,
+            rng: StdRng::seed_from_u64(config.seed),
+            sensor: BeamModel::new(config.sensor)?,
+            shape: BeamShape::cone(config.half_width, config.sub_rays)?,
+            triplets: Vec::with_capacity(config.triplets),
+            maps: 0,
+            readings: 0,
+            no_returns: 0,
+            occupied_cells: 0,
+            all_cells: 0,
+        })
+    }
+
+    /// True once every triplet asked for is drawn.
+    pub fn done(&self) -> bool {
+        self.triplets.len() >= self.config.triplets
+    }
+
+    /// Triplets drawn so far.
+    pub fn triplets(&self) -> usize {
+        self.triplets.len()
+    }
+
+    /// Draws the triplets of one more sampled map (at most
+    /// `TRIPLETS_PER_MAP`); returns how many.
+    pub fn next_map(&mut self) -> Result<usize> {
+        let config = &self.config;
+        let rng = &mut self.rng;
+        let (sensor, shape) = (&self.sensor, self.shape);
+        let triplets = &mut self.triplets;
+        let z_max = config.sensor.z_max;
+        let field = FIELD * config.half_width;
+        let (near_lo, near_hi) = (SPLINE_START - 0.15, SPLINE_END + BEHIND_BAND + 0.3);
+        let before = triplets.len();
+        let world = sample_map(config, rng)?;
+        self.maps += 1;
+        let maps = self.maps;
+        self.occupied_cells += world.occupied().iter().filter(|&&o| o).count();
+        self.all_cells += world.occupied().len();
         let g = *world.geometry();
         let res = g.resolution();
         let side = g.width() as f64 * res;
@@ -296,10 +347,10 @@ pub fn sample_triplets(config: &TrainingConfig) -> Result<TrainingSet> {
             let inv = 1.0 / q.sqrt();
             let dir = (a * inv, b * inv);
             let z_star = expected_range_along(&world, x, y, dir, shape, z_max);
-            let z = sensor.sample(z_star, &mut rng);
+            let z = sensor.sample(z_star, &mut *rng);
             let no_return = z >= z_max;
-            readings += 1;
-            no_returns += no_return as usize;
+            self.readings += 1;
+            self.no_returns += no_return as usize;
             // A no-return is one reading in twenty or so, yet it needs a
             // profile of its own over the whole range: it gets several
             // target cells, so that its few weights are not left to a few
@@ -350,14 +401,19 @@ pub fn sample_triplets(config: &TrainingConfig) -> Result<TrainingSet> {
                 "maps with free space to stand in",
             ));
         }
+        Ok(triplets.len() - before)
     }
-    Ok(TrainingSet {
-        maps,
-        map_occupancy: occupied_cells as f64 / all_cells.max(1) as f64,
-        no_returns: no_returns as f64 / readings.max(1) as f64,
-        readings,
-        triplets,
-    })
+
+    /// The training set drawn.
+    pub fn finish(self) -> TrainingSet {
+        TrainingSet {
+            maps: self.maps,
+            map_occupancy: self.occupied_cells as f64 / self.all_cells.max(1) as f64,
+            no_returns: self.no_returns as f64 / self.readings.max(1) as f64,
+            readings: self.readings,
+            triplets: self.triplets,
+        }
+    }
 }
 
 /// What a fit reports besides the model.
@@ -373,67 +429,199 @@ pub struct FitReport {
 /// Logistic regression by SGD (step 3 of the module's recipe). The bias
 /// starts at the log odds of the occupied fraction, every other weight at 0.
 pub fn fit(config: &TrainingConfig, set: &TrainingSet) -> Result<(LearnedInverse, FitReport)> {
-    config.validate()?;
-    let n = set.triplets.len();
-    if n == 0 {
-        return Err(invalid("triplets", 0, "at least one triplet"));
+    let mut fitter = Fitter::new(config, set)?;
+    while !fitter.done() {
+        fitter.step(usize::MAX);
     }
-    let frame = config.frame();
-    let rows: Vec<([f32; FEATURES], f64)> = set
-        .triplets
-        .iter()
-        .map(|t| {
-            let phi = frame.features(t.r as f64, t.psi as f64, t.z as f64);
-            (phi.map(|p| p as f32), if t.occupied { 1.0 } else { 0.0 })
-        })
-        .collect();
-    let occupied = rows.iter().map(|r| r.1).sum::<f64>() / n as f64;
-    let mut w = [0.0f64; FEATURES];
-    w[BIAS] = crate::grid::logit(occupied.clamp(1e-3, 1.0 - 1e-3));
+    fitter.finish()
+}
 
-    let mut rng = StdRng::seed_from_u64(config.seed ^ FIT_STREAM);
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    // Averaged SGD (Polyak and Juditsky, 1992): the weights handed out are
-    // the mean of the iterates of the last epoch, which irons out the
-    // jitter a single late step still leaves (the bias is touched by every
-    // update, so without averaging `l0` would wander by a tenth of a log
-    // odds with the order of the last few updates).
-    let mut mean = [0.0f64; FEATURES];
-    let mut t = 0usize;
-    for epoch in 0..config.epochs {
-        for i in (1..n).rev() {
-            order.swap(i, rng.random_range(0..=i));
+/// [`fit`] a number of SGD updates at a time, for a caller that spreads
+/// the work over several calls ([`Trainer`]): the same updates in the same
+/// order, so the same weights bit for bit.
+#[derive(Debug, Clone)]
+pub struct Fitter {
+    frame: FeatureFrame,
+    rows: Vec<([f32; FEATURES], f64)>,
+    occupied: f64,
+    w: [f64; FEATURES],
+    mean: [f64; FEATURES],
+    rng: StdRng,
+    order: Vec<u32>,
+    learning_rate: f64,
+    epochs: usize,
+    /// The epoch under way, and the next position in its order.
+    epoch: usize,
+    at: usize,
+    /// Updates made.
+    t: usize,
+}
+
+impl Fitter {
+    /// The bias starts at the log odds of the occupied fraction, every
+    /// other weight at 0.
+    pub fn new(config: &TrainingConfig, set: &TrainingSet) -> Result<Self> {
+        config.validate()?;
+        let n = set.triplets.len();
+        if n == 0 {
+            return Err(invalid("triplets", 0, "at least one triplet"));
         }
-        let last = epoch + 1 == config.epochs;
-        for &k in &order {
-            let Some((phi, y)) = rows.get(k as usize) else {
-                continue;
-            };
-            let s: f64 = phi.iter().zip(&w).map(|(&p, &wi)| p as f64 * wi).sum();
-            let g = sigmoid(s) - y;
-            let eta = config.learning_rate / (1.0 + t as f64 / n as f64);
-            for (wi, &p) in w.iter_mut().zip(phi) {
-                *wi -= eta * g * p as f64;
-            }
-            if last {
-                for (m, &wi) in mean.iter_mut().zip(&w) {
-                    *m += wi;
+        let frame = config.frame();
+        let rows: Vec<([f32; FEATURES], f64)> = set
+            .triplets
+            .iter()
+            .map(|t| {
+                let phi = frame.features(t.r as f64, t.psi as f64, t.z as f64);
+                (phi.map(|p| p as f32), if t.occupied { 1.0 } else { 0.0 })
+            })
+            .collect();
+        let occupied = rows.iter().map(|r| r.1).sum::<f64>() / n as f64;
+        let mut w = [0.0f64; FEATURES];
+        w[BIAS] = crate::grid::logit(occupied.clamp(1e-3, 1.0 - 1e-3));
+        Ok(Self {
+            frame,
+            rows,
+            occupied,
+            w,
+            mean: [0.0f64; FEATURES],
+            rng: StdRng::seed_from_u64(config.seed ^ FIT_STREAM),
+            order: (0..n as u32).collect(),
+            learning_rate: config.learning_rate,
+            epochs: config.epochs,
+            epoch: 0,
+            at: 0,
+            t: 0,
+        })
+    }
+
+    /// True once every epoch is done.
+    pub fn done(&self) -> bool {
+        self.epoch >= self.epochs
+    }
+
+    /// Makes up to `updates` SGD updates (fewer at the end); returns how
+    /// many.
+    pub fn step(&mut self, updates: usize) -> usize {
+        let n = self.rows.len();
+        let mut made = 0;
+        while made < updates && !self.done() {
+            if self.at == 0 {
+                for i in (1..n).rev() {
+                    self.order.swap(i, self.rng.random_range(0..=i));
                 }
             }
-            t += 1;
+            // Averaged SGD (Polyak and Juditsky, 1992): the weights handed
+            // out are the mean of the iterates of the last epoch, which
+            // irons out the jitter a single late step still leaves (the
+            // bias is touched by every update, so without averaging `l0`
+            // would wander by a tenth of a log odds with the order of the
+            // last few updates).
+            let last = self.epoch + 1 == self.epochs;
+            let end = n.min(self.at.saturating_add(updates - made));
+            for &k in &self.order[self.at..end] {
+                let Some((phi, y)) = self.rows.get(k as usize) else {
+                    continue;
+                };
+                let s: f64 = phi.iter().zip(&self.w).map(|(&p, &wi)| p as f64 * wi).sum();
+                let g = sigmoid(s) - y;
+                let eta = self.learning_rate / (1.0 + self.t as f64 / n as f64);
+                for (wi, &p) in self.w.iter_mut().zip(phi) {
+                    *wi -= eta * g * p as f64;
+                }
+                if last {
+                    for (m, &wi) in self.mean.iter_mut().zip(&self.w) {
+                        *m += wi;
+                    }
+                }
+                self.t += 1;
+            }
+            made += end - self.at;
+            self.at = end;
+            if self.at == n {
+                self.at = 0;
+                self.epoch += 1;
+            }
         }
+        made
     }
-    for m in &mut mean {
-        *m /= n as f64;
+
+    /// The model: the mean of the last epoch's weights.
+    pub fn finish(self) -> Result<(LearnedInverse, FitReport)> {
+        let n = self.rows.len() as f64;
+        let mean = self.mean.map(|m| m / n);
+        let model = LearnedInverse::new(self.frame, mean)?;
+        Ok((
+            model,
+            FitReport {
+                occupied_fraction: self.occupied,
+                updates: self.t,
+            },
+        ))
     }
-    let model = LearnedInverse::new(frame, mean)?;
-    Ok((
-        model,
-        FitReport {
-            occupied_fraction: occupied,
-            updates: t,
-        },
-    ))
+}
+
+/// Sampling and fitting in calls of a bounded amount of work, for a page
+/// that keeps its frames while it trains: a unit is a triplet drawn or an
+/// SGD update, and each call goes past its budget by at most one map's
+/// triplets. The model is [`train`]'s, bit for bit.
+#[derive(Debug, Clone)]
+pub struct Trainer {
+    config: TrainingConfig,
+    sampler: Option<Sampler>,
+    fitter: Option<(Fitter, TrainingSet)>,
+}
+
+impl Trainer {
+    pub fn new(config: &TrainingConfig) -> Result<Self> {
+        Ok(Self {
+            config: *config,
+            sampler: Some(Sampler::new(config)?),
+            fitter: None,
+        })
+    }
+
+    /// True once the weights are fitted ([`Trainer::finish`] hands them
+    /// out).
+    pub fn done(&self) -> bool {
+        self.fitter.as_ref().is_some_and(|(f, _)| f.done())
+    }
+
+    /// True while triplets are being drawn (then the weights are fitted).
+    pub fn sampling(&self) -> bool {
+        self.sampler.is_some()
+    }
+
+    /// Works for about `budget` units; returns the units done.
+    pub fn step(&mut self, budget: usize) -> Result<usize> {
+        let budget = budget.max(1);
+        let mut done = 0;
+        while done < budget && !self.done() {
+            if let Some(sampler) = self.sampler.take_if(|s| s.done()) {
+                let set = sampler.finish();
+                self.fitter = Some((Fitter::new(&self.config, &set)?, set));
+            } else if let Some(sampler) = &mut self.sampler {
+                done += sampler.next_map()?.max(1);
+            } else if let Some((fitter, _)) = &mut self.fitter {
+                done += fitter.step(budget - done);
+            } else {
+                break;
+            }
+        }
+        Ok(done)
+    }
+
+    /// The model, its training set and the fit's report, training what is
+    /// left first.
+    pub fn finish(mut self) -> Result<(LearnedInverse, TrainingSet, FitReport)> {
+        while !self.done() {
+            self.step(usize::MAX)?;
+        }
+        let (fitter, set) = self
+            .fitter
+            .ok_or_else(|| invalid("training", "unfinished", "a finished training"))?;
+        let (model, report) = fitter.finish()?;
+        Ok((model, set, report))
+    }
 }
 
 /// Samples and fits in one go.
@@ -529,6 +717,34 @@ fn sigmoid(s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Training spread over calls of 37 units (a prime, so that calls end
+    /// mid-map and mid-epoch) gives `train`'s model, set and report exactly,
+    /// and no call goes past its budget by more than one map's triplets.
+    #[test]
+    fn a_training_in_small_calls_is_the_training_in_one_go() {
+        let config = TrainingConfig {
+            triplets: 2_000,
+            epochs: 3,
+            ..TrainingConfig::default()
+        };
+        let whole = train(&config).unwrap();
+        let mut trainer = Trainer::new(&config).unwrap();
+        let mut calls = 0;
+        while !trainer.done() {
+            let done = trainer.step(37).unwrap();
+            assert!(done <= 37 + TRIPLETS_PER_MAP, "{done}");
+            calls += 1;
+        }
+        assert!(
+            calls > (2_000 * 4) / (37 + TRIPLETS_PER_MAP),
+            "{calls} calls"
+        );
+        let sliced = trainer.finish().unwrap();
+        assert_eq!(sliced.0.weights(), whole.0.weights());
+        assert_eq!(sliced.1, whole.1);
+        assert_eq!(sliced.2, whole.2);
+    }
 
     #[test]
     fn training_work_is_capped_by_the_product_of_triplets_and_epochs() {

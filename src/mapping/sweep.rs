@@ -19,6 +19,21 @@ pub fn sweep_scan<M: InverseModel + ?Sized>(
     model: &M,
     scan: &Scan,
 ) -> ScanStats {
+    let rows = 0..grid.geometry().height();
+    sweep_rows(grid, model, scan, rows)
+}
+
+/// [`sweep_scan`] over the rows `rows` of the map only (clipped to it).
+/// Each cell's update depends on that cell alone, so a scan swept in
+/// several calls over rows that cover the map, in any split, leaves the
+/// grid exactly as one [`sweep_scan`] does: a page spreads a large map's
+/// sweep over several frames this way.
+pub fn sweep_rows<M: InverseModel + ?Sized>(
+    grid: &mut LogOddsGrid,
+    model: &M,
+    scan: &Scan,
+    rows: std::ops::Range<usize>,
+) -> ScanStats {
     let pose = scan.pose();
     // Beams sorted by bearing in (-pi, pi], for a binary search per cell.
     let mut beams: Vec<(f64, f64)> = scan
@@ -34,8 +49,9 @@ pub fn sweep_scan<M: InverseModel + ?Sized>(
         .fold(0.0, f64::max);
 
     let geometry = *grid.geometry();
+    let rows = rows.start.min(geometry.height())..rows.end.min(geometry.height());
     let mut updated = 0;
-    for iy in 0..geometry.height() {
+    for iy in rows.clone() {
         for ix in 0..geometry.width() {
             let (cx, cy) = geometry.cell_center(ix, iy);
             let (dx, dy) = (cx - pose.x, cy - pose.y);
@@ -53,7 +69,7 @@ pub fn sweep_scan<M: InverseModel + ?Sized>(
         }
     }
     ScanStats {
-        cells_visited: geometry.len(),
+        cells_visited: rows.len() * geometry.width(),
         cells_updated: updated,
     }
 }

@@ -56,6 +56,11 @@ test('Map Weaver: after a paused clamp change the charts end where the readouts 
   const before = await charts();
   assert.ok(Math.max(...before.trackedLast.map(Math.abs)) > 2, `a tracked cell beyond ±2: ${before.trackedLast}`);
   await w.locator('.map-weaver-left input[name=clamp-left]').fill('2');
+  // The pane is rebuilt over the scans so far in slices: wait until it is.
+  await page.waitForFunction((e) => {
+    const pane = document.querySelector('occgrid-map-weaver .map-weaver-left');
+    return pane.dataset.behind === '0' && Number(pane.dataset.entropy) !== e;
+  }, before.entropy, { timeout: 60_000 });
   const after = await charts();
   assert.equal(after.scans, before.scans, 'paused: no scan came in');
   assert.notEqual(after.entropy, before.entropy, 'the readout moved');

@@ -2,7 +2,10 @@
 // and 8), shown in one line under the maps: the text is the words module's,
 // every number the core's (`readout().difference`, `readout().l0Drift`),
 // and the same numbers go into the line's data attributes for scripts.
-import { comparisonText } from './map-weaver-words.js';
+import { fixed } from './ui.js';
+import {
+  comparisonText, MODEL_NAMES, POSE_NAMES, MAPPER_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, count, ghostText, bits,
+} from './map-weaver-words.js';
 
 /** Shows what the core's readout `r` says about the two maps in `line` (hidden when nothing). */
 export function showComparison(line, r) {
@@ -14,4 +17,39 @@ export function showComparison(line, r) {
     drift: String(r.l0Drift?.perUpdate ?? ''),
     modelL0: String(r.l0Drift?.modelL0 ?? ''),
   });
+}
+
+/**
+ * Shows pane readout `pr` (of the core's readout `r`) in pane `p`: its
+ * settings line, figures, data attributes and the map's text alternative.
+ * `behind`: scans the pane's rebuild still owes; while it is under way the
+ * data attributes keep describing the last finished map.
+ */
+export function showPaneReadout(p, pr, r, behind) {
+  const sensor = pr.sensor === 'cone' ? `${fixed(pr.betaDeg, 0)}° cone` : 'LiDAR';
+  p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
+    `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`;
+  p.scanMs.textContent = pr.scanMs === null || pr.scanMs === undefined ? '–' : fixed(pr.scanMs, 2);
+  p.ghost.textContent = ghostText(pr.ghost);
+  p.root.dataset.behind = String(behind);
+  p.entropy.textContent = bits(pr.entropyBits);
+  p.brier.textContent = fixed(pr.brier, 4);
+  p.visited.textContent = count(pr.cellsVisited);
+  // The data attributes describe a finished map: while a knob's
+  // rebuild is under way they keep the last one's.
+  if (behind > 0) return;
+  Object.assign(p.root.dataset, {
+    mapper: pr.mapper, sensor: pr.sensor, betaDeg: String(pr.betaDeg), beams: String(pr.beams),
+    resolution: String(pr.resolution), forgetL0: String(pr.forgetL0), cellsVisited: String(pr.cellsVisited),
+    scanMs: String(pr.scanMs ?? ''), ghostFaded: String(pr.ghost.faded), ghostLongest: String(pr.ghost.longestScans ?? ''),
+    ghostLongestSeconds: String(pr.ghost.longestSeconds ?? ''), ghostRecursionSeconds: String(pr.ghost.recursionSeconds ?? ''),
+    clamp: String(pr.clamp), strength: String(pr.strength),
+  });
+  p.root.dataset.entropy = String(pr.entropyBits);
+  p.root.dataset.brier = String(pr.brier);
+  p.root.dataset.model = pr.model;
+  p.root.dataset.pose = pr.pose;
+  p.canvas.setAttribute('aria-label',
+    `${p.side === 'left' ? 'Left' : 'Right'} map: ${SPOKEN_MODELS[pr.model]} ${SPOKEN_POSES[pr.pose]}, after ${count(r.scans)} ` +
+    `scan${r.scans === 1 ? '' : 's'}: entropy ${bits(pr.entropyBits)} bits, Brier score ${fixed(pr.brier, 4)}. ${CURSOR_HINT}`);
 }

@@ -132,17 +132,24 @@ export function clearError(host) {
   host.querySelector(RUNTIME_ERROR)?.remove();
 }
 
-/** Calls `start` once, the first time `element` scrolls into view. */
-export function whenVisible(element, start) {
+/**
+ * Calls `start` once, the first time `element` scrolls into view (with
+ * `ahead`, once it is within half a screen of it: its work is done by the
+ * time the reader gets there).
+ */
+export function whenVisible(element, start, { ahead = false } = {}) {
   if (!('IntersectionObserver' in window)) return void start();
   const io = new IntersectionObserver((entries) => {
     if (entries.some((e) => e.isIntersecting)) {
       io.disconnect();
       start();
     }
-  });
+  }, ahead ? { rootMargin: AHEAD } : {});
   io.observe(element);
 }
+
+/** How far below (and above) the screen `whenVisible(…, { ahead: true })` looks: half a screen. */
+const AHEAD = '50% 0px 50% 0px';
 
 /**
  * Tracks whether `element` is on screen: `onChange(visible)` each time it
@@ -237,6 +244,8 @@ export function pacer(perSecond, maxPerFrame) {
   let owed = 0;
   return {
     reset(initial = 0) { owed = initial; },
+    /** Owes again `n` of the items taken that were not done (a frame whose work budget ran out), up to a frame's worth. */
+    giveBack(n) { owed = Math.min(maxPerFrame, owed + Math.max(0, n)); },
     take(dt, speed = 1) {
       owed += (dt / 1000) * perSecond * speed;
       const n = Math.min(maxPerFrame, Math.floor(owed));
@@ -265,5 +274,10 @@ export function fixed(x, d = 4) {
  */
 export function grouped(x, d = 0) {
   if (!Number.isFinite(x)) return String(x);
-  return x.toLocaleString('en-US', { minimumFractionDigits: d, maximumFractionDigits: d });
+  // One formatter per number of decimals: toLocaleString makes one per
+  // call, too slow for readouts redrawn every frame.
+  let f = formatters.get(d);
+  if (!f) formatters.set(d, (f = new Intl.NumberFormat('en-US', { minimumFractionDigits: d, maximumFractionDigits: d })));
+  return f.format(x);
 }
+const formatters = new Map();

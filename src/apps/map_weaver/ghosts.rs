@@ -18,8 +18,6 @@ pub(super) struct GhostTracker {
     pending: Vec<(usize, usize)>,
     /// Scans each completed fade took, in the order they completed.
     fades: Vec<usize>,
-    /// Where in `fades` those made at the current clamp and strength begin.
-    current: usize,
 }
 
 impl GhostTracker {
@@ -52,16 +50,6 @@ impl GhostTracker {
         *self = Self::default();
     }
 
-    /// Forgets the fades under way (a clamp or a strength changed: they
-    /// would mix two settings), keeping those that completed.
-    pub fn forget_pending(&mut self) {
-        self.pending.clear();
-        self.current = self.fades.len();
-        for (_, ghost) in &mut self.under {
-            *ghost = false;
-        }
-    }
-
     /// Scans each completed fade took, in the order they completed.
     pub fn fades(&self) -> &[usize] {
         &self.fades
@@ -77,14 +65,14 @@ impl GhostTracker {
         clamp: f64,
         free_evidence: Option<f32>,
     ) -> GhostReadout {
-        let now = &self.fades[self.current..];
+        let now = &self.fades[..];
         let last = now.last().copied();
         let longest = now.iter().copied().max();
         let recursion = free_evidence
             .filter(|&f| f < 0.0)
             .map(|f| clamp / (-f64::from(f)));
         GhostReadout {
-            faded: self.fades.len() - self.current,
+            faded: self.fades.len(),
             lingering: self.pending.len(),
             last_scans: last,
             last_seconds: last.map(|n| seconds(n as f64)),
@@ -179,30 +167,5 @@ mod tests {
         assert_eq!(g.readout(|n| n, 12.0, None).lingering, 0);
         g.clear();
         assert_eq!(g, GhostTracker::default());
-    }
-
-    /// A new clamp or strength starts the readout again: the fade under
-    /// way is dropped (it would mix two settings), the completed ones stay
-    /// in the run's list.
-    #[test]
-    fn a_new_setting_starts_the_readout_again() {
-        let mut g = GhostTracker::default();
-        g.observe(1, &[0], &[2.0, 0.0]);
-        g.observe(2, &[], &[-1.0, 0.0]);
-        g.observe(3, &[1], &[-1.0, 2.0]);
-        g.observe(4, &[], &[-1.0, 1.0]);
-        assert_eq!(
-            (g.fades(), g.readout(|n| n, 4.0, None).lingering),
-            (&[1][..], 1)
-        );
-        g.forget_pending();
-        g.observe(5, &[], &[-1.0, -1.0]);
-        let r = g.readout(|n| n, 4.0, Some(-0.5));
-        assert_eq!((r.faded, r.lingering, r.longest_scans), (0, 0, None));
-        assert_eq!(r.recursion_scans, Some(8.0));
-        assert_eq!(g.fades(), [1]);
-        g.observe(6, &[1], &[-1.0, 3.0]);
-        g.observe(7, &[], &[-1.0, -0.5]);
-        assert_eq!(g.readout(|n| n, 4.0, None).longest_scans, Some(1));
     }
 }

@@ -11,12 +11,14 @@
 //!    curves and its ghost watch ([`ghosts`]) up to date.
 //! 3. The page reads what to show from [`readout`], in image units.
 //!
-//! Every scan is kept, so that switching a pane's model or pose source
-//! rebuilds that pane over the same scans (the two panes stay comparable).
-//! The clamp and strength sliders act on the run as it goes, as a reader
-//! turning them mid-lap would expect: a lower clamp pulls saturated cells in
-//! at once, a new strength weighs the scans still to come. What a run may
-//! be set to, and the limits the widget shows, are in [`settings`].
+//! Every scan is kept, so that any knob of a pane (model, pose source,
+//! clamp, strength, mapper, sensor, cone opening, beams, resolution, `l0`
+//! forgotten) rebuilds that pane over the same scans: the map shows what
+//! that setting gives for the scans so far, and a knob turned and turned
+//! back leaves the map as it was (the two panes stay comparable). The work
+//! goes in bounded calls ([`stepping`]), so that a page plays and rebuilds
+//! within its frames. What a run may be set to, and the limits the widget
+//! shows, are in [`settings`].
 
 mod compare;
 mod ghosts;
@@ -24,6 +26,7 @@ mod pane;
 mod readout;
 mod settings;
 mod situation;
+mod stepping;
 mod timing;
 
 /// The evidence-strength wrapper lives with the inverse models; named here
@@ -39,6 +42,7 @@ pub use settings::{
     STRENGTH,
 };
 pub use situation::{Situation, WATCH_GHOST_CELL, WATCH_PAUSE, WATCH_POST};
+pub use stepping::WorkReport;
 pub use timing::Clock;
 
 use crate::error::{invalid, Result};
@@ -48,7 +52,7 @@ use crate::inverse::training;
 use crate::inverse::LearnedInverse;
 use crate::render::map_view::MapView;
 use crate::scenes::apartment::{ApartmentSim, SimScan};
-use pane::{Pane, PaneModel, PoseScans};
+use pane::Pane;
 use settings::{check_clamp, check_strength};
 use timing::RecentTimes;
 
@@ -221,27 +225,12 @@ impl Weaver {
             .get(pane)
             .ok_or_else(|| invalid("pane", pane, "0 (left) or 1 (right)"))
     }
-    fn pane_mut(&mut self, pane: usize) -> Result<&mut Pane> {
-        self.panes
-            .get_mut(pane)
-            .ok_or_else(|| invalid("pane", pane, "0 (left) or 1 (right)"))
-    }
 
     /// Simulates and integrates up to `n` scans (fewer when the run ends);
-    /// returns how many were taken.
+    /// returns how many were taken. A rebuild under way is finished first.
+    /// [`Weaver::work`] with no budget.
     pub fn advance(&mut self, n: usize) -> Result<usize> {
-        let mut taken = 0;
-        while taken < n && !self.done() {
-            let scan = self.sim.next_scan();
-            let scans = PoseScans::new(&scan, self.sim.bearings())?;
-            let count = self.history.len() + 1;
-            for pane in &mut self.panes {
-                pane.integrate(&scans, &scan, count, self.clock)?;
-            }
-            self.history.push(scan);
-            taken += 1;
-        }
-        Ok(taken)
+        Ok(self.work(n, u64::MAX)?.scans)
     }
 
     /// The most cells one scan visits, both panes together: for a pane by
@@ -288,45 +277,18 @@ impl Weaver {
         Ok(taken)
     }
 
-    /// Rebuilds `pane` from the empty map over every scan so far, with its
-    /// current settings.
-    fn rebuild(&mut self, pane: usize) -> Result<()> {
-        let p = self
-            .panes
-            .get_mut(pane)
-            .ok_or_else(|| invalid("pane", pane, "0 (left) or 1 (right)"))?;
-        p.clear();
-        let bearings = self.sim.bearings();
-        for (i, scan) in self.history.iter().enumerate() {
-            p.integrate(&PoseScans::new(scan, bearings)?, scan, i + 1, self.clock)?;
-        }
-        Ok(())
-    }
-
-    /// Changes every knob of pane `pane` at once. Clamp and strength act on
-    /// the run as it goes; any other change (model, pose source, mapper,
-    /// sensor, cone opening, beams, resolution, `l0` forgotten) rebuilds
-    /// the pane over the scans so far. Nothing changes when `settings` is
-    /// refused.
+    /// Changes every knob of pane `pane` at once and rebuilds the pane over
+    /// the scans so far, now ([`Weaver::stage_pane`] leaves the rebuild to
+    /// [`Weaver::work`]'s budgeted calls). Nothing changes when `settings`
+    /// is refused.
     pub fn set_pane(&mut self, pane: usize, settings: PaneSettings) -> Result<()> {
-        let current = self.pane(pane)?.settings;
-        settings.validate(pane, &self.settings.scene)?;
-        if current.needs_rebuild(&settings) {
-            let mut fresh = Pane::new(&self.settings, &self.learned, pane, &settings)?;
-            std::mem::swap(&mut fresh, &mut self.panes[pane]);
-            self.settings.panes[pane] = settings;
-            if let Err(e) = self.rebuild(pane) {
-                self.panes[pane] = fresh;
-                self.settings.panes[pane] = current;
-                return Err(e);
-            }
+        let Some(before) = self.swap_pane(pane, settings)? else {
             return Ok(());
-        }
-        if settings.strength != current.strength {
-            self.set_strength(pane, settings.strength)?;
-        }
-        if settings.clamp != current.clamp {
-            self.set_clamp(pane, settings.clamp)?;
+        };
+        if let Err(e) = self.catch_up(pane) {
+            self.settings.panes[pane] = before.settings;
+            self.panes[pane] = before;
+            return Err(e);
         }
         Ok(())
     }
@@ -345,39 +307,19 @@ impl Weaver {
         self.set_pane(pane, PaneSettings { pose, ..s })
     }
 
-    /// Changes a pane's clamp now: cells beyond it are pulled in at once,
-    /// later scans saturate at it.
+    /// Changes a pane's clamp and rebuilds it over the scans so far.
     pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<()> {
-        self.pane(pane)?;
+        let s = self.pane(pane)?.settings;
         check_clamp(pane, clamp)?;
-        let p = self.pane_mut(pane)?;
-        p.map
-            .grid_mut()
-            .set_clamp(clamp)
-            .map_err(|e| settings::renamed(&format!("panes[{pane}].clamp"), e))?;
-        p.settings.clamp = clamp;
-        p.ghost.forget_pending();
-        p.map.pixels();
-        self.settings.panes[pane].clamp = clamp;
-        Ok(())
+        self.set_pane(pane, PaneSettings { clamp, ..s })
     }
 
-    /// Changes a pane's evidence strength from the next scan on.
+    /// Changes a pane's evidence strength and rebuilds it over the scans so
+    /// far.
     pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<()> {
-        self.pane(pane)?;
+        let s = self.pane(pane)?.settings;
         check_strength(pane, strength)?;
-        let base = self.settings.hand_crafted;
-        let learned = self.learned.clone();
-        let p = self.pane_mut(pane)?;
-        let settings = PaneSettings {
-            strength,
-            ..p.settings
-        };
-        p.model = PaneModel::build(&settings, &base, &learned)?;
-        p.settings.strength = strength;
-        p.ghost.forget_pending();
-        self.settings.panes[pane].strength = strength;
-        Ok(())
+        self.set_pane(pane, PaneSettings { strength, ..s })
     }
 
     /// Puts the person into the corridor or takes them out, from the next

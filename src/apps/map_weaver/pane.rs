@@ -23,6 +23,7 @@ use crate::mapping::traversal::ScanStats;
 use crate::render::map_view::MapView;
 use crate::scenes::apartment::{ApartmentScene, SimScan};
 use crate::sensors::Scan;
+use std::borrow::Cow;
 use std::cell::OnceCell;
 
 /// A Map Weaver map: the whole apartment at one pixel per cell, its view
@@ -70,7 +71,12 @@ impl PaneModel {
         })
     }
 
-    fn integrate(&self, kind: MapperKind, map: &mut WeaverMap, scan: &Scan) -> ScanStats {
+    pub(super) fn integrate(
+        &self,
+        kind: MapperKind,
+        map: &mut WeaverMap,
+        scan: &Scan,
+    ) -> ScanStats {
         match (self, kind) {
             (Self::HandCrafted(m), MapperKind::Traversal) => map.integrate(m, scan),
             (Self::Learned(m), MapperKind::Traversal) => map.integrate(m, scan),
@@ -167,6 +173,18 @@ pub(super) struct Pane {
     pub ghost: GhostTracker,
     /// Core milliseconds of the pane's recent scans (mapping and view).
     pub scan_ms: RecentTimes,
+    /// How far the sweep of the pane's next scan has gone, when it is
+    /// spread over several calls ([`super::stepping`]).
+    pub sweep: SweepProgress,
+}
+
+/// A scan's sweep under way: the rows swept so far (from row 0), and the
+/// work and time they took. The view and the curves wait for the last row.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct SweepProgress {
+    pub rows: usize,
+    pub stats: ScanStats,
+    pub ms: f64,
 }
 
 impl Pane {
@@ -217,30 +235,36 @@ impl Pane {
             pose: settings.scene.path.pose_at(0.0),
             ghost: GhostTracker::default(),
             scan_ms: RecentTimes::default(),
+            sweep: SweepProgress::default(),
             scene,
         })
     }
 
-    /// Integrates one scan (number `count`, from 1) at the pose and with
-    /// the beams the pane's settings ask for, then updates the view, the
-    /// curves and the ghost watch.
-    pub fn integrate(
+    /// The scan this pane maps: at the pose its settings ask for, thinned
+    /// to its beams.
+    pub fn scan<'a>(&self, scans: &'a PoseScans) -> Result<Cow<'a, Scan>> {
+        let full = scans.at(self.settings.pose)?;
+        full.thinned(self.beam_stride(full.len()))
+    }
+
+    /// What follows a scan's mapping (`stats`, the work it took): the view,
+    /// the curves and the ghost watch take one more point. `started`: the
+    /// clock when the last part of the mapping began, and the milliseconds
+    /// its earlier parts took.
+    pub fn finish_scan(
         &mut self,
-        scans: &PoseScans,
+        s: &Scan,
+        stats: ScanStats,
         sim: &SimScan,
         count: usize,
         clock: Option<Clock>,
-    ) -> Result<()> {
-        let started = clock.map(|c| c());
-        let full = scans.at(self.settings.pose)?;
-        let s = full.thinned(self.beam_stride(full.len()))?;
-        self.last = self
-            .model
-            .integrate(self.settings.mapper, &mut self.map, &s);
+        started: Option<(f64, f64)>,
+    ) {
+        self.last = stats;
         self.pose = s.pose();
         self.map.pixels();
-        if let (Some(c), Some(t0)) = (clock, started) {
-            self.scan_ms.record((c() - t0).max(0.0));
+        if let (Some(c), Some((t0, before))) = (clock, started) {
+            self.scan_ms.record(before + (c() - t0).max(0.0));
         }
         let (grid, view) = (self.map.grid(), self.map.view());
         self.entropy_curve.push(view.entropy_bits());
@@ -249,7 +273,11 @@ impl Pane {
             .push(self.tracked_cells.map(|i| grid.log_odds()[i]));
         let near = sim.person.map(|r| self.near_person(r)).unwrap_or_default();
         self.ghost.observe(count, &near, self.map.grid().log_odds());
-        Ok(())
+    }
+
+    /// Scans integrated so far (a scan whose sweep is under way is not).
+    pub fn scans_done(&self) -> usize {
+        self.entropy_curve.len() - 1
     }
 
     /// The cells a person standing on `footprint` may have marked: the
@@ -283,6 +311,7 @@ impl Pane {
         self.last = ScanStats::default();
         self.ghost.clear();
         self.scan_ms.clear();
+        self.sweep = SweepProgress::default();
     }
 
     /// The pane uses every `stride`-th beam of a `lidar_beams`-beam scan:

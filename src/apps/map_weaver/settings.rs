@@ -186,18 +186,6 @@ impl Default for PaneSettings {
 }
 
 impl PaneSettings {
-    /// True when going from `self` to `other` changes how scans are turned
-    /// into evidence, so the pane must be built again over the scans so
-    /// far (clamp and strength act on the run as it goes).
-    pub(super) fn needs_rebuild(&self, other: &Self) -> bool {
-        let live = |p: &Self| Self {
-            clamp: 0.0,
-            strength: 0.0,
-            ..*p
-        };
-        live(self) != live(other)
-    }
-
     /// Checks pane `k`'s knobs against the limits and the scene's LiDAR,
     /// naming the first one that is wrong as `panes[k].field`.
     pub fn validate(&self, k: usize, scene: &ApartmentScene) -> Result<()> {

@@ -1,0 +1,80 @@
+// Work in bounded calls. A widget whose core work can be large (a fine
+// grid, the every-cell sweep, a rebuild over thousands of scans) asks the
+// core for it in calls with a budget in the core's own units (cells
+// visited), sized from how long the last call took, so that each call stays
+// near a target time and the page keeps its frames (docs/ARCHITECTURE.md,
+// "Sessions and panes").
+
+/**
+ * The next call's budget: the work the last call did (`done`, in its units)
+ * scaled to `targetMs` by the last call's duration `ms`, and at most twice
+ * the last budget `n`.
+ */
+export function nextBudget(n, ms, done, targetMs) {
+  return Math.max(1, Math.min(n * 2, Math.round((done * targetMs) / Math.max(ms, 0.25))));
+}
+
+/**
+ * A budget that learns: `value` is the next call's, `learn(done, ms)` takes
+ * a call's work and duration. `initial` is a first guess that the first
+ * call corrects.
+ */
+export function workBudget(targetMs, initial) {
+  let value = initial;
+  return {
+    get value() { return value; },
+    learn(done, ms) {
+      if (done > 0) value = nextBudget(value, ms, done, targetMs);
+    },
+  };
+}
+
+/**
+ * One timed call of `weaver.work(scans, budget)` (a Map Weaver run) with at
+ * least `floor` cell visits: the budget learns from it. Returns the core's
+ * report `{ scans, cellVisits, behind, done }` and the call's milliseconds.
+ */
+export function workOnce(weaver, budget, scans, floor = 1) {
+  const t = performance.now();
+  const report = weaver.work(scans, Math.max(floor, budget.value));
+  const ms = performance.now() - t;
+  budget.learn(report.cellVisits, ms);
+  return { ...report, ms };
+}
+
+/**
+ * Trains a Map Weaver run's learned model (`start`, a `MapWeaverStart`) in
+ * calls of about `budget`'s target time, each in a task of its own, and
+ * returns the run; null (with `start` left to the caller to free) when
+ * `stillWanted()` turns false between calls (a newer run was asked for).
+ */
+export async function trainInSlices(start, budget, stillWanted) {
+  for (;;) {
+    const t = performance.now();
+    const units = budget.value;
+    const trained = start.work(units);
+    budget.learn(units, performance.now() - t);
+    if (trained) return start.finish();
+    // A task boundary: the page paints and handles input in between.
+    await new Promise((r) => setTimeout(r, 0));
+    if (!stillWanted()) return null;
+  }
+}
+
+/**
+ * Advances a Map Weaver run by `target` scans in calls of about `budget`'s
+ * target time, each in a task of its own (a hidden tab still gets on with
+ * the work), calling `progress(done)` between them; false when
+ * `stillWanted()` turns false (the caller frees `weaver`).
+ */
+export async function fastForward(weaver, target, budget, progress, stillWanted) {
+  let done = 0;
+  for (;;) {
+    const r = workOnce(weaver, budget, target - done);
+    done += r.scans;
+    if (done >= target && r.behind[0] + r.behind[1] === 0) return true;
+    progress(done);
+    await new Promise((resolve) => setTimeout(resolve, 0));
+    if (!stillWanted()) return false;
+  }
+}
