@@ -253,7 +253,7 @@ export class RealLogPanel {
       this.readout, this.counts, modelNote(),
       el('p', { class: 'occgrid-caption' },
         'FLASER and ROBOTLASER1 lines are read with their corrected poses; the map covers every pose and every ',
-        'reading closer than z_max, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
+        'cell a beam marks or clears (a no-return’s clearing too), plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
         'of Table 9.2: l_occ within α/2 of the reading, l_free in front of it; a reading at or beyond z_max is a ',
         'no-return that only clears space, out to the no-return reach. Near walls, free evidence stops where a beam ',
         'grazing a wall enters its band of cells (res / sin of the incidence), so long logs keep their walls; choose ',

@@ -1,8 +1,8 @@
 //! How far a log's scans reach, before and beyond a map build: the box of
-//! every laser pose and every endpoint closer than `z_max` (what a real
-//! log's grid must hold), the grid that covers that box, and the tiles the
-//! beams of every scan would touch (what a tiled map would allocate, said
-//! when its budget refuses a log).
+//! every laser pose and every cell a beam marks or clears, a no-return's
+//! clearing included (what a real log's grid must hold), the grid that
+//! covers that box, and the tiles the beams of every scan would touch (what
+//! a tiled map would allocate, checked before a build).
 //!
 //! The scans come as [`Scan`]s at whatever poses a pose source gives them
 //! (the log's corrected ones, a dead-reckoned path): one extent and one
