@@ -98,7 +98,7 @@ impl BeamFrame {
         if !(from >= 0.0 && from < to) {
             return None;
         }
-        let (su, sv, res) = (self.su, self.sv, self.res);
+        let (su, sv) = (self.su, self.sv);
         let s = self.sin_t * cos_b + self.cos_t * sin_b;
         let c = self.cos_t * cos_b - self.sin_t * sin_b;
         let (near, far) = (from * self.per_metre, to * self.per_metre);
@@ -110,16 +110,7 @@ impl BeamFrame {
         if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows) {
             return None;
         }
-        let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
-        let at = BeamState {
-            index: (iy - w.y0) * w.stride + (ix - w.x0),
-            range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
-            index_step: (
-                walk.step.0 as isize,
-                walk.step.1 as isize * w.stride as isize,
-            ),
-            range_step: (step_x * res * c, step_y * res * s),
-        };
+        let at = self.beam_state(&walk, (s, c));
         Some((walk, at))
     }
 }

@@ -480,7 +480,7 @@ impl BeamFrame {
     /// when the beam misses the map.
     #[inline]
     fn beam(&self, (sin_b, cos_b): (f64, f64), reach: f64) -> Option<(Walk, BeamState)> {
-        let (su, sv, res) = (self.su, self.sv, self.res);
+        let (su, sv) = (self.su, self.sv);
         // Beam direction theta + bearing by the angle-addition formulas
         // (within a few ulps of sin_cos of the sum).
         let s = self.sin_t * cos_b + self.cos_t * sin_b;
@@ -488,14 +488,22 @@ impl BeamFrame {
         let cells = reach * self.per_metre;
         let end = (su + cells * c, sv + cells * s);
         let walk = Walk::new(self.width, self.height, (su, sv), end)?;
-        // Per cell the walk needs the cell's index and the range of its
-        // centre along the beam axis (metres); both change by a fixed
-        // amount per step on each axis, so they are carried along. The
-        // steps point along the beam, so both range steps are >= 0.
+        let at = self.beam_state(&walk, (s, c));
+        Some((walk, at))
+    }
+
+    /// The state at `walk`'s first cell (inside the window) for a beam of
+    /// direction `(sin, cos)`. Per cell the walk needs the cell's index and
+    /// the range of its centre along the beam axis (metres); both change by
+    /// a fixed amount per step on each axis, so they are carried along. The
+    /// steps point along the beam, so both range steps are >= 0.
+    #[inline]
+    fn beam_state(&self, walk: &Walk, (s, c): (f64, f64)) -> BeamState {
+        let (su, sv, res) = (self.su, self.sv, self.res);
         let (ix, iy) = walk.start;
         let (step_x, step_y) = (walk.step.0 as f64, walk.step.1 as f64);
         let w = &self.window;
-        let at = BeamState {
+        BeamState {
             index: (iy - w.y0) * w.stride + (ix - w.x0),
             range: res * ((ix as f64 + 0.5 - su) * c + (iy as f64 + 0.5 - sv) * s),
             index_step: (
@@ -503,8 +511,7 @@ impl BeamFrame {
                 walk.step.1 as isize * w.stride as isize,
             ),
             range_step: (step_x * res * c, step_y * res * s),
-        };
-        Some((walk, at))
+        }
     }
 }
 
