@@ -438,7 +438,8 @@ export class RealLogPanel {
 
   /** Draws the operated map, then each map beside it, each in a task of its own; false if the panel went away. */
   async drawEach() {
-    const steps = [() => this.draw()];
+    // The view and the counts are a core call each: two tasks, not one.
+    const steps = [() => this.renderView(), () => this.draw(false)];
     for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
     for (const step of steps) {
       await this.pause();
@@ -691,10 +692,10 @@ export class RealLogPanel {
     this.drawSidePanes();
   }
 
-  /** The operated map's figures in the status line, counts and label, after drawing it. */
-  draw() {
+  /** The operated map's figures in the status line, counts and label, after drawing it (unless `render` is false: drawn already). */
+  draw(render = true) {
     const p = this.state.panes[MAIN];
-    this.renderView();
+    if (render) this.renderView();
     const { width, height, resolution } = this.geometry;
     const c = this.session.counts(MAIN);
     if (p.finished) {

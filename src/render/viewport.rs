@@ -13,7 +13,7 @@
 use crate::error::{invalid, Result};
 use crate::grid::{CellModel, Grid, Store};
 
-use super::gray::{cell_gray, UNKNOWN_GRAY};
+use super::gray::UNKNOWN_GRAY;
 
 /// The most output pixels a view may have (16 MiB of RGBA): a 2048 x 2048
 /// canvas, a full-width pane on a high-density screen.
@@ -243,6 +243,18 @@ pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
     view: &MapViewport,
     out: &mut [u8],
 ) {
+    render_counting_lookups(grid, view, out);
+}
+
+/// [`render_view_into`], returning how many times it looked up a block of
+/// storage: at most one per tile a sample row crosses, plus one per sample
+/// row (the bound a test holds it to).
+fn render_counting_lookups<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    view: &MapViewport,
+    out: &mut [u8],
+) -> usize {
+    let mut lookups = 0;
     let (w, h) = (view.width, view.height);
     let g = grid.geometry();
     let (mw, mh) = (g.width(), g.height());
@@ -268,115 +280,118 @@ pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
     let rows = samples(h, view.v0, mh);
     let model = grid.model();
     let store = grid.store();
-    let unknown = model.unknown();
+    // One accumulator per output pixel of the row being drawn: the row's
+    // sample rows are walked one after another, west to east, so a tile is
+    // looked up once per run of samples it holds (a zoomed-out campus
+    // spans 84 tiles per row) and never once per pixel or per sample.
+    let mut acc = vec![Darkest::default(); w];
     for (py, rs) in rows.iter().enumerate() {
         let Some(line) = out.get_mut(py * w * 4..(py + 1) * w * 4) else {
-            return;
+            return lookups;
         };
-        // Grid rows of this output row's samples (image row 0 is the top:
-        // the one place a view turns image rows into grid rows).
-        let iys = rs.map(|r| {
+        acc.fill(Darkest::default());
+        for &r in &rs[..k] {
             if r == usize::MAX {
-                usize::MAX
-            } else {
-                mh - 1 - r
+                continue;
             }
-        });
-        let (ya, yb) = (iys[0], iys[k - 1]);
-        let mut block = None;
-        for (px, cs) in cols.iter().enumerate() {
-            let mut darkest: Option<u8> = None;
-            let (xa, xb) = (cs[0], cs[k - 1]);
-            let all_on_map =
-                ya != usize::MAX && yb != usize::MAX && xa != usize::MAX && xb != usize::MAX;
-            if all_on_map {
-                // Every sample in one block of storage (the usual case):
-                // one lookup, and a tile never touched is unknown at once.
-                let b = match block.take() {
-                    Some(b) if crate::grid::storage::Block::holds(&b, xa, ya) => b,
-                    _ => store.block(xa, ya),
-                };
-                if b.holds(xb, yb) && b.holds(xa, yb) && b.holds(xb, ya) {
-                    darkest = Some(match b.cells {
-                        None => cell_gray(model, unknown),
-                        Some(_) => {
-                            let mut d = Darkest::default();
-                            for &iy in &iys[..k] {
-                                for &c in &cs[..k] {
-                                    d.add(model, b.cell(c, iy).unwrap_or(unknown));
-                                }
-                            }
-                            d.gray()
-                        }
-                    });
-                }
-                block = Some(b);
-            }
-            if darkest.is_none() {
-                for &iy in &iys[..k] {
-                    if iy == usize::MAX {
+            // Image row 0 is the top: the one place a view turns image
+            // rows into grid rows.
+            let iy = mh - 1 - r;
+            let mut run = TileRow::at(store, 0, iy, &mut lookups);
+            for (d, cs) in acc.iter_mut().zip(&cols) {
+                for &c in &cs[..k] {
+                    if c == usize::MAX {
                         continue;
                     }
-                    for &c in &cs[..k] {
-                        if c == usize::MAX {
-                            continue;
-                        }
-                        if let Some(cell) = grid.cell_at(c, iy) {
-                            let g = cell_gray(model, cell);
-                            darkest = Some(darkest.map_or(g, |d| d.min(g)));
-                        }
+                    if !run.holds(c) {
+                        run = TileRow::at(store, c, iy, &mut lookups);
+                    }
+                    match run.cells {
+                        Some(cells) => d.add(model, cells[c - run.x0]),
+                        None => d.unknown = true,
                     }
                 }
             }
-            let px4 = &mut line[px * 4..px * 4 + 4];
-            match darkest {
-                Some(g) => px4.copy_from_slice(&[g, g, g, 255]),
-                None => px4.copy_from_slice(&OUTSIDE),
+        }
+        for (px4, d) in line.chunks_exact_mut(4).zip(&acc) {
+            if d.seen() {
+                let g = d.gray(model);
+                px4.copy_from_slice(&[g, g, g, 255]);
+            } else {
+                px4.copy_from_slice(&OUTSIDE);
             }
         }
     }
+    lookups
 }
 
-/// The darkest [`cell_gray`] among a pixel's samples, with one ramp lookup
-/// per pixel rather than per sample: the ramp falls as log odds rise, so
-/// the darkest known sample is the one of largest log odds (a zoomed-out
-/// view of a campus samples 16 cells per pixel).
-struct Darkest {
-    largest: f32,
-    known: bool,
+/// One grid row of one block of storage: the cells `x0..x0 + width` of
+/// row `iy`, or `None` where no tile was ever allocated (unknown).
+struct TileRow<'a, C> {
+    x0: usize,
+    width: usize,
+    cells: Option<&'a [C]>,
+}
+
+impl<'a, C: Copy> TileRow<'a, C> {
+    fn at<S: Store<C>>(store: &'a S, ix: usize, iy: usize, lookups: &mut usize) -> Self {
+        *lookups += 1;
+        let b = store.block(ix, iy);
+        let start = (iy - b.y0) * b.stride;
+        Self {
+            x0: b.x0,
+            width: b.width,
+            cells: b.cells.map(|c| &c[start..start + b.width]),
+        }
+    }
+
+    #[inline(always)]
+    fn holds(&self, ix: usize) -> bool {
+        ix.wrapping_sub(self.x0) < self.width
+    }
+}
+
+/// The darkest gray among a pixel's samples, with one log-odds and ramp
+/// evaluation per pixel rather than per sample: the ramp falls as log odds
+/// rise, so the darkest known sample is the one of largest log odds (a
+/// zoomed-out view of a campus samples 16 cells per pixel).
+#[derive(Clone, Copy)]
+struct Darkest<C> {
+    most_occupied: Option<C>,
     unknown: bool,
 }
 
-impl Default for Darkest {
+impl<C: Copy> Default for Darkest<C> {
     fn default() -> Self {
         Self {
-            largest: f32::NEG_INFINITY,
-            known: false,
+            most_occupied: None,
             unknown: false,
         }
     }
 }
 
-impl Darkest {
+impl<C: Copy> Darkest<C> {
     #[inline(always)]
-    fn add<M: CellModel>(&mut self, model: &M, cell: M::Cell) {
+    fn add<M: CellModel<Cell = C>>(&mut self, model: &M, cell: C) {
         if model.is_unknown(cell) {
             self.unknown = true;
         } else {
-            self.known = true;
-            let l = model.log_odds(cell);
-            if l > self.largest {
-                self.largest = l;
+            match self.most_occupied {
+                Some(d) if !model.more_occupied(cell, d) => {}
+                _ => self.most_occupied = Some(cell),
             }
         }
     }
 
-    fn gray(&self) -> u8 {
+    fn seen(&self) -> bool {
+        self.unknown || self.most_occupied.is_some()
+    }
+
+    fn gray<M: CellModel<Cell = C>>(&self, model: &M) -> u8 {
         let unknown = if self.unknown { UNKNOWN_GRAY } else { u8::MAX };
-        if self.known {
-            unknown.min(crate::render::gray::gray_level(self.largest))
-        } else {
-            unknown
+        match self.most_occupied {
+            Some(cell) => unknown.min(crate::render::gray::gray_level(model.log_odds(cell))),
+            None => unknown,
         }
     }
 }
@@ -461,5 +476,95 @@ mod tests {
         render_view(&g, &v, &mut out);
         assert_eq!(&out[..4], &OUTSIDE);
         assert_eq!(out.len(), 250 * 200 * 4);
+    }
+
+    /// The view drawn sample by sample through `Grid::cell_at`: the
+    /// meaning of a frame (the darkest of up to 4 x 4 cells, unknown gray,
+    /// blue-gray off the map), without any shortcut through storage.
+    fn reference_render(g: &TiledGrid, v: &MapViewport) -> Vec<u8> {
+        use crate::render::gray::cell_gray;
+        let geo = g.geometry();
+        let (mw, mh) = (geo.width(), geo.height());
+        let per_pixel = 1.0 / v.scale;
+        let k = (per_pixel.ceil() as usize).clamp(1, MAX_SAMPLES);
+        let sample = |p: usize, start: f64, j: usize, n: usize| {
+            let t = start + (p as f64 + (j as f64 + 0.5) / k as f64) * per_pixel;
+            (t >= 0.0 && (t as usize) < n).then_some(t as usize)
+        };
+        let mut out = Vec::with_capacity(v.width * v.height * 4);
+        for py in 0..v.height {
+            for px in 0..v.width {
+                let mut darkest: Option<u8> = None;
+                for j in 0..k {
+                    let Some(r) = sample(py, v.v0, j, mh) else {
+                        continue;
+                    };
+                    for i in 0..k {
+                        let Some(c) = sample(px, v.u0, i, mw) else {
+                            continue;
+                        };
+                        let gray = cell_gray(g.model(), g.cell_at(c, mh - 1 - r).unwrap());
+                        darkest = Some(darkest.map_or(gray, |d| d.min(gray)));
+                    }
+                }
+                out.extend_from_slice(&darkest.map_or(OUTSIDE, |d| [d, d, d, 255]));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn viewport_render_looks_a_tile_up_once_per_sample_row_and_equals_the_reference() {
+        use crate::grid::storage::TILE_SIDE;
+        // 1,000 x 800 cells, tiles allocated in a checkerboard, walls and
+        // free space of many levels crossing tile borders.
+        let e = GridGeometry::sparse(1000, 800, 0.05, 0.0, 0.0).unwrap();
+        let mut g = TiledGrid::new(
+            e,
+            FilterSettings {
+                prior: 0.5,
+                clamp: 3.0,
+            },
+            1 << 22,
+        )
+        .unwrap();
+        for iy in 0..800 {
+            for ix in 0..1000 {
+                if (ix / TILE_SIDE + iy / TILE_SIDE) % 2 == 0 && (ix * 7 + iy * 3) % 5 != 0 {
+                    g.apply_at(ix, iy, ((ix * 13 + iy * 29) % 61) as f32 / 10.0 - 3.0);
+                }
+            }
+        }
+        let mut views = Vec::new();
+        let mut v = MapViewport::new(1000, 800, 250, 200).unwrap();
+        views.push(v);
+        // Half the fitted scale (8 cells to a pixel, map inside blue-gray),
+        // then closer and closer, panned off the map's corner.
+        for factor in [0.5, 2.0, 3.0, 1.7, 5.0, 4.0] {
+            v.zoom_at(37.0, 151.0, factor).unwrap();
+            views.push(v);
+            let mut panned = v;
+            panned.pan_by(90.0, -70.0).unwrap();
+            views.push(panned);
+        }
+        for v in views {
+            let mut out = vec![0; v.width * v.height * 4];
+            let lookups = render_counting_lookups(&g, &v, &mut out);
+            assert!(
+                out == reference_render(&g, &v),
+                "pixels at scale {}",
+                v.scale
+            );
+            // Each output row's samples rows each cross the view's tiles
+            // once, west to east.
+            let k = ((1.0 / v.scale).ceil() as usize).clamp(1, MAX_SAMPLES);
+            let tiles_across = (v.width as f64 / v.scale / TILE_SIDE as f64).ceil() as usize + 1;
+            let bound = v.height * k * (tiles_across + 1);
+            assert!(
+                lookups <= bound,
+                "{lookups} lookups at scale {}, bound {bound}",
+                v.scale
+            );
+        }
     }
 }
