@@ -7,7 +7,7 @@
 use super::settings::{CheckedSettings, LogPoses};
 use crate::error::{invalid, show, Result};
 use crate::geometry::{GridGeometry, Pose};
-use crate::grid::storage::{mebibytes, TILE_CELLS, TILE_SIDE};
+use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
 use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{tiles_reached, BeamReach};
 use crate::sensors::Scan;
@@ -62,6 +62,12 @@ pub(super) fn check_tile_budget(
     plan: impl Fn(&CheckedSettings) -> Result<GridGeometry>,
 ) -> Result<()> {
     let budget_tiles = (budget_cells / TILE_CELLS).max(1);
+    // A map whose every tile fits needs no walk (most logs: only the
+    // largest maps pay for counting the tiles their beams reach).
+    let (tx, ty) = tiles_of(extent);
+    if tx.saturating_mul(ty) <= budget_tiles {
+        return Ok(());
+    }
     let needed = tiles_needed(scans, poses, extent, c);
     if needed <= budget_tiles {
         return Ok(());
