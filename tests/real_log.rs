@@ -23,19 +23,8 @@ use occgrid::io::map_server::map_server_pair;
 use occgrid::mapping::traversal::RayMapper;
 use occgrid::mapping::walls::WallModel;
 
-/// A log as text: one FLASER line per `(x, y, theta, ranges)`.
-fn flaser_log(scans: &[(f64, f64, f64, Vec<f64>)]) -> Vec<u8> {
-    let mut text = String::new();
-    for (k, (x, y, th, rs)) in scans.iter().enumerate() {
-        let r: Vec<String> = rs.iter().map(|r| format!("{r:.3}")).collect();
-        text.push_str(&format!(
-            "FLASER {} {} {x} {y} {th} {x} {y} {th} {k} host {k}\n",
-            rs.len(),
-            r.join(" ")
-        ));
-    }
-    text.into_bytes()
-}
+mod log_support;
+use log_support::flaser_log;
 
 fn build(bytes: &[u8], settings: LogMapSettings) -> LogPane {
     let scans = LaserScans::read(bytes).unwrap();

@@ -8,19 +8,8 @@
 use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane, LogPoses, RealLogSession};
 use occgrid::io::carmen::LaserScans;
 
-/// A log as text: one FLASER line per `(x, y, theta, ranges)`.
-fn flaser_log(scans: &[(f64, f64, f64, Vec<f64>)]) -> Vec<u8> {
-    let mut text = String::new();
-    for (k, (x, y, th, rs)) in scans.iter().enumerate() {
-        let r: Vec<String> = rs.iter().map(|r| format!("{r:.3}")).collect();
-        text.push_str(&format!(
-            "FLASER {} {} {x} {y} {th} {x} {y} {th} {k} host {k}\n",
-            rs.len(),
-            r.join(" ")
-        ));
-    }
-    text.into_bytes()
-}
+mod log_support;
+use log_support::flaser_log;
 
 fn pane(bytes: &[u8], settings: LogMapSettings) -> LogPane {
     LogPane::new(LaserScans::read(bytes).unwrap(), settings).unwrap()

@@ -438,18 +438,19 @@ mod tests {
         assert!(v.resize(9000, 10).is_err());
     }
 
+    /// An empty tiled map of 1,000 x 800 cells of 5 cm, clamped at 3.
+    fn tiled_map() -> TiledGrid {
+        let e = GridGeometry::sparse(1000, 800, 0.05, 0.0, 0.0).unwrap();
+        let filter = FilterSettings {
+            prior: 0.5,
+            clamp: 3.0,
+        };
+        TiledGrid::new(e, filter, 1 << 22).unwrap()
+    }
+
     #[test]
     fn viewport_render_is_the_screen_size_and_keeps_thin_walls_when_zoomed_out() {
-        let e = GridGeometry::sparse(1000, 800, 0.05, 0.0, 0.0).unwrap();
-        let mut g = TiledGrid::new(
-            e,
-            FilterSettings {
-                prior: 0.5,
-                clamp: 3.0,
-            },
-            1 << 22,
-        )
-        .unwrap();
+        let mut g = tiled_map();
         // A one-cell wall along column 500, free space to its left.
         for iy in 0..800 {
             g.apply_at(500, iy, 3.0);
@@ -518,16 +519,7 @@ mod tests {
         use crate::grid::storage::TILE_SIDE;
         // 1,000 x 800 cells, tiles allocated in a checkerboard, walls and
         // free space of many levels crossing tile borders.
-        let e = GridGeometry::sparse(1000, 800, 0.05, 0.0, 0.0).unwrap();
-        let mut g = TiledGrid::new(
-            e,
-            FilterSettings {
-                prior: 0.5,
-                clamp: 3.0,
-            },
-            1 << 22,
-        )
-        .unwrap();
+        let mut g = tiled_map();
         for iy in 0..800 {
             for ix in 0..1000 {
                 if (ix / TILE_SIDE + iy / TILE_SIDE) % 2 == 0 && (ix * 7 + iy * 3) % 5 != 0 {
