@@ -411,6 +411,10 @@ test('Map Weaver’s real-log mode is driven by keyboard alone', async () => {
     const p = document.querySelector(s).realLog;
     return { state: p.root.dataset.state, applied: p.applied, geometry: p.geometry, name: p.name, scans: p.root.dataset.scans };
   }, W);
+  // The browser intercepts file choosers only once it has been asked to, and the
+  // asking is a message of its own: asked here, it is in place long before the key
+  // press below (asked with the press, the chooser can open unseen and never come).
+  const chooserOpened = page.waitForEvent('filechooser', { timeout: 120_000 });
   await w.scrollIntoViewIfNeeded();
   await until(page, (s) => document.querySelector(s).dataset.scans === '0', W, 60_000);
   await operate(page, W, 'input[type=radio]', 'Simulated apartment', 'ArrowRight');
@@ -418,7 +422,9 @@ test('Map Weaver’s real-log mode is driven by keyboard alone', async () => {
 
   // The file input opens the file chooser from the keyboard.
   await tabTo(page, W, 'input[type=file]', 'Open a CARMEN log');
-  const [chooser] = await Promise.all([page.waitForEvent('filechooser'), page.keyboard.press('Space')]);
+  assert.equal(await page.evaluate(() => document.activeElement?.type), 'file');
+  await page.keyboard.press('Space');
+  const chooser = await chooserOpened;
   await chooser.setFiles(path.join(DATASETS, 'aces-corrected.log.gz'));
   await until(page, (s) => document.querySelector(s).realLog.root.dataset.state === 'done', W, 30_000);
   assert.equal((await panel()).name, 'aces-corrected.log.gz');
