@@ -4,13 +4,14 @@
 //
 //   dist/index.html, chapter.css, favicon.svg   the chapter page (www/)
 //   dist/widgets/                               the widgets (widgets/)
-//   dist/pkg/occgrid.HASH.js, occgrid_bg.HASH.wasm  the core (pkg/)
+//   dist/pkg/occgrid.HASH.js, occgrid_bg.HASH.wasm  the core: the chapter's widgets (pkg/)
+//   dist/pkg/occgrid_logs.HASH.js, occgrid_logs_bg.HASH.wasm  and real logs, loaded on demand
 //   dist/vendor/uplot/                          uPlot (node_modules/uplot/dist/)
 //   dist/datasets/README.md                     an empty list of real logs, for a host to fill
 //   dist/custom-elements.json                   the widgets' Custom Elements Manifest, for editors
 //   dist/occgrid-bundle.json                    what was written, and from which core
 //
-// The core's two files carry a hash of their content in their names and the
+// The core's files carry a hash of their content in their names and the
 // loader in dist/widgets/lib/core.js names them, so a browser or a CDN that
 // caches the old core never pairs it with a new page: a new core is a new URL.
 // Every URL inside the bundle is relative; the run fails if one is not, or if
@@ -36,9 +37,12 @@ const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const MARKER = 'occgrid-bundle.json';
 /** The widgets' Custom Elements Manifest, at the bundle's root. */
 const ELEMENTS = 'custom-elements.json';
-/** The specifiers widgets/lib/core.js loads the core by (rewritten in the bundle). */
-const CORE_GLUE = '../../pkg/occgrid.js';
-const CORE_WASM = '../../pkg/occgrid_bg.wasm';
+/**
+ * The core's two wasm modules (scripts/build.sh), by their file stems in
+ * pkg/: widgets/lib/core.js loads each by `../../pkg/STEM.js` and
+ * `../../pkg/STEM_bg.wasm`, specifiers rewritten in the bundle.
+ */
+const CORE_MODULES = ['occgrid', 'occgrid_logs'];
 const UPLOT_FILES = ['uPlot.esm.js', 'uPlot.min.css'];
 /**
  * The bundle's datasets/README.md: the real-log panel reads the logs to
@@ -89,9 +93,8 @@ function newest(p) {
 
 /** Makes sure pkg/ holds a core built from the current sources. */
 function ensureCore() {
-  const wasm = path.join(root, 'pkg/occgrid_bg.wasm');
-  const glue = path.join(root, 'pkg/occgrid.js');
-  const built = Math.min(newest(wasm), newest(glue));
+  const files = CORE_MODULES.flatMap((stem) => [path.join(root, `pkg/${stem}_bg.wasm`), path.join(root, `pkg/${stem}.js`)]);
+  const built = Math.min(...files.map(newest));
   const sources = Math.max(...['src', 'Cargo.toml', 'Cargo.lock'].map((p) => newest(path.join(root, p))));
   if (built > 0 && (sources === 0 || built >= sources)) return;
   console.error(built === 0
@@ -99,7 +102,7 @@ function ensureCore() {
     : 'dist: pkg/ is older than the Rust sources; rebuilding it (bash scripts/build.sh)');
   // The build's own output to standard error as well.
   const r = spawnSync('bash', ['scripts/build.sh'], { cwd: root, stdio: ['ignore', 2, 2] });
-  if (r.status !== 0 || !fs.existsSync(wasm) || !fs.existsSync(glue)) {
+  if (r.status !== 0 || !files.every((f) => fs.existsSync(f))) {
     throw new DistError('building the wasm core failed (see above). It needs the Rust toolchain and wasm-pack: '
       + 'run `bash scripts/setup.sh`, then `npm run build`, then `npm run dist` again.');
   }
@@ -211,25 +214,29 @@ function build({ out }) {
 
     const pkg = path.join(stage, 'pkg');
     fs.mkdirSync(pkg, { recursive: true });
-    const wasmBytes = fs.readFileSync(path.join(root, 'pkg/occgrid_bg.wasm'));
-    const wasmName = `occgrid_bg.${hashOf(wasmBytes)}.wasm`;
-    fs.writeFileSync(path.join(pkg, wasmName), wasmBytes);
-    files.push(path.join(pkg, wasmName));
     // Code the glue imports from the crate's JS snippets, if any, goes along.
     const snippets = path.join(root, 'pkg/snippets');
     if (fs.existsSync(snippets)) copyTree(snippets, path.join(pkg, 'snippets'), files);
-    // The glue's own fallback (used by a bare `init()`) names the same file.
-    const glueText = replaceOnce(fs.readFileSync(path.join(root, 'pkg/occgrid.js'), 'utf8'),
-      "'occgrid_bg.wasm'", `'${wasmName}'`, 'pkg/occgrid.js');
-    const glueName = `occgrid.${hashOf(glueText)}.js`;
-    fs.writeFileSync(path.join(pkg, glueName), glueText);
-    files.push(path.join(pkg, glueName));
-
     const loader = path.join(stage, 'widgets/lib/core.js');
     let text = fs.readFileSync(loader, 'utf8');
-    text = replaceOnce(text, `'${CORE_GLUE}'`, `'../../pkg/${glueName}'`, 'widgets/lib/core.js');
-    text = replaceOnce(text, `'${CORE_WASM}'`, `'../../pkg/${wasmName}'`, 'widgets/lib/core.js');
+    const hashed = {};
+    for (const stem of CORE_MODULES) {
+      const wasmBytes = fs.readFileSync(path.join(root, `pkg/${stem}_bg.wasm`));
+      const wasmName = `${stem}_bg.${hashOf(wasmBytes)}.wasm`;
+      fs.writeFileSync(path.join(pkg, wasmName), wasmBytes);
+      files.push(path.join(pkg, wasmName));
+      // The glue's own fallback (used by a bare `init()`) names the same file.
+      const glueText = replaceOnce(fs.readFileSync(path.join(root, `pkg/${stem}.js`), 'utf8'),
+        `'${stem}_bg.wasm'`, `'${wasmName}'`, `pkg/${stem}.js`);
+      const glueName = `${stem}.${hashOf(glueText)}.js`;
+      fs.writeFileSync(path.join(pkg, glueName), glueText);
+      files.push(path.join(pkg, glueName));
+      text = replaceOnce(text, `'../../pkg/${stem}.js'`, `'../../pkg/${glueName}'`, 'widgets/lib/core.js');
+      text = replaceOnce(text, `'../../pkg/${stem}_bg.wasm'`, `'../../pkg/${wasmName}'`, 'widgets/lib/core.js');
+      hashed[stem] = { wasm: `pkg/${wasmName}`, glue: `pkg/${glueName}` };
+    }
     fs.writeFileSync(loader, text);
+    const { wasm: wasmPath, glue: gluePath } = hashed.occgrid;
 
     const vendor = path.join(stage, 'vendor/uplot');
     fs.mkdirSync(vendor, { recursive: true });
@@ -245,15 +252,16 @@ function build({ out }) {
     checkUrls(stage, files.filter((f) => !/^(?:pkg|vendor)\//.test(path.relative(stage, f).split(path.sep).join('/'))));
 
     const elements = path.join(stage, ELEMENTS);
-    fs.writeFileSync(elements, JSON.stringify(customElementsManifest(stage, { glue: `pkg/${glueName}`, wasm: `pkg/${wasmName}` }), null, 2) + '\n');
+    fs.writeFileSync(elements, JSON.stringify(customElementsManifest(stage, { glue: gluePath, wasm: wasmPath }), null, 2) + '\n');
     files.push(elements);
 
     const version = JSON.parse(fs.readFileSync(path.join(root, 'package.json'), 'utf8')).version;
     const manifest = {
       name: 'occgrid',
       version,
-      wasm: `pkg/${wasmName}`,
-      glue: `pkg/${glueName}`,
+      wasm: wasmPath,
+      glue: gluePath,
+      logs: hashed.occgrid_logs,
       files: files.map((f) => path.relative(stage, f).split(path.sep).join('/')).sort(),
     };
     fs.writeFileSync(path.join(stage, MARKER), JSON.stringify(manifest, null, 2) + '\n');

@@ -125,7 +125,7 @@ async function main() {
   } catch (e) {
     throw new Error(`cannot read ${log}: ${e.message}`);
   }
-  const { core } = await loadCore();
+  const { core } = await loadCore({ logs: true });
   const session = new core.RealLogSession(bytes);
   try {
     session.configure(settings);

@@ -236,7 +236,7 @@ if (process.argv[1] && fileURLToPath(import.meta.url) === path.resolve(process.a
     console.error(`invalid PORT: ${process.env.PORT} (expected a whole number from 0 to 65535)`);
     process.exit(2);
   }
-  if (!fs.existsSync(path.join(root, 'pkg/occgrid_bg.wasm'))) {
+  if (!['occgrid_bg.wasm', 'occgrid_logs_bg.wasm'].every((f) => fs.existsSync(path.join(root, 'pkg', f)))) {
     console.error('pkg/ is missing: run `npm start` (or `npm run build`) first.');
     process.exit(1);
   }

@@ -15,7 +15,7 @@
 // a slice per task and draws. The one figure measured here is the wall time
 // from choosing a file to the finished map, file reading included.
 //
-// Usage: `new RealLogPanel(container, await loadCore(), { settings, log })`
+// Usage: `new RealLogPanel(container, await loadLogCore(), { settings, log })`
 // (both optional: starting settings, and a log of /datasets/ to load once
 // the panel is first on screen); `linkState()` gives them back as they are
 // now; `dispose()` frees the panel. Its control groups are marked

@@ -22,7 +22,7 @@
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed, log-model, log-compare-model.
-import { loadCore } from './lib/core.js';
+import { loadCore, loadLogCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
 import { fastForward, trainInSlices, workBudget, workOnce } from './lib/work-budget.js';
@@ -857,8 +857,9 @@ class MapWeaverElement extends HTMLElement {
     if (this.realLog || this.loadingLog) return;
     this.loadingLog = true;
     try {
-      const { RealLogPanel } = await import('./map-weaver-log.js');
-      this.realLog = new RealLogPanel(this.logPanel, { core: this.core, memory: this.memory }, this.logOptions());
+      // The panel and the core's real-log module are fetched only now.
+      const [{ RealLogPanel }, logCore] = await Promise.all([import('./map-weaver-log.js'), loadLogCore()]);
+      this.realLog = new RealLogPanel(this.logPanel, logCore, this.logOptions());
       applyControls(this, this.values.controls);
     } catch (e) {
       this.logPanel.replaceChildren(el('p', { class: 'occgrid-caption map-weaver-log-missing' },

@@ -83,7 +83,7 @@ function instrument() {
 async function collect() {
   const w = window.__logsBrowserBench;
   const panel = document.querySelector('.map-weaver-log');
-  const { memory } = await (await import('/widgets/lib/core.js')).loadCore();
+  const { memory } = await (await import('/widgets/lib/core.js')).loadLogCore();
   const status = panel.querySelector('.map-weaver-log-status')?.textContent ?? '';
   const error = panel.querySelector(':scope > .occgrid-error')?.textContent ?? null;
   const num = (re) => {

@@ -8,17 +8,20 @@ import { fileURLToPath, pathToFileURL } from 'node:url';
 export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 
 /**
- * The core the page ships (pkg/), or with `bench` the same core with the
- * benchmark workloads' entry points (pkg-bench/), built when missing (and,
- * with `rebuild`, always: cargo makes that quick when nothing changed).
+ * A module of the core the page ships (pkg/): the chapter's widgets, or with
+ * `logs` the real-log module (`RealLogSession`); with `bench`, one module
+ * holding both and the benchmark workloads' entry points (pkg-bench/).
+ * Built when missing (and, with `rebuild`, always: cargo makes that quick
+ * when nothing changed).
  */
-export async function loadCore({ bench = false, rebuild = false } = {}) {
+export async function loadCore({ bench = false, rebuild = false, logs = false } = {}) {
   const dir = bench ? 'pkg-bench' : 'pkg';
-  const wasmPath = path.join(root, dir, 'occgrid_bg.wasm');
+  const stem = logs && !bench ? 'occgrid_logs' : 'occgrid';
+  const wasmPath = path.join(root, dir, `${stem}_bg.wasm`);
   if (rebuild || !fs.existsSync(wasmPath)) {
     execFileSync('bash', [path.join(root, 'scripts/build.sh'), ...(bench ? ['--bench'] : [])], { stdio: ['ignore', process.stderr, 'inherit'] });
   }
-  const core = await import(pathToFileURL(path.join(root, dir, 'occgrid.js')).href);
+  const core = await import(pathToFileURL(path.join(root, dir, `${stem}.js`)).href);
   const exports = await core.default({ module_or_path: fs.readFileSync(wasmPath) });
   return { core, memory: exports.memory };
 }

@@ -18,16 +18,27 @@
 
 use wasm_bindgen::prelude::*;
 
+// Each widget's bindings belong to one of the two wasm modules (the
+// `chapter` and `logs` features, Cargo.toml); the helpers below, and the
+// map archive every export button uses, to both.
 #[cfg(feature = "bench")]
 pub mod bench;
+#[cfg(feature = "chapter")]
 pub mod cell_filter;
+#[cfg(feature = "chapter")]
 pub mod doorway_trap;
 pub mod guarded;
+#[cfg(feature = "chapter")]
 pub mod inverse_workbench;
+pub mod map_files;
+#[cfg(feature = "chapter")]
 pub mod map_weaver;
 pub mod plain;
+#[cfg(feature = "logs")]
 pub mod real_log;
+#[cfg(feature = "chapter")]
 pub mod sensor_fusion;
+#[cfg(feature = "chapter")]
 pub mod two_cell_table;
 
 #[wasm_bindgen(start)]
@@ -42,6 +53,7 @@ fn start() {
 /// maxDensity }, sensorFusion: { defaultLidarBeams, maxLidarBeams },
 /// twoCellTable: { maxRange, halfConeDeg } }`, each preset `{ pOcc, pFree,
 /// prior, clamp, readings, subtractPrior }`.
+#[cfg(feature = "chapter")]
 #[wasm_bindgen]
 pub fn constants() -> Result<JsValue, JsError> {
     to_js(&crate::apps::Constants::chapter())
@@ -109,6 +121,7 @@ pub(crate) fn object_from_js<T: serde::de::DeserializeOwned>(
 /// each replacing that field (`null` clears an optional one); the fields
 /// left out keep their values. The result is read as strictly as a whole
 /// settings object, so a misspelt field is refused by name.
+#[cfg(feature = "chapter")]
 pub(crate) fn patch_from_js<T: serde::Serialize + serde::de::DeserializeOwned>(
     what: &str,
     current: &T,
@@ -204,6 +217,7 @@ fn json_head(value: &JsValue) -> Option<String> {
 
 /// A true-or-false parameter from JavaScript: `true` or `false` and
 /// nothing else (no truthiness: `"false"` is a string, not false).
+#[cfg(feature = "chapter")]
 pub(crate) fn bool_from_js(field: &str, value: &JsValue) -> Result<bool, JsError> {
     value.as_bool().ok_or_else(|| {
         JsError::new(&format!(
@@ -228,6 +242,7 @@ pub(crate) fn number_from_js(field: &str, value: &JsValue) -> Result<f64, JsErro
 
 /// An optional number parameter: `undefined` or `null` is `None`, anything
 /// else must be a number (see [`number_from_js`]).
+#[cfg(feature = "chapter")]
 pub(crate) fn optional_number_from_js(
     field: &str,
     value: &JsValue,
@@ -345,9 +360,11 @@ pub(crate) fn bytes_from_js(
 /// An RGBA image of a map, kept in wasm memory so that a widget draws it
 /// through a `Uint8ClampedArray` view over `memory.buffer` instead of
 /// copying cells one by one (rebuild the view when `memory.buffer` changes).
+#[cfg(feature = "chapter")]
 #[derive(Default)]
 pub(crate) struct Pixels(Vec<u8>);
 
+#[cfg(feature = "chapter")]
 impl Pixels {
     /// Renders `grid` (north up) and returns the address of its pixels.
     pub(crate) fn render(&mut self, grid: &crate::grid::LogOddsGrid) -> *const u8 {
@@ -376,6 +393,7 @@ pub(crate) fn map_pair_to_js(
 
 /// Optional settings: `undefined` or `null` take `default()`, anything else
 /// must be an object of named settings (see [`object_from_js`]).
+#[cfg(feature = "chapter")]
 pub(crate) fn object_or_default<T: serde::de::DeserializeOwned>(
     what: &str,
     value: JsValue,

@@ -10,7 +10,6 @@ use super::{
     number_from_js, object_from_js, string_from_js, to_js,
 };
 use crate::apps::real_log::{self as app, LogMapSettings, SettingLimits};
-use crate::io::map_server as export;
 use wasm_bindgen::prelude::*;
 
 /// What a log's bytes may come as.
@@ -394,27 +393,4 @@ impl RealLogSession {
             session: app::RealLogSession::new(bytes),
         }
     }
-}
-
-/// Packs an exported pair into one zip download for `downloadMapPair`
-/// (widgets/lib/export.js): `{ fileName, bytes: Uint8Array }`, the archive
-/// holding `STEM.pgm` and `STEM.yaml` with the YAML's `image:` pointing at
-/// the PGM. `name` and `yaml` are strings, `pgm` a `Uint8Array`.
-#[wasm_bindgen(js_name = zipMapPair)]
-pub fn zip_map_pair(name: JsValue, pgm: JsValue, yaml: JsValue) -> Result<JsValue, JsError> {
-    let name = string_from_js("name", &name, "a file name")?;
-    let pgm = bytes_from_js("pgm", &pgm, "the Uint8Array of an exported pair")?;
-    let yaml = string_from_js("yaml", &yaml, "the YAML text of an exported pair")?;
-    let (file_name, bytes) = export::zip_pair(&export::MapServerPair { pgm, yaml }, &name);
-    let out = js_sys::Object::new();
-    js_sys::Reflect::set(&out, &"fileName".into(), &JsValue::from_str(&file_name))
-        .and_then(|_| {
-            js_sys::Reflect::set(
-                &out,
-                &"bytes".into(),
-                &js_sys::Uint8Array::from(bytes.as_slice()).into(),
-            )
-        })
-        .map_err(|_| JsError::new("cannot build the zip object"))?;
-    Ok(out.into())
 }

@@ -161,20 +161,23 @@ async function checkFive(url, shot) {
 function checkBundle(dir) {
   const manifest = JSON.parse(fs.readFileSync(path.join(dir, 'occgrid-bundle.json'), 'utf8'));
   const pkg = fs.readdirSync(path.join(dir, 'pkg'));
-  const wasm = pkg.filter((f) => f.endsWith('.wasm'));
-  assert.equal(wasm.length, 1, `one wasm file: ${pkg}`);
-  assert.equal(`pkg/${wasm[0]}`, manifest.wasm);
-  // The name carries the content's hash: another core is another URL.
-  const bytes = fs.readFileSync(path.join(dir, manifest.wasm));
-  const hash = /^occgrid_bg\.([0-9a-f]{16})\.wasm$/.exec(wasm[0])?.[1];
-  assert.ok(hash, `hashed wasm name: ${wasm[0]}`);
-  assert.equal(crypto.createHash('sha256').update(bytes).digest('hex').slice(0, 16), hash);
-  assert.ok(WebAssembly.validate(bytes), 'the wasm is a valid module');
-  const glue = fs.readFileSync(path.join(dir, manifest.glue));
-  assert.ok(manifest.glue.endsWith(`.${crypto.createHash('sha256').update(glue).digest('hex').slice(0, 16)}.js`), manifest.glue);
+  const wasm = pkg.filter((f) => f.endsWith('.wasm')).sort();
+  // Two modules: the chapter's widgets, and real logs (loaded on demand).
+  assert.deepEqual(wasm.map((f) => `pkg/${f}`), [manifest.wasm, manifest.logs.wasm].sort(), `two wasm files: ${pkg}`);
   const loader = fs.readFileSync(path.join(dir, 'widgets/lib/core.js'), 'utf8');
-  assert.ok(loader.includes(`'../../${manifest.wasm}'`) && loader.includes(`'../../${manifest.glue}'`), 'the loader names the hashed files');
-  assert.ok(!loader.includes('occgrid_bg.wasm') && !loader.includes("'../../pkg/occgrid.js'"), 'and no unhashed one');
+  for (const [stem, files] of [['occgrid', manifest], ['occgrid_logs', manifest.logs]]) {
+    // The name carries the content's hash: another core is another URL.
+    const bytes = fs.readFileSync(path.join(dir, files.wasm));
+    const hash = new RegExp(`^pkg/${stem}_bg\\.([0-9a-f]{16})\\.wasm$`).exec(files.wasm)?.[1];
+    assert.ok(hash, `hashed wasm name: ${files.wasm}`);
+    assert.equal(crypto.createHash('sha256').update(bytes).digest('hex').slice(0, 16), hash);
+    assert.ok(WebAssembly.validate(bytes), `${files.wasm} is a valid module`);
+    const glue = fs.readFileSync(path.join(dir, files.glue));
+    assert.ok(files.glue.startsWith(`pkg/${stem}.`), files.glue);
+    assert.ok(files.glue.endsWith(`.${crypto.createHash('sha256').update(glue).digest('hex').slice(0, 16)}.js`), files.glue);
+    assert.ok(loader.includes(`'../../${files.wasm}'`) && loader.includes(`'../../${files.glue}'`), `the loader names ${stem}'s hashed files`);
+    assert.ok(!loader.includes(`${stem}_bg.wasm'`) && !loader.includes(`'../../pkg/${stem}.js'`), 'and no unhashed one');
+  }
   // What the widgets import, at the place they import it from.
   for (const f of ['index.html', 'chapter.css', 'widgets/map-weaver.js', 'widgets/lib/occgrid.css', 'vendor/uplot/uPlot.esm.js', 'vendor/uplot/uPlot.min.css']) {
     assert.ok(fs.existsSync(path.join(dir, f)), `${f} is in the bundle`);
@@ -286,8 +289,9 @@ test('dist/ and the package carry a Custom Elements Manifest that says what each
 test('npm run dist writes a self-contained bundle whose core is named by its content', () => {
   const manifest = checkBundle(dist);
   assert.ok(!fs.existsSync(path.join(dist, 'pkg/.gitignore')), 'no .gitignore from wasm-pack hides the core');
-  // The wasm is the one pkg/ holds, only renamed.
+  // Each wasm is the one pkg/ holds, only renamed.
   assert.ok(fs.readFileSync(path.join(dist, manifest.wasm)).equals(fs.readFileSync(path.join(root, 'pkg/occgrid_bg.wasm'))));
+  assert.ok(fs.readFileSync(path.join(dist, manifest.logs.wasm)).equals(fs.readFileSync(path.join(root, 'pkg/occgrid_logs_bg.wasm'))));
 });
 
 test('npm pack carries the same files as dist/, built wasm included', () => {
@@ -309,7 +313,30 @@ test('the chapter page served from dist/ by python3 -m http.server: all five wid
   const requested = await checkFive(`${origin}/index.html`, 'dist-chapter');
   assert.ok(requested.includes(`${origin}/${manifest.wasm}`), `the page fetched ${manifest.wasm}: ${requested.join(', ')}`);
   assert.ok(requested.includes(`${origin}/${manifest.glue}`), `and ${manifest.glue}`);
-  assert.deepEqual(requested.filter((u) => /\/pkg\/occgrid(_bg)?\.(js|wasm)$/.test(u)), [], 'no unhashed core file');
+  assert.deepEqual(requested.filter((u) => /\/pkg\/occgrid(_logs)?(_bg)?\.(js|wasm)$/.test(u)), [], 'no unhashed core file');
+  // The real-log module is not fetched by a page that opens no log.
+  assert.deepEqual(requested.filter((u) => u.includes('/pkg/occgrid_logs')), [], 'no real-log module on load');
+});
+
+test('the bundle’s Map Weaver fetches the hashed real-log module when its real-log mode opens, and reads a log with it', async () => {
+  const manifest = checkBundle(dist);
+  const origin = await python(dist);
+  const { page: p, errors, close } = await openPage(`${origin}/index.html`, { reducedMotion: 'reduce' });
+  try {
+    const w = p.locator('occgrid-map-weaver');
+    await w.scrollIntoViewIfNeeded();
+    const fetched = () => p.evaluate(() => performance.getEntriesByType('resource').map((e) => e.name).filter((u) => u.includes('/pkg/occgrid_logs')));
+    await p.waitForFunction(() => Number(document.querySelector('occgrid-map-weaver')?.dataset.scans) >= 0, null, { timeout: 60_000 });
+    assert.deepEqual(await fetched(), [], 'nothing of the log module before the mode opens');
+    await w.getByLabel('Real log').check();
+    const log = 'FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n'.repeat(5);
+    await w.locator('.map-weaver-log input[type=file]').setInputFiles({ name: 'tiny.log', mimeType: 'text/plain', buffer: Buffer.from(log) });
+    await p.waitForFunction(() => document.querySelector('.map-weaver-log')?.dataset.state === 'done', null, { timeout: 60_000 });
+    assert.deepEqual((await fetched()).map((u) => new URL(u).pathname.slice(1)).sort(), [manifest.logs.glue, manifest.logs.wasm].sort());
+    assert.deepEqual(errors, []);
+  } finally {
+    await close();
+  }
 });
 
 test('a course page beside the bundle embeds all five widgets with one script tag each, under the README’s CSP', async () => {

@@ -94,7 +94,7 @@ test('log-model and log-compare-model are checked like the other attributes and 
   const none = await page.evaluate(() => document.getElementById('models').linkState());
   assert.equal(none['log-compare-model'], 'none');
   // The attribute's default is the core's.
-  const core = await page.evaluate(async () => (await (await import('/widgets/lib/core.js')).loadCore()).core.RealLogSession.defaultSettings().model);
+  const core = await page.evaluate(async () => (await (await import('/widgets/lib/core.js')).loadLogCore()).core.RealLogSession.defaultSettings().model);
   const { LOG_MODEL_DEFAULT } = await page.evaluate(async () => ({ ...(await import('/widgets/lib/log-models.js')) }));
   assert.equal(LOG_MODEL_DEFAULT, core);
   assert.ok(errors.every((e) => /log-model|log-compare-model/.test(e)), errors.join(' | '));

@@ -13,6 +13,8 @@ import { loadCore } from '../../scripts/lib/load-core.mjs';
 import { CELL_FILTER_DEFAULTS, MAP_WEAVER_LOG_DEFAULTS } from '../../widgets/lib/defaults.js';
 
 const { core } = await loadCore();
+/** The real-log module of the core (`RealLogSession`), loaded on its own as the page does. */
+const logs = (await loadCore({ logs: true })).core;
 const k = core.constants();
 const readme = fs.readFileSync(path.resolve(import.meta.dirname, '../../README.md'), 'utf8');
 
@@ -193,7 +195,7 @@ test('Map Weaver offers the beam counts of the scene’s LiDAR, and refuses the 
 
 test('Map Weaver’s real-log defaults are the core’s, in the widget and the README', () => {
   // Written as the panel's link writes each setting (map-weaver.js, LOG_FIELDS).
-  const d = core.RealLogSession.defaultSettings();
+  const d = logs.RealLogSession.defaultSettings();
   const expected = {
     'log-resolution': String(d.resolution), 'log-range-cap': String(d.rangeCap), 'log-alpha': d.alpha.toFixed(2),
     'log-l-occ': d.lOcc.toFixed(2), 'log-l-free': d.lFree.toFixed(2), 'log-clamp': d.clamp.toFixed(1),

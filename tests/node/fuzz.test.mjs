@@ -1,4 +1,5 @@
-// Every export of the wasm core the page ships (pkg/occgrid.js), called
+// Every export of the wasm core the page ships (both of its modules,
+// pkg/occgrid.js and pkg/occgrid_logs.js), called
 // with hostile values: revoked Proxies, Proxies and getters that throw,
 // objects whose valueOf / toString / Symbol.toPrimitive / toJSON free the
 // instance being called, NaN, the infinities, huge and negative numbers,
@@ -18,7 +19,8 @@ import test from 'node:test';
 import assert from 'node:assert/strict';
 import { loadCore } from '../../scripts/lib/load-core.mjs';
 
-const { core } = await loadCore();
+// One namespace of the two modules' exports (each class keeps its own module's memory).
+const core = { ...(await loadCore()).core, ...(await loadCore({ logs: true })).core };
 
 /** The random calls after the sweep; with the sweep, a few seconds in all. */
 const RANDOM_CALLS = 2000;

@@ -10,6 +10,8 @@ import { loadCore } from '../../scripts/lib/load-core.mjs';
 import { refuses } from './refuses.mjs';
 
 const { core } = await loadCore();
+/** The real-log module of the core (`RealLogSession`), loaded on its own as the page does. */
+const logs = (await loadCore({ logs: true })).core;
 // The W1 benchmark's log parser ships only in the bench build.
 const bench = (await loadCore({ bench: true })).core;
 
@@ -153,11 +155,11 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   refuses(() => bench.LaserLog.fromBytes(new TextEncoder().encode('<html>\n')), 'line 1');
   for (const bad of [42, 'FLASER 1 2 0 0 0 0 0 0', undefined, {}, [70, 76]]) {
     refuses(() => bench.LaserLog.fromBytes(bad), 'invalid bytes', 'Uint8Array');
-    refuses(() => new core.RealLogSession(bad), 'invalid bytes', 'Uint8Array');
+    refuses(() => new logs.RealLogSession(bad), 'invalid bytes', 'Uint8Array');
   }
   assert.equal(bench.LaserLog.fromBytes(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n').buffer).scanCount, 1);
   refuses(() => bench.LaserLog.fromBytes(new Uint8Array([0x1f, 0x8b, 1, 2, 3])), 'line 1');
-  const s = new core.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  const s = new logs.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
   s.read(10);
   refuses(() => s.configure({ resolution: 'fine' }), 'settings.resolution');
   refuses(() => s.configure([0.1]), 'settings');
@@ -188,7 +190,7 @@ test('the doorway trap, the fusion widget and the log reader refuse garbage by n
   assert.deepEqual([s.view(0).width, s.view(0).height], [64, 48]);
   assert.equal(s.cellAtView(0, -1e9, 0), null);
   s.free();
-  const reading = new core.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
+  const reading = new logs.RealLogSession(new TextEncoder().encode('FLASER 3 1 2 3 0 0 0 0 0 0\n'));
   for (const bad of [-1, 0.5, NaN, 'all']) refuses(() => reading.read(bad), 'maxScans');
   assert.equal(reading.read(Infinity).finished, true);
   reading.free();

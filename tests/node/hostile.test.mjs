@@ -10,6 +10,8 @@ import { loadCore } from '../../scripts/lib/load-core.mjs';
 import { refuses } from './refuses.mjs';
 
 const { core } = await loadCore();
+/** The real-log module of the core (`RealLogSession`), loaded on its own as the page does. */
+const logs = (await loadCore({ logs: true })).core;
 
 const FLASER = new TextEncoder().encode(
   'FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n'.repeat(5));
@@ -117,7 +119,7 @@ function revoked() {
 }
 
 test('a revoked Proxy is an invalid settings object: the instance and the core stay usable', () => {
-  const s = new core.RealLogSession(FLASER);
+  const s = new logs.RealLogSession(FLASER);
   assert.equal(s.read(2).scans, 2);
   // `Array.isArray` on it threw through the core while the session was
   // borrowed: every later call said "recursive use of an object", and
@@ -160,7 +162,7 @@ test('a "__proto__" field of a settings or scene object is refused by name, not 
   refuses(() => new core.MapWeaver(JSON.parse('{"__proto__": {"laps": 1}}')), 'invalid settings', 'unknown field "__proto__"');
   refuses(() => new core.DoorwayTrap(JSON.parse('{"__proto__": {"seed": 3}}')), 'invalid scene', '"__proto__"');
   refuses(() => new core.SensorFusion(JSON.parse('{"lidar": {"__proto__": {"beams": 2}}}'), undefined), 'invalid scene.lidar', '"__proto__"');
-  const s = new core.RealLogSession(FLASER);
+  const s = new logs.RealLogSession(FLASER);
   s.read(Infinity);
   refuses(() => s.configure(JSON.parse('{"__proto__": {"clamp": 1}}')), 'invalid settings', '"__proto__"');
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
@@ -178,14 +180,14 @@ test('bytes are told by their internal slots: a Proxy or a look-alike of a Uint8
   const lying = new Uint8Array(log);
   Object.defineProperty(lying, 'length', { get() { throw new Error('no length'); } });
   // A real Uint8Array with a lying `length` is read by its real length.
-  assert.equal(new core.RealLogSession(lying).read(Infinity).scans, 5);
+  assert.equal(new logs.RealLogSession(lying).read(Infinity).scans, 5);
   const shrinking = new Uint8Array([1, 0, 1]);
   let asked = 0;
   Object.defineProperty(shrinking, 'length', { get() { asked += 1; return asked === 1 ? 3 : 1; } });
   assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, shrinking, true).steps.length, 3);
   assert.equal(asked, 0, 'the length getter never ran');
   for (const fake of [new Proxy(new Uint8Array(log), {}), Object.setPrototypeOf({ length: 3 }, Uint8Array.prototype), revoked()]) {
-    refuses(() => new core.RealLogSession(fake), 'invalid bytes', 'Uint8Array');
+    refuses(() => new logs.RealLogSession(fake), 'invalid bytes', 'Uint8Array');
     refuses(() => core.zipMapPair('m', fake, 'image: m.pgm\n'), 'invalid pgm');
     refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, fake, true), 'invalid readings');
   }
@@ -199,7 +201,7 @@ test('bytes are told by their internal slots: a Proxy or a look-alike of a Uint8
 });
 
 test('RealLogSession: throwing getters and proxies in settings, freeing valueOf in counts', () => {
-  const s = new core.RealLogSession(FLASER);
+  const s = new logs.RealLogSession(FLASER);
   assert.equal(s.read(Infinity).finished, true);
   assert.ok(s.configure({}));
   const getter = { get resolution() { throw new Error('boom'); } };
@@ -240,9 +242,9 @@ test('RealLogSession: throwing getters and proxies in settings, freeing valueOf 
 });
 
 test('a getter that frees its own session while configure reads it: freed cleanly, nothing else hurt', () => {
-  const s = new core.RealLogSession(FLASER);
+  const s = new logs.RealLogSession(FLASER);
   s.read(Infinity);
-  const other = new core.RealLogSession(FLASER);
+  const other = new logs.RealLogSession(FLASER);
   other.read(Infinity);
   const settings = { get clamp() { s.free(); return 3; } };
   // The free happens inside the call; the page asked for it, so the
