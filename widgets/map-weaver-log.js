@@ -46,11 +46,9 @@ const SLICE_MS = 25;
 const FIRST_SLICE_CELLS = 250_000;
 /**
  * Least time between two redraws while building, and REDRAW_SPACING times
- * the last redraw's (its view and side panes together: 10 ms on the Intel
- * log, 30 to 60 ms on the campus), so that redraws take at most a ninth of
- * a build: the Intel log is drawn once, when done, a long log a few times
- * a second. The counts are the finished map's (a count of every cell,
- * 30 ms on the campus, is not redone while it grows).
+ * the last redraw (view and side panes: 10 ms on the Intel log, 30-60 ms on
+ * the campus), so that redraws take at most a ninth of a build; the counts
+ * (every cell: 30 ms on the campus) wait for the finished map.
  */
 const DRAW_EVERY_MS = 250;
 const REDRAW_SPACING = 8;
@@ -429,8 +427,7 @@ export class RealLogPanel {
     }
     const ms = performance.now() - t;
     this.trace.push(['read', ms, n, report.work]);
-    // Sized by the work done (the scans read, or walked to plan the panes):
-    // a call the reader's own bounds cut short says little of the next.
+    // Sized by the work done (scans read, or walked to plan the panes).
     this.readBudget = nextChunk(n, ms, Math.max(1, report.work));
     const state = this.session.state();
     if (state.state !== 'reading') {
@@ -442,26 +439,20 @@ export class RealLogPanel {
     this.show(state, report.finished || this.progressDue());
   }
 
-  /**
-   * Draws the operated map, then (`finished`) its counts, then each map
-   * beside it, each in a task of its own; false if the panel went away.
-   */
+  /** Draws the operated map, its counts (`finished`), each map beside it, a task each; false if the panel went away. */
   async drawEach(finished = true) {
     // The view and the counts are a core call each: two tasks, not one.
-    const steps = [() => this.renderView()];
-    if (finished) steps.push(() => this.draw(false));
+    const steps = [() => this.renderView(), ...(finished ? [() => this.draw(false)] : [])];
     for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
-    let redrawMs = 0;
+    this.redrawMs = 0;
     for (const step of steps) {
       await this.pause();
       if (this.disposed || !this.session) return false;
       const t1 = performance.now();
       step();
-      const ms = performance.now() - t1;
-      redrawMs += ms;
-      this.trace.push(['draw', ms]);
+      this.trace.push(['draw', performance.now() - t1]);
+      this.redrawMs += this.trace.at(-1)[1];
     }
-    this.redrawMs = redrawMs;
     return true;
   }
 
