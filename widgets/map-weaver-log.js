@@ -45,11 +45,13 @@ const SLICE_MS = 25;
  */
 const FIRST_SLICE_CELLS = 250_000;
 /**
- * Least time between two redraws while building (and four times the last
- * redraw, which costs 10 ms on the Intel log and 200 ms on the campus):
- * the Intel log is drawn once, when done, a long log a few times a second.
+ * Least time between two redraws while building, and REDRAW_SPACING times
+ * the last redraw (view and side panes: 10 ms on the Intel log, 30-60 ms on
+ * the campus), so that redraws take at most a ninth of a build; the counts
+ * (every cell: 30 ms on the campus) wait for the finished map.
  */
 const DRAW_EVERY_MS = 250;
+const REDRAW_SPACING = 8;
 /** Least time between two updates of the progress bar and status line. */
 const PROGRESS_EVERY_MS = 100;
 const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
@@ -387,11 +389,11 @@ export class RealLogPanel {
           if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
           msPerScan = ms / Math.max(1, next.panes[MAIN].scansDone - last.scansDone);
           const remaining = (next.scansTarget - next.scansDone) * msPerScan;
-          if (next.finished || (performance.now() - drawn > Math.max(DRAW_EVERY_MS, 4 * (this.drawMs ?? 0)) && remaining > DRAW_EVERY_MS)) {
+          if (next.finished || (performance.now() - drawn > Math.max(DRAW_EVERY_MS, REDRAW_SPACING * (this.redrawMs ?? 0)) && remaining > DRAW_EVERY_MS)) {
             // The panel shows a finished state once it has drawn it.
             if (next.finished) this.state = next;
             else this.show(next, this.progressDue());
-            if (!(await this.drawEach())) break;
+            if (!(await this.drawEach(next.finished))) break;
             drawn = performance.now();
             // The session may have moved on meanwhile (new settings, a scrub): show where it is now.
             if (next.finished) this.show(this.session.state());
@@ -424,8 +426,9 @@ export class RealLogPanel {
       return;
     }
     const ms = performance.now() - t;
-    this.trace.push(['read', ms, n]);
-    this.readBudget = nextChunk(n, ms);
+    this.trace.push(['read', ms, n, report.work]);
+    // Sized by the work done (scans read, or walked to plan the panes).
+    this.readBudget = nextChunk(n, ms, Math.max(1, report.work));
     const state = this.session.state();
     if (state.state !== 'reading') {
       // The whole log is read and its panes set up: the maps are this log's.
@@ -436,17 +439,19 @@ export class RealLogPanel {
     this.show(state, report.finished || this.progressDue());
   }
 
-  /** Draws the operated map, then each map beside it, each in a task of its own; false if the panel went away. */
-  async drawEach() {
+  /** Draws the operated map, its counts (`finished`), each map beside it, a task each; false if the panel went away. */
+  async drawEach(finished = true) {
     // The view and the counts are a core call each: two tasks, not one.
-    const steps = [() => this.renderView(), () => this.draw(false)];
+    const steps = [() => this.renderView(), ...(finished ? [() => this.draw(false)] : [])];
     for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
+    this.redrawMs = 0;
     for (const step of steps) {
       await this.pause();
       if (this.disposed || !this.session) return false;
       const t1 = performance.now();
       step();
-      this.trace.push(['draw', (this.drawMs = performance.now() - t1)]);
+      this.trace.push(['draw', performance.now() - t1]);
+      this.redrawMs += this.trace.at(-1)[1];
     }
     return true;
   }

@@ -91,7 +91,22 @@ async function collect() {
     return m ? Number(m[1].replace(/,/g, '')) : null;
   };
   const during = w.tasks.filter(([start, ms]) => start + ms > w.t0 && start < w.tEnd);
+  // The panel's own record of its calls into the core: where the time went.
+  const calls = {};
+  const realLog = document.querySelector('occgrid-map-weaver')?.realLog ?? window.realLogPanel;
+  for (const [what, ms] of realLog?.trace ?? []) {
+    if (typeof ms !== 'number' || what === 'file' || what === 'copy') continue;
+    const c = (calls[what] ??= { calls: 0, ms: 0, longest_ms: 0 });
+    c.calls++;
+    c.ms += ms;
+    c.longest_ms = Math.max(c.longest_ms, ms);
+  }
+  for (const c of Object.values(calls)) {
+    c.ms = Math.round(c.ms * 10) / 10;
+    c.longest_ms = Math.round(c.longest_ms * 10) / 10;
+  }
   return {
+    calls,
     state: w.state,
     ms: w.tEnd - w.t0,
     longest: during.length ? Math.max(...during.map(([, ms]) => ms)) : null,
@@ -142,6 +157,7 @@ async function measure(openPage, file) {
     runs.push(r);
   }
   const longest = runs.map((r) => r.longest).filter((x) => x !== null);
+  const middle = [...runs].sort((a, b) => a.ms - b.ms)[Math.floor(runs.length / 2)];
   return {
     ...base,
     scans: runs[0].scans,
@@ -154,6 +170,9 @@ async function measure(openPage, file) {
     // Cells the map's tiles hold (what the beams reached), and the bounding box's.
     cells_allocated: runs[0].cellsAllocated,
     cells: runs[0].cells,
+    // The median run's calls into the core by kind (read, build, draw):
+    // their count, total and longest milliseconds.
+    calls: middle.calls,
   };
 }
 

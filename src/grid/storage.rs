@@ -190,6 +190,22 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
 
     /// Every cell back to `unknown`, every tile freed.
     fn reset(&mut self, unknown: C);
+
+    /// Hands each of `cells` (`(ix, iy, item)`, in order) to `f` with its
+    /// slot for an update, as [`Self::slot`] gives it (`None` outside the
+    /// map or past the budget): one scan's update pass. A store may find a
+    /// run of cells in one block of storage once for the run.
+    #[inline(always)]
+    fn update_each<I>(
+        &mut self,
+        cells: impl Iterator<Item = (usize, usize, I)>,
+        unknown: C,
+        mut f: impl FnMut(I, Option<(&mut C, &mut u32)>),
+    ) {
+        for (ix, iy, item) in cells {
+            f(item, self.slot(ix, iy, unknown));
+        }
+    }
 }
 
 /// One array over the whole map.
@@ -346,6 +362,36 @@ impl<C: Copy> Tiled<C> {
         ((iy & TILE_MASK) << TILE_SHIFT) | (ix & TILE_MASK)
     }
 
+    /// The cells and update counts of tile `k` (row-major on the grid of
+    /// tiles), allocated on first touch; `None` (and `refused` set) past
+    /// the budget.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn tile_cells(
+        &mut self,
+        k: usize,
+        unknown: C,
+    ) -> Option<(&mut [C; TILE_CELLS], &mut [u32; TILE_CELLS])> {
+        let mut t = *self.index.get(k)?;
+        if t == NO_TILE {
+            if self.tiles.len() >= self.max_tiles {
+                self.refused = true;
+                return None;
+            }
+            t = self.tiles.len() as u32;
+            self.tiles.push(Tile {
+                cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
+                updates: vec![0; TILE_CELLS].into_boxed_slice(),
+            });
+            self.index[k] = t;
+        }
+        let tile = self.tiles.get_mut(t as usize)?;
+        Some((
+            (&mut tile.cells[..]).try_into().ok()?,
+            (&mut tile.updates[..]).try_into().ok()?,
+        ))
+    }
+
     /// Tiles allocated so far.
     pub fn tiles_allocated(&self) -> usize {
         self.tiles.len()
@@ -422,6 +468,42 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
         let o = Self::offset(ix, iy);
         let tile = &mut self.tiles[t as usize];
         Some((&mut tile.cells[o], &mut tile.updates[o]))
+    }
+
+    /// The tile of the last cell is kept while the cells stay in it (a
+    /// scan's cells come along its beams, dozens to a tile): its lookup,
+    /// the map's bounds and the tile's own length are then checked once a
+    /// run rather than once a cell, a third of an update's instructions on
+    /// the campus.
+    #[inline(always)]
+    fn update_each<I>(
+        &mut self,
+        cells: impl Iterator<Item = (usize, usize, I)>,
+        unknown: C,
+        mut f: impl FnMut(I, Option<(&mut C, &mut u32)>),
+    ) {
+        type TileCells<'t, C> = (&'t mut [C; TILE_CELLS], &'t mut [u32; TILE_CELLS]);
+        let (width, height, tiles_x) = (self.width, self.height, self.tiles_x);
+        let mut key = usize::MAX;
+        let mut tile: Option<TileCells<'_, C>> = None;
+        for (ix, iy, item) in cells {
+            if ix >= width || iy >= height {
+                f(item, None);
+                continue;
+            }
+            let k = (iy >> TILE_SHIFT) * tiles_x + (ix >> TILE_SHIFT);
+            if k != key {
+                key = k;
+                tile = self.tile_cells(k, unknown);
+            }
+            match &mut tile {
+                Some((cells, updates)) => {
+                    let o = Self::offset(ix, iy);
+                    f(item, Some((&mut cells[o], &mut updates[o])))
+                }
+                None => f(item, None),
+            }
+        }
     }
 
     fn row_runs(&self, iy: usize, mut f: impl FnMut(RowRun<'_, C>)) {

@@ -12,7 +12,8 @@ use crate::error::{self, invalid, Result};
 use crate::geometry::raster::{Cursor as RasterCursor, Walk};
 use crate::geometry::GridGeometry;
 use crate::grid::storage::{tiles_of, TILE_SIDE};
-use crate::inverse::HandCrafted;
+use crate::inverse::{HandCrafted, InverseModel};
+use crate::mapping::traversal::BeamBand;
 use crate::mapping::walls::{beam_bands, WallModel};
 use crate::sensors::Scan;
 
@@ -27,39 +28,91 @@ pub fn scan_extent(
     scans: impl IntoIterator<Item = (Scan, HandCrafted)>,
     no_return_reach: f64,
 ) -> Option<[f64; 4]> {
-    let mut b = [
-        f64::INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    let mut any = false;
-    let mut grow = |x: f64, y: f64| {
-        b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
-    };
-    let mut bands = Vec::new();
+    let mut extent = ExtentBox::new(no_return_reach);
     for (scan, model) in scans {
-        any = true;
+        extent.add(&scan, &model);
+    }
+    extent.bounds()
+}
+
+/// [`scan_extent`] a scan at a time: a log's extent grown as its scans are
+/// read, so that no walk over every scan is left for when the last one is
+/// (docs/ARCHITECTURE.md, "Real logs"). Adding the same scans in the same
+/// order gives the same box, bit for bit, as [`scan_extent`].
+#[derive(Debug, Clone)]
+pub struct ExtentBox {
+    no_return_reach: f64,
+    bounds: [f64; 4],
+    /// Scans walked (added or skipped), and whether any was added.
+    scans: usize,
+    any: bool,
+}
+
+impl ExtentBox {
+    /// An empty box for beams whose no-returns clear `no_return_reach`.
+    pub fn new(no_return_reach: f64) -> Self {
+        Self {
+            no_return_reach,
+            bounds: [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ],
+            scans: 0,
+            any: false,
+        }
+    }
+
+    /// Grows the box by `scan`'s pose and its beams' bands under `model`.
+    pub fn add(&mut self, scan: &Scan, model: &HandCrafted) {
+        self.scans += 1;
+        self.any = true;
+        let b = &mut self.bounds;
+        let mut grow = |x: f64, y: f64| {
+            *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+        };
         let pose = scan.pose();
         grow(pose.x, pose.y);
-        // (Where free evidence ends near a wall does not move a band's
-        // reach: the cheaper Table 9.2 bands serve.)
-        beam_bands(
-            &scan,
-            &model,
-            no_return_reach,
-            WallModel::Table92,
-            1.0,
-            &mut bands,
-        );
-        for (band, &bearing) in bands.iter().zip(scan.bearings()) {
-            if let Some(band) = band {
-                let (x, y) = pose.point_at(band.reach, bearing);
+        for (&z, &bearing) in scan.ranges().iter().zip(scan.bearings()) {
+            if let Some(reach) = band_reach(model, z, self.no_return_reach) {
+                let (x, y) = pose.point_at(reach, bearing);
                 grow(x, y);
             }
         }
     }
-    any.then_some(b)
+
+    /// Passes over a scan that has no place on the map (a log's scan at a
+    /// pose that is not a number): walked, and not in the box.
+    pub fn skip(&mut self) {
+        self.scans += 1;
+    }
+
+    /// Scans walked so far (added or skipped).
+    pub fn scans(&self) -> usize {
+        self.scans
+    }
+
+    /// The box, `None` before a scan is added.
+    pub fn bounds(&self) -> Option<[f64; 4]> {
+        self.any.then_some(self.bounds)
+    }
+}
+
+/// How far the band [`beam_bands`] makes for a reading `z` reaches, `None`
+/// for a beam with nothing to walk: a return's `z + α/2`, a no-return's
+/// clearing out to `no_return_reach` at most. (Where free evidence ends
+/// near a wall does not move a band's reach; one beam at a time, so that
+/// growing a log's extent as it is read keeps no buffer of a scan's
+/// bands.)
+fn band_reach(model: &HandCrafted, z: f64, no_return_reach: f64) -> Option<f64> {
+    let reach = model.reach(z);
+    model.axis_profile(z).filter(|_| reach > 0.0)?;
+    Some(if z < model.z_max() {
+        reach
+    } else {
+        reach.min(no_return_reach)
+    })
 }
 
 /// The grid covering `extent` plus a free border of `margin` metres, its
@@ -121,23 +174,55 @@ pub fn tiles_reached(
     scans: impl IntoIterator<Item = Scan>,
     reach: BeamReach<'_>,
 ) -> usize {
-    let (tx, ty) = tiles_of(extent);
-    let mut marks = vec![false; tx * ty];
-    let mut bands = Vec::new();
-    let per_tile = 1.0 / (extent.resolution() * TILE_SIDE as f64);
+    let mut tiles = TileReach::new(extent);
     for scan in scans {
+        tiles.add(&scan, reach);
+    }
+    tiles.count()
+}
+
+/// [`tiles_reached`] a scan at a time, so that a page can walk a long log
+/// in calls of bounded work.
+#[derive(Debug, Clone)]
+pub struct TileReach {
+    extent: GridGeometry,
+    /// Per tile (row-major on the grid of tiles), true once a beam reaches it.
+    marks: Vec<bool>,
+    /// Tiles marked so far.
+    count: usize,
+    /// Scratch: the current scan's bands.
+    bands: Vec<Option<BeamBand>>,
+}
+
+impl TileReach {
+    /// No tile reached yet on `extent`'s grid of tiles.
+    pub fn new(extent: &GridGeometry) -> Self {
+        let (tx, ty) = tiles_of(extent);
+        Self {
+            extent: *extent,
+            marks: vec![false; tx * ty],
+            count: 0,
+            bands: Vec::new(),
+        }
+    }
+
+    /// Marks the tiles `scan`'s beams reach.
+    pub fn add(&mut self, scan: &Scan, reach: BeamReach<'_>) {
+        let extent = &self.extent;
+        let (tx, ty) = tiles_of(extent);
+        let per_tile = 1.0 / (extent.resolution() * TILE_SIDE as f64);
         beam_bands(
-            &scan,
+            scan,
             reach.model,
             reach.no_return_reach,
             reach.walls,
             extent.resolution(),
-            &mut bands,
+            &mut self.bands,
         );
         let p = scan.pose();
         let (su, sv) = extent.world_to_grid(p.x, p.y);
         let start = (su / TILE_SIDE as f64, sv / TILE_SIDE as f64);
-        for (band, &b) in bands.iter().zip(scan.bearings()) {
+        for (band, &b) in self.bands.iter().zip(scan.bearings()) {
             let Some(band) = band else { continue };
             let (sn, cs) = (p.theta + b).sin_cos();
             let end = (
@@ -149,13 +234,18 @@ pub fn tiles_reached(
                     at: walk.start,
                     step: walk.step,
                     width: tx,
-                    marks: &mut marks,
+                    marks: &mut self.marks,
+                    count: &mut self.count,
                 };
                 walk.run(&mut m);
             }
         }
     }
-    marks.iter().filter(|&&m| m).count()
+
+    /// Tiles reached so far.
+    pub fn count(&self) -> usize {
+        self.count
+    }
 }
 
 /// Marks the tiles a walk on the grid of tiles visits.
@@ -164,11 +254,13 @@ struct TileMarks<'a> {
     step: (i8, i8),
     width: usize,
     marks: &'a mut [bool],
+    count: &'a mut usize,
 }
 
 impl RasterCursor for TileMarks<'_> {
     fn visit(&mut self) {
         if let Some(m) = self.marks.get_mut(self.at.1 * self.width + self.at.0) {
+            *self.count += !*m as usize;
             *m = true;
         }
     }
@@ -209,6 +301,29 @@ mod tests {
         let e = scan_extent([(scan(1.0), model(1.5))], 5.0).unwrap();
         assert!(near(e, [1.0, 0.0, 2.5, 1.5 * 1f64.sin()]), "{e:?}");
         assert!(scan_extent(std::iter::empty(), 5.0).is_none());
+    }
+
+    /// One beam's reach is the reach of the band `beam_bands` makes for it,
+    /// for returns, no-returns, readings past the cap and no reading.
+    #[test]
+    fn a_beam_s_reach_is_its_band_s() {
+        use crate::inverse::HandCraftedParams;
+        let model = HandCrafted::new(HandCraftedParams::laser(30.0)).unwrap();
+        let ranges = vec![0.0, 0.01, 2.0, 29.99, 30.0, 45.0, 81.9];
+        let n = ranges.len();
+        let scan = Scan::uniform(
+            Pose::new(1.0, -2.0, 0.4).unwrap(),
+            ranges.clone(),
+            -1.0,
+            2.0 / n as f64,
+        )
+        .unwrap();
+        let mut bands = Vec::new();
+        beam_bands(&scan, &model, 5.0, WallModel::Table92, 1.0, &mut bands);
+        let reaches: Vec<_> = ranges.iter().map(|&z| band_reach(&model, z, 5.0)).collect();
+        let expected: Vec<_> = bands.iter().map(|b| b.map(|b| b.reach)).collect();
+        assert_eq!(reaches, expected);
+        assert!(reaches.iter().any(Option::is_some));
     }
 
     #[test]

@@ -2,15 +2,20 @@
 //! beams reach, walked on the grid of tiles (docs/ARCHITECTURE.md, "Real
 //! logs"). A resolution too fine for the tile budget is refused when the
 //! settings are chosen, naming the finest resolution that fits, instead of
-//! a build that stops part way through the log.
+//! a build that stops part way through the log. After a read, the panes
+//! are planned in calls of bounded work ([`PanePlanning`]).
 
-use super::settings::{CheckedSettings, LogPoses};
-use crate::error::{invalid, show, Result};
+use super::pane::{grid_of_extent, plan_grid, poses_for, LogPane};
+use super::settings::{CheckedSettings, LogCellModel, LogPoses};
+use crate::error::{invalid, show, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
+use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
-use crate::mapping::reach::{tiles_reached, BeamReach};
+use crate::mapping::reach::{tiles_reached, BeamReach, ExtentBox, TileReach};
+use crate::sensors::odometry::OdometryParams;
 use crate::sensors::Scan;
+use std::sync::Arc;
 
 /// The resolutions offered when one is refused are whole steps of half a
 /// centimetre (the finest step a reader sets by hand): steps per metre.
@@ -61,14 +66,44 @@ pub(super) fn check_tile_budget(
     bytes_per_cell: usize,
     plan: impl Fn(&CheckedSettings) -> Result<GridGeometry>,
 ) -> Result<()> {
-    let budget_tiles = (budget_cells / TILE_CELLS).max(1);
-    // A map whose every tile fits needs no walk (most logs: only the
-    // largest maps pay for counting the tiles their beams reach).
-    let (tx, ty) = tiles_of(extent);
-    if tx.saturating_mul(ty) <= budget_tiles {
+    if every_tile_fits(extent, budget_cells) {
         return Ok(());
     }
     let needed = tiles_needed(scans, poses, extent, c);
+    refuse_past_budget(
+        needed,
+        (scans, poses),
+        c,
+        budget_cells,
+        bytes_per_cell,
+        plan,
+    )
+}
+
+/// True when every tile of `extent` fits `budget_cells`: a map that needs
+/// no walk (most logs: only the largest maps pay for counting the tiles
+/// their beams reach).
+pub(super) fn every_tile_fits(extent: &GridGeometry, budget_cells: usize) -> bool {
+    let (tx, ty) = tiles_of(extent);
+    tx.saturating_mul(ty) <= budget_tiles(budget_cells)
+}
+
+fn budget_tiles(budget_cells: usize) -> usize {
+    (budget_cells / TILE_CELLS).max(1)
+}
+
+/// An error when `needed` tiles pass `budget_cells` (naming the finest
+/// resolution that fits, found by walking the scans again at coarser
+/// ones: the refusal alone pays for those walks).
+pub(super) fn refuse_past_budget(
+    needed: usize,
+    (scans, poses): (&LaserScans, &[Pose]),
+    c: &CheckedSettings,
+    budget_cells: usize,
+    bytes_per_cell: usize,
+    plan: impl Fn(&CheckedSettings) -> Result<GridGeometry>,
+) -> Result<()> {
+    let budget_tiles = budget_tiles(budget_cells);
     if needed <= budget_tiles {
         return Ok(());
     }
@@ -120,5 +155,220 @@ pub(super) fn estimate_poses<'a>(
     match source {
         LogPoses::ScanMatched => scans.poses(),
         _ => poses,
+    }
+}
+
+/// The model of scan `k`'s laser: the settings' own, or one at the laser's
+/// shorter maximum range.
+pub(super) fn scan_model(c: &CheckedSettings, scans: &LaserScans, k: usize) -> HandCrafted {
+    let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
+    c.model_for_laser(laser_max).unwrap_or(*c.model())
+}
+
+/// Where one pane's plan stands.
+enum Phase {
+    /// Growing the box of its poses and beams, a scan at a time.
+    Extent(ExtentBox),
+    /// Its bounding box passes the tile budget: counting the tiles its
+    /// beams reach, a scan at a time.
+    Tiles(GridGeometry, TileReach, usize),
+    /// Its grid, and the tiles its beams reach when they were counted.
+    Ready(GridGeometry, Option<usize>),
+    /// Planned whole when the panes are made (a scan-matched pane's grid
+    /// comes from the scan matcher).
+    Whole,
+    /// The settings make no map of this log (a grid too large).
+    Failed(OccError),
+}
+
+/// One pane of a plan: its pose source and cell model, its poses, and its
+/// phase.
+struct PlannedPane {
+    plan: (LogPoses, LogCellModel),
+    poses: Vec<Pose>,
+    phase: Phase,
+}
+
+/// The panes of a log just read, planned in calls of bounded work (scans
+/// walked), so that no call of the page's read walks every scan
+/// (docs/ARCHITECTURE.md, "Real logs"): each pane's extent (already grown
+/// as the lines were read, for the log's own poses), then, when its
+/// bounding box passes the tile budget, the tiles its beams reach. Panes of
+/// one pose source share one walk. The panes it makes are the ones
+/// [`LogPane::plan`] makes, cell for cell.
+pub(super) struct PanePlanning {
+    scans: Arc<LaserScans>,
+    settings: CheckedSettings,
+    odometry: OdometryParams,
+    budget_cells: usize,
+    panes: Vec<PlannedPane>,
+}
+
+impl PanePlanning {
+    /// The plan of `settings`' panes over `scans`; `read_extent` the box of
+    /// every scan at its own poses when it was grown under these settings
+    /// as the lines were read.
+    pub(super) fn new(
+        scans: Arc<LaserScans>,
+        settings: &CheckedSettings,
+        odometry: OdometryParams,
+        budget_cells: usize,
+        read_extent: Option<ExtentBox>,
+    ) -> Self {
+        let s = settings.settings();
+        let read_extent = read_extent.filter(|e| e.scans() == scans.len());
+        let panes = s
+            .pane_plan()
+            .into_iter()
+            .map(|(source, model)| {
+                let poses = poses_for(&scans, source, s.seed, &odometry);
+                let phase = match (source, &read_extent) {
+                    (LogPoses::ScanMatched, _) => Phase::Whole,
+                    (LogPoses::Corrected, Some(e)) => Phase::Extent(e.clone()),
+                    _ => Phase::Extent(ExtentBox::new(s.no_return_reach)),
+                };
+                PlannedPane {
+                    plan: (source, model),
+                    poses,
+                    phase,
+                }
+            })
+            .collect();
+        Self {
+            scans,
+            settings: *settings,
+            odometry,
+            budget_cells,
+            panes,
+        }
+    }
+
+    /// Walks at most `max_scans` scans of the plan (a pane whose walk is
+    /// done moves on to its next phase without one); returns the scans
+    /// walked.
+    pub(super) fn step(&mut self, max_scans: usize) -> usize {
+        let mut walked = 0;
+        for i in 0..self.panes.len() {
+            // A pane of a source planned before it takes that plan.
+            let (before, rest) = self.panes.split_at_mut(i);
+            let pane = &mut rest[0];
+            if matches!(pane.phase, Phase::Extent(_) | Phase::Tiles(..)) {
+                let twin = before.iter().find(|p| p.plan.0 == pane.plan.0);
+                match twin.map(|p| &p.phase) {
+                    Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
+                    Some(Phase::Failed(e)) => pane.phase = Phase::Failed(e.clone()),
+                    _ => {}
+                }
+            }
+            while self.advance(i, walked < max_scans) {
+                walked += 1;
+            }
+        }
+        walked
+    }
+
+    /// Moves pane `i`'s plan on: through the phases whose walk is done,
+    /// then, if `may_walk`, one scan of its walk. True when a scan was
+    /// walked.
+    fn advance(&mut self, i: usize, may_walk: bool) -> bool {
+        let (scans, c) = (&self.scans, &self.settings);
+        let s = c.settings();
+        let pane = &mut self.panes[i];
+        loop {
+            match &mut pane.phase {
+                Phase::Extent(e) if e.scans() < scans.len() => {
+                    if !may_walk {
+                        return false;
+                    }
+                    let k = e.scans();
+                    // (A scan at a pose that is not finite is left out, as
+                    // the whole-log extent leaves it out.)
+                    match pane.poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
+                        Some(scan) => e.add(&scan, &scan_model(c, scans, k)),
+                        None => e.skip(),
+                    }
+                    return true;
+                }
+                Phase::Extent(e) => {
+                    pane.phase = match grid_of_extent(e.bounds(), c) {
+                        Ok(g) if every_tile_fits(&g, self.budget_cells) => Phase::Ready(g, None),
+                        Ok(g) => Phase::Tiles(g, TileReach::new(&g), 0),
+                        Err(e) => Phase::Failed(e),
+                    };
+                }
+                Phase::Tiles(_, tiles, k) if *k < scans.len() => {
+                    if !may_walk {
+                        return false;
+                    }
+                    if let Some(scan) = pane.poses.get(*k).and_then(|&p| at_pose(scans, *k, p)) {
+                        let reach = BeamReach {
+                            model: c.model(),
+                            no_return_reach: s.no_return_reach,
+                            walls: s.walls,
+                        };
+                        tiles.add(&scan, reach);
+                    }
+                    *k += 1;
+                    return true;
+                }
+                Phase::Tiles(g, tiles, _) => pane.phase = Phase::Ready(*g, Some(tiles.count())),
+                Phase::Ready(..) | Phase::Whole | Phase::Failed(_) => return false,
+            }
+        }
+    }
+
+    /// True once every pane's plan is walked.
+    pub(super) fn finished(&self) -> bool {
+        self.panes
+            .iter()
+            .all(|p| matches!(p.phase, Phase::Ready(..) | Phase::Whole | Phase::Failed(_)))
+    }
+
+    /// The scans the log has.
+    pub(super) fn scans(&self) -> &Arc<LaserScans> {
+        &self.scans
+    }
+
+    /// The panes, once [`Self::finished`]: an error when the settings make
+    /// no map of this log (a grid too large, beams past the tile budget).
+    pub(super) fn into_panes(self) -> Result<Vec<LogPane>> {
+        let Self {
+            scans,
+            settings: c,
+            odometry,
+            budget_cells,
+            panes,
+        } = self;
+        panes
+            .into_iter()
+            .map(|p| match p.phase {
+                Phase::Whole | Phase::Extent(_) | Phase::Tiles(..) => {
+                    LogPane::plan(Arc::clone(&scans), p.plan, &c, odometry, budget_cells)
+                }
+                Phase::Failed(e) => Err(e),
+                Phase::Ready(grid, needed) => {
+                    let (source, _) = p.plan;
+                    let pane = LogPane::planned(
+                        Arc::clone(&scans),
+                        p.plan,
+                        &c,
+                        odometry,
+                        budget_cells,
+                        (p.poses.clone(), grid),
+                    )?;
+                    if let Some(needed) = needed {
+                        refuse_past_budget(
+                            needed,
+                            (&scans, estimate_poses(&scans, source, &p.poses)),
+                            &c,
+                            budget_cells,
+                            pane.grid().bytes_per_cell(),
+                            |c| plan_grid(&scans, &p.poses, source, c),
+                        )?;
+                    }
+                    Ok(pane)
+                }
+            })
+            .collect()
     }
 }

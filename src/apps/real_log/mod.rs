@@ -30,11 +30,94 @@ mod view;
 pub use map::LogGrid;
 pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
-pub use session::{
-    FailedStep, PaneState, ReadReport, RealLogSession, SessionState, Stage, READ_SHARE,
-};
+pub use session::{ReadReport, RealLogSession, READ_SHARE};
 pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
 };
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
+
+// The session's state, as a panel renders it (`RealLogSession::state`).
+
+/// Where a session stands: the one state a panel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Stage {
+    /// No log yet.
+    #[serde(rename = "idle")]
+    Idle,
+    /// A log is being read (the panes of the previous log, if any, stay).
+    #[serde(rename = "reading")]
+    Reading,
+    /// The log is read, but the settings make too large a grid for it: the
+    /// scans wait for settings that fit.
+    #[serde(rename = "awaiting-settings")]
+    AwaitingSettings,
+    /// The panes are heading for their target scan count.
+    #[serde(rename = "building")]
+    Building,
+    /// Every pane holds its target scan count.
+    #[serde(rename = "done")]
+    Done,
+    /// The read was refused (a malformed or oversized log), or a pane's map
+    /// passed its tile budget; `error` says why.
+    #[serde(rename = "failed")]
+    Failed,
+}
+
+/// What a failed session failed at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FailedStep {
+    Read,
+    Build,
+}
+
+/// One pane as the state reports it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct PaneState {
+    pub poses: LogPoses,
+    pub model: LogCellModel,
+    pub caption: String,
+    #[serde(flatten)]
+    pub progress: BuildProgress,
+}
+
+/// Everything a panel shows about the session's progress, in one object.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SessionState {
+    pub state: Stage,
+    /// The name of the log last opened (being read, or read): what the
+    /// state is about.
+    pub log: Option<String>,
+    /// Why the session failed, or why it awaits settings.
+    pub error: Option<String>,
+    /// What failed: `"read"` (the log was refused; the maps of a log read
+    /// before, if any, stay) or `"build"` (a map passed its tile budget;
+    /// the map so far stays).
+    pub failed: Option<FailedStep>,
+    /// The whole load's progress, 0 to 1: the read's share
+    /// ([`READ_SHARE`]) then the panes' mean, or the panes' mean alone for
+    /// a rebuild (new settings, a scrub).
+    pub progress: f64,
+    /// The read under way, or the last finished read's report.
+    pub read: Option<ReadReport>,
+    /// The whole build: the scans every pane holds, the target, the
+    /// log's scans, and the panes' cell updates and beams together.
+    pub scans_done: usize,
+    pub scans_target: usize,
+    pub scans_total: usize,
+    pub cell_updates: u64,
+    /// The panes' work together in cell updates (their updates, and the
+    /// scan matching's cost in the same units): what `build_slice`'s
+    /// budget counts.
+    pub work: u64,
+    pub beams: u64,
+    pub finished: bool,
+    /// The panes, the one the reader operates first.
+    pub panes: Vec<PaneState>,
+    /// The settings in force and the limits their controls keep to.
+    pub settings: LogMapSettings,
+    pub limits: SettingLimits,
+}

@@ -5,7 +5,7 @@
 //! progress towards a target scan count. What it shows (its view, cursor,
 //! readouts and export) is in `view.rs`.
 
-use super::budget::{at_pose, check_tile_budget, estimate_poses, tiles_needed};
+use super::budget::{at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed};
 use super::map::{each_map, LogGrid, LogMap};
 use super::matched::{matched_grid, PoseMatching};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
@@ -145,6 +145,41 @@ impl LogPane {
     ) -> Result<Self> {
         let seed = settings.settings().seed;
         let poses = poses_for(&scans, source, seed, &odometry);
+        let extent = plan_grid(&scans, &poses, source, settings)?;
+        let pane = Self::planned(
+            Arc::clone(&scans),
+            (source, model),
+            settings,
+            odometry,
+            budget_cells,
+            (poses, extent),
+        )?;
+        // Refused now, with the resolution that fits, rather than part way
+        // through the build (the map above has allocated no tile yet).
+        check_tile_budget(
+            &scans,
+            estimate_poses(&scans, source, &pane.poses),
+            pane.grid().geometry(),
+            settings,
+            budget_cells,
+            pane.grid().bytes_per_cell(),
+            |c| plan_grid(&scans, &pane.poses, source, c),
+        )?;
+        Ok(pane)
+    }
+
+    /// A pane of `source` with cells of `model` over shared scans at
+    /// `poses`, on the grid `extent` its plan found (the tile budget
+    /// checked by the caller), heading for all of them, its view fitted at
+    /// [`DEFAULT_VIEW_SIZE`].
+    pub(super) fn planned(
+        scans: Arc<LaserScans>,
+        (source, model): (LogPoses, LogCellModel),
+        settings: &CheckedSettings,
+        odometry: OdometryParams,
+        budget_cells: usize,
+        (poses, extent): (Vec<Pose>, GridGeometry),
+    ) -> Result<Self> {
         let matching = match source {
             LogPoses::ScanMatched => Some(PoseMatching::new(
                 poses.clone(),
@@ -153,21 +188,9 @@ impl LogPane {
             )?),
             _ => None,
         };
-        let extent = plan_grid(&scans, &poses, source, settings)?;
         let (w, h) = DEFAULT_VIEW_SIZE;
         let view = ScreenView::new(&extent, w, h)?;
         let map = LogMap::new(model, extent, settings.filter(), budget_cells, view)?;
-        // Refused now, with the resolution that fits, rather than part way
-        // through the build (the map above has allocated no tile yet).
-        check_tile_budget(
-            &scans,
-            estimate_poses(&scans, source, &poses),
-            map.grid().geometry(),
-            settings,
-            budget_cells,
-            map.grid().bytes_per_cell(),
-            |c| plan_grid(&scans, &poses, source, c),
-        )?;
         let target = scans.len();
         Ok(Self {
             scans,
@@ -456,7 +479,7 @@ impl LogPane {
 /// The laser poses `source` puts the scans at (for scan matching, the
 /// odometry it starts from: each pose is replaced by the one found as its
 /// scan is matched).
-fn poses_for(
+pub(super) fn poses_for(
     scans: &LaserScans,
     source: LogPoses,
     seed: u64,
@@ -473,41 +496,46 @@ fn poses_for(
 /// their poses and of every cell their beams carve or mark (each source's
 /// path wanders its own way), covered on whole cells, and a range cap whose
 /// reach fits the traversal.
-fn plan_grid(
+pub(super) fn plan_grid(
     scans: &LaserScans,
     poses: &[Pose],
     source: LogPoses,
     c: &CheckedSettings,
 ) -> Result<GridGeometry> {
-    let s = c.settings();
     if source == LogPoses::ScanMatched {
-        let grid = matched_grid(scans, c).ok_or_else(|| {
-            invalid(
-                "log",
-                "no FLASER or ROBOTLASER1 lines",
-                "at least one laser scan",
-            )
-        })??;
-        s.check_reach()?;
+        let grid = matched_grid(scans, c).ok_or_else(no_scans)??;
+        c.settings().check_reach()?;
         return Ok(grid);
     }
     let placed = (0..scans.len()).filter_map(|k| {
         let scan = at_pose(scans, k, *poses.get(k)?)?;
-        let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
-        Some((scan, c.model_for_laser(laser_max).unwrap_or(*c.model())))
+        Some((scan, scan_model(c, scans, k)))
     });
-    let extent = scan_extent(placed, s.no_return_reach).ok_or_else(|| {
-        invalid(
-            "log",
-            "no FLASER or ROBOTLASER1 lines",
-            "at least one laser scan",
-        )
-    })?;
+    grid_of_extent(scan_extent(placed, c.settings().no_return_reach), c)
+}
+
+/// The grid over the box `extent` of a log's poses and beams
+/// ([`scan_extent`]; `None` for a log without a scan), covered on whole
+/// cells, under settings whose range cap's reach fits the traversal.
+pub(super) fn grid_of_extent(
+    extent: Option<[f64; 4]>,
+    c: &CheckedSettings,
+) -> Result<GridGeometry> {
+    let s = c.settings();
+    let extent = extent.ok_or_else(no_scans)?;
     let grid = covering_grid(extent, s.resolution, s.margin)?;
     // A scan is gathered in a window as wide as its longest beam: that
     // window's scratch is what bounds the reach in cells.
     s.check_reach()?;
     Ok(grid)
+}
+
+fn no_scans() -> OccError {
+    invalid(
+        "log",
+        "no FLASER or ROBOTLASER1 lines",
+        "at least one laser scan",
+    )
 }
 
 #[cfg(test)]

@@ -5,12 +5,16 @@
 //! with the one state
 //! ([`SessionState`]) the panel renders.
 
+use super::budget::{scan_model, PanePlanning};
 use super::pane::{BuildProgress, LogPane};
-use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits};
+use super::settings::{CheckedSettings, LogMapSettings, SettingLimits};
 use super::view::GeometryReport;
+use super::{FailedStep, PaneState, SessionState, Stage};
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
+use crate::inverse::HandCrafted;
 use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
+use crate::mapping::reach::ExtentBox;
 use crate::sensors::odometry::OdometryParams;
 use std::io::Cursor;
 use std::sync::Arc;
@@ -20,104 +24,26 @@ use std::sync::Arc;
 pub const READ_SHARE: f64 = 0.3;
 
 /// What the read of a log reports: its progress and the file's size.
+/// `finished` is true once the log is read and its panes are planned.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct ReadReport {
     #[serde(flatten)]
     pub progress: LoadProgress,
     pub bytes_total: usize,
-}
-
-/// Where a session stands: the one state a panel shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum Stage {
-    /// No log yet.
-    #[serde(rename = "idle")]
-    Idle,
-    /// A log is being read (the panes of the previous log, if any, stay).
-    #[serde(rename = "reading")]
-    Reading,
-    /// The log is read, but the settings make too large a grid for it: the
-    /// scans wait for settings that fit.
-    #[serde(rename = "awaiting-settings")]
-    AwaitingSettings,
-    /// The panes are heading for their target scan count.
-    #[serde(rename = "building")]
-    Building,
-    /// Every pane holds its target scan count.
-    #[serde(rename = "done")]
-    Done,
-    /// The read was refused (a malformed or oversized log), or a pane's map
-    /// passed its tile budget; `error` says why.
-    #[serde(rename = "failed")]
-    Failed,
-}
-
-/// What a failed session failed at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FailedStep {
-    Read,
-    Build,
-}
-
-/// One pane as the state reports it.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct PaneState {
-    pub poses: LogPoses,
-    pub model: LogCellModel,
-    pub caption: String,
-    #[serde(flatten)]
-    pub progress: BuildProgress,
-}
-
-/// Everything a panel shows about the session's progress, in one object.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct SessionState {
-    pub state: Stage,
-    /// The name of the log last opened (being read, or read): what the
-    /// state is about.
-    pub log: Option<String>,
-    /// Why the session failed, or why it awaits settings.
-    pub error: Option<String>,
-    /// What failed: `"read"` (the log was refused; the maps of a log read
-    /// before, if any, stay) or `"build"` (a map passed its tile budget;
-    /// the map so far stays).
-    pub failed: Option<FailedStep>,
-    /// The whole load's progress, 0 to 1: the read's share
-    /// ([`READ_SHARE`]) then the panes' mean, or the panes' mean alone for
-    /// a rebuild (new settings, a scrub).
-    pub progress: f64,
-    /// The read under way, or the last finished read's report.
-    pub read: Option<ReadReport>,
-    /// The whole build: the scans every pane holds, the target, the
-    /// log's scans, and the panes' cell updates and beams together.
-    pub scans_done: usize,
-    pub scans_target: usize,
-    pub scans_total: usize,
-    pub cell_updates: u64,
-    /// The panes' work together in cell updates (their updates, and the
-    /// scan matching's cost in the same units): what `build_slice`'s
-    /// budget counts.
-    pub work: u64,
-    pub beams: u64,
-    pub finished: bool,
-    /// The panes, the one the reader operates first.
-    pub panes: Vec<PaneState>,
-    /// The settings in force and the limits their controls keep to.
-    pub settings: LogMapSettings,
-    pub limits: SettingLimits,
+    /// The call's work, in scans: the scans it read (each scan's share of
+    /// the map's extent is grown as it is read) and the scans its planning
+    /// of the panes walked; at most the call's `max_scans`, or 1.
+    pub work: usize,
 }
 
 /// A log being read and mapped, step by step:
 ///
 /// 1. [`Self::new`] takes the file's bytes (gzip or plain), or
 ///    [`Self::idle`] none until [`Self::open`];
-/// 2. [`Self::read`] reads up to `n` more laser lines per call, until
-///    finished (then one pane per pose source is set up with the current
-///    settings: [`LogPoses::panes`]);
+/// 2. [`Self::read`] reads up to `n` more laser lines per call, then plans
+///    one pane per pose source ([`super::LogPoses::panes`]) in calls of at
+///    most `n` scans of work, until finished;
 /// 3. [`Self::build_slice`] advances every pane within one budget of cell
 ///    updates per call;
 /// 4. [`Self::seek`] scrubs every pane to `k` scans, and
@@ -129,6 +55,14 @@ pub struct RealLogSession {
     /// whole log is read.
     loader: Option<LogLoader<Cursor<Vec<u8>>>>,
     budget: LogBudget,
+    /// The box of the scans read so far at their own poses, grown as they
+    /// are read, under the model and no-return reach it is keyed by (the
+    /// settings' when the read began; dropped if they change meanwhile):
+    /// the corrected pane's extent, with no walk left for the last read.
+    read_extent: Option<(HandCrafted, f64, ExtentBox)>,
+    /// The panes of the log just read, planned over the calls of the read
+    /// that follow its last line.
+    planning: Option<PanePlanning>,
     /// Scans read whose map the current settings cannot make (a grid too
     /// large), and why: kept until `configure` brings settings that fit.
     pending: Option<(Arc<LaserScans>, OccError)>,
@@ -159,6 +93,8 @@ impl RealLogSession {
         Self {
             loader: None,
             budget: LogBudget::default(),
+            read_extent: None,
+            planning: None,
             pending: None,
             read_report: None,
             read_failure: None,
@@ -201,6 +137,9 @@ impl RealLogSession {
         self.log = Some(name.to_string());
         self.bytes_total = bytes.len();
         self.loader = Some(LogLoader::with_budget(Cursor::new(bytes), self.budget));
+        let (model, reach) = self.extent_key();
+        self.read_extent = Some((model, reach, ExtentBox::new(reach)));
+        self.planning = None;
         self.pending = None;
         self.read_failure = None;
         self.read_report = None;
@@ -221,6 +160,9 @@ impl RealLogSession {
         if let Some(e) = &self.read_failure {
             return Err(e.clone());
         }
+        if self.planning.is_some() {
+            return self.plan_step(max_scans, 0);
+        }
         let Some(loader) = self.loader.as_mut() else {
             return Err(OccError::State(if self.read_report.is_some() {
                 "the log has been read already".into()
@@ -228,46 +170,125 @@ impl RealLogSession {
                 "no log to read: open one first".into()
             }));
         };
+        let scans_before = loader.scans().len();
         let progress = match loader.read(max_scans) {
             Ok(p) => p,
             Err(e) => return Err(self.read_failed(e)),
         };
-        let report = ReadReport {
+        let read = progress.scans - scans_before;
+        self.grow_read_extent();
+        let finished = progress.finished;
+        let mut report = ReadReport {
             progress,
             bytes_total: self.bytes_total,
+            work: read,
         };
-        self.read_report = Some(report.clone());
-        if report.progress.finished {
-            if let Some(loader) = self.loader.take() {
-                let scans = loader.into_scans();
-                if scans.is_empty() {
-                    let lines = match report.progress.lines {
-                        1 => "1 line read".to_string(),
-                        n => format!("{n} lines read"),
-                    };
-                    let e = OccError::State(format!(
-                        "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
-                    ));
-                    return Err(self.read_failed(e));
-                }
-                let scans = Arc::new(scans);
-                self.after_read = true;
-                match self.panes_for(&scans, &self.settings, None) {
-                    Ok(panes) => self.panes = panes,
-                    Err(e) => {
-                        self.panes.clear();
-                        self.pending = Some((scans, e.clone()));
-                        return Err(e);
-                    }
-                }
+        if !finished {
+            self.read_report = Some(report.clone());
+            return Ok(report);
+        }
+        let Some(loader) = self.loader.take() else {
+            return Ok(report);
+        };
+        let scans = loader.into_scans();
+        if scans.is_empty() {
+            self.read_report = Some(report.clone());
+            let lines = match report.progress.lines {
+                1 => "1 line read".to_string(),
+                n => format!("{n} lines read"),
+            };
+            let e = OccError::State(format!(
+                "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
+            ));
+            return Err(self.read_failed(e));
+        }
+        let extent = self.read_extent.take().map(|(_, _, e)| e);
+        self.planning = Some(PanePlanning::new(
+            Arc::new(scans),
+            &self.settings,
+            OdometryParams::WHEELS,
+            self.budget_cells,
+            extent,
+        ));
+        // The log is read once its panes are planned too.
+        report.progress.finished = false;
+        self.read_report = Some(report);
+        self.plan_step(max_scans.saturating_sub(read), read)
+    }
+
+    /// The model and no-return reach the map's extent depends on.
+    fn extent_key(&self) -> (HandCrafted, f64) {
+        (
+            *self.settings.model(),
+            self.settings.settings().no_return_reach,
+        )
+    }
+
+    /// Grows the read's extent by the scans read since the last call.
+    fn grow_read_extent(&mut self) {
+        let (Some(loader), Some((_, _, extent))) = (&self.loader, &mut self.read_extent) else {
+            return;
+        };
+        let scans = loader.scans();
+        for k in extent.scans()..scans.len() {
+            match scans.scan(k) {
+                Some(scan) => extent.add(&scan, &scan_model(&self.settings, scans, k)),
+                None => extent.skip(),
             }
         }
-        Ok(report)
+    }
+
+    /// Walks up to `max_scans` scans of the panes' planning, in a call that
+    /// has read `read` scans already; once the plan is walked, the panes are
+    /// set up and the read is finished.
+    fn plan_step(&mut self, max_scans: usize, read: usize) -> Result<ReadReport> {
+        let Some(planning) = self.planning.as_mut() else {
+            return Err(self.no_map());
+        };
+        // A call of its own walks at least one scan; one that has read
+        // scans walks what is left of its budget.
+        let walked = planning.step(if read > 0 {
+            max_scans
+        } else {
+            max_scans.max(1)
+        });
+        let mut report = self.read_report.clone().ok_or_else(|| self.no_map())?;
+        report.work = read + walked;
+        let planning = self.planning.as_ref().filter(|p| p.finished());
+        if planning.is_none() {
+            self.read_report = Some(report.clone());
+            return Ok(report);
+        }
+        let planning = self.planning.take().expect("a finished planning");
+        report.progress.finished = true;
+        self.read_report = Some(report.clone());
+        let scans = Arc::clone(planning.scans());
+        self.after_read = true;
+        match planning.into_panes() {
+            Ok(mut panes) => {
+                // The new panes start at the output size of the ones before.
+                if let Some(first) = self.panes.first() {
+                    let v = first.view();
+                    for pane in &mut panes {
+                        pane.set_view_size(v.width, v.height)?;
+                    }
+                }
+                self.panes = panes;
+                Ok(report)
+            }
+            Err(e) => {
+                self.panes.clear();
+                self.pending = Some((scans, e.clone()));
+                Err(e)
+            }
+        }
     }
 
     /// Frees the file and the scans read, and keeps `e` for later calls.
     fn read_failed(&mut self, e: OccError) -> OccError {
         self.loader = None;
+        self.read_extent = None;
+        self.planning = None;
         self.read_failure = Some(e.clone());
         e
     }
@@ -336,6 +357,22 @@ impl RealLogSession {
             self.pending = None;
         }
         self.settings = checked;
+        // The read's extent and the panes' planning follow the settings:
+        // an extent grown under others is dropped (the planning walks it
+        // again, in bounded calls), a planning under way starts again.
+        let key = self.extent_key();
+        if matches!(&self.read_extent, Some((m, r, _)) if (*m, *r) != key) {
+            self.read_extent = None;
+        }
+        if let Some(planning) = self.planning.take() {
+            self.planning = Some(PanePlanning::new(
+                Arc::clone(planning.scans()),
+                &self.settings,
+                OdometryParams::WHEELS,
+                self.budget_cells,
+                None,
+            ));
+        }
         Ok(self.geometry(0).ok())
     }
 
@@ -421,7 +458,7 @@ impl RealLogSession {
 
     /// Where the session stands.
     pub fn stage(&self) -> Stage {
-        if self.loader.is_some() {
+        if self.loader.is_some() || self.planning.is_some() {
             Stage::Reading
         } else if self.read_failure.is_some() || self.pane_failure().is_some() {
             Stage::Failed

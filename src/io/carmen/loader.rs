@@ -160,6 +160,11 @@ impl<R: Read> LogLoader<R> {
         self.reader.is_finished()
     }
 
+    /// The scans read so far, kept by the loader.
+    pub fn scans(&self) -> &LaserScans {
+        &self.scans
+    }
+
     /// The scans read so far.
     pub fn into_scans(self) -> LaserScans {
         self.scans

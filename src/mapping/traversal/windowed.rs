@@ -68,35 +68,17 @@ pub(super) fn settle_windowed<T: Slot, C: CellModel, S: Store<C::Cell>>(
         }
         return;
     };
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn one<T: Slot, C: CellModel, S: Store<C::Cell>>(
-        slots: &mut [T],
-        mask: usize,
-        model: &C,
-        store: &mut S,
-        rows: DivideBy,
-        (x0, y0, unknown): (usize, usize, C::Cell),
-        evidence: ScanEvidence,
-        w: u32,
-    ) {
-        let w = w as usize;
-        let slot = &mut slots[w & mask];
-        let (row, col) = rows.div_rem(w);
-        if let Some((cell, updates)) = store.slot(x0 + col, y0 + row, unknown) {
-            slot.apply(model, cell, updates, evidence);
+    // Each touched window index as its map cell, in first-touch order
+    // (along the beams: a run of cells shares a tile).
+    let cells = touched.iter().map(|&w| {
+        let (row, col) = rows.div_rem(w as usize);
+        (x0 + col, y0 + row, w as usize)
+    });
+    store.update_each(cells, unknown, |w, slot| {
+        let slot_code = &mut slots[w & mask];
+        if let Some((cell, updates)) = slot {
+            slot_code.apply(model, cell, updates, evidence);
         }
-        *slot = T::UNTOUCHED;
-    }
-    let at = (x0, y0, unknown);
-    let mut fours = touched.chunks_exact(4);
-    for four in &mut fours {
-        one(slots, mask, model, store, rows, at, evidence, four[0]);
-        one(slots, mask, model, store, rows, at, evidence, four[1]);
-        one(slots, mask, model, store, rows, at, evidence, four[2]);
-        one(slots, mask, model, store, rows, at, evidence, four[3]);
-    }
-    for &w in fours.remainder() {
-        one(slots, mask, model, store, rows, at, evidence, w);
-    }
+        *slot_code = T::UNTOUCHED;
+    });
 }
