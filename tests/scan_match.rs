@@ -263,6 +263,38 @@ fn bad_settings_are_refused_naming_the_field_and_the_value() {
         ),
         (
             MatchSettings {
+                window_spreads: f64::NAN,
+                ..d
+            },
+            "windowSpreads",
+            "NaN",
+        ),
+        (
+            MatchSettings {
+                max_linear_window: 0.2,
+                ..d
+            },
+            "maxLinearWindow",
+            "0.2",
+        ),
+        (
+            MatchSettings {
+                max_angular_window: 3.5,
+                ..d
+            },
+            "maxAngularWindow",
+            "3.5",
+        ),
+        (
+            MatchSettings {
+                max_angular_window: 0.1,
+                ..d
+            },
+            "maxAngularWindow",
+            "0.1",
+        ),
+        (
+            MatchSettings {
                 angular_step: 0.0,
                 ..d
             },

@@ -49,6 +49,61 @@ pub fn bilinear<M: CellModel, S: Store<M::Cell>>(
     })
 }
 
+/// A smooth reading of cell values at grid coordinates `(u, v)` (cells
+/// from the grid's lower-left corner, cell `(i, j)` centred at `(i + 0.5,
+/// j + 0.5)`): the quadratic B-spline of the values, `value(i, j)` read for
+/// the 3 x 3 cells around the nearest centre. It returns the value and its
+/// gradient per cell.
+///
+/// Bilinear interpolation peaks only at cell centres and is flat along a
+/// run of equal cells, so a scan fitted to it snaps to the centres of the
+/// cells its wall fills (up to half a cell off, a different half cell for
+/// each scan) and slides freely along a wall two cells thick. The
+/// quadratic B-spline is smooth (continuous slope), peaks in the middle of
+/// such a run, and reaches half a cell further on each side, a wider
+/// basin for Gauss–Newton to climb (Cartographer's scan matcher reads its
+/// grid through a smooth cubic for the same reasons). It does not pass
+/// through the values: a lone wall cell reads 0.56 of its value at its
+/// centre, a straight wall of one cell's thickness 0.75.
+pub fn quadratic_bspline(
+    u: f64,
+    v: f64,
+    mut value: impl FnMut(i64, i64) -> f64,
+) -> (f64, [f64; 2]) {
+    let (tu, tv) = (u - 0.5, v - 0.5);
+    let (i, j) = (tu.round(), tv.round());
+    let (wu, du) = bspline_weights(tu - i);
+    let (wv, dv) = bspline_weights(tv - j);
+    let (i, j) = (i as i64, j as i64);
+    let (mut f, mut gx, mut gy) = (0.0, 0.0, 0.0);
+    for b in 0..3 {
+        let (mut row, mut row_dx) = (0.0, 0.0);
+        for a in 0..3 {
+            // (Saturating: a point absurdly far away reads the cells at
+            // the end of the index range, outside any map.)
+            let c = value(
+                i.saturating_add(a as i64 - 1),
+                j.saturating_add(b as i64 - 1),
+            );
+            row += wu[a] * c;
+            row_dx += du[a] * c;
+        }
+        f += wv[b] * row;
+        gx += wv[b] * row_dx;
+        gy += dv[b] * row;
+    }
+    (f, [gx, gy])
+}
+
+/// The quadratic B-spline's weights of the cells at offsets -1, 0 and 1
+/// from a point `d` cells from the nearest centre (`|d| <= 0.5`), and
+/// their derivatives in `d`.
+#[inline]
+fn bspline_weights(d: f64) -> ([f64; 3], [f64; 3]) {
+    let (l, r) = (0.5 - d, 0.5 + d);
+    ([0.5 * l * l, 0.75 - d * d, 0.5 * r * r], [-l, -2.0 * d, r])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,5 +152,34 @@ mod tests {
             "west of the first centre"
         );
         assert_eq!(bilinear(&dense, 1.9, 1.0), None, "east of the last centre");
+    }
+
+    /// The smooth reading of a wall two cells thick peaks between the two
+    /// cells, where bilinear interpolation is flat; its weights sum to one
+    /// and its slope is the value's derivative.
+    #[test]
+    fn the_quadratic_bspline_peaks_in_the_middle_of_a_thick_wall() {
+        let wall = |i: i64, _j: i64| if i == 3 || i == 4 { 1.0 } else { 0.0 };
+        let at = |u: f64| quadratic_bspline(u, 7.3, wall);
+        // Cells 3 and 4 are centred at 3.5 and 4.5: the middle is 4.0.
+        let (peak, g) = at(4.0);
+        assert!((peak - 1.0).abs() < 1e-12 && g[0].abs() < 1e-12 && g[1].abs() < 1e-12);
+        for u in [3.5, 3.7, 4.3, 4.5] {
+            assert!(at(u).0 < peak, "{u}");
+        }
+        assert!(
+            at(3.7).1[0] > 0.0 && at(4.3).1[0] < 0.0,
+            "it climbs to the middle"
+        );
+        let h = 1e-6;
+        for u in [2.2, 3.1, 3.6, 4.05, 4.9, 5.4] {
+            let slope = (at(u + h).0 - at(u - h).0) / (2.0 * h);
+            assert!((slope - at(u).1[0]).abs() < 1e-5, "{u}");
+        }
+        let (one, flat) = quadratic_bspline(2.9, -4.4, |_, _| 1.0);
+        assert!((one - 1.0).abs() < 1e-12 && flat[0].abs() < 1e-12 && flat[1].abs() < 1e-12);
+        // Absurdly far away: read, not a panic.
+        let (far, _) = quadratic_bspline(1e300, -1e300, |i, j| (i > 0 && j < 0) as u8 as f64);
+        assert!((far - 1.0).abs() < 1e-12);
     }
 }

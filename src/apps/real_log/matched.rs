@@ -34,13 +34,13 @@ pub const MATCH_DRIFT_MARGIN: f64 = 5.0;
 /// too. Fitted to each scan's time on the Intel and Freiburg 101 logs at
 /// 5 cm (a cell update taken as 12 ns): a search candidate's point costs
 /// about 1.5 ns (an eighth of an update), a Gauss–Newton iteration's point
-/// 30 ns (two and a half) and a map cell pooled into the coarse levels
-/// 2.5 ns (a fifth); the estimate is within 30% of each scan's time for
-/// nine scans in ten.
+/// 48 ns (four: each reads the 3 x 3 cells of the smooth field) and a map
+/// cell pooled into the coarse levels 2.5 ns (a fifth); a scan's time is
+/// within 8 to 16 ns per unit of its estimate for eight scans in ten.
 pub fn match_work(report: &MatchReport) -> u64 {
     let points = report.points as u64;
     let search = report.candidates as u64 * points / 8;
-    let refine = report.iterations as u64 * points * 5 / 2;
+    let refine = report.iterations as u64 * points * 4;
     let pooled = report.cells_read as u64 / 5;
     search + refine + pooled
 }

@@ -151,7 +151,8 @@ impl ScanMatcher {
         grid: &Grid<M, S>,
         prediction: &Prediction,
     ) -> MatchReport {
-        let s = self.settings;
+        // The window as wide as the prediction's spread asks.
+        let s = self.settings.window_for(prediction);
         let predicted = &prediction.pose;
         let fine = GridField::new(grid);
         let points = self.points.points();
@@ -228,18 +229,36 @@ impl ScanMatcher {
         let Some((_, coarse_pose)) = best else {
             return report;
         };
-        let refined = gauss_newton(
-            &fine,
-            self.points.points(),
-            coarse_pose,
-            &coarse_pose,
-            self.anchor_weights(),
-            s.max_iterations,
-        );
-        report.iterations += refined.iterations;
+        // The search's best refined on the map itself, and the prediction
+        // refined there too: where the map is young or says little (down a
+        // corridor), the search's coarse cells can put the best start in
+        // another basin than the prediction's, and the better of the two
+        // fits wins, judged in the refinement's own terms: each point's
+        // evidence `1 - (1 - M)^2`, what Gauss–Newton raises (the mean
+        // match value alone can fall as a fit pulls the worst points onto
+        // the walls).
         let n = self.points.len() as f64;
+        let evidence = |pose: &Pose| n * (1.0 - mean_residual(&fine, self.points.points(), pose));
+        let mut refined = None;
+        for start in [coarse_pose, *predicted] {
+            let r = gauss_newton(
+                &fine,
+                self.points.points(),
+                start,
+                &start,
+                self.anchor_weights(),
+                s.max_iterations,
+            );
+            report.iterations += r.iterations;
+            let weighted = evidence(&r.pose) + prediction.log_prior(&r.pose);
+            if refined.map_or(true, |(w, _)| weighted > w) {
+                refined = Some((weighted, r));
+            }
+        }
+        let Some((weighted, refined)) = refined else {
+            return report;
+        };
         let score = mean_occupancy(&fine, self.points.points(), &refined.pose);
-        let weighted = n * score + prediction.log_prior(&refined.pose);
         let pose = refined.pose;
         // Judged where the scan ends up: a prediction that is off by many
         // degrees puts most points on cells the map has not seen, which
@@ -247,7 +266,7 @@ impl ScanMatcher {
         report.overlap = overlap(grid, self.points.points(), &pose);
         if report.overlap >= s.min_overlap
             && score >= s.min_score
-            && weighted >= n * report.predicted_score
+            && weighted >= evidence(predicted)
         {
             report.fit = pose;
             report.pose = prediction.update(&pose, refined.curvature, &s);
@@ -303,6 +322,21 @@ fn mean_occupancy(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose)
         .map(|&p| {
             let [x, y] = ScanPoints::to_world(pose, trig, p);
             field.sample(x, y).value
+        })
+        .sum();
+    sum / points.len().max(1) as f64
+}
+
+/// Mean squared residual `(1 - M)^2` of `points` on `field` with the
+/// sensor at `pose` (Gauss–Newton's cost without its anchor).
+fn mean_residual(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose) -> f64 {
+    let trig = pose.theta.sin_cos();
+    let sum: f64 = points
+        .iter()
+        .map(|&p| {
+            let [x, y] = ScanPoints::to_world(pose, trig, p);
+            let r = 1.0 - field.sample(x, y).value;
+            r * r
         })
         .sum();
     sum / points.len().max(1) as f64

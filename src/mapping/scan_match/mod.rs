@@ -11,11 +11,18 @@
 //!    `(x, y, θ)` around the predicted pose, scored on a coarse copy of the
 //!    map in which each cell holds the most occupied of the fine cells it
 //!    covers ([`window`]), so that a coarse step cannot jump over a wall;
-//! 2. [`refine`]: Gauss–Newton on the bilinearly interpolated map
-//!    (Kohlbrecher et al. 2011, Hector SLAM), level by level from the
-//!    coarse copy down to the map itself (interpolated as
-//!    [`crate::grid::sample`] does), from each of the search's best
-//!    headings.
+//! 2. [`refine`]: Gauss–Newton, damped as Levenberg–Marquardt does, on the
+//!    interpolated map (Kohlbrecher et al. 2011, Hector SLAM), level by
+//!    level from the coarse copy down to the map itself, from each of the
+//!    search's best headings; on the map itself also from the prediction,
+//!    the better fit winning. The map itself is read as a quadratic
+//!    B-spline ([`crate::grid::sample::quadratic_bspline`]), smooth where
+//!    a bilinear reading is flat, so that a fit lands between cell
+//!    centres; the coarse levels bilinearly.
+//!
+//! The search window is as wide as the prediction's spread asks
+//! ([`MatchSettings::window_for`]): wider after an in-place turn, whose
+//! odometry can be tens of degrees off.
 //!
 //! Candidates are weighed against the prediction's prior, its spread
 //! given by the odometry motion model of Table 5.6 ([`Prediction`]): a

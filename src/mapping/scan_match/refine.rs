@@ -4,16 +4,20 @@
 //! `E(ξ) = mean_i (1 - M(S_i(ξ)))^2 + (wt |t - t_a|)^2 + (wr (θ - θ_a))^2`
 //!
 //! where `S_i(ξ)` is point `i` in the world at `ξ`, `M` the map read
-//! bilinearly with its gradient `∇M` (each cell's
-//! [`super::window::match_value`], where Hector reads the probability), and the last two terms hold the pose
+//! with its gradient `∇M` as a quadratic B-spline of each cell's
+//! [`super::window::match_value`] (Hector reads the probability,
+//! bilinearly; [`crate::grid::sample::quadratic_bspline`] says why a
+//! smooth reading fits better), and the last two terms hold the pose
 //! near an anchor `ξ_a` (the search's pose) where the map says nothing
 //! (Cartographer's Ceres matcher adds the same terms). Each step solves
 //! `H Δξ = b` with `H = mean J_i^T J_i + diag(wt², wt², wr²)`,
-//! `J_i = ∇M · ∂S_i/∂ξ`, and is kept only if it lowers `E` (halved up to
-//! twice otherwise), so a step never makes the fit worse.
+//! `J_i = ∇M · ∂S_i/∂ξ`, damped as Levenberg–Marquardt does, and is kept
+//! only if it lowers `E` (tried again more damped otherwise), so a step
+//! never makes the fit worse.
 
 use super::window::{match_value, FieldSample, PooledLevel};
 use crate::geometry::{wrap_angle, Pose};
+use crate::grid::sample::quadratic_bspline;
 use crate::grid::{CellModel, Grid, Store};
 use nalgebra::{Matrix3, Vector3};
 
@@ -29,10 +33,8 @@ impl OccupancyField for PooledLevel {
     }
 }
 
-/// A map itself as a field: its cells' match values interpolated between
-/// cell centres as [`crate::grid::sample::bilinear`] interpolates their
-/// probabilities; 0, with no slope, where the four cells around a point
-/// are not all in the map.
+/// A map itself as a field: its cells' match values read smoothly
+/// ([`quadratic_bspline`]); a cell outside the map counts as unknown (0).
 pub struct GridField<'a, M: CellModel, S: Store<M::Cell>> {
     grid: &'a Grid<M, S>,
     l_unknown: f32,
@@ -47,46 +49,34 @@ impl<'a, M: CellModel, S: Store<M::Cell>> GridField<'a, M, S> {
         }
     }
 
-    fn value(&self, ix: usize, iy: usize) -> Option<f64> {
-        let m = self.grid.model();
-        Some(match_value(
-            m.log_odds(self.grid.cell_at(ix, iy)?),
-            self.l_unknown,
-        ))
-    }
-
-    fn bilinear(&self, x: f64, y: f64) -> Option<FieldSample> {
-        let g = self.grid.geometry();
-        let (u, v) = g.world_to_grid(x, y);
-        // Cell centres sit at half-integers of grid coordinates.
-        let (u, v) = (u - 0.5, v - 0.5);
-        if !(u >= 0.0 && v >= 0.0) {
-            return None;
+    fn value(&self, ix: i64, iy: i64) -> f64 {
+        if ix < 0 || iy < 0 {
+            return 0.0;
         }
-        let (ix, iy) = (u as usize, v as usize);
-        let (fx, fy) = (u - ix as f64, v - iy as f64);
-        let (p00, p10) = (self.value(ix, iy)?, self.value(ix + 1, iy)?);
-        let (p01, p11) = (self.value(ix, iy + 1)?, self.value(ix + 1, iy + 1)?);
-        let bottom = p00 + fx * (p10 - p00);
-        let top = p01 + fx * (p11 - p01);
-        let per_metre = 1.0 / g.resolution();
-        Some(FieldSample {
-            value: bottom + fy * (top - bottom),
-            gradient: [
-                ((1.0 - fy) * (p10 - p00) + fy * (p11 - p01)) * per_metre,
-                (top - bottom) * per_metre,
-            ],
-        })
+        let m = self.grid.model();
+        self.grid
+            .cell_at(ix as usize, iy as usize)
+            .map_or(0.0, |c| match_value(m.log_odds(c), self.l_unknown))
     }
 }
 
 impl<M: CellModel, S: Store<M::Cell>> OccupancyField for GridField<'_, M, S> {
     #[inline]
     fn sample(&self, x: f64, y: f64) -> FieldSample {
-        self.bilinear(x, y).unwrap_or(FieldSample {
-            value: 0.0,
-            gradient: [0.0; 2],
-        })
+        let g = self.grid.geometry();
+        let (u, v) = g.world_to_grid(x, y);
+        if !(u.is_finite() && v.is_finite()) {
+            return FieldSample {
+                value: 0.0,
+                gradient: [0.0; 2],
+            };
+        }
+        let (value, [gx, gy]) = quadratic_bspline(u, v, |i, j| self.value(i, j));
+        let per_metre = 1.0 / g.resolution();
+        FieldSample {
+            value,
+            gradient: [gx * per_metre, gy * per_metre],
+        }
     }
 }
 
@@ -165,8 +155,20 @@ fn linearise(
 /// a millimetre, a hundredth of a 5 cm cell.
 const CONVERGED: f64 = 5e-4;
 
-/// Refines `start` on `field` with at most `max_iterations` steps, held
-/// near `anchor` with weights `w`.
+/// The Levenberg–Marquardt damping a refinement starts from, the least
+/// it falls to and the most it rises to before giving up: each step
+/// solves `(H + λ diag H) Δξ = b`. Down a corridor the map barely slopes
+/// along the walls, and a plain Gauss–Newton step along them overshoots
+/// by metres; the damping shortens it until the fit improves, direction
+/// by direction, where halving the whole step would stop short.
+const INITIAL_DAMPING: f64 = 1e-3;
+const MIN_DAMPING: f64 = 1e-9;
+const MAX_DAMPING: f64 = 1e6;
+
+/// Refines `start` on `field` with at most `max_iterations` steps kept
+/// (Levenberg–Marquardt: a step that does not lower `E` is tried again
+/// more damped, at most three tries per step kept), held near `anchor`
+/// with weights `w`.
 pub fn gauss_newton(
     field: &impl OccupancyField,
     points: &[[f64; 2]],
@@ -179,37 +181,42 @@ pub fn gauss_newton(
     let mut at = linearise(field, points, &pose, anchor, w);
     let mut samples = points.len();
     let mut iterations = 0;
-    while iterations < max_iterations {
-        let Some(step) = at.h.try_inverse().map(|inv| inv * at.b) else {
+    let mut damping = INITIAL_DAMPING;
+    // Each try reads every point once: at most three per step kept.
+    for _ in 0..3 * max_iterations {
+        if iterations == max_iterations {
+            break;
+        }
+        let mut h = at.h;
+        for i in 0..3 {
+            h[(i, i)] *= 1.0 + damping;
+        }
+        let Some(step) = h.try_inverse().map(|inv| inv * at.b) else {
             break;
         };
         if !step.iter().all(|v| v.is_finite()) {
             break;
         }
-        let mut kept = None;
-        let mut scale = 1.0;
-        for _ in 0..3 {
-            let trial = Pose {
-                x: pose.x + scale * step[0],
-                y: pose.y + scale * step[1],
-                theta: wrap_angle(pose.theta + scale * step[2]),
-            };
-            let next = linearise(field, points, &trial, anchor, w);
-            samples += points.len();
-            if next.cost < at.cost {
-                kept = Some((trial, next));
+        let trial = Pose {
+            x: pose.x + step[0],
+            y: pose.y + step[1],
+            theta: wrap_angle(pose.theta + step[2]),
+        };
+        let next = linearise(field, points, &trial, anchor, w);
+        samples += points.len();
+        if next.cost < at.cost {
+            pose = trial;
+            at = next;
+            iterations += 1;
+            damping = (damping * 0.1).max(MIN_DAMPING);
+            if step[0].hypot(step[1]) < CONVERGED && step[2].abs() < CONVERGED {
                 break;
             }
-            scale *= 0.5;
-        }
-        let Some((trial, next)) = kept else { break };
-        pose = trial;
-        at = next;
-        iterations += 1;
-        if (scale * step[0]).hypot(scale * step[1]) < CONVERGED
-            && (scale * step[2]).abs() < CONVERGED
-        {
-            break;
+        } else {
+            damping *= 10.0;
+            if damping > MAX_DAMPING {
+                break;
+            }
         }
     }
     Refined {

@@ -31,15 +31,29 @@ pub const MAX_ITERATIONS: usize = 100;
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, rename_all = "camelCase", deny_unknown_fields)]
 pub struct MatchSettings {
-    /// Half-width of the search window in x and in y around the predicted
-    /// position, metres. 0.3 m: seeded dead reckoning between two scans of
-    /// a log is off by 2 cm typically and at most 17 cm on the corpus.
+    /// The least half-width of the search window in x and in y around the
+    /// predicted position, metres. 0.3 m: seeded dead reckoning between
+    /// two scans of a log is off by 2 cm typically and at most 17 cm on
+    /// the corpus.
     pub linear_window: f64,
-    /// Half-width of the search window in heading, radians. 30°: the
-    /// heading of one step is off by about 1° typically, 10° in one step
-    /// out of twenty and up to 29° (a sideways or backward step, whose
-    /// direction of travel the wheel model turns by its rotation noise).
+    /// The least half-width of the search window in heading, radians.
+    /// 30°: the heading of one step is off by about 1° typically, 10° in
+    /// one step out of twenty and up to 29° (a sideways or backward step,
+    /// whose direction of travel the wheel model turns by its rotation
+    /// noise).
     pub angular_window: f64,
+    /// How many spreads of the prediction ([`super::Prediction`]) the
+    /// window reaches either side, where that is wider than the least
+    /// window: 4. An in-place turn is predicted to 13° or so (Table 5.6's
+    /// rotation noise on a turn whose direction of travel is unknown), and
+    /// the truth may lie 45° from it; a drive ahead stays within the least
+    /// window.
+    pub window_spreads: f64,
+    /// The most half-width of the search window in x and in y, metres:
+    /// 1 m, a bound on one match's work.
+    pub max_linear_window: f64,
+    /// The most half-width of the search window in heading, radians: 90°.
+    pub max_angular_window: f64,
     /// Heading step of the search, radians. 1°: on the coarse level
     /// (20 cm cells at 5 cm), a point 11 m away moves one coarse cell per
     /// step; Gauss–Newton then takes the pose the rest of the way.
@@ -90,14 +104,16 @@ pub struct MatchSettings {
     /// good to a few tenths of a degree, ten times better than the
     /// odometry's after a turn: the heading kept is the fit's.
     pub fit_heading_spread: f64,
-    /// Weight of the search's pose in Gauss–Newton, per metre: the
+    /// Weight of a refinement's start in Gauss–Newton, per metre: the
     /// refinement minimises `mean (1 - M(p_i))^2 + (wt |Δt|)^2 +
     /// (wr Δθ)^2` (Cartographer's Ceres matcher's `translation_weight`).
-    /// 0.3: along a featureless corridor, where the map says nothing
-    /// about one direction, the pose stays where the search put it instead
-    /// of sliding; anywhere else the map's slopes decide alone (the fit's
-    /// curvature is about a hundred per square metre, the weight's 0.09),
-    /// so the pose found does not lean towards the search's 20 cm steps.
+    /// 1: along a featureless corridor, where the map says little about
+    /// one direction (a young map's walls, seen at a grazing angle, are
+    /// dotted, and their faint slopes would pull the fit along), the pose
+    /// stays where it started instead of sliding; anywhere else the map's
+    /// slopes decide (the fit's curvature is about a hundred per square
+    /// metre, the weight's 1), so the pose found does not lean towards
+    /// the search's 20 cm steps.
     pub refine_translation_weight: f64,
     /// The same per radian of heading (Cartographer's `rotation_weight`).
     /// 1: the heading of a fit is pinned by every wall in view, and
@@ -124,6 +140,9 @@ impl Default for MatchSettings {
         Self {
             linear_window: 0.3,
             angular_window: 30f64.to_radians(),
+            window_spreads: 4.0,
+            max_linear_window: 1.0,
+            max_angular_window: 90f64.to_radians(),
             angular_step: 1f64.to_radians(),
             hypotheses: 3,
             coarse_factor: 4,
@@ -135,7 +154,7 @@ impl Default for MatchSettings {
             min_heading_spread: 1f64.to_radians(),
             fit_position_spread: 0.05,
             fit_heading_spread: 0.3f64.to_radians(),
-            refine_translation_weight: 0.3,
+            refine_translation_weight: 1.0,
             refine_rotation_weight: 1.0,
             min_overlap: 0.3,
             min_score: 0.05,
@@ -145,9 +164,12 @@ impl Default for MatchSettings {
 
 impl MatchSettings {
     /// The field names as a page spells them (the serde names).
-    pub const FIELDS: [&'static str; 17] = [
+    pub const FIELDS: [&'static str; 20] = [
         "linearWindow",
         "angularWindow",
+        "windowSpreads",
+        "maxLinearWindow",
+        "maxAngularWindow",
         "angularStep",
         "hypotheses",
         "coarseFactor",
@@ -174,6 +196,31 @@ impl MatchSettings {
                 "angularWindow",
                 error::show(self.angular_window),
                 "at most pi radians (half a turn either way)",
+            ));
+        }
+        error::non_negative("windowSpreads", self.window_spreads)?;
+        error::non_negative("maxLinearWindow", self.max_linear_window)?;
+        if self.max_linear_window < self.linear_window {
+            return Err(invalid(
+                "maxLinearWindow",
+                error::show(self.max_linear_window),
+                format!(
+                    "at least linearWindow ({})",
+                    error::show(self.linear_window)
+                ),
+            ));
+        }
+        error::non_negative("maxAngularWindow", self.max_angular_window)?;
+        if !(self.max_angular_window >= self.angular_window
+            && self.max_angular_window <= std::f64::consts::PI)
+        {
+            return Err(invalid(
+                "maxAngularWindow",
+                error::show(self.max_angular_window),
+                format!(
+                    "at least angularWindow ({}) and at most pi radians",
+                    error::show(self.angular_window)
+                ),
             ));
         }
         error::positive("angularStep", self.angular_step)?;
@@ -241,19 +288,24 @@ impl MatchSettings {
         let resolution = error::positive("resolution", resolution)?;
         // The coarse copy of the map covers the scan's points: as wide as
         // the traversal's window for a beam of the same reach.
-        let reach = (self.max_range + self.linear_window) / resolution;
+        let reach = (self.max_range + self.max_linear_window) / resolution;
         if !(reach <= MAX_REACH_CELLS) {
             return Err(invalid(
                 "maxRange",
                 error::show(self.max_range),
                 format!(
                     "at most {} m at {} m per cell (2045 cells with the linear window)",
-                    error::show(MAX_REACH_CELLS * resolution - self.linear_window),
+                    error::show(MAX_REACH_CELLS * resolution - self.max_linear_window),
                     error::show(resolution)
                 ),
             ));
         }
-        let candidates = self.candidates_at(resolution * self.coarse_factor as f64);
+        let widest = Self {
+            linear_window: self.max_linear_window,
+            angular_window: self.max_angular_window,
+            ..*self
+        };
+        let candidates = widest.candidates_at(resolution * self.coarse_factor as f64);
         if !(candidates <= MAX_CANDIDATES as f64) {
             return Err(invalid(
                 "angularStep",
@@ -268,6 +320,21 @@ impl MatchSettings {
             ));
         }
         Ok(())
+    }
+
+    /// These settings with the search window widened for `prediction`:
+    /// `windowSpreads` of its spreads either side, at least the least
+    /// window and at most the most.
+    pub fn window_for(&self, prediction: &super::Prediction) -> Self {
+        let linear = self.window_spreads * prediction.position_spread;
+        let angular = self.window_spreads * prediction.heading_spread;
+        Self {
+            linear_window: linear.min(self.max_linear_window).max(self.linear_window),
+            angular_window: angular
+                .min(self.max_angular_window)
+                .max(self.angular_window),
+            ..*self
+        }
     }
 
     /// Headings the search tries: the prediction and `n` steps either side.
