@@ -14,7 +14,7 @@ const MAX_BEAM_SPACING: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// Levels of walks between two beams: level `k` fills out to `2^k` times
 /// the range at which the beams part by a cell.
-const BETWEEN_LEVELS: u32 = 2;
+const BETWEEN_LEVELS: u32 = 3;
 
 /// Walks the space between each pair of neighbouring beams (`bands[i -
 /// 1]`, `bands[i]`, bearings with `(sin, cos)` in `trig`) into `gathered`
