@@ -295,12 +295,20 @@ class SensorFusionElement extends HTMLElement {
 
   /**
    * One animation frame, `dt` ms after the previous one: the steps the
-   * pace owes, in one call of the core with the frame's budget; steps the
-   * budget left undone stay owed to the next frame.
+   * pace owes, in one call of the core with the frame's budget (steps the
+   * budget left undone stay owed to the next frame), drawn in the next
+   * frame: a frame either works or draws, so that on a slow phone neither
+   * waits for the other and the page keeps its frame rate.
    */
   tick(dt) {
     if (!this.playing || !this.sim) return false;
     const n = this.pace.take(dt);
+    if (this.drawOwed) {
+      this.drawOwed = false;
+      this.pace.giveBack(n);
+      this.draw();
+      return true;
+    }
     if (n === 0) return true;
     let report;
     try {
@@ -313,17 +321,23 @@ class SensorFusionElement extends HTMLElement {
       return false;
     }
     this.pace.giveBack(n - report.steps);
-    if (report.steps > 0) this.draw();
     if (report.done) {
+      this.draw();
       this.pause();
       return false;
     }
+    this.drawOwed = report.steps > 0;
     return true;
   }
 
   pause() {
     this.loop?.stop();
     if (!this.playing) return;
+    // Steps a frame took and the next was to draw are drawn now.
+    if (this.drawOwed) {
+      this.drawOwed = false;
+      this.draw();
+    }
     this.playing = false;
     showPlaying(this.playButton, false);
     this.announce();

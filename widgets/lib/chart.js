@@ -203,7 +203,9 @@ function lazyChart(container, height, make, empty, onMade) {
     get plot() {
       loadUPlot();
       materialize();
-      redraw();
+      // uPlot lays a chart out in a microtask after its data changes: a
+      // reader gets it laid out on the latest data at once.
+      plot?.batch(() => redraw());
       return plot;
     },
     setData(data) {
