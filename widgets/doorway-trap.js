@@ -24,7 +24,7 @@ import { loadCore } from './lib/core.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import {
   el, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
@@ -92,12 +92,19 @@ class DoorwayTrapElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (!firstConnection(this, DoorwayTrapElement.attributeSpec)) return;
+    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
+    // widgets build one per task rather than all in the task that loads
+    // their modules. Until then the element is not built and ignores its
+    // attributes' changes; the build reads them all.
+    await startTurn();
+    if (!this.isConnected || !firstConnection(this, DoorwayTrapElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.build();
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      // What follows the core's arrival, in a turn of its own as well.
+      await startTurn();
       // The two cells and the reading checked against the core's cone.
       this.values = this.attrs.resolve(this.core.constants());
     } catch (e) {
@@ -106,7 +113,9 @@ class DoorwayTrapElement extends HTMLElement {
     }
     // The runs are made when the widget first nears the screen: a reader
     // opening the chapter waits for no widget further down.
-    whenVisible(this, () => {
+    // In a turn of its own: the widgets of a page start one step per task.
+    whenVisible(this, async () => {
+      await startTurn();
       this.started = true;
       this.create();
       this.twoCell.start(this.core, this.values);
@@ -225,15 +234,17 @@ class DoorwayTrapElement extends HTMLElement {
       copyLinkControl(this, DoorwayTrapElement.attributeSpec, () => this.linkState()),
     );
 
-    this.bars = barChart(this.barBox, { title: 'Δ log p(z | x, m) per beam, nats', yLabel: 'Δ nats', height: 170 });
-    // Bars are read against zero: keep 0 inside the y range (raised beams
-    // above, lowered ones below), whatever the data's own extent.
-    this.bars.plot.scales.y.range = (u, min, max) => {
-      const lo = Math.min(0, min ?? 0);
-      const hi = Math.max(0, max ?? 0);
-      const pad = (hi - lo) * 0.08 || 1;
-      return [lo < 0 ? lo - pad : 0, hi > 0 ? hi + pad : 0];
-    };
+    this.bars = barChart(this.barBox, {
+      title: 'Δ log p(z | x, m) per beam, nats', yLabel: 'Δ nats', height: 170,
+      // Bars are read against zero: keep 0 inside the y range (raised beams
+      // above, lowered ones below), whatever the data's own extent.
+      yRange: (u, min, max) => {
+        const lo = Math.min(0, min ?? 0);
+        const hi = Math.max(0, max ?? 0);
+        const pad = (hi - lo) * 0.08 || 1;
+        return [lo < 0 ? lo - pad : 0, hi > 0 ? hi + pad : 0];
+      },
+    });
     this.curve = lineChart(this.curveBox, {
       title: 'Objective J(m) over flips', xLabel: 'flip', yLabel: 'J, nats', height: 170, wholeX: true,
       series: [{ label: 'J(m)', color: COLORS.series[0] }],

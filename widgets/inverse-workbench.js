@@ -17,7 +17,7 @@
 // reading, seed, density, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped, startTurn } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { workBudget } from './lib/work-budget.js';
@@ -75,7 +75,12 @@ class InverseWorkbenchElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (!firstConnection(this, InverseWorkbenchElement.attributeSpec)) return;
+    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
+    // widgets build one per task rather than all in the task that loads
+    // their modules. Until then the element is not built and ignores its
+    // attributes' changes; the build reads them all.
+    await startTurn();
+    if (!this.isConnected || !firstConnection(this, InverseWorkbenchElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.z = this.values.reading;
     this.seed = this.values.seed;
@@ -85,6 +90,8 @@ class InverseWorkbenchElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      // What follows the core's arrival, in a turn of its own as well.
+      await startTurn();
       const constants = this.core.constants();
       this.zMax = constants.inverseWorkbench.zMax;
       this.readingSlider.input.max = String(this.zMax);
@@ -101,7 +108,7 @@ class InverseWorkbenchElement extends HTMLElement {
     // Training takes a few hundred milliseconds of work: it starts when the
     // reader scrolls here, after the status has been painted, and goes in
     // slices that leave the page its frames.
-    whenVisible(this, () => this.later(() => this.train(this.seed)));
+    whenVisible(this, () => startTurn().then(() => this.later(() => this.train(this.seed))));
   }
 
   disconnectedCallback() {
@@ -226,8 +233,8 @@ class InverseWorkbenchElement extends HTMLElement {
       xLabel: 'range along the beam axis (m)', yLabel: 'log odds',
       series: SERIES,
       height: 220,
+      onMade: (plot) => this.legendSamples(plot),
     });
-    this.legendSamples();
     if ('ResizeObserver' in window) {
       this.resizer = new ResizeObserver(() => this.requestDraw());
       this.resizer.observe(this.querySelector('.inverse-workbench-panes'));
@@ -239,8 +246,8 @@ class InverseWorkbenchElement extends HTMLElement {
    * the line is: as squares, the two priors' markers were the same blue
    * square.
    */
-  legendSamples() {
-    for (const row of this.chart.plot.root.querySelectorAll('.u-legend .u-series')) {
+  legendSamples(plot) {
+    for (const row of plot.root.querySelectorAll('.u-legend .u-series')) {
       const line = SERIES.find((l) => l.label === row.querySelector('.u-label')?.textContent);
       const m = row.querySelector('.u-marker');
       if (!line || !m) continue;

@@ -28,7 +28,7 @@ import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js
 import { fastForward, trainInSlices, workBudget, workOnce } from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying, startTurn,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
@@ -36,7 +36,9 @@ import {
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
 import { LOG_MODEL_ATTRIBUTES } from './lib/log-models.js';
-import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
+import {
+  arrowCell, exportButton, exportMap, followPaneVisibility, followResize, pointerCell, resetPaneSizes, sizePanes,
+} from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import {
   MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
@@ -181,7 +183,12 @@ class MapWeaverElement extends HTMLElement {
   }
 
   async connectedCallback() {
-    if (!firstConnection(this, MapWeaverElement.attributeSpec)) return;
+    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
+    // widgets build one per task rather than all in the task that loads
+    // their modules. Until then the element is not built and ignores its
+    // attributes' changes; the build reads them all.
+    await startTurn();
+    if (!this.isConnected || !firstConnection(this, MapWeaverElement.attributeSpec)) return;
     this.values = this.attrs.read();
     // The person and the panes' settings wait for the core's defaults.
     this.options = { speed: this.values.speed, person: null, panes: null };
@@ -189,6 +196,8 @@ class MapWeaverElement extends HTMLElement {
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      // What follows the core's arrival, in a turn of its own as well.
+      await startTurn();
       const constants = this.core.constants();
       this.limits = constants.mapWeaver;
       this.values = this.attrs.resolve(constants);
@@ -201,7 +210,9 @@ class MapWeaverElement extends HTMLElement {
       return;
     }
     if (this.values.mode === 'log') this.setMode('log');
+    // In a turn of its own: the widgets of a page start one step per task.
     whenVisible(this, async () => {
+      await startTurn();
       this.started = true;
       await this.create();
       if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
@@ -366,6 +377,8 @@ class MapWeaverElement extends HTMLElement {
       copyLinkControl(this, MapWeaverElement.attributeSpec, () => this.linkState(), () => linkKeeps(this.mode, this.realLog)));
 
     this.resizer = followResize(this.querySelector('.map-weaver-panes'), () => this.layout());
+    // A pane off screen is not redrawn; it is brought up to date when seen.
+    followPaneVisibility(this.panes, () => this.draw());
   }
 
   buildPane(side, k) {
@@ -754,7 +767,7 @@ class MapWeaverElement extends HTMLElement {
         // size or the cursor: a frame of a sweep spread over frames, or of
         // a rebuild, leaves them as they are.
         const shown = JSON.stringify([r.scans - behind[k], pr.cellsVisited, w, p.canvas.width, p.canvas.height, this.cursor]);
-        if (charts || shown !== p.shown) {
+        if (p.onScreen && (charts || shown !== p.shown)) {
           p.shown = shown;
           drawMapImage(p.canvas, this.memory, this.weaver.pixels(k), w, h);
           p.layers.draw({ ctx: p.ctx, s: p.cssW / w, o: { ...this.weaver.overlay(k), tracked: this.tracked[k] } });

@@ -15,12 +15,13 @@ import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import {
   el, slider, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn, setText,
 } from './lib/ui.js';
-import { exportButton, exportMap, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
+import { exportButton, exportMap, followPaneVisibility, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
 import { applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
+import { workBudget } from './lib/work-budget.js';
 
 /** Beam counts the slider offers (an attribute may add another). */
 const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
@@ -28,6 +29,15 @@ const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
 const STEPS_PER_SECOND = 12;
 /** Never more steps per animation frame than this (a slow frame catches up later). */
 const MAX_STEPS_PER_FRAME = 4;
+/**
+ * The core's work per animation frame, milliseconds: a throttled phone has
+ * about 33 ms a frame at 30 frames a second, and drawing the four maps
+ * takes most of the rest. The budget (cell visits) is learned from each
+ * call's time (widgets/lib/work-budget.js).
+ */
+const FRAME_WORK_MS = 8;
+/** The first frame's budget, cell visits: about one step of the chapter's scene, which the first call corrects. */
+const FIRST_FRAME_VISITS = 30_000;
 /** Largest drawn map, CSS pixels. */
 const MAX_CSS_WIDTH = 440;
 const FOOTPRINT_COLOR = COLORS.series[3];
@@ -65,16 +75,24 @@ class SensorFusionElement extends HTMLElement {
     this.sim = null;
     this.playing = false;
     this.pace = pacer(STEPS_PER_SECOND, MAX_STEPS_PER_FRAME);
+    this.frameBudget = workBudget(FRAME_WORK_MS, FIRST_FRAME_VISITS);
   }
 
   async connectedCallback() {
-    if (!firstConnection(this, SensorFusionElement.attributeSpec)) return;
+    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
+    // widgets build one per task rather than all in the task that loads
+    // their modules. Until then the element is not built and ignores its
+    // attributes' changes; the build reads them all.
+    await startTurn();
+    if (!this.isConnected || !firstConnection(this, SensorFusionElement.attributeSpec)) return;
     this.values = this.attrs.read();
     this.beams = this.values['lidar-beams'];
     this.build();
     applyControls(this, this.values.controls);
     try {
       ({ core: this.core, memory: this.memory } = await loadCore());
+      // What follows the core's arrival, in a turn of its own as well.
+      await startTurn();
       const constants = this.core.constants();
       this.defaultBeams = constants.sensorFusion.defaultLidarBeams;
       this.values = this.attrs.resolve(constants);
@@ -86,7 +104,9 @@ class SensorFusionElement extends HTMLElement {
     }
     // The run is made when the widget first nears the screen: a reader
     // opening the chapter waits for no widget further down.
-    whenVisible(this, () => {
+    // In a turn of its own: the widgets of a page start one step per task.
+    whenVisible(this, async () => {
+      await startTurn();
       this.started = true;
       this.create();
       if (this.values.autoplay && !prefersReducedMotion() && this.sim) this.play();
@@ -174,6 +194,10 @@ class SensorFusionElement extends HTMLElement {
       copyLinkControl(this, SensorFusionElement.attributeSpec, () => this.linkState()),
     );
     this.resizer = followResize(this.querySelector('.sensor-fusion-panes'), () => this.layout());
+    // A pane off screen is not redrawn; it is brought up to date when seen.
+    followPaneVisibility(this.panes, (p) => {
+      if (p.stale) this.draw();
+    });
   }
 
   /**
@@ -269,20 +293,51 @@ class SensorFusionElement extends HTMLElement {
     this.loop.start();
   }
 
-  /** One animation frame, `dt` ms after the previous one. */
+  /**
+   * One animation frame, `dt` ms after the previous one: the steps the
+   * pace owes, in one call of the core with the frame's budget (steps the
+   * budget left undone stay owed to the next frame), drawn in the next
+   * frame: a frame either works or draws, so that on a slow phone neither
+   * waits for the other and the page keeps its frame rate.
+   */
   tick(dt) {
-    if (!this.playing) return false;
+    if (!this.playing || !this.sim) return false;
     const n = this.pace.take(dt);
-    if (n > 0 && !this.advance(n)) {
+    if (this.drawOwed) {
+      this.drawOwed = false;
+      this.pace.giveBack(n);
+      this.draw();
+      return true;
+    }
+    if (n === 0) return true;
+    let report;
+    try {
+      const t = performance.now();
+      report = this.sim.work(n, this.frameBudget.value);
+      this.frameBudget.learn(report.cellVisits, performance.now() - t);
+    } catch (e) {
+      showError(this, e);
       this.pause();
       return false;
     }
+    this.pace.giveBack(n - report.steps);
+    if (report.done) {
+      this.draw();
+      this.pause();
+      return false;
+    }
+    this.drawOwed = report.steps > 0;
     return true;
   }
 
   pause() {
     this.loop?.stop();
     if (!this.playing) return;
+    // Steps a frame took and the next was to draw are drawn now.
+    if (this.drawOwed) {
+      this.drawOwed = false;
+      this.draw();
+    }
     this.playing = false;
     showPlaying(this.playButton, false);
     this.announce();
@@ -308,15 +363,18 @@ class SensorFusionElement extends HTMLElement {
       view = this.sim.sceneView();
       for (const p of this.panes) {
         if (!p.ctx) continue;
-        drawMapImage(p.canvas, this.memory, this.sim.render(p.key), w, h);
-        p.layers.draw({ ctx: p.ctx, s: p.cssW / w, view });
-        p.note.textContent = `· ${p.describe(r)}`;
+        p.stale = !p.onScreen;
+        if (p.onScreen) {
+          drawMapImage(p.canvas, this.memory, this.sim.render(p.key), w, h);
+          p.layers.draw({ ctx: p.ctx, s: p.cssW / w, view });
+        }
+        setText(p.note, `· ${p.describe(r)}`);
         const mean = r.footprint[p.key];
-        p.mean.textContent = fixed(mean, 3);
+        setText(p.mean, fixed(mean, 3));
         p.mean.dataset.value = String(mean);
-        p.canvas.setAttribute('aria-label',
+        setText(p.canvas,
           `${p.title} (${p.describe(r)}) after ${grouped(r.step)} of ${grouped(r.steps)} scans: mean occupancy over the table’s footprint ${fixed(mean, 3)}. ` +
-          'Gray unknown, white free, black occupied; the dashed outline is the table top.');
+          'Gray unknown, white free, black occupied; the dashed outline is the table top.', 'aria-label');
       }
     } catch (e) {
       showError(this, e);
@@ -328,21 +386,23 @@ class SensorFusionElement extends HTMLElement {
     this.dataset.maxMean = String(r.footprint.max);
     this.dataset.sumMean = String(r.footprint.sum);
     this.reading = r;
-    if (this.playing) this.status.setAttribute('aria-live', 'off');
+    if (this.playing) setText(this.status, 'off', 'aria-live');
     this.statusText(r);
   }
 
-  statusText(r) {
-    this.status.textContent =
+  /** The status line; `announce` writes it again even when unchanged, for a screen reader to hear it. */
+  statusText(r, again = false) {
+    if (again) this.status.textContent = '';
+    setText(this.status,
       `Scan ${grouped(r.step)} of ${grouped(r.steps)}. Mean occupancy over the table’s ${grouped(r.footprintCells)} cells: ` +
       `max fusion ${fixed(r.footprint.max, 3)}, summation ${fixed(r.footprint.sum, 3)} ` +
-      `(sonar alone ${fixed(r.footprint.sonar, 3)}, LiDAR alone ${fixed(r.footprint.lidar, 3)}).`;
+      `(sonar alone ${fixed(r.footprint.sonar, 3)}, LiDAR alone ${fixed(r.footprint.lidar, 3)}).`);
   }
 
   /** Lets screen readers hear the state once the motion stops. */
   announce() {
     this.status.setAttribute('aria-live', 'polite');
-    if (this.reading) this.statusText(this.reading);
+    if (this.reading) this.statusText(this.reading, true);
   }
 
   /** Saves one map as a ROS map_server pair (PGM + YAML, in one zip). */

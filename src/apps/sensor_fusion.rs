@@ -186,6 +186,21 @@ pub struct SceneView {
     pub lidar: Vec<f64>,
 }
 
+/// What one [`TableFusion::work`] call did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FusionWork {
+    /// Steps integrated by this call.
+    pub steps: usize,
+    /// Cells the call's mappers looked at (every cell of the map for each
+    /// sonar sweep, the raster of each LiDAR beam).
+    pub cell_visits: u64,
+    /// Steps integrated so far, this call's included.
+    pub step: usize,
+    /// True once the run is over.
+    pub done: bool,
+}
+
 /// The fusion experiment on the table scene: four maps fed step by step.
 #[derive(Debug, Clone)]
 pub struct TableFusion {
@@ -241,26 +256,64 @@ impl TableFusion {
         stepped
     }
 
+    /// Integrates up to `steps` steps, for about `budget` cell visits: the
+    /// per-frame call of a page that must keep its frames. Each call
+    /// integrates at least one step while the run lasts (a budget of 0
+    /// counts as 1) and goes past its budget by at most one step; the fused
+    /// map is refreshed once, at the end of the call. The maps after any
+    /// sequence of calls are those of as many [`TableFusion::step`]s.
+    pub fn work(&mut self, steps: usize, budget: u64) -> FusionWork {
+        let budget = budget.max(1);
+        let (mut spent, mut taken) = (0u64, 0usize);
+        while spent < budget && taken < steps {
+            let Some(visits) = self.advance_counted() else {
+                break;
+            };
+            spent = spent.saturating_add(visits);
+            taken += 1;
+        }
+        if taken > 0 {
+            self.refresh_fused();
+        }
+        FusionWork {
+            steps: taken,
+            cell_visits: spent,
+            step: self.next,
+            done: self.next >= self.run.len(),
+        }
+    }
+
     /// [`TableFusion::step`] without refreshing the fused map, for replays
     /// that only need the fused map at their end.
     fn advance(&mut self) -> bool {
+        self.advance_counted().is_some()
+    }
+
+    /// [`TableFusion::advance`], returning the cells its mappers visited
+    /// (at least 1); `None` once the run is over.
+    fn advance_counted(&mut self) -> Option<u64> {
         let (Some(sonar), Some(lidar)) = (
             self.run.sonar().get(self.next),
             self.run.lidar().get(self.next),
         ) else {
-            return false;
+            return None;
         };
         // One grid per modality, each with the mapper its beam shape needs:
         // a 25° cone covers cells no beam raster crosses (docs/ARCHITECTURE.md, "The data flow").
-        sweep_scan(&mut self.sonar, &self.sonar_model, sonar);
-        self.lidar_mapper
-            .integrate(&mut self.lidar, &self.lidar_model, lidar);
-        // The naive alternative: both streams into the same cells.
-        sweep_scan(&mut self.summed, &self.sonar_model, sonar);
-        self.summed_mapper
-            .integrate(&mut self.summed, &self.lidar_model, lidar);
+        let visits = [
+            sweep_scan(&mut self.sonar, &self.sonar_model, sonar),
+            self.lidar_mapper
+                .integrate(&mut self.lidar, &self.lidar_model, lidar),
+            // The naive alternative: both streams into the same cells.
+            sweep_scan(&mut self.summed, &self.sonar_model, sonar),
+            self.summed_mapper
+                .integrate(&mut self.summed, &self.lidar_model, lidar),
+        ]
+        .iter()
+        .map(|stats| stats.cells_visited as u64)
+        .sum::<u64>();
         self.next += 1;
-        true
+        Some(visits.max(1))
     }
 
     /// Steps to the end of the run; returns the number of steps taken.

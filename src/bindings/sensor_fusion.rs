@@ -2,7 +2,10 @@
 //! sensor, max fusion (eq. 9.9) against summation. The widget steps the
 //! core, draws the four maps from wasm memory and reads small readouts.
 
-use super::{map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js, Pixels};
+use super::{
+    budget_from_js, map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js,
+    Pixels,
+};
 use crate::apps::sensor_fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
 use crate::io::map_server as export;
@@ -38,6 +41,17 @@ impl SensorFusion {
     /// Integrates the next step into all four maps; false at the end.
     pub fn step(&mut self) -> bool {
         self.fusion.step()
+    }
+
+    /// Integrates up to `steps` steps for about `budget` cell visits (whole
+    /// numbers, `Infinity` for no limit; at least one step while the lap
+    /// lasts, past the budget by at most one step), then refreshes the fused
+    /// map once: the call a page makes per animation frame. Returns
+    /// `{ steps, cellVisits, step, done }`.
+    pub fn work(&mut self, steps: JsValue, budget: JsValue) -> Result<JsValue, JsError> {
+        let steps = budget_from_js("steps", &steps)?;
+        let budget = budget_from_js("budget", &budget)? as u64;
+        to_js(&self.fusion.work(steps, budget))
     }
 
     /// Runs to the end of the lap; returns the number of steps taken.

@@ -1,7 +1,28 @@
 // Charts for the widgets, drawn by uPlot (served at /vendor/uplot/). The data
 // always comes from the core; these helpers only lay it out.
-import uPlot from '../../vendor/uplot/uPlot.esm.js';
-import { ensureStyles } from './ui.js';
+//
+// A chart costs a layout and a first drawing when it is made, and a drawing
+// per update: a chart is made only once its box nears the screen (or
+// something reads its `plot`), in a task of its own, and while data pours
+// in (a widget playing) it is redrawn at most MAX_REDRAWS_PER_SECOND times
+// a second, and not at all while off screen, always ending on the latest
+// data. Until it is made, `setData` only keeps the data.
+import { ensureStyles, startTurn, trackVisibility, whenVisible } from './ui.js';
+
+/**
+ * uPlot, loaded when the first chart is asked for rather than with the
+ * widgets' modules: its module is large, and loaded on its own it is
+ * evaluated in a task of its own, long before the first chart nears the
+ * screen (a widget's run needs the core, a far larger download, first).
+ */
+let uPlot = null;
+let uPlotLoading = null;
+function loadUPlot() {
+  uPlotLoading ??= import('../../vendor/uplot/uPlot.esm.js').then((m) => {
+    uPlot = m.default;
+  });
+  return uPlotLoading;
+}
 
 ensureStyles(new URL('../../vendor/uplot/uPlot.min.css', import.meta.url).href);
 
@@ -38,10 +59,9 @@ function sizeOf(container, height) {
  * change), and uPlot's own canvas and legend are hidden from the
  * accessibility tree so they are not read as unnamed parts.
  */
-function describe(container, plot, fallback) {
+function label(container, fallback) {
   if (!container.hasAttribute('role')) container.setAttribute('role', 'img');
   if (!container.hasAttribute('aria-label')) container.setAttribute('aria-label', fallback);
-  plot.root.setAttribute('aria-hidden', 'true');
 }
 
 function followWidth(container, plot, height) {
@@ -57,13 +77,16 @@ export const WHOLE_INCRS = [1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, 1000, 2
 
 /**
  * A line chart. `series` is a list of `{ label, color, dash }`; `setData(x,
- * ...ys)` replaces the data; `wholeX` keeps the x ticks on whole numbers.
- * Returns `{ plot, setData }`.
+ * ...ys)` replaces the data; `wholeX` keeps the x ticks on whole numbers;
+ * `onMade(plot)` runs once the uPlot exists. Returns `{ plot, made,
+ * setData }` (reading `plot` makes the chart if it is not made yet; null
+ * while uPlot itself is still loading).
  */
-export function lineChart(container, { title, xLabel, yLabel, series, height = 180, yRange, wholeX = false }) {
+export function lineChart(container, { title, xLabel, yLabel, series, height = 180, yRange, wholeX = false, onMade }) {
   const x = { label: xLabel };
   if (wholeX) x.incrs = WHOLE_INCRS;
-  const opts = {
+  // Made with the chart: its size asks for a layout.
+  const opts = () => ({
     title,
     ...sizeOf(container, height),
     // A counting axis of one point still spans a whole step.
@@ -81,41 +104,114 @@ export function lineChart(container, { title, xLabel, yLabel, series, height = 1
         points: { show: false },
       })),
     ],
-  };
-  const empty = [[], ...series.map(() => [])];
-  const plot = new uPlot(opts, empty, container);
-  describe(container, plot, title || `${yLabel} against ${xLabel}: ${series.map((s) => s.label).join(', ')}`);
-  followWidth(container, plot, height);
-  return { plot, setData: (x, ...ys) => plot.setData([x, ...ys]) };
+  });
+  const chart = lazyChart(container, height, (data) => new uPlot(opts(), data, container), [[], ...series.map(() => [])], onMade);
+  label(container, title || `${yLabel} against ${xLabel}: ${series.map((s) => s.label).join(', ')}`);
+  return { get plot() { return chart.plot; }, get made() { return chart.made; }, setData: (x, ...ys) => chart.setData([x, ...ys]) };
 }
 
 /**
  * A bar chart of labelled values (positive and negative). `setData(labels,
- * values)` replaces the bars.
+ * values)` replaces the bars; `yRange(u, lo, hi)` replaces the default
+ * range (always holding zero); `onMade(plot)` as for `lineChart`.
  */
-export function barChart(container, { title, yLabel, color = COLORS.evidence, height = 160 }) {
+export function barChart(container, { title, yLabel, color = COLORS.evidence, height = 160, yRange, onMade }) {
   let labels = [];
-  const opts = {
+  const opts = () => ({
     title,
     ...sizeOf(container, height),
     // Bars grow from zero, so the y range always includes it.
     scales: {
       x: { time: false, range: (u, lo, hi) => [lo - 0.6, hi + 0.6] },
-      y: { range: (u, lo, hi) => { const a = Math.min(0, lo), b = Math.max(0, hi); return a === b ? [-1, 1] : [a - 0.05 * (b - a), b + 0.05 * (b - a)]; } },
+      y: { range: yRange ?? ((u, lo, hi) => { const a = Math.min(0, lo), b = Math.max(0, hi); return a === b ? [-1, 1] : [a - 0.05 * (b - a), b + 0.05 * (b - a)]; }) },
     },
     axes: [{ values: (u, ticks) => ticks.map((t) => labels[t] ?? '') }, { label: yLabel, size: fitAxis }],
     legend: { show: false },
     cursor: { show: false },
     series: [{}, { label: yLabel, fill: color, stroke: color, paths: uPlot.paths.bars({ size: [0.7, 40] }), points: { show: false } }],
-  };
-  const plot = new uPlot(opts, [[], []], container);
-  describe(container, plot, title || `bar chart of ${yLabel}`);
-  followWidth(container, plot, height);
+  });
+  const chart = lazyChart(container, height, (data) => new uPlot(opts(), data, container), [[], []], onMade);
+  label(container, title || `bar chart of ${yLabel}`);
   return {
-    plot,
+    get plot() { return chart.plot; },
+    get made() { return chart.made; },
     setData(newLabels, values) {
       labels = newLabels;
-      plot.setData([newLabels.map((_, i) => i), values]);
+      chart.setData([newLabels.map((_, i) => i), values]);
+    },
+  };
+}
+
+/**
+ * Most redraws of one chart per second while its data keeps changing: a
+ * chart is a canvas at the screen's full pixel ratio (uPlot's), three times
+ * a phone pane's pixels, and a curve growing by a dozen points a second
+ * reads as smoothly at five redraws.
+ */
+export const MAX_REDRAWS_PER_SECOND = 5;
+
+/**
+ * A uPlot made by `make(data)` when `container` first nears the screen, in a
+ * task of its own once uPlot has loaded (or at once when `plot` is read
+ * after that), with the latest data
+ * given to `setData`, redrawn at most MAX_REDRAWS_PER_SECOND times a second
+ * and only while on screen (brought up to date when it comes back).
+ * Reading `plot` brings it up to date first, so that what a reader (or a
+ * test) reads from it is the latest data.
+ */
+function lazyChart(container, height, make, empty, onMade) {
+  // A failure shows when the chart is made (whenVisible below).
+  loadUPlot().catch(() => {});
+  let plot = null;
+  let latest = empty;
+  let drawn = true;
+  let lastDraw = -Infinity;
+  let timer = 0;
+  let onScreen = false;
+  const materialize = () => {
+    if (!plot && uPlot) {
+      plot = make(latest);
+      drawn = true;
+      lastDraw = performance.now();
+      plot.root.setAttribute('aria-hidden', 'true');
+      followWidth(container, plot, height);
+      trackVisibility(container, (visible) => {
+        onScreen = visible;
+        if (visible) schedule();
+      });
+      onMade?.(plot);
+    }
+    return plot;
+  };
+  const redraw = () => {
+    timer = 0;
+    if (!plot || drawn) return;
+    drawn = true;
+    lastDraw = performance.now();
+    plot.setData(latest);
+  };
+  /** Redraws now or once the rate allows, if on screen and behind. */
+  const schedule = () => {
+    if (!plot || drawn || timer || !onScreen) return;
+    const wait = lastDraw + 1000 / MAX_REDRAWS_PER_SECOND - performance.now();
+    if (wait <= 0) redraw();
+    else timer = setTimeout(redraw, wait);
+  };
+  whenVisible(container, () => loadUPlot().then(startTurn).then(materialize), { ahead: true });
+  return {
+    get made() { return plot !== null; },
+    get plot() {
+      loadUPlot();
+      materialize();
+      // uPlot lays a chart out in a microtask after its data changes: a
+      // reader gets it laid out on the latest data at once.
+      plot?.batch(() => redraw());
+      return plot;
+    },
+    setData(data) {
+      latest = data;
+      drawn = false;
+      schedule();
     },
   };
 }

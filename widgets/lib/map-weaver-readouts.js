@@ -2,15 +2,18 @@
 // and 8), shown in one line under the maps: the text is the words module's,
 // every number the core's (`readout().difference`, `readout().l0Drift`),
 // and the same numbers go into the line's data attributes for scripts.
-import { fixed } from './ui.js';
+// Rewritten every frame while the lap plays, each text is set only when its
+// words change (ui.js setText).
+import { fixed, setText } from './ui.js';
 import {
   comparisonText, MODEL_NAMES, POSE_NAMES, MAPPER_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, count, ghostText, bits,
 } from './map-weaver-words.js';
 
 /** Shows what the core's readout `r` says about the two maps in `line` (hidden when nothing). */
 export function showComparison(line, r) {
-  line.textContent = comparisonText(r);
-  line.hidden = !line.textContent;
+  const text = comparisonText(r);
+  setText(line, text);
+  if (line.hidden !== !text) line.hidden = !text;
   Object.assign(line.dataset, {
     cellsDiffer: String(r.difference?.cells ?? ''),
     cellsOf: String(r.difference?.of ?? ''),
@@ -27,14 +30,14 @@ export function showComparison(line, r) {
  */
 export function showPaneReadout(p, pr, r, behind) {
   const sensor = pr.sensor === 'cone' ? `${fixed(pr.betaDeg, 0)}° cone` : 'LiDAR';
-  p.note.textContent = `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
-    `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`;
-  p.scanMs.textContent = pr.scanMs === null || pr.scanMs === undefined ? '–' : fixed(pr.scanMs, 2);
-  p.ghost.textContent = ghostText(pr.ghost);
+  setText(p.note, `· ${MODEL_NAMES[pr.model]}, ${POSE_NAMES[pr.pose]} · ${MAPPER_NAMES[pr.mapper]}, ${sensor}, ` +
+    `${pr.beams} beams, ${fixed(pr.resolution, 2)} m${pr.forgetL0 ? ' · l0 not subtracted' : ''}`);
+  setText(p.scanMs, pr.scanMs === null || pr.scanMs === undefined ? '–' : fixed(pr.scanMs, 2));
+  setText(p.ghost, ghostText(pr.ghost));
   p.root.dataset.behind = String(behind);
-  p.entropy.textContent = bits(pr.entropyBits);
-  p.brier.textContent = fixed(pr.brier, 4);
-  p.visited.textContent = count(pr.cellsVisited);
+  setText(p.entropy, bits(pr.entropyBits));
+  setText(p.brier, fixed(pr.brier, 4));
+  setText(p.visited, count(pr.cellsVisited));
   // The data attributes describe a finished map: while a knob's
   // rebuild is under way they keep the last one's.
   if (behind > 0) return;
@@ -49,7 +52,7 @@ export function showPaneReadout(p, pr, r, behind) {
   p.root.dataset.brier = String(pr.brier);
   p.root.dataset.model = pr.model;
   p.root.dataset.pose = pr.pose;
-  p.canvas.setAttribute('aria-label',
+  setText(p.canvas,
     `${p.side === 'left' ? 'Left' : 'Right'} map: ${SPOKEN_MODELS[pr.model]} ${SPOKEN_POSES[pr.pose]}, after ${count(r.scans)} ` +
-    `scan${r.scans === 1 ? '' : 's'}: entropy ${bits(pr.entropyBits)} bits, Brier score ${fixed(pr.brier, 4)}. ${CURSOR_HINT}`);
+    `scan${r.scans === 1 ? '' : 's'}: entropy ${bits(pr.entropyBits)} bits, Brier score ${fixed(pr.brier, 4)}. ${CURSOR_HINT}`, 'aria-label');
 }

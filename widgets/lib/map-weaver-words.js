@@ -2,7 +2,7 @@
 // links: what a model, a pose source or a mapper is called on screen and in
 // the maps' text alternatives, how a pane or real-log setting is written
 // back into a link, and how the core's numbers are printed.
-import { fixed } from './ui.js';
+import { fixed, grouped } from './ui.js';
 import { invalidValue } from './attributes.js';
 import { LOG_MODEL_FIELDS } from './log-models.js';
 
@@ -61,7 +61,11 @@ export const logName = {
   },
 };
 
-export const count = (n) => Number(n).toLocaleString('en-US');
+// Whole counts and one-decimal bits are written by `grouped`, which makes no
+// number formatter (a formatter per call is slow, and the page's first one
+// a long task on a phone); other numbers keep en-US formatting's three
+// decimals.
+export const count = (n) => (Number.isInteger(Number(n)) ? grouped(Number(n)) : Number(n).toLocaleString('en-US'));
 
 /** Exercise 5's readout: how long the person's ghost took to fade at the pane's clamp and strength, and the recursion's time. */
 export function ghostText(g) {
@@ -121,7 +125,7 @@ export function linkKeeps(mode, panel) {
   }
   return 'Link copied: it keeps the real-log settings; no log is loaded, so the link opens the panel with none.';
 }
-export const bits = (x) => x.toLocaleString('en-US', { minimumFractionDigits: 1, maximumFractionDigits: 1 });
+export const bits = (x) => grouped(x, 1);
 export const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 /** A cell size as the menu says it: 0.10, 0.05, 0.0125. */
 export const metres = (m) => m.toLocaleString('en-US', { minimumFractionDigits: 2, maximumFractionDigits: 6 });

@@ -4,7 +4,7 @@
 // button that saves the pane's map for ROS. Positions here are IMAGE UNITS:
 // x right, y down, origin at the top-left of the map image, one unit per
 // cell of the drawn image (widgets/lib/layers.js draws in the same units).
-import { button, hiDpiCanvas, showError } from './ui.js';
+import { MAX_ANIMATED_CANVAS_PIXELS, button, hiDpiCanvas, showError, smallScreen, trackVisibility } from './ui.js';
 import { downloadMapPair } from './export.js';
 
 /** Narrowest map, CSS pixels: below it a cell is too small to point at. */
@@ -14,15 +14,34 @@ const MIN_CSS_WIDTH = 120;
  * Sizes each pane's canvas to its column for a `imageW x imageH` map: as
  * wide as the pane (`fallback` CSS pixels before it has a width), between
  * MIN_CSS_WIDTH and `widest`, the height keeping the map's aspect. A pane
- * whose width did not change keeps its canvas (and its drawing). Sets
- * `pane.cssW` and `pane.ctx`; set `pane.cssW = 0` to force a resize.
+ * whose width did not change keeps its canvas (and its drawing). A pane is
+ * redrawn every frame while its widget plays: on a phone its backing store
+ * keeps to MAX_ANIMATED_CANVAS_PIXELS. Sets `pane.cssW` and `pane.ctx`; set
+ * `pane.cssW = 0` to force a resize.
  */
 export function sizePanes(panes, imageW, imageH, widest, fallback = 320) {
   for (const p of panes) {
     const cssW = Math.max(MIN_CSS_WIDTH, Math.min(widest, Math.floor(p.root.clientWidth || fallback)));
     if (p.cssW === cssW) continue;
     p.cssW = cssW;
-    p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * imageH) / imageW));
+    p.ctx = hiDpiCanvas(p.canvas, cssW, Math.round((cssW * imageH) / imageW), { maxPixels: smallScreen() ? MAX_ANIMATED_CANVAS_PIXELS : Infinity });
+  }
+}
+
+/**
+ * Keeps `pane.onScreen` for each pane (true until the first report) and
+ * calls `onShow(pane)` when one comes back on screen: on a phone a widget's
+ * panes are stacked, and one playing redraws only those a reader can see,
+ * each of the others once it scrolls back into view.
+ */
+export function followPaneVisibility(panes, onShow) {
+  for (const p of panes) {
+    p.onScreen = true;
+    trackVisibility(p.root, (visible) => {
+      const back = visible && !p.onScreen;
+      p.onScreen = visible;
+      if (back) onShow(p);
+    });
   }
 }
 

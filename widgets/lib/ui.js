@@ -88,18 +88,65 @@ export function select(label, options, value, onChange, { name } = {}) {
 }
 
 /**
- * Sizes a canvas for the screen's pixel ratio so lines and text stay sharp:
+ * Most device pixels per CSS pixel a canvas gets. Past two, lines and text
+ * look no sharper, and every changed canvas is copied whole to the screen
+ * each frame: a phone's 3× screen would copy 2.25 times the pixels of 2×.
+ */
+export const MAX_CANVAS_SCALE = 2;
+/**
+ * Most device pixels of a map pane redrawn while a widget plays, on a
+ * small screen (SMALL_SCREEN, a phone; about 350 × 350). Measured on a
+ * 390 px phone at 3× with the CPU throttled 4×: four panes of the sensor
+ * fusion widget redrawn a dozen times a second hold 30 frames a second at
+ * this size, and about 10 at the screen's full ratio, where copying the
+ * canvases to the screen takes most of every frame.
+ */
+export const MAX_ANIMATED_CANVAS_PIXELS = 120_000;
+/** A phone's screen, in CSS pixels. */
+export const SMALL_SCREEN = '(max-width: 600px)';
+
+/** True on a small screen (SMALL_SCREEN). */
+export function smallScreen() {
+  return window.matchMedia?.(SMALL_SCREEN).matches ?? false;
+}
+
+/**
+ * Device pixels per CSS pixel for a `cssWidth x cssHeight` canvas: the
+ * screen's ratio, at most MAX_CANVAS_SCALE and at most what keeps the
+ * backing store within `maxPixels`, never below 1.
+ */
+export function canvasScale(cssWidth, cssHeight, { ratio = window.devicePixelRatio || 1, maxPixels = Infinity } = {}) {
+  const fit = Math.sqrt(maxPixels / Math.max(1, cssWidth * cssHeight));
+  return Math.max(1, Math.min(ratio, MAX_CANVAS_SCALE, fit));
+}
+
+/**
+ * Sizes a canvas for the screen's pixel ratio so lines and text stay sharp
+ * (within the budget of `canvasScale`, `maxPixels` device pixels):
  * `cssWidth x cssHeight` CSS pixels, drawn in CSS-pixel units.
  */
-export function hiDpiCanvas(canvas, cssWidth, cssHeight) {
-  const dpr = Math.max(1, window.devicePixelRatio || 1);
-  canvas.width = Math.round(cssWidth * dpr);
-  canvas.height = Math.round(cssHeight * dpr);
+export function hiDpiCanvas(canvas, cssWidth, cssHeight, { maxPixels = Infinity } = {}) {
+  const scale = canvasScale(cssWidth, cssHeight, { maxPixels });
+  canvas.width = Math.round(cssWidth * scale);
+  canvas.height = Math.round(cssHeight * scale);
   canvas.style.width = `${cssWidth}px`;
   canvas.style.aspectRatio = `${cssWidth} / ${cssHeight}`;
   const ctx = canvas.getContext('2d');
-  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  ctx.setTransform(canvas.width / cssWidth, 0, 0, canvas.height / cssHeight, 0, 0);
   return ctx;
+}
+
+/**
+ * Sets `node`'s text (or, with `attribute`, that attribute) only when it
+ * changes: a readout rewritten with the same words every frame still costs
+ * the page a style and layout pass.
+ */
+export function setText(node, text, attribute = null) {
+  if (attribute === null) {
+    if (node.textContent !== text) node.textContent = text;
+  } else if (node.getAttribute(attribute) !== text) {
+    node.setAttribute(attribute, text);
+  }
 }
 
 /** The box of `showError`; attribute problems have their own (widgets/lib/attributes.js). */
@@ -146,6 +193,37 @@ export function whenVisible(element, start, { ahead = false } = {}) {
     }
   }, ahead ? { rootMargin: AHEAD } : {});
   io.observe(element);
+}
+
+/**
+ * Resolves in a task of its own, after every turn asked for before it: a
+ * widget awaits a turn before each step of its start (its controls, its
+ * first run, its first drawing), so that the widgets of a page start one
+ * step per task and the page paints and answers input in between, instead
+ * of all of them starting in the one task that loads their modules.
+ */
+export function startTurn() {
+  const turn = turns.then(nextTask);
+  turns = turn;
+  return turn;
+}
+let turns = Promise.resolve();
+
+/**
+ * Resolves in a new task: `scheduler.yield` where the browser has it (the
+ * page's other tasks of the same priority do not jump ahead), a message
+ * otherwise (unlike a timer, never clamped to 4 ms).
+ */
+export function nextTask() {
+  if (globalThis.scheduler?.yield) return globalThis.scheduler.yield();
+  return new Promise((resolve) => {
+    const channel = new MessageChannel();
+    channel.port1.onmessage = () => {
+      channel.port1.close();
+      resolve();
+    };
+    channel.port2.postMessage(null);
+  });
 }
 
 /** How far below (and above) the screen `whenVisible(…, { ahead: true })` looks: half a screen. */
@@ -269,15 +347,34 @@ export function fixed(x, d = 4) {
 
 /**
  * Formats a count or a measure with thousands separators and `d` decimals
- * ("2,000 cells", "11,389 ms"): the one way the widgets write numbers of
- * four digits and more.
+ * ("2,000 cells", "11,389 ms"), as en-US number formatting writes it: the
+ * one way the widgets write numbers of four digits and more.
  */
 export function grouped(x, d = 0) {
   if (!Number.isFinite(x)) return String(x);
-  // One formatter per number of decimals: toLocaleString makes one per
-  // call, too slow for readouts redrawn every frame.
-  let f = formatters.get(d);
-  if (!f) formatters.set(d, (f = new Intl.NumberFormat('en-US', { minimumFractionDigits: d, maximumFractionDigits: d })));
-  return f.format(x);
+  // By hand rather than with Intl.NumberFormat: the first formatter a page
+  // makes loads the locale's data, a long task on a slow phone while the
+  // widgets build. As en-US formatting does, it rounds the number's
+  // shortest decimal form half away from zero, and keeps the sign of -0.
+  const sign = x < 0 || Object.is(x, -0) ? '-' : '';
+  const [mantissa, exponent] = Math.abs(x).toExponential().split('e');
+  let digits = mantissa.replace('.', '');
+  // Digits before the decimal point; a number below 0.1 gets leading zeros.
+  let point = Number(exponent) + 1;
+  if (point < 0) {
+    digits = '0'.repeat(-point) + digits;
+    point = 0;
+  }
+  const keep = point + d;
+  let kept = digits.slice(0, keep).padEnd(keep, '0');
+  if (digits.length > keep && digits[keep] >= '5') {
+    const up = kept.split('');
+    let i = up.length - 1;
+    for (; i >= 0 && up[i] === '9'; i--) up[i] = '0';
+    if (i < 0) up.unshift('1');
+    else up[i] = String(Number(up[i]) + 1);
+    kept = up.join('');
+  }
+  const whole = (kept.slice(0, kept.length - d).replace(/^0+(?=\d)/, '') || '0').replace(/\B(?=(\d{3})+(?!\d))/g, ',');
+  return sign + whole + (d > 0 ? `.${kept.slice(kept.length - d)}` : '');
 }
-const formatters = new Map();
