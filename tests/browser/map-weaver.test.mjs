@@ -70,7 +70,8 @@ test('plays the lap with falling entropy, reacts to the person and the oracle, r
   assert.equal(await w.getByRole('button', { name: 'Pause' }).getAttribute('aria-pressed'), 'true');
   await scansAtLeast(page, 40);
   const early = await state(w);
-  await page.waitForTimeout(2500);
+  // Played on by 40 more scans: waited for as a state, however slow the machine.
+  await scansAtLeast(page, early.scans + 41);
   const later = await state(w);
   assert.ok(later.scans > early.scans + 40, `played on: ${early.scans} -> ${later.scans}`);
   for (const k of [0, 1]) {
@@ -163,7 +164,8 @@ test('plays by itself when visible and motion is allowed, and rejects a bad attr
   await page.waitForSelector(`${SELECTOR} .occgrid-error`);
   assert.match(await w.locator('.occgrid-error').textContent(), /invalid laps: "many"/);
   const before = (await state(w)).scans;
-  await page.waitForTimeout(400);
+  // Still playing after the bad attribute: the scans go on (a state, not a time).
+  await scansAtLeast(page, before + 1);
   assert.ok((await state(w)).scans > before, 'still playing after the bad attribute');
   // The only console output is the widget's own report of the bad value.
   assert.equal(errors.length, 1);
