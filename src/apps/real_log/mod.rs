@@ -30,7 +30,7 @@ mod view;
 pub use map::LogGrid;
 pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
-pub use session::{ReadReport, RealLogSession, READ_SHARE};
+pub use session::{PlanReport, ReadReport, RealLogSession, CONFIGURE_SCANS, READ_SHARE};
 pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
@@ -52,6 +52,10 @@ pub enum Stage {
     /// scans wait for settings that fit.
     #[serde(rename = "awaiting-settings")]
     AwaitingSettings,
+    /// New settings: the panes are being planned at them, in bounded
+    /// calls (the maps of the settings before stay on screen until then).
+    #[serde(rename = "planning")]
+    Planning,
     /// The panes are heading for their target scan count.
     #[serde(rename = "building")]
     Building,

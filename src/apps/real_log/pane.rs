@@ -230,16 +230,24 @@ impl LogPane {
             self.budget_cells,
         )?;
         pane.target = self.target;
-        let old = self.map.view().viewport;
-        if pane.grid().geometry() == self.grid().geometry() {
-            pane.map.view_mut().viewport = old;
-            pane.cursor = self.cursor;
+        pane.keep_view(self)?;
+        Ok(pane)
+    }
+
+    /// Takes the view and cursor of `old`, this pane's map before new
+    /// settings, when the map's limits stay; otherwise shows the whole map
+    /// at `old`'s output size.
+    pub(super) fn keep_view(&mut self, old: &LogPane) -> Result<()> {
+        let v = old.map.view().viewport;
+        if self.grid().geometry() == old.grid().geometry() {
+            self.map.view_mut().viewport = v;
+            self.cursor = old.cursor;
         } else {
-            let view = &mut pane.map.view_mut().viewport;
-            view.resize(old.width, old.height)?;
+            let view = &mut self.map.view_mut().viewport;
+            view.resize(v.width, v.height)?;
             view.fit();
         }
-        Ok(pane)
+        Ok(())
     }
 
     /// The grid `settings` would give `scans`, without allocating it: an
@@ -530,7 +538,7 @@ pub(super) fn grid_of_extent(
     Ok(grid)
 }
 
-fn no_scans() -> OccError {
+pub(super) fn no_scans() -> OccError {
     invalid(
         "log",
         "no FLASER or ROBOTLASER1 lines",
