@@ -125,3 +125,106 @@ pub struct SessionState {
     pub settings: LogMapSettings,
     pub limits: SettingLimits,
 }
+
+// The state is built beside the types it fills.
+use session::PlanFor;
+
+impl RealLogSession {
+    /// Where the session stands.
+    pub fn stage(&self) -> Stage {
+        if self.loader.is_some() || matches!(self.planning, Some((_, PlanFor::Read))) {
+            Stage::Reading
+        } else if self.planning.is_some() {
+            Stage::Planning
+        } else if self.read_failure.is_some() || self.pane_failure().is_some() {
+            Stage::Failed
+        } else if self.pending.is_some() {
+            Stage::AwaitingSettings
+        } else if self.panes.is_empty() {
+            Stage::Idle
+        } else if self.panes.iter().all(|p| p.progress().finished) {
+            Stage::Done
+        } else {
+            Stage::Building
+        }
+    }
+
+    /// The one state a panel renders.
+    pub fn state(&self) -> SessionState {
+        let stage = self.stage();
+        let error = match stage {
+            Stage::Failed => self
+                .read_failure
+                .as_ref()
+                .or_else(|| self.pane_failure())
+                .map(|e| e.to_string()),
+            Stage::AwaitingSettings => self.pending.as_ref().map(|(_, e)| e.to_string()),
+            _ => None,
+        };
+        let failed = match stage {
+            Stage::Failed if self.read_failure.is_some() => Some(FailedStep::Read),
+            Stage::Failed => Some(FailedStep::Build),
+            _ => None,
+        };
+        let panes: Vec<PaneState> = self
+            .panes
+            .iter()
+            .map(|p| PaneState {
+                poses: p.source(),
+                model: p.model(),
+                caption: p.caption(),
+                progress: p.progress(),
+            })
+            .collect();
+        let fraction = |p: &BuildProgress| {
+            if p.scans_target == 0 {
+                1.0
+            } else {
+                p.scans_done as f64 / p.scans_target as f64
+            }
+        };
+        let built = if panes.is_empty() {
+            0.0
+        } else {
+            panes.iter().map(|p| fraction(&p.progress)).sum::<f64>() / panes.len() as f64
+        };
+        let read_fraction = self.read_report.as_ref().map_or(0.0, |r| {
+            if r.progress.finished {
+                1.0
+            } else {
+                r.progress.bytes_read as f64 / r.bytes_total.max(1) as f64
+            }
+        });
+        let progress = match stage {
+            Stage::Reading | Stage::AwaitingSettings => READ_SHARE * read_fraction.min(1.0),
+            Stage::Planning => 0.0,
+            _ if self.after_read => READ_SHARE + (1.0 - READ_SHARE) * built,
+            _ => built,
+        };
+        let first = panes.first().map(|p| p.progress);
+        let settings = *self.settings.settings();
+        SessionState {
+            state: stage,
+            log: self.log.clone(),
+            error,
+            failed,
+            progress,
+            read: self.read_report.clone(),
+            scans_done: panes
+                .iter()
+                .map(|p| p.progress.scans_done)
+                .min()
+                .unwrap_or(0),
+            scans_target: first.map_or(0, |p| p.scans_target),
+            scans_total: first.map_or(0, |p| p.scans_total),
+            cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
+            work: panes.iter().map(|p| p.progress.work).sum(),
+            beams: panes.iter().map(|p| p.progress.beams).sum(),
+            finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
+            panes,
+            settings,
+            limits: SettingLimits::at(settings.resolution)
+                .expect("checked settings have a positive resolution"),
+        }
+    }
+}

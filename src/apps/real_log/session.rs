@@ -6,10 +6,10 @@
 //! ([`SessionState`]) the panel renders.
 
 use super::budget::{scan_model, PanePlanning};
-use super::pane::{BuildProgress, LogPane};
-use super::settings::{CheckedSettings, LogMapSettings, SettingLimits};
+use super::pane::LogPane;
+use super::settings::{CheckedSettings, LogMapSettings};
 use super::view::GeometryReport;
-use super::{FailedStep, PaneState, SessionState, Stage};
+use super::SessionState;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use crate::inverse::HandCrafted;
@@ -38,7 +38,7 @@ pub struct ReadReport {
 }
 
 /// What a call of [`RealLogSession::plan`] did: the planning of the panes
-/// after new settings ([`Stage::Planning`]).
+/// after new settings ([`super::Stage::Planning`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct PlanReport {
     /// The call's work, in scans walked: at most its `max_scans`, or 1.
@@ -53,9 +53,13 @@ pub struct PlanReport {
 /// budget, the maps on screen staying until then.
 pub const CONFIGURE_SCANS: usize = 256;
 
+/// Cells recounted ([`crate::grid::stats::TileTally`]) in the time of one
+/// cell update: what a slice's budget counts a recount in.
+pub const RECOUNT_CELLS_PER_UPDATE: usize = 4;
+
 /// What a planning under way is for.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum PlanFor {
+pub(super) enum PlanFor {
     /// The log just read (the last calls of its read).
     Read,
     /// New settings for the panes on screen, which head for `target`
@@ -86,32 +90,32 @@ enum PlanFor {
 pub struct RealLogSession {
     /// The reader over the file's bytes, dropped (with the bytes) once the
     /// whole log is read.
-    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
-    budget: LogBudget,
+    pub(super) loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    pub(super) budget: LogBudget,
     /// The box of the scans read so far at their own poses, grown as they
     /// are read, under the model and no-return reach it is keyed by (the
     /// settings' when the read began; dropped if they change meanwhile):
     /// the corrected pane's extent, with no walk left for the last read.
-    read_extent: Option<(HandCrafted, f64, ExtentBox)>,
+    pub(super) read_extent: Option<(HandCrafted, f64, ExtentBox)>,
     /// The panes planned over the calls of the read that follow its last
     /// line, or over [`Self::plan`]'s after new settings.
-    planning: Option<(PanePlanning, PlanFor)>,
+    pub(super) planning: Option<(PanePlanning, PlanFor)>,
     /// Scans read whose map the current settings cannot make (a grid too
     /// large), and why: kept until `configure` brings settings that fit.
-    pending: Option<(Arc<LaserScans>, OccError)>,
+    pub(super) pending: Option<(Arc<LaserScans>, OccError)>,
     /// The read under way, or how the last one ended.
-    read_report: Option<ReadReport>,
+    pub(super) read_report: Option<ReadReport>,
     /// Why the read was refused, once it has been (the file is freed).
-    read_failure: Option<OccError>,
-    bytes_total: usize,
+    pub(super) read_failure: Option<OccError>,
+    pub(super) bytes_total: usize,
     /// The name of the log last opened.
-    log: Option<String>,
-    settings: CheckedSettings,
-    panes: Vec<LogPane>,
+    pub(super) log: Option<String>,
+    pub(super) settings: CheckedSettings,
+    pub(super) panes: Vec<LogPane>,
     /// True while the build is the one that follows a read (the progress
     /// bar then continues from the read's share).
-    after_read: bool,
-    budget_cells: usize,
+    pub(super) after_read: bool,
+    pub(super) budget_cells: usize,
 }
 
 impl Default for RealLogSession {
@@ -187,7 +191,7 @@ impl RealLogSession {
     /// [`Self::open`] for another file). A log cut short is read up to the
     /// cut, with the report's `warning` naming the line. If the settings
     /// make too large a grid for this log, that is an error too, and the
-    /// scans wait ([`Stage::AwaitingSettings`]) for a [`Self::configure`]
+    /// scans wait ([`super::Stage::AwaitingSettings`]) for a [`Self::configure`]
     /// that fits.
     pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
         if let Some(e) = &self.read_failure {
@@ -331,7 +335,7 @@ impl RealLogSession {
     }
 
     /// Walks up to `max_scans` scans (at least one) of the planning of the
-    /// panes after new settings ([`Stage::Planning`]); once it is walked,
+    /// panes after new settings ([`super::Stage::Planning`]); once it is walked,
     /// the new panes replace the ones on screen and head for their target.
     /// An error when the new settings make no map of this log (a grid too
     /// large, beams past the tile budget): the panes on screen and their
@@ -407,7 +411,7 @@ impl RealLogSession {
     /// New settings: every pane restarts towards the same scan count (a
     /// pane is added or dropped when the pose source changes), once its
     /// plan is walked: up to [`CONFIGURE_SCANS`] scans here, the rest over
-    /// [`Self::plan`] calls ([`Stage::Planning`]; the maps on screen stay
+    /// [`Self::plan`] calls ([`super::Stage::Planning`]; the maps on screen stay
     /// until then). Returns the first pane's geometry (`None` while there
     /// is no map yet). Checked once; on error nothing changes.
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
@@ -484,16 +488,29 @@ impl RealLogSession {
                 .min_by_key(|p| p.progress().scans_done);
             let Some(pane) = behind else { break };
             let before = pane.progress().work;
-            let after = pane.advance(1);
-            spent += after.work - before;
+            pane.integrate_next();
+            spent += pane.progress().work - before;
             if let Some(e) = pane.failure() {
-                return Err(e.clone());
+                let e = e.clone();
+                self.refresh_counts();
+                return Err(e);
             }
-            if spent >= max_cells {
+            // The tiles written are recounted once, at the end of the
+            // call, within its budget.
+            let recount: usize = self.panes.iter().map(|p| p.counts_pending()).sum();
+            if spent + (recount / RECOUNT_CELLS_PER_UPDATE) as u64 >= max_cells {
                 break;
             }
         }
+        self.refresh_counts();
         Ok(self.state())
+    }
+
+    /// Brings every pane's counts up to date with the tiles written.
+    fn refresh_counts(&mut self) {
+        for pane in &mut self.panes {
+            pane.refresh_counts();
+        }
     }
 
     /// Integrates up to `max_scans` more scans into every pane (a test's
@@ -540,106 +557,8 @@ impl RealLogSession {
         OccError::State("the log has not been read yet".into())
     }
 
-    fn pane_failure(&self) -> Option<&OccError> {
+    pub(super) fn pane_failure(&self) -> Option<&OccError> {
         self.panes.iter().find_map(|p| p.failure())
-    }
-
-    /// Where the session stands.
-    pub fn stage(&self) -> Stage {
-        if self.loader.is_some() || matches!(self.planning, Some((_, PlanFor::Read))) {
-            Stage::Reading
-        } else if self.planning.is_some() {
-            Stage::Planning
-        } else if self.read_failure.is_some() || self.pane_failure().is_some() {
-            Stage::Failed
-        } else if self.pending.is_some() {
-            Stage::AwaitingSettings
-        } else if self.panes.is_empty() {
-            Stage::Idle
-        } else if self.panes.iter().all(|p| p.progress().finished) {
-            Stage::Done
-        } else {
-            Stage::Building
-        }
-    }
-
-    /// The one state a panel renders.
-    pub fn state(&self) -> SessionState {
-        let stage = self.stage();
-        let error = match stage {
-            Stage::Failed => self
-                .read_failure
-                .as_ref()
-                .or_else(|| self.pane_failure())
-                .map(|e| e.to_string()),
-            Stage::AwaitingSettings => self.pending.as_ref().map(|(_, e)| e.to_string()),
-            _ => None,
-        };
-        let failed = match stage {
-            Stage::Failed if self.read_failure.is_some() => Some(FailedStep::Read),
-            Stage::Failed => Some(FailedStep::Build),
-            _ => None,
-        };
-        let panes: Vec<PaneState> = self
-            .panes
-            .iter()
-            .map(|p| PaneState {
-                poses: p.source(),
-                model: p.model(),
-                caption: p.caption(),
-                progress: p.progress(),
-            })
-            .collect();
-        let fraction = |p: &BuildProgress| {
-            if p.scans_target == 0 {
-                1.0
-            } else {
-                p.scans_done as f64 / p.scans_target as f64
-            }
-        };
-        let built = if panes.is_empty() {
-            0.0
-        } else {
-            panes.iter().map(|p| fraction(&p.progress)).sum::<f64>() / panes.len() as f64
-        };
-        let read_fraction = self.read_report.as_ref().map_or(0.0, |r| {
-            if r.progress.finished {
-                1.0
-            } else {
-                r.progress.bytes_read as f64 / r.bytes_total.max(1) as f64
-            }
-        });
-        let progress = match stage {
-            Stage::Reading | Stage::AwaitingSettings => READ_SHARE * read_fraction.min(1.0),
-            Stage::Planning => 0.0,
-            _ if self.after_read => READ_SHARE + (1.0 - READ_SHARE) * built,
-            _ => built,
-        };
-        let first = panes.first().map(|p| p.progress);
-        let settings = *self.settings.settings();
-        SessionState {
-            state: stage,
-            log: self.log.clone(),
-            error,
-            failed,
-            progress,
-            read: self.read_report.clone(),
-            scans_done: panes
-                .iter()
-                .map(|p| p.progress.scans_done)
-                .min()
-                .unwrap_or(0),
-            scans_target: first.map_or(0, |p| p.scans_target),
-            scans_total: first.map_or(0, |p| p.scans_total),
-            cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
-            work: panes.iter().map(|p| p.progress.work).sum(),
-            beams: panes.iter().map(|p| p.progress.beams).sum(),
-            finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
-            panes,
-            settings,
-            limits: SettingLimits::at(settings.resolution)
-                .expect("checked settings have a positive resolution"),
-        }
     }
 
     /// How the last read ended (also when setting up the map failed), or
