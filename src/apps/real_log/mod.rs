@@ -9,15 +9,17 @@
 //!   ([`LogPoses`]); the limits the controls keep to ([`SettingLimits`]).
 //! - `pane`: one pose source's map ([`LogPane`]): shared scans, its poses,
 //!   a tiled grid and the mapper, built towards a target scan count.
-//! - `view`: what a pane shows: its view, cursor, readouts, scale legend
-//!   and export.
+//! - `view`: what a pane shows: its view, cursor, readouts, scale legend,
+//!   counts (kept per tile as the build writes them) and export.
+//! - `budget`: what a map will allocate, and the panes planned in calls of
+//!   bounded work, after a read and after new settings.
 //! - `matched`: the scan-matched pose source inside a pane
 //!   ([`MatchView`] what the page draws of its last match), and every
 //!   pane's poses as a `poses.tsv` text.
 //! - `session`: [`RealLogSession`], the read, the panes (the corrected map,
 //!   and the dead-reckoned one beside it when asked for: a further pose
-//!   source is one more pane) and the one state a panel renders
-//!   ([`SessionState`]).
+//!   source is one more pane); beside the state's types here, the one
+//!   state a panel renders ([`SessionState`]).
 
 mod budget;
 mod map;

@@ -57,6 +57,10 @@ pub const CONFIGURE_SCANS: usize = 256;
 /// cell update: what a slice's budget counts a recount in.
 pub const RECOUNT_CELLS_PER_UPDATE: usize = 4;
 
+/// A finished planning: its scans, its panes (or why the settings make
+/// none) and what it was for.
+type Planned = (Arc<LaserScans>, Result<Vec<LogPane>>, PlanFor);
+
 /// What a planning under way is for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum PlanFor {
@@ -312,14 +316,7 @@ impl RealLogSession {
     /// Walks up to `max_scans` scans of the planning under way; once it
     /// is walked, takes it and gives its scans, its panes (or why the
     /// settings make none) and what it was for.
-    #[allow(clippy::type_complexity)]
-    fn walk_plan(
-        &mut self,
-        max_scans: usize,
-    ) -> (
-        usize,
-        Option<(Arc<LaserScans>, Result<Vec<LogPane>>, PlanFor)>,
-    ) {
+    fn walk_plan(&mut self, max_scans: usize) -> (usize, Option<Planned>) {
         let Some((planning, _)) = self.planning.as_mut() else {
             return (0, None);
         };
@@ -492,7 +489,7 @@ impl RealLogSession {
             spent += pane.progress().work - before;
             if let Some(e) = pane.failure() {
                 let e = e.clone();
-                self.refresh_counts();
+                self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
                 return Err(e);
             }
             // The tiles written are recounted once, at the end of the
@@ -502,15 +499,8 @@ impl RealLogSession {
                 break;
             }
         }
-        self.refresh_counts();
+        self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
         Ok(self.state())
-    }
-
-    /// Brings every pane's counts up to date with the tiles written.
-    fn refresh_counts(&mut self) {
-        for pane in &mut self.panes {
-            pane.refresh_counts();
-        }
     }
 
     /// Integrates up to `max_scans` more scans into every pane (a test's
