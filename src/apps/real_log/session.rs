@@ -53,10 +53,6 @@ pub struct PlanReport {
 /// budget, the maps on screen staying until then.
 pub const CONFIGURE_SCANS: usize = 256;
 
-/// Cells recounted ([`crate::grid::stats::TileTally`]) in the time of one
-/// cell update: what a slice's budget counts a recount in.
-pub const RECOUNT_CELLS_PER_UPDATE: usize = 4;
-
 /// A finished planning: its scans, its panes (or why the settings make
 /// none) and what it was for.
 type Planned = (Arc<LaserScans>, Result<Vec<LogPane>>, PlanFor);
@@ -448,11 +444,13 @@ impl RealLogSession {
             self.budget_cells,
             None,
         );
-        self.planning = Some((planning, purpose));
+        let planning_before = self.planning.replace((planning, purpose));
         if purpose != PlanFor::Read {
             if let Err(e) = self.plan(CONFIGURE_SCANS) {
-                // Found within this call: nothing changes.
+                // Found within this call: nothing changes (a planning
+                // under way goes on).
                 (self.settings, self.pending) = (previous, pending_error);
+                self.planning = planning_before;
                 return Err(e);
             }
             // A read refused since then is the news no longer: the map is.
@@ -468,7 +466,8 @@ impl RealLogSession {
     /// reaches the budget. At least one scan is integrated while any is
     /// left, whatever the budget. An error once a pane's beams reach past
     /// its tile budget (saying how much the log would need); the maps so
-    /// far stay.
+    /// far stay. The tiles the call wrote are recounted at its end
+    /// ([`LogPane::counts`]).
     pub fn build_slice(&mut self, max_cells: u64) -> Result<SessionState> {
         if self.panes.is_empty() {
             return Err(self.no_map());
@@ -492,13 +491,13 @@ impl RealLogSession {
                 self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
                 return Err(e);
             }
-            // The tiles written are recounted once, at the end of the
-            // call, within its budget.
-            let recount: usize = self.panes.iter().map(|p| p.counts_pending()).sum();
-            if spent + (recount / RECOUNT_CELLS_PER_UPDATE) as u64 >= max_cells {
+            if spent >= max_cells {
                 break;
             }
         }
+        // The tiles the call wrote are recounted once, at its end (on the
+        // campus at 5 cm, half a recounted cell per cell update: a cell
+        // recounted takes a seventh of an update's time).
         self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
         Ok(self.state())
     }
