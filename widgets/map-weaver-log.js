@@ -422,7 +422,7 @@ export class RealLogPanel {
       const state = this.session.state();
       this.show(state);
       // Settings that make no map of the log: the ones in force stay, and the controls show them.
-      if (planning) [this.settings, this.job] = [pick(state.settings), null], this.syncControls();
+      if (planning) { this.settings = pick(state.settings); this.job = null; this.syncControls(); }
       showError(this.root, e, planning ? 'settings: ' : `${this.reading}: `);
       if (state.state === 'awaiting-settings') this.layout();
       return;

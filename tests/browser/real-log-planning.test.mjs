@@ -58,3 +58,21 @@ test('new settings on the campus are planned in budgeted calls, the old map on s
   assert.deepEqual(errors, []);
   await close();
 });
+
+test('settings the campus fits in no map are refused by a plan call: the error names them, the controls and the map go back', async () => {
+  const { page, errors, close } = await openPage('/test-fixtures/real-log.html');
+  await page.waitForSelector('#panel[data-ready]');
+  await page.setInputFiles('.map-weaver-log input[type=file]', CAMPUS);
+  await until(page, 'done');
+  const before = await page.evaluate(() => window.realLogPanel.geometry);
+  await page.selectOption('.map-weaver-log select[name=resolution]', '0.025');
+  await page.waitForSelector('.map-weaver-log .occgrid-error');
+  await until(page, 'done');
+  const message = await page.$eval('.map-weaver-log .occgrid-error', (e) => e.textContent);
+  assert.match(message, /^settings: .*resolution: 0\.025 m.*(or coarser fits|a coarser resolution)/, message);
+  assert.equal(await page.$eval('.map-weaver-log select[name=resolution]', (e) => e.value), '0.05');
+  assert.deepEqual(await page.evaluate(() => window.realLogPanel.geometry), before);
+  // The refusal is the one error of the page (also in the console).
+  assert.ok(errors.length > 0 && errors.every((e) => e.includes('settings: invalid resolution')), JSON.stringify(errors));
+  await close();
+});
