@@ -3,7 +3,7 @@
 //! with Table 5.6's noise, integrated from the first pose, seeded; and the
 //! work budget that bounds each call of a map build.
 
-use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses, RealLogSession, MAX_SEED};
+use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, MAX_SEED};
 use occgrid::io::carmen::LaserScans;
 use occgrid::sensors::odometry::OdometryParams;
 use std::path::PathBuf;
@@ -123,13 +123,20 @@ fn dead_reckoning_is_one_more_pane_beside_the_corrected_map_and_a_change_of_sour
     assert_eq!(state.panes[0].caption, "Dead reckoning (seed 5)");
     assert_eq!(state.beams, 2 * state.panes[1].progress.beams);
 
-    // Back to the corrected poses: one pane, the same corrected map…
+    // Back to the corrected poses: one pane, the same corrected map (once
+    // the new panes are planned)…
     s.configure(LogMapSettings::default()).unwrap();
+    while s.stage() == Stage::Planning {
+        s.plan(usize::MAX).unwrap();
+    }
     assert_eq!(s.panes().len(), 1);
     while !s.build_chunk(usize::MAX).unwrap().finished {}
     assert!(bits(&s.panes()[0]) == bits(&corrected));
     // …and on to the same seed again: the same dead-reckoned map.
     s.configure(dead_reckoning(5)).unwrap();
+    while s.stage() == Stage::Planning {
+        s.plan(usize::MAX).unwrap();
+    }
     while !s.build_chunk(usize::MAX).unwrap().finished {}
     assert!(bits(&s.panes()[0]) == dr);
 }

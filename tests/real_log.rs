@@ -484,6 +484,9 @@ fn a_log_past_its_tile_budget_waits_for_the_resolution_that_fits() {
         ..LogMapSettings::default()
     })
     .unwrap();
+    while s.stage() == Stage::Planning {
+        s.plan(200).unwrap();
+    }
     let state = loop {
         let state = s.build_slice(100_000).unwrap();
         if state.finished {

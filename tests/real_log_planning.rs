@@ -7,7 +7,9 @@
 
 mod log_support;
 use log_support::flaser_log;
-use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage};
+use occgrid::apps::real_log::{
+    LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, CONFIGURE_SCANS,
+};
 use occgrid::grid::storage::TILE_CELLS;
 use occgrid::io::carmen::LaserScans;
 
@@ -124,4 +126,134 @@ fn settings_changed_while_reading_plan_the_panes_at_the_new_settings() {
     let log = LaserScans::read(&bytes[..]).unwrap();
     let before = LogPane::with_tile_budget(log, LogMapSettings::default(), BUDGET_CELLS).unwrap();
     assert_ne!(before.geometry(), whole.geometry());
+}
+
+/// Plans `session`'s panes after new settings to the end in calls of `n`
+/// scans; each call's work.
+fn plan_all(session: &mut RealLogSession, n: usize) -> Vec<u64> {
+    let mut works = Vec::new();
+    while session.stage() == Stage::Planning {
+        let report = session.plan(n).expect("the settings map the log");
+        works.push(report.work as u64);
+        assert!(works.len() < 10_000, "the planning ends");
+    }
+    works
+}
+
+#[test]
+fn new_settings_plan_the_panes_in_bounded_calls_while_the_old_maps_stay() {
+    let (scans, n) = (2 * CONFIGURE_SCANS, 25);
+    let bytes = diagonal_log(scans);
+    let mut session = RealLogSession::with_tile_budget(bytes.clone(), BUDGET_CELLS);
+    read_all(&mut session, n);
+    while !session.build_chunk(100).unwrap().finished {}
+    let (old_geometry, old_counts) = (
+        session.geometry(0).unwrap(),
+        session.pane(0).unwrap().counts(),
+    );
+
+    let settings = LogMapSettings {
+        resolution: 0.04,
+        ..Default::default()
+    };
+    session.configure(settings).unwrap();
+    // The configure call walked its own share only: the rest is left to
+    // the page's calls, and the maps on screen stay until then.
+    assert_eq!(session.stage(), Stage::Planning);
+    assert_eq!(session.geometry(0).unwrap(), old_geometry);
+    assert_eq!(session.pane(0).unwrap().counts(), old_counts);
+    let works = plan_all(&mut session, n);
+    assert!(works.iter().all(|&w| w <= n as u64), "{works:?}");
+    // The extent walk and the tile walk, CONFIGURE_SCANS of them in
+    // configure itself.
+    let total = works.iter().sum::<u64>() + CONFIGURE_SCANS as u64;
+    assert_eq!(total, 2 * scans as u64, "{works:?}");
+    assert_eq!(session.stage(), Stage::Building);
+
+    let log = LaserScans::read(&bytes[..]).unwrap();
+    let mut whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
+    assert_eq!(session.geometry(0).unwrap(), whole.geometry());
+    while !session.build_chunk(100).unwrap().finished {}
+    whole.advance(usize::MAX);
+    let planned = session.pane(0).unwrap();
+    assert_eq!(
+        planned.progress().cell_updates,
+        whole.progress().cell_updates
+    );
+    assert_eq!(planned.counts(), whole.counts());
+    assert_eq!(
+        planned.grid().to_dense().unwrap(),
+        whole.grid().to_dense().unwrap()
+    );
+}
+
+#[test]
+fn settings_that_make_no_map_are_refused_by_a_planning_call_and_the_old_maps_stay() {
+    let scans = 2 * CONFIGURE_SCANS;
+    let mut session = RealLogSession::with_tile_budget(diagonal_log(scans), BUDGET_CELLS);
+    read_all(&mut session, 50);
+    while !session.build_chunk(100).unwrap().finished {}
+    let before = session.state();
+    session
+        .configure(LogMapSettings {
+            resolution: 0.02,
+            ..Default::default()
+        })
+        .unwrap();
+    let e = loop {
+        match session.plan(40) {
+            Ok(r) => assert!(!r.finished && r.work <= 40),
+            Err(e) => break e.to_string(),
+        }
+    };
+    assert!(e.contains("invalid resolution: 0.02 m"), "{e}");
+    assert!(e.contains("m or coarser fits"), "{e}");
+    // Nothing changed: the settings, the maps and their state.
+    assert_eq!(session.state(), before);
+}
+
+#[test]
+fn a_scan_matched_pane_is_planned_in_the_read_s_bounded_calls_too() {
+    let (scans, n) = (150, 8);
+    let bytes = diagonal_log(scans);
+    let mut session = RealLogSession::with_tile_budget(bytes.clone(), BUDGET_CELLS);
+    let settings = LogMapSettings {
+        poses: LogPoses::ScanMatched,
+        ..Default::default()
+    };
+    session.configure(settings).unwrap();
+    let works = read_all(&mut session, n);
+    assert!(works.iter().all(|&w| w <= n as u64), "{works:?}");
+    // Read once; the tiles of the scan-matched and the corrected panes
+    // (both boxes grown as the lines were read), then the dead-reckoned
+    // pane's box and tiles: every walk counted in some call's work.
+    assert_eq!(works.iter().sum::<u64>(), 5 * scans as u64, "{works:?}");
+    let log = LaserScans::read(&bytes[..]).unwrap();
+    let whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
+    assert_eq!(session.geometry(0).unwrap(), whole.geometry());
+}
+
+#[test]
+fn the_search_for_a_resolution_that_fits_is_spread_over_the_read_s_calls() {
+    let (scans, n) = (200, 9);
+    let bytes = diagonal_log(scans);
+    let budget = 40 * TILE_CELLS;
+    let mut session = RealLogSession::with_tile_budget(bytes.clone(), budget);
+    let mut works = Vec::new();
+    let e = loop {
+        match session.read(n) {
+            Ok(r) => works.push(work(&r)),
+            Err(e) => break e,
+        }
+    };
+    assert!(works.iter().all(|&w| w <= n as u64), "{works:?}");
+    // Read, its tiles counted, then at least one coarser candidate walked
+    // (each a whole walk of the scans) before the refusal: the calls, the
+    // refusing one included, hold three walks of the scans.
+    let calls = works.len() as u64 + 1;
+    assert!(calls * n as u64 >= 3 * scans as u64, "{works:?}");
+    let log = LaserScans::read(&bytes[..]).unwrap();
+    let whole = LogPane::with_tile_budget(log, LogMapSettings::default(), budget);
+    assert_eq!(Some(e.to_string()), whole.err().map(|e| e.to_string()));
+    assert!(e.to_string().contains("m or coarser fits"), "{e}");
 }

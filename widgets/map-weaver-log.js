@@ -364,8 +364,8 @@ export class RealLogPanel {
       await this.pause();
       while (!this.disposed && this.session) {
         const s = this.state;
-        if (s.state === 'reading') {
-          this.readStep();
+        if (s.state === 'reading' || s.state === 'planning') {
+          this.readStep(s.state === 'planning');
         } else if (s.state === 'building') {
           const last = s.panes[MAIN];
           const t = performance.now();
@@ -411,26 +411,28 @@ export class RealLogPanel {
     }
   }
 
-  /** One read call of a budget of scans sized from the last, and what it brings. */
-  readStep() {
+  /** One read call (or, after new settings, `planning` one) of a budget of scans sized from the last, and what it brings. */
+  readStep(planning = false) {
     const t = performance.now();
     const n = this.readBudget;
     let report;
     try {
-      report = this.session.read(n);
+      report = planning ? this.session.plan(n) : this.session.read(n);
     } catch (e) {
       const state = this.session.state();
       this.show(state);
-      showError(this.root, e, `${this.reading}: `);
+      // Settings that make no map of the log: the ones in force stay, and the controls show them.
+      if (planning) { this.settings = pick(state.settings); this.job = null; this.syncControls(); }
+      showError(this.root, e, planning ? 'settings: ' : `${this.reading}: `);
       if (state.state === 'awaiting-settings') this.layout();
       return;
     }
     const ms = performance.now() - t;
-    this.trace.push(['read', ms, n, report.work]);
+    this.trace.push([planning ? 'plan' : 'read', ms, n, report.work]);
     // Sized by the work done (scans read, or walked to plan the panes).
     this.readBudget = nextChunk(n, ms, Math.max(1, report.work));
     const state = this.session.state();
-    if (state.state !== 'reading') {
+    if (report.finished) {
       // The whole log is read and its panes set up: the maps are this log's.
       this.name = this.reading;
       if (this.job) this.job.readMs = performance.now() - this.job.t0;
@@ -482,7 +484,7 @@ export class RealLogPanel {
   show(state, full = true) {
     this.state = state;
     this.root.dataset.state = state.state;
-    this.root.setAttribute('aria-busy', String(state.state === 'reading' || state.state === 'building'));
+    this.root.setAttribute('aria-busy', String(/^(reading|planning|building)$/.test(state.state)));
     if (!full) return;
     this.progress.value = state.progress;
     const main = state.panes[MAIN];
@@ -490,6 +492,8 @@ export class RealLogPanel {
     const name = this.reading ?? this.name;
     if (state.state === 'reading') {
       this.status.textContent = `Reading ${name}: ${count(read?.lines ?? 0)} lines, ${count(read?.scans ?? 0)} scans…`;
+    } else if (state.state === 'planning') {
+      this.status.textContent = 'Planning the maps at the new settings…';
     } else if (state.state === 'awaiting-settings') {
       this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
     } else if (state.state === 'failed') {
@@ -806,13 +810,7 @@ export class RealLogPanel {
   }
 
   showReadout(c) {
-    this.readout.dataset.x = String(c.x);
-    this.readout.dataset.y = String(c.y);
-    this.readout.dataset.ix = String(c.ix);
-    this.readout.dataset.iy = String(c.iy);
-    this.readout.dataset.l = String(c.l);
-    this.readout.dataset.p = String(c.p);
-    this.readout.dataset.updates = String(c.updates);
+    for (const k of ['x', 'y', 'ix', 'iy', 'l', 'p', 'updates']) this.readout.dataset[k] = String(c[k]);
     this.readout.textContent =
       `cell (${c.ix}, ${c.iy}) at (${fixed(c.x, 2)} m, ${fixed(c.y, 2)} m): l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ` +
       `${count(c.updates)} update${c.updates === 1 ? '' : 's'}`;
@@ -839,11 +837,12 @@ export class RealLogPanel {
     const before = this.state?.panes.length ? this.geometry : null;
     if (!this.applySettings()) return;
     const state = this.session.state();
-    if (state.panes.length === 0) return void this.show(state);
+    const planning = state.state === 'planning'; // the maps on screen stay until the new ones are planned
+    if (state.panes.length === 0 && !planning) return void this.show(state);
     // The load's timing line was for the settings it was mapped with.
     if (before || this.job?.kind !== 'load') this.job = { kind: 'rebuild', t0: performance.now() };
     this.timing.textContent = '';
-    this.layout();
+    if (!planning) this.layout();
     this.follow(state);
   }
 

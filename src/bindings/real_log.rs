@@ -104,6 +104,14 @@ impl RealLogSession {
         to_js(&self.session.read(max_scans)?)
     }
 
+    /// Walks up to `maxScans` more scans (a whole number) of the planning
+    /// of the panes after new settings (state `planning`); returns `{ work,
+    /// finished }`, `work` the scans walked.
+    pub fn plan(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
+        let max_scans = budget_from_js("maxScans", &max_scans)?;
+        to_js(&self.session.plan(max_scans)?)
+    }
+
     /// New settings (a partial object: missing fields keep the defaults;
     /// unknown fields are errors). Returns the first pane's geometry, or
     /// `null` while there is no map. On error nothing changes.

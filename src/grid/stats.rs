@@ -4,6 +4,7 @@
 //! exported map counts its cells with the thresholds its YAML states
 //! (`crate::io::map_server::export_counts`).
 
+use super::storage::Tiled;
 use super::{logit, CellModel, Grid, Store};
 
 /// Cells above this probability count as occupied (W1).
@@ -47,9 +48,43 @@ pub fn count_states_between<M: CellModel, S: Store<M::Cell>>(
     free_below: f64,
 ) -> StateCounts {
     // Compared in log odds: no exp per cell.
-    let (occ_l, free_l) = log_odds_thresholds(occupied_above, free_below);
+    let thresholds = log_odds_thresholds(occupied_above, free_below);
+    let mut sums = [0; 3];
+    let mut held = 0;
+    grid.store().allocated(|cells| {
+        held += cells.len();
+        let t = tally(grid.model(), thresholds, cells);
+        sums = [sums[0] + t[0], sums[1] + t[1], sums[2] + t[2]];
+    });
+    state_counts(grid, thresholds, held, sums)
+}
+
+/// The counts of `grid` from the tally `[above, below, at_prior]` of the
+/// `held` cells its storage holds.
+fn state_counts<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    (occ_l, free_l): (f32, f32),
+    held: usize,
+    [above, below, at_prior]: [usize; 3],
+) -> StateCounts {
     let model = grid.model();
     let unknown_l = model.log_odds(model.unknown());
+    // Take the cells still unknown back out of the band their log odds
+    // fall in.
+    let cells = grid.geometry().len();
+    StateCounts {
+        occupied: above - if unknown_l > occ_l { at_prior } else { 0 },
+        free: below - if unknown_l < free_l { at_prior } else { 0 },
+        // Every cell not held (and every held cell beyond the map, at the
+        // edge of a tile) is unknown.
+        unknown: cells - (held - at_prior),
+        cells,
+    }
+}
+
+/// `[above, below, at_prior]` of `cells`: above the occupied threshold,
+/// below the free one, still at the prior (log odds thresholds).
+fn tally<M: CellModel>(model: &M, (occ_l, free_l): (f32, f32), cells: &[M::Cell]) -> [usize; 3] {
     let mut tally = Tally {
         model,
         occ_l,
@@ -58,32 +93,96 @@ pub fn count_states_between<M: CellModel, S: Store<M::Cell>>(
         above: 0,
         below: 0,
     };
-    let mut held = 0;
-    grid.store().allocated(|cells| {
-        held += cells.len();
-        // Eight cells per loop turn: under Node the loop's own bookkeeping
-        // is otherwise most of this short body.
-        let mut chunks = cells.chunks_exact(8);
-        for c in &mut chunks {
-            for &cell in c {
-                tally.add(cell);
-            }
-        }
-        for &cell in chunks.remainder() {
+    // Eight cells per loop turn: under Node the loop's own bookkeeping is
+    // otherwise most of this short body.
+    let mut chunks = cells.chunks_exact(8);
+    for c in &mut chunks {
+        for &cell in c {
             tally.add(cell);
         }
-    });
-    // Take the cells still unknown back out of the band their log odds
-    // fall in.
-    let at_prior = tally.at_prior;
-    let cells = grid.geometry().len();
-    StateCounts {
-        occupied: tally.above - if unknown_l > occ_l { at_prior } else { 0 },
-        free: tally.below - if unknown_l < free_l { at_prior } else { 0 },
-        // Every cell not held (and every held cell beyond the map, at the
-        // edge of a tile) is unknown.
-        unknown: cells - (held - at_prior),
-        cells,
+    }
+    for &cell in chunks.remainder() {
+        tally.add(cell);
+    }
+    [tally.above, tally.below, tally.at_prior]
+}
+
+/// A tiled map's counts kept per tile: each tile written since the last
+/// [`Self::refresh`] is recounted then (its [`TILE_CELLS`] cells, once
+/// however many updates it took), and the map's counts are the sum of the
+/// tiles', so that asking for them walks no cell a build has not just
+/// written (docs/ARCHITECTURE.md, "Real logs"). The counts are the ones
+/// [`count_states_between`] counts, cell for cell.
+///
+/// [`TILE_CELLS`]: super::storage::TILE_CELLS
+#[derive(Debug, Clone, PartialEq)]
+pub struct TileTally {
+    thresholds: (f32, f32),
+    /// Per allocated tile, `[above, below, at_prior]`.
+    tiles: Vec<[usize; 3]>,
+    /// Their sum.
+    sums: [usize; 3],
+    /// The store's resets when the tiles above were counted.
+    resets: u64,
+}
+
+impl TileTally {
+    /// No tile counted yet, with `p > occupied_above` occupied and
+    /// `p < free_below` free.
+    pub fn new(occupied_above: f64, free_below: f64) -> Self {
+        Self {
+            thresholds: log_odds_thresholds(occupied_above, free_below),
+            tiles: Vec::new(),
+            sums: [0; 3],
+            resets: 0,
+        }
+    }
+
+    /// Recounts the tiles of `grid` written since the last refresh, and
+    /// returns the cells recounted.
+    pub fn refresh<M: CellModel>(&mut self, grid: &mut Grid<M, Tiled<M::Cell>>) -> usize {
+        let (model, store) = grid.model_and_store();
+        if store.resets() != self.resets {
+            // Every tile counted is gone; the ones since are all written.
+            (self.tiles, self.sums, self.resets) = (Vec::new(), [0; 3], store.resets());
+        }
+        let mut recounted = 0;
+        let thresholds = self.thresholds;
+        store.take_touched(|t, cells| {
+            recounted += cells.len();
+            if self.tiles.len() <= t {
+                self.tiles.resize(t + 1, [0; 3]);
+            }
+            let (old, new) = (self.tiles[t], tally(model, thresholds, cells));
+            for i in 0..3 {
+                self.sums[i] = self.sums[i] - old[i] + new[i];
+            }
+            self.tiles[t] = new;
+        });
+        recounted
+    }
+
+    /// The counts of `grid` now: the sum kept, with the tiles written
+    /// since the last refresh counted afresh (not kept).
+    pub fn counts<M: CellModel>(&self, grid: &Grid<M, Tiled<M::Cell>>) -> StateCounts {
+        let store = grid.store();
+        // (Since a reset, every tile held is one written.)
+        let kept = store.resets() == self.resets;
+        let mut sums = if kept { self.sums } else { [0; 3] };
+        for &t in store.touched() {
+            let t = t as usize;
+            let old = match kept {
+                true => self.tiles.get(t).copied().unwrap_or([0; 3]),
+                false => [0; 3],
+            };
+            let new = store
+                .tile(t)
+                .map_or([0; 3], |cells| tally(grid.model(), self.thresholds, cells));
+            for i in 0..3 {
+                sums[i] = sums[i] - old[i] + new[i];
+            }
+        }
+        state_counts(grid, self.thresholds, grid.cells_allocated(), sums)
     }
 }
 

@@ -322,15 +322,17 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
 }
 
 /// One tile's cells, row-major from its bottom row.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 struct Tile<C> {
     cells: Box<[C]>,
     updates: Box<[u32]>,
+    /// True once written since the last [`Tiled::take_touched`].
+    touched: bool,
 }
 
 /// Square tiles of [`TILE_SIDE`] cells, allocated on first touch, at most
 /// a budget of them.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Tiled<C> {
     width: usize,
     height: usize,
@@ -341,6 +343,34 @@ pub struct Tiled<C> {
     /// Most tiles that may be allocated.
     max_tiles: usize,
     refused: bool,
+    /// The tiles written since the last [`Self::take_touched`], by their
+    /// place in `tiles`: what a count kept per tile recounts
+    /// ([`super::stats::TileTally`]).
+    touched: Vec<u32>,
+    /// Resets so far: a count kept per tile starts again after one.
+    resets: u64,
+}
+
+/// Two stores are equal when they hold the same cells in the same tiles
+/// (which tiles were written since a count was kept is no part of a map).
+impl<C: PartialEq> PartialEq for Tiled<C> {
+    fn eq(&self, other: &Self) -> bool {
+        let same_tile = |(a, b): (&Tile<C>, &Tile<C>)| a.cells == b.cells && a.updates == b.updates;
+        (
+            self.width,
+            self.height,
+            &self.index,
+            self.max_tiles,
+            self.refused,
+        ) == (
+            other.width,
+            other.height,
+            &other.index,
+            other.max_tiles,
+            other.refused,
+        ) && self.tiles.len() == other.tiles.len()
+            && self.tiles.iter().zip(&other.tiles).all(same_tile)
+    }
 }
 
 /// Tiles along x and y of a map.
@@ -382,10 +412,15 @@ impl<C: Copy> Tiled<C> {
             self.tiles.push(Tile {
                 cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
                 updates: vec![0; TILE_CELLS].into_boxed_slice(),
+                touched: false,
             });
             self.index[k] = t;
         }
         let tile = self.tiles.get_mut(t as usize)?;
+        if !tile.touched {
+            tile.touched = true;
+            self.touched.push(t);
+        }
         Some((
             (&mut tile.cells[..]).try_into().ok()?,
             (&mut tile.updates[..]).try_into().ok()?,
@@ -399,6 +434,34 @@ impl<C: Copy> Tiled<C> {
     /// Most tiles the budget allows.
     pub fn max_tiles(&self) -> usize {
         self.max_tiles
+    }
+
+    /// The tiles written since the last [`Self::take_touched`], by their
+    /// place among the allocated tiles ([`Self::tile`]).
+    pub fn touched(&self) -> &[u32] {
+        &self.touched
+    }
+
+    /// The cells of allocated tile `t` (row-major from its bottom row,
+    /// [`TILE_CELLS`] of them, the ones beyond the map's edge unknown).
+    pub fn tile(&self, t: usize) -> Option<&[C]> {
+        Some(&self.tiles.get(t)?.cells)
+    }
+
+    /// Hands each tile written since the last call to `f` (its place
+    /// among the allocated tiles, and its cells), and forgets they were.
+    pub fn take_touched(&mut self, mut f: impl FnMut(usize, &[C])) {
+        for &t in &self.touched {
+            let tile = &mut self.tiles[t as usize];
+            tile.touched = false;
+            f(t as usize, &tile.cells);
+        }
+        self.touched.clear();
+    }
+
+    /// Resets so far: the tiles of a count kept per tile since then are gone.
+    pub fn resets(&self) -> u64 {
+        self.resets
     }
 }
 
@@ -415,6 +478,8 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
             tiles: Vec::new(),
             max_tiles: (budget_cells / TILE_CELLS).clamp(1, NO_TILE as usize - 1),
             refused: false,
+            touched: Vec::new(),
+            resets: 0,
         })
     }
 
@@ -462,11 +527,16 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
             self.tiles.push(Tile {
                 cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
                 updates: vec![0; TILE_CELLS].into_boxed_slice(),
+                touched: false,
             });
             self.index[k] = t;
         }
         let o = Self::offset(ix, iy);
         let tile = &mut self.tiles[t as usize];
+        if !tile.touched {
+            tile.touched = true;
+            self.touched.push(t);
+        }
         Some((&mut tile.cells[o], &mut tile.updates[o]))
     }
 
@@ -561,6 +631,8 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
         self.index.fill(NO_TILE);
         self.tiles = Vec::new();
         self.refused = false;
+        self.touched.clear();
+        self.resets += 1;
     }
 }
 

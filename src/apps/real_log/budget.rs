@@ -5,7 +5,8 @@
 //! a build that stops part way through the log. After a read, the panes
 //! are planned in calls of bounded work ([`PanePlanning`]).
 
-use super::pane::{grid_of_extent, plan_grid, poses_for, LogPane};
+use super::matched::MATCH_DRIFT_MARGIN;
+use super::pane::{grid_of_extent, no_scans, poses_for, LogPane};
 use super::settings::{CheckedSettings, LogCellModel, LogPoses};
 use crate::error::{invalid, show, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
@@ -40,16 +41,21 @@ pub(super) fn tiles_needed(
     extent: &GridGeometry,
     c: &CheckedSettings,
 ) -> usize {
-    let s = c.settings();
     tiles_reached(
         extent,
         (0..scans.len()).filter_map(|k| at_pose(scans, k, *poses.get(k)?)),
-        BeamReach {
-            model: c.model(),
-            no_return_reach: s.no_return_reach,
-            walls: s.walls,
-        },
+        beam_reach(c),
     )
+}
+
+/// How the beams under `c` reach: what a walk of the tiles follows.
+fn beam_reach(c: &CheckedSettings) -> BeamReach<'_> {
+    let s = c.settings();
+    BeamReach {
+        model: c.model(),
+        no_return_reach: s.no_return_reach,
+        walls: s.walls,
+    }
 }
 
 /// Refuses settings whose map of `scans` would need more than
@@ -103,45 +109,88 @@ pub(super) fn refuse_past_budget(
     bytes_per_cell: usize,
     plan: impl Fn(&CheckedSettings) -> Result<GridGeometry>,
 ) -> Result<()> {
-    let budget_tiles = budget_tiles(budget_cells);
-    if needed <= budget_tiles {
+    if needed <= budget_tiles(budget_cells) {
         return Ok(());
     }
-    let resolution = c.settings().resolution;
-    // Tiles grow as the area the beams sweep, with the square of 1 /
-    // resolution: start from there and step up until one fits.
-    let scale = (needed as f64 / budget_tiles as f64).sqrt();
-    // Counted in whole steps, so that the resolution named reads as typed.
-    let mut steps = (resolution * scale * RESOLUTION_STEPS_PER_METRE).ceil() as u64;
+    let mut search = FitSearch::new(needed, c, budget_cells);
     let mut fits = None;
-    for _ in 0..TRIES {
-        let candidate = steps as f64 / RESOLUTION_STEPS_PER_METRE;
-        let mut s = *c.settings();
-        s.resolution = candidate;
-        let Ok(checked) = s.validate() else { break };
+    while let Some((candidate, checked)) = search.next(c) {
         let Ok(geometry) = plan(&checked) else { break };
-        if tiles_needed(scans, poses, &geometry, &checked) <= budget_tiles {
+        if tiles_needed(scans, poses, &geometry, &checked) <= budget_tiles(budget_cells) {
             fits = Some(candidate);
             break;
         }
-        steps += 1;
     }
+    Err(budget_refusal(
+        needed,
+        c,
+        budget_cells,
+        bytes_per_cell,
+        fits,
+    ))
+}
+
+/// The search for the finest resolution that fits the tile budget, a
+/// candidate at a time: each candidate costs a walk of the scans, which
+/// the planning spreads over calls ([`PanePlanning`]).
+#[derive(Debug, Clone, Copy)]
+struct FitSearch {
+    /// The next candidate, in whole steps of [`RESOLUTION_STEPS_PER_METRE`].
+    steps: u64,
+    tried: usize,
+}
+
+impl FitSearch {
+    fn new(needed: usize, c: &CheckedSettings, budget_cells: usize) -> Self {
+        // Tiles grow as the area the beams sweep, with the square of 1 /
+        // resolution: start from there and step up until one fits.
+        let scale = (needed as f64 / budget_tiles(budget_cells) as f64).sqrt();
+        // Counted in whole steps, so that the resolution named reads as typed.
+        let r = c.settings().resolution;
+        let steps = (r * scale * RESOLUTION_STEPS_PER_METRE).ceil() as u64;
+        Self { steps, tried: 0 }
+    }
+
+    /// The next resolution to try and the settings at it; `None` once
+    /// [`TRIES`] are spent or the settings at it are refused.
+    fn next(&mut self, c: &CheckedSettings) -> Option<(f64, CheckedSettings)> {
+        if self.tried == TRIES {
+            return None;
+        }
+        self.tried += 1;
+        let candidate = self.steps as f64 / RESOLUTION_STEPS_PER_METRE;
+        self.steps += 1;
+        let mut s = *c.settings();
+        s.resolution = candidate;
+        Some((candidate, s.validate().ok()?))
+    }
+}
+
+/// The refusal of settings whose beams reach `needed` tiles, naming the
+/// resolution that fits (`fits`), if one was found.
+fn budget_refusal(
+    needed: usize,
+    c: &CheckedSettings,
+    budget_cells: usize,
+    bytes_per_cell: usize,
+    fits: Option<f64>,
+) -> OccError {
     let cells = needed as u128 * TILE_CELLS as u128;
     let b = bytes_per_cell as u128;
     let advice = match fits {
         Some(r) => format!("{} m or coarser fits", show(r)),
         None => "a coarser resolution".to_string(),
     };
-    Err(invalid(
+    invalid(
         "resolution",
-        format!("{} m", show(resolution)),
+        format!("{} m", show(c.settings().resolution)),
         format!(
             "a map this log fits in: its beams would reach {needed} tiles of {TILE_SIDE} x {TILE_SIDE} cells \
              ({cells} cells, {}), over the {budget_cells} cells ({}) a map may hold; {advice}",
             mebibytes(cells * b),
             mebibytes(budget_cells as u128 * b),
         ),
-    ))
+    )
 }
 
 /// The poses a budget check walks for `source`: the pane's own, except a
@@ -170,15 +219,35 @@ enum Phase {
     /// Growing the box of its poses and beams, a scan at a time.
     Extent(ExtentBox),
     /// Its bounding box passes the tile budget: counting the tiles its
-    /// beams reach, a scan at a time.
-    Tiles(GridGeometry, TileReach, usize),
+    /// beams reach, a scan at a time (the box of the scans kept for the
+    /// search that may follow).
+    Tiles([f64; 4], GridGeometry, TileReach, usize),
+    /// Its beams pass the tile budget (`needed` tiles): searching for the
+    /// finest resolution that fits over the box `bounds`, a candidate at a
+    /// time and a scan of its walk at a time.
+    Search {
+        bounds: [f64; 4],
+        grid: GridGeometry,
+        needed: usize,
+        search: FitSearch,
+        walk: Option<CandidateWalk>,
+    },
     /// Its grid, and the tiles its beams reach when they were counted.
     Ready(GridGeometry, Option<usize>),
-    /// Planned whole when the panes are made (a scan-matched pane's grid
-    /// comes from the scan matcher).
-    Whole,
+    /// Its beams reach `needed` tiles of its grid, past the budget; the
+    /// resolution that fits, if the search found one.
+    Refused(GridGeometry, usize, Option<f64>),
     /// The settings make no map of this log (a grid too large).
     Failed(OccError),
+}
+
+/// One candidate of a search: its resolution and settings, its grid, and
+/// the tiles the scans walked so far reach on it.
+struct CandidateWalk {
+    resolution: f64,
+    settings: CheckedSettings,
+    tiles: TileReach,
+    scans: usize,
 }
 
 /// One pane of a plan: its pose source and cell model, its poses, and its
@@ -189,13 +258,30 @@ struct PlannedPane {
     phase: Phase,
 }
 
+/// The grid of a pane of `source` over the box `bounds` of the scans at
+/// the poses its plan walks: a scan-matched pane's holds
+/// [`MATCH_DRIFT_MARGIN`] more around the log's own poses, as
+/// `matched::matched_grid` makes it.
+fn grid_of_bounds(
+    source: LogPoses,
+    bounds: Option<[f64; 4]>,
+    c: &CheckedSettings,
+) -> Result<GridGeometry> {
+    let m = match source {
+        LogPoses::ScanMatched => MATCH_DRIFT_MARGIN,
+        _ => 0.0,
+    };
+    grid_of_extent(bounds.map(|a| [a[0] - m, a[1] - m, a[2] + m, a[3] + m]), c)
+}
+
 /// The panes of a log just read, planned in calls of bounded work (scans
 /// walked), so that no call of the page's read walks every scan
 /// (docs/ARCHITECTURE.md, "Real logs"): each pane's extent (already grown
 /// as the lines were read, for the log's own poses), then, when its
-/// bounding box passes the tile budget, the tiles its beams reach. Panes of
-/// one pose source share one walk. The panes it makes are the ones
-/// [`LogPane::plan`] makes, cell for cell.
+/// bounding box passes the tile budget, the tiles its beams reach, and
+/// when those pass it, the finest resolution that fits. Panes of one pose
+/// source share one walk. The panes it makes, and its refusals, are the
+/// ones [`LogPane::plan`] makes, cell for cell and word for word.
 pub(super) struct PanePlanning {
     scans: Arc<LaserScans>,
     settings: CheckedSettings,
@@ -222,9 +308,12 @@ impl PanePlanning {
             .into_iter()
             .map(|(source, model)| {
                 let poses = poses_for(&scans, source, s.seed, &odometry);
+                // A scan-matched pane's box is the one of the log's own
+                // poses too (with room for drift).
                 let phase = match (source, &read_extent) {
-                    (LogPoses::ScanMatched, _) => Phase::Whole,
-                    (LogPoses::Corrected, Some(e)) => Phase::Extent(e.clone()),
+                    (LogPoses::Corrected | LogPoses::ScanMatched, Some(e)) => {
+                        Phase::Extent(e.clone())
+                    }
                     _ => Phase::Extent(ExtentBox::new(s.no_return_reach)),
                 };
                 PlannedPane {
@@ -252,10 +341,11 @@ impl PanePlanning {
             // A pane of a source planned before it takes that plan.
             let (before, rest) = self.panes.split_at_mut(i);
             let pane = &mut rest[0];
-            if matches!(pane.phase, Phase::Extent(_) | Phase::Tiles(..)) {
+            if !pane.phase.is_done() {
                 let twin = before.iter().find(|p| p.plan.0 == pane.plan.0);
                 match twin.map(|p| &p.phase) {
                     Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
+                    Some(Phase::Refused(g, n, r)) => pane.phase = Phase::Refused(*g, *n, *r),
                     Some(Phase::Failed(e)) => pane.phase = Phase::Failed(e.clone()),
                     _ => {}
                 }
@@ -271,9 +361,12 @@ impl PanePlanning {
     /// then, if `may_walk`, one scan of its walk. True when a scan was
     /// walked.
     fn advance(&mut self, i: usize, may_walk: bool) -> bool {
-        let (scans, c) = (&self.scans, &self.settings);
-        let s = c.settings();
+        let (scans, c, budget) = (&self.scans, &self.settings, self.budget_cells);
         let pane = &mut self.panes[i];
+        let source = pane.plan.0;
+        // The poses the walks put the scans at (a scan-matched pane's are
+        // the log's own: the matched path stays near them).
+        let poses = estimate_poses(scans, source, &pane.poses);
         loop {
             match &mut pane.phase {
                 Phase::Extent(e) if e.scans() < scans.len() => {
@@ -283,45 +376,92 @@ impl PanePlanning {
                     let k = e.scans();
                     // (A scan at a pose that is not finite is left out, as
                     // the whole-log extent leaves it out.)
-                    match pane.poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
+                    match poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
                         Some(scan) => e.add(&scan, &scan_model(c, scans, k)),
                         None => e.skip(),
                     }
                     return true;
                 }
                 Phase::Extent(e) => {
-                    pane.phase = match grid_of_extent(e.bounds(), c) {
-                        Ok(g) if every_tile_fits(&g, self.budget_cells) => Phase::Ready(g, None),
-                        Ok(g) => Phase::Tiles(g, TileReach::new(&g), 0),
-                        Err(e) => Phase::Failed(e),
+                    let bounds = e.bounds();
+                    pane.phase = match (grid_of_bounds(source, bounds, c), bounds) {
+                        (Ok(g), _) if every_tile_fits(&g, budget) => Phase::Ready(g, None),
+                        (Ok(g), Some(b)) => Phase::Tiles(b, g, TileReach::new(&g), 0),
+                        (Ok(_), None) => Phase::Failed(no_scans()),
+                        (Err(e), _) => Phase::Failed(e),
                     };
                 }
-                Phase::Tiles(_, tiles, k) if *k < scans.len() => {
+                Phase::Tiles(_, _, tiles, k) if *k < scans.len() => {
                     if !may_walk {
                         return false;
                     }
-                    if let Some(scan) = pane.poses.get(*k).and_then(|&p| at_pose(scans, *k, p)) {
-                        let reach = BeamReach {
-                            model: c.model(),
-                            no_return_reach: s.no_return_reach,
-                            walls: s.walls,
-                        };
-                        tiles.add(&scan, reach);
+                    if let Some(scan) = poses.get(*k).and_then(|&p| at_pose(scans, *k, p)) {
+                        tiles.add(&scan, beam_reach(c));
                     }
                     *k += 1;
                     return true;
                 }
-                Phase::Tiles(g, tiles, _) => pane.phase = Phase::Ready(*g, Some(tiles.count())),
-                Phase::Ready(..) | Phase::Whole | Phase::Failed(_) => return false,
+                Phase::Tiles(_, g, tiles, _) if tiles.count() <= budget_tiles(budget) => {
+                    pane.phase = Phase::Ready(*g, Some(tiles.count()))
+                }
+                Phase::Tiles(bounds, g, tiles, _) => {
+                    // The box of the scans is the same at any resolution:
+                    // each candidate's grid is found without a walk.
+                    let needed = tiles.count();
+                    pane.phase = Phase::Search {
+                        bounds: *bounds,
+                        grid: *g,
+                        needed,
+                        search: FitSearch::new(needed, c, budget),
+                        walk: None,
+                    };
+                }
+                Phase::Search {
+                    bounds,
+                    grid,
+                    needed,
+                    search,
+                    walk,
+                } => match walk {
+                    None => {
+                        let next = search.next(c).and_then(|(r, checked)| {
+                            let g = grid_of_bounds(source, Some(*bounds), &checked).ok()?;
+                            Some(CandidateWalk {
+                                resolution: r,
+                                settings: checked,
+                                tiles: TileReach::new(&g),
+                                scans: 0,
+                            })
+                        });
+                        match next {
+                            Some(w) => *walk = Some(w),
+                            None => pane.phase = Phase::Refused(*grid, *needed, None),
+                        }
+                    }
+                    Some(w) if w.scans < scans.len() => {
+                        if !may_walk {
+                            return false;
+                        }
+                        let k = w.scans;
+                        if let Some(scan) = poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
+                            w.tiles.add(&scan, beam_reach(&w.settings));
+                        }
+                        w.scans += 1;
+                        return true;
+                    }
+                    Some(w) if w.tiles.count() <= budget_tiles(budget) => {
+                        pane.phase = Phase::Refused(*grid, *needed, Some(w.resolution))
+                    }
+                    Some(_) => *walk = None,
+                },
+                Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_) => return false,
             }
         }
     }
 
     /// True once every pane's plan is walked.
     pub(super) fn finished(&self) -> bool {
-        self.panes
-            .iter()
-            .all(|p| matches!(p.phase, Phase::Ready(..) | Phase::Whole | Phase::Failed(_)))
+        self.panes.iter().all(|p| p.phase.is_done())
     }
 
     /// The scans the log has.
@@ -341,34 +481,52 @@ impl PanePlanning {
         } = self;
         panes
             .into_iter()
-            .map(|p| match p.phase {
-                Phase::Whole | Phase::Extent(_) | Phase::Tiles(..) => {
-                    LogPane::plan(Arc::clone(&scans), p.plan, &c, odometry, budget_cells)
-                }
-                Phase::Failed(e) => Err(e),
-                Phase::Ready(grid, needed) => {
-                    let (source, _) = p.plan;
-                    let pane = LogPane::planned(
-                        Arc::clone(&scans),
-                        p.plan,
-                        &c,
-                        odometry,
-                        budget_cells,
-                        (p.poses.clone(), grid),
-                    )?;
-                    if let Some(needed) = needed {
-                        refuse_past_budget(
-                            needed,
-                            (&scans, estimate_poses(&scans, source, &p.poses)),
+            .map(|p| {
+                let (grid, refused) = match p.phase {
+                    Phase::Failed(e) => return Err(e),
+                    Phase::Ready(grid, _) => (grid, None),
+                    Phase::Refused(grid, needed, fits) => (grid, Some((needed, fits))),
+                    // (Not reached once the plan is finished.)
+                    Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
+                        return LogPane::plan(
+                            Arc::clone(&scans),
+                            p.plan,
                             &c,
+                            odometry,
                             budget_cells,
-                            pane.grid().bytes_per_cell(),
-                            |c| plan_grid(&scans, &p.poses, source, c),
-                        )?;
+                        )
                     }
-                    Ok(pane)
+                };
+                let pane = LogPane::planned(
+                    Arc::clone(&scans),
+                    p.plan,
+                    &c,
+                    odometry,
+                    budget_cells,
+                    (p.poses, grid),
+                )?;
+                match refused {
+                    // The refusal names the bytes of this pane's cells.
+                    Some((needed, fits)) => Err(budget_refusal(
+                        needed,
+                        &c,
+                        budget_cells,
+                        pane.grid().bytes_per_cell(),
+                        fits,
+                    )),
+                    None => Ok(pane),
                 }
             })
             .collect()
+    }
+}
+
+impl Phase {
+    /// True once the pane's plan needs no more walking.
+    fn is_done(&self) -> bool {
+        matches!(
+            self,
+            Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_)
+        )
     }
 }

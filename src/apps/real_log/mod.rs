@@ -9,15 +9,17 @@
 //!   ([`LogPoses`]); the limits the controls keep to ([`SettingLimits`]).
 //! - `pane`: one pose source's map ([`LogPane`]): shared scans, its poses,
 //!   a tiled grid and the mapper, built towards a target scan count.
-//! - `view`: what a pane shows: its view, cursor, readouts, scale legend
-//!   and export.
+//! - `view`: what a pane shows: its view, cursor, readouts, scale legend,
+//!   counts (kept per tile as the build writes them) and export.
+//! - `budget`: what a map will allocate, and the panes planned in calls of
+//!   bounded work, after a read and after new settings.
 //! - `matched`: the scan-matched pose source inside a pane
 //!   ([`MatchView`] what the page draws of its last match), and every
 //!   pane's poses as a `poses.tsv` text.
 //! - `session`: [`RealLogSession`], the read, the panes (the corrected map,
 //!   and the dead-reckoned one beside it when asked for: a further pose
-//!   source is one more pane) and the one state a panel renders
-//!   ([`SessionState`]).
+//!   source is one more pane); beside the state's types here, the one
+//!   state a panel renders ([`SessionState`]).
 
 mod budget;
 mod map;
@@ -30,7 +32,7 @@ mod view;
 pub use map::LogGrid;
 pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
-pub use session::{ReadReport, RealLogSession, READ_SHARE};
+pub use session::{PlanReport, ReadReport, RealLogSession, CONFIGURE_SCANS, READ_SHARE};
 pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
@@ -52,6 +54,10 @@ pub enum Stage {
     /// scans wait for settings that fit.
     #[serde(rename = "awaiting-settings")]
     AwaitingSettings,
+    /// New settings: the panes are being planned at them, in bounded
+    /// calls (the maps of the settings before stay on screen until then).
+    #[serde(rename = "planning")]
+    Planning,
     /// The panes are heading for their target scan count.
     #[serde(rename = "building")]
     Building,
@@ -120,4 +126,107 @@ pub struct SessionState {
     /// The settings in force and the limits their controls keep to.
     pub settings: LogMapSettings,
     pub limits: SettingLimits,
+}
+
+// The state is built beside the types it fills.
+use session::PlanFor;
+
+impl RealLogSession {
+    /// Where the session stands.
+    pub fn stage(&self) -> Stage {
+        if self.loader.is_some() || matches!(self.planning, Some((_, PlanFor::Read))) {
+            Stage::Reading
+        } else if self.planning.is_some() {
+            Stage::Planning
+        } else if self.read_failure.is_some() || self.pane_failure().is_some() {
+            Stage::Failed
+        } else if self.pending.is_some() {
+            Stage::AwaitingSettings
+        } else if self.panes.is_empty() {
+            Stage::Idle
+        } else if self.panes.iter().all(|p| p.progress().finished) {
+            Stage::Done
+        } else {
+            Stage::Building
+        }
+    }
+
+    /// The one state a panel renders.
+    pub fn state(&self) -> SessionState {
+        let stage = self.stage();
+        let error = match stage {
+            Stage::Failed => self
+                .read_failure
+                .as_ref()
+                .or_else(|| self.pane_failure())
+                .map(|e| e.to_string()),
+            Stage::AwaitingSettings => self.pending.as_ref().map(|(_, e)| e.to_string()),
+            _ => None,
+        };
+        let failed = match stage {
+            Stage::Failed if self.read_failure.is_some() => Some(FailedStep::Read),
+            Stage::Failed => Some(FailedStep::Build),
+            _ => None,
+        };
+        let panes: Vec<PaneState> = self
+            .panes
+            .iter()
+            .map(|p| PaneState {
+                poses: p.source(),
+                model: p.model(),
+                caption: p.caption(),
+                progress: p.progress(),
+            })
+            .collect();
+        let fraction = |p: &BuildProgress| {
+            if p.scans_target == 0 {
+                1.0
+            } else {
+                p.scans_done as f64 / p.scans_target as f64
+            }
+        };
+        let built = if panes.is_empty() {
+            0.0
+        } else {
+            panes.iter().map(|p| fraction(&p.progress)).sum::<f64>() / panes.len() as f64
+        };
+        let read_fraction = self.read_report.as_ref().map_or(0.0, |r| {
+            if r.progress.finished {
+                1.0
+            } else {
+                r.progress.bytes_read as f64 / r.bytes_total.max(1) as f64
+            }
+        });
+        let progress = match stage {
+            Stage::Reading | Stage::AwaitingSettings => READ_SHARE * read_fraction.min(1.0),
+            Stage::Planning => 0.0,
+            _ if self.after_read => READ_SHARE + (1.0 - READ_SHARE) * built,
+            _ => built,
+        };
+        let first = panes.first().map(|p| p.progress);
+        let settings = *self.settings.settings();
+        SessionState {
+            state: stage,
+            log: self.log.clone(),
+            error,
+            failed,
+            progress,
+            read: self.read_report.clone(),
+            scans_done: panes
+                .iter()
+                .map(|p| p.progress.scans_done)
+                .min()
+                .unwrap_or(0),
+            scans_target: first.map_or(0, |p| p.scans_target),
+            scans_total: first.map_or(0, |p| p.scans_total),
+            cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
+            work: panes.iter().map(|p| p.progress.work).sum(),
+            beams: panes.iter().map(|p| p.progress.beams).sum(),
+            finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
+            panes,
+            settings,
+            limits: SettingLimits::at(settings.resolution)
+                .expect("checked settings have a positive resolution"),
+        }
+    }
 }

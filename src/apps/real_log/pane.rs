@@ -12,9 +12,11 @@ use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
 use crate::apps::pane::ScreenView;
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
+use crate::grid::stats::TileTally;
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
 use crate::inverse::HandCrafted;
 use crate::io::carmen::LaserScans;
+use crate::io::map_server::{FREE_THRESH, OCCUPIED_THRESH};
 use crate::mapping::reach::{covering_grid, scan_extent};
 use crate::mapping::traversal::{BeamBand, RayMapper};
 use crate::mapping::walls::beam_bands;
@@ -89,6 +91,8 @@ pub struct LogPane {
     target: usize,
     /// The keyboard cursor's image cell `(col, row)`, if any.
     pub(super) cursor: Option<(usize, usize)>,
+    /// The map's counts as exported, kept per tile (`view.rs`).
+    pub(super) tally: TileTally,
 }
 
 impl LogPane {
@@ -209,6 +213,7 @@ impl LogPane {
             done: 0,
             target,
             cursor: None,
+            tally: TileTally::new(OCCUPIED_THRESH, FREE_THRESH),
         })
     }
 
@@ -230,16 +235,24 @@ impl LogPane {
             self.budget_cells,
         )?;
         pane.target = self.target;
-        let old = self.map.view().viewport;
-        if pane.grid().geometry() == self.grid().geometry() {
-            pane.map.view_mut().viewport = old;
-            pane.cursor = self.cursor;
+        pane.keep_view(self)?;
+        Ok(pane)
+    }
+
+    /// Takes the view and cursor of `old`, this pane's map before new
+    /// settings, when the map's limits stay; otherwise shows the whole map
+    /// at `old`'s output size.
+    pub(super) fn keep_view(&mut self, old: &LogPane) -> Result<()> {
+        let v = old.map.view().viewport;
+        if self.grid().geometry() == old.grid().geometry() {
+            self.map.view_mut().viewport = v;
+            self.cursor = old.cursor;
         } else {
-            let view = &mut pane.map.view_mut().viewport;
-            view.resize(old.width, old.height)?;
+            let view = &mut self.map.view_mut().viewport;
+            view.resize(v.width, v.height)?;
             view.fit();
         }
-        Ok(pane)
+        Ok(())
     }
 
     /// The grid `settings` would give `scans`, without allocating it: an
@@ -318,11 +331,12 @@ impl LogPane {
                 break;
             }
         }
+        self.refresh_counts();
         self.progress()
     }
 
     /// Integrates scan `done` (at this pane's pose for it) and moves on.
-    fn integrate_next(&mut self) {
+    pub(super) fn integrate_next(&mut self) {
         let k = self.done;
         if let Err(e) = self.match_next(k) {
             self.failure = Some(e);
@@ -530,7 +544,7 @@ pub(super) fn grid_of_extent(
     Ok(grid)
 }
 
-fn no_scans() -> OccError {
+pub(super) fn no_scans() -> OccError {
     invalid(
         "log",
         "no FLASER or ROBOTLASER1 lines",

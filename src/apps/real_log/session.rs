@@ -6,10 +6,10 @@
 //! ([`SessionState`]) the panel renders.
 
 use super::budget::{scan_model, PanePlanning};
-use super::pane::{BuildProgress, LogPane};
-use super::settings::{CheckedSettings, LogMapSettings, SettingLimits};
+use super::pane::LogPane;
+use super::settings::{CheckedSettings, LogMapSettings};
 use super::view::GeometryReport;
-use super::{FailedStep, PaneState, SessionState, Stage};
+use super::SessionState;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use crate::inverse::HandCrafted;
@@ -37,6 +37,42 @@ pub struct ReadReport {
     pub work: usize,
 }
 
+/// What a call of [`RealLogSession::plan`] did: the planning of the panes
+/// after new settings ([`super::Stage::Planning`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct PlanReport {
+    /// The call's work, in scans walked: at most its `max_scans`, or 1.
+    pub work: usize,
+    /// True once the new panes are in place.
+    pub finished: bool,
+}
+
+/// Scans of planning a call of [`RealLogSession::configure`] walks itself:
+/// a small log's panes are in place when it returns; a longer one's
+/// planning goes on over [`RealLogSession::plan`] calls of the page's
+/// budget, the maps on screen staying until then.
+pub const CONFIGURE_SCANS: usize = 256;
+
+/// A finished planning: its scans, its panes (or why the settings make
+/// none) and what it was for.
+type Planned = (Arc<LaserScans>, Result<Vec<LogPane>>, PlanFor);
+
+/// What a planning under way is for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum PlanFor {
+    /// The log just read (the last calls of its read).
+    Read,
+    /// New settings for the panes on screen, which head for `target`
+    /// scans; `previous` their settings, in force again if the new ones
+    /// make no map of the log.
+    Settings {
+        previous: CheckedSettings,
+        target: usize,
+    },
+    /// New settings for scans that awaited them.
+    Pending,
+}
+
 /// A log being read and mapped, step by step:
 ///
 /// 1. [`Self::new`] takes the file's bytes (gzip or plain), or
@@ -47,38 +83,39 @@ pub struct ReadReport {
 /// 3. [`Self::build_slice`] advances every pane within one budget of cell
 ///    updates per call;
 /// 4. [`Self::seek`] scrubs every pane to `k` scans, and
-///    [`Self::configure`] restarts the build with new settings.
+///    [`Self::configure`] restarts the build with new settings, after a
+///    planning of the panes that [`Self::plan`] walks in bounded calls.
 ///
 /// [`Self::state`] says where it stands; the panes answer for their maps.
 pub struct RealLogSession {
     /// The reader over the file's bytes, dropped (with the bytes) once the
     /// whole log is read.
-    loader: Option<LogLoader<Cursor<Vec<u8>>>>,
-    budget: LogBudget,
+    pub(super) loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    pub(super) budget: LogBudget,
     /// The box of the scans read so far at their own poses, grown as they
     /// are read, under the model and no-return reach it is keyed by (the
     /// settings' when the read began; dropped if they change meanwhile):
     /// the corrected pane's extent, with no walk left for the last read.
-    read_extent: Option<(HandCrafted, f64, ExtentBox)>,
-    /// The panes of the log just read, planned over the calls of the read
-    /// that follow its last line.
-    planning: Option<PanePlanning>,
+    pub(super) read_extent: Option<(HandCrafted, f64, ExtentBox)>,
+    /// The panes planned over the calls of the read that follow its last
+    /// line, or over [`Self::plan`]'s after new settings.
+    pub(super) planning: Option<(PanePlanning, PlanFor)>,
     /// Scans read whose map the current settings cannot make (a grid too
     /// large), and why: kept until `configure` brings settings that fit.
-    pending: Option<(Arc<LaserScans>, OccError)>,
+    pub(super) pending: Option<(Arc<LaserScans>, OccError)>,
     /// The read under way, or how the last one ended.
-    read_report: Option<ReadReport>,
+    pub(super) read_report: Option<ReadReport>,
     /// Why the read was refused, once it has been (the file is freed).
-    read_failure: Option<OccError>,
-    bytes_total: usize,
+    pub(super) read_failure: Option<OccError>,
+    pub(super) bytes_total: usize,
     /// The name of the log last opened.
-    log: Option<String>,
-    settings: CheckedSettings,
-    panes: Vec<LogPane>,
+    pub(super) log: Option<String>,
+    pub(super) settings: CheckedSettings,
+    pub(super) panes: Vec<LogPane>,
     /// True while the build is the one that follows a read (the progress
     /// bar then continues from the read's share).
-    after_read: bool,
-    budget_cells: usize,
+    pub(super) after_read: bool,
+    pub(super) budget_cells: usize,
 }
 
 impl Default for RealLogSession {
@@ -154,13 +191,13 @@ impl RealLogSession {
     /// [`Self::open`] for another file). A log cut short is read up to the
     /// cut, with the report's `warning` naming the line. If the settings
     /// make too large a grid for this log, that is an error too, and the
-    /// scans wait ([`Stage::AwaitingSettings`]) for a [`Self::configure`]
+    /// scans wait ([`super::Stage::AwaitingSettings`]) for a [`Self::configure`]
     /// that fits.
     pub fn read(&mut self, max_scans: usize) -> Result<ReadReport> {
         if let Some(e) = &self.read_failure {
             return Err(e.clone());
         }
-        if self.planning.is_some() {
+        if matches!(self.planning, Some((_, PlanFor::Read))) {
             return self.plan_step(max_scans, 0);
         }
         let Some(loader) = self.loader.as_mut() else {
@@ -203,12 +240,15 @@ impl RealLogSession {
             return Err(self.read_failed(e));
         }
         let extent = self.read_extent.take().map(|(_, _, e)| e);
-        self.planning = Some(PanePlanning::new(
-            Arc::new(scans),
-            &self.settings,
-            OdometryParams::WHEELS,
-            self.budget_cells,
-            extent,
+        self.planning = Some((
+            PanePlanning::new(
+                Arc::new(scans),
+                &self.settings,
+                OdometryParams::WHEELS,
+                self.budget_cells,
+                extent,
+            ),
+            PlanFor::Read,
         ));
         // The log is read once its panes are planned too.
         report.progress.finished = false;
@@ -242,46 +282,114 @@ impl RealLogSession {
     /// has read `read` scans already; once the plan is walked, the panes are
     /// set up and the read is finished.
     fn plan_step(&mut self, max_scans: usize, read: usize) -> Result<ReadReport> {
-        let Some(planning) = self.planning.as_mut() else {
-            return Err(self.no_map());
-        };
         // A call of its own walks at least one scan; one that has read
         // scans walks what is left of its budget.
-        let walked = planning.step(if read > 0 {
+        let budget = if read > 0 {
             max_scans
         } else {
             max_scans.max(1)
-        });
+        };
+        let (walked, planned) = self.walk_plan(budget);
         let mut report = self.read_report.clone().ok_or_else(|| self.no_map())?;
         report.work = read + walked;
-        let planning = self.planning.as_ref().filter(|p| p.finished());
-        if planning.is_none() {
-            self.read_report = Some(report.clone());
-            return Ok(report);
-        }
-        let planning = self.planning.take().expect("a finished planning");
-        report.progress.finished = true;
+        report.progress.finished = planned.is_some();
         self.read_report = Some(report.clone());
-        let scans = Arc::clone(planning.scans());
-        self.after_read = true;
-        match planning.into_panes() {
-            Ok(mut panes) => {
-                // The new panes start at the output size of the ones before.
-                if let Some(first) = self.panes.first() {
-                    let v = first.view();
-                    for pane in &mut panes {
-                        pane.set_view_size(v.width, v.height)?;
-                    }
-                }
-                self.panes = panes;
-                Ok(report)
-            }
-            Err(e) => {
+        match planned {
+            Some((scans, Err(e), _)) => {
                 self.panes.clear();
                 self.pending = Some((scans, e.clone()));
                 Err(e)
             }
+            Some((_, Ok(panes), _)) => {
+                self.after_read = true;
+                self.adopt(panes, None)?;
+                Ok(report)
+            }
+            None => Ok(report),
         }
+    }
+
+    /// Walks up to `max_scans` scans of the planning under way; once it
+    /// is walked, takes it and gives its scans, its panes (or why the
+    /// settings make none) and what it was for.
+    fn walk_plan(&mut self, max_scans: usize) -> (usize, Option<Planned>) {
+        let Some((planning, _)) = self.planning.as_mut() else {
+            return (0, None);
+        };
+        let walked = planning.step(max_scans);
+        if !planning.finished() {
+            return (walked, None);
+        }
+        let Some((planning, purpose)) = self.planning.take() else {
+            return (walked, None);
+        };
+        let scans = Arc::clone(planning.scans());
+        (walked, Some((scans, planning.into_panes(), purpose)))
+    }
+
+    /// Walks up to `max_scans` scans (at least one) of the planning of the
+    /// panes after new settings ([`super::Stage::Planning`]); once it is walked,
+    /// the new panes replace the ones on screen and head for their target.
+    /// An error when the new settings make no map of this log (a grid too
+    /// large, beams past the tile budget): the panes on screen and their
+    /// settings then stay in force (for scans that awaited settings, they
+    /// wait on, with this error).
+    pub fn plan(&mut self, max_scans: usize) -> Result<PlanReport> {
+        if !matches!(
+            self.planning,
+            Some((_, PlanFor::Settings { .. } | PlanFor::Pending))
+        ) {
+            return Err(OccError::State(
+                "no panes to plan: new settings start a planning".into(),
+            ));
+        }
+        let (work, planned) = self.walk_plan(max_scans.max(1));
+        let finished = planned.is_some();
+        match planned {
+            None => {}
+            Some((_, Ok(panes), PlanFor::Settings { target, .. })) => {
+                self.adopt(panes, Some(target))?;
+                self.after_read = false;
+            }
+            Some((_, Ok(panes), _)) => self.adopt(panes, None)?,
+            Some((_, Err(e), PlanFor::Settings { previous, .. })) => {
+                self.settings = previous;
+                return Err(e);
+            }
+            Some((scans, Err(e), _)) => {
+                self.pending = Some((scans, e.clone()));
+                return Err(e);
+            }
+        }
+        Ok(PlanReport { work, finished })
+    }
+
+    /// Puts newly planned `panes` in place of the ones on screen, heading
+    /// for `target` scans (all when `None`): a pane of the same source and
+    /// model over the same scans keeps its view where its map's limits
+    /// stay; any other starts at the output size of the panes before.
+    fn adopt(&mut self, mut panes: Vec<LogPane>, target: Option<usize>) -> Result<()> {
+        for pane in &mut panes {
+            let same = self.panes.iter().find(|p| {
+                p.source() == pane.source()
+                    && p.model() == pane.model()
+                    && Arc::ptr_eq(p.shared_scans(), pane.shared_scans())
+            });
+            match same.or(self.panes.first()) {
+                Some(old) if same.is_some() => pane.keep_view(old)?,
+                Some(old) => {
+                    let v = old.view();
+                    pane.set_view_size(v.width, v.height)?;
+                }
+                None => {}
+            }
+            if let Some(k) = target {
+                pane.seek(k)?;
+            }
+        }
+        self.panes = panes;
+        self.pending = None;
+        Ok(())
     }
 
     /// Frees the file and the scans read, and keeps `e` for later calls.
@@ -293,85 +401,60 @@ impl RealLogSession {
         e
     }
 
-    /// One pane per pose source the settings show, over `scans`, heading
-    /// for `target` scans (all when `None`); a pane of the same source in
-    /// the session keeps its view where its map's limits stay.
-    fn panes_for(
-        &self,
-        scans: &Arc<LaserScans>,
-        settings: &CheckedSettings,
-        target: Option<usize>,
-    ) -> Result<Vec<LogPane>> {
-        settings
-            .settings()
-            .pane_plan()
-            .into_iter()
-            .map(|(source, model)| {
-                let same_log = self.panes.iter().find(|p| {
-                    p.source() == source
-                        && p.model() == model
-                        && Arc::ptr_eq(p.shared_scans(), scans)
-                });
-                let mut pane = match same_log {
-                    Some(old) => old.replanned(settings, (source, model))?,
-                    None => {
-                        let mut pane = LogPane::plan(
-                            Arc::clone(scans),
-                            (source, model),
-                            settings,
-                            OdometryParams::WHEELS,
-                            self.budget_cells,
-                        )?;
-                        // A new pane starts at the output size of the others.
-                        if let Some(first) = self.panes.first() {
-                            let v = first.view();
-                            pane.set_view_size(v.width, v.height)?;
-                        }
-                        pane
-                    }
-                };
-                if let Some(k) = target {
-                    pane.seek(k)?;
-                }
-                Ok(pane)
-            })
-            .collect()
-    }
-
     /// New settings: every pane restarts towards the same scan count (a
-    /// pane is added or dropped when the pose source changes). Returns the
-    /// first pane's geometry (`None` while there is no map yet). Checked
-    /// once; on error nothing changes.
+    /// pane is added or dropped when the pose source changes), once its
+    /// plan is walked: up to [`CONFIGURE_SCANS`] scans here, the rest over
+    /// [`Self::plan`] calls ([`super::Stage::Planning`]; the maps on screen stay
+    /// until then). Returns the first pane's geometry (`None` while there
+    /// is no map yet). Checked once; on error nothing changes.
     pub fn configure(&mut self, settings: LogMapSettings) -> Result<Option<GeometryReport>> {
         let checked = settings.validate()?;
-        if let Some(first) = self.panes.first() {
-            let scans = Arc::clone(first.shared_scans());
-            let target = first.progress().scans_target;
-            self.panes = self.panes_for(&scans, &checked, Some(target))?;
-            self.after_read = false;
-            // A read refused since then is the news no longer: the map is.
-            self.read_failure = None;
-        } else if let Some((scans, _)) = &self.pending {
-            let scans = Arc::clone(scans);
-            self.panes = self.panes_for(&scans, &checked, None)?;
-            self.pending = None;
-        }
+        let (previous, pending_error) = (self.settings, self.pending.clone());
+        // What the new settings re-plan: the planning under way (started
+        // again), the panes on screen, or scans that awaited settings. (The
+        // panes of a log read before the one being read are replaced by
+        // that log's.)
+        let replan = match (&self.planning, self.panes.first(), &self.pending) {
+            (Some((p, purpose)), _, _) => Some((Arc::clone(p.scans()), *purpose)),
+            _ if self.loader.is_some() => None,
+            (None, Some(first), _) => Some((
+                Arc::clone(first.shared_scans()),
+                PlanFor::Settings {
+                    previous,
+                    target: first.progress().scans_target,
+                },
+            )),
+            (None, None, Some((scans, _))) => Some((Arc::clone(scans), PlanFor::Pending)),
+            (None, None, None) => None,
+        };
         self.settings = checked;
-        // The read's extent and the panes' planning follow the settings:
-        // an extent grown under others is dropped (the planning walks it
-        // again, in bounded calls), a planning under way starts again.
+        // The read's extent follows the settings: an extent grown under
+        // others is dropped (the planning walks it again, in bounded calls).
         let key = self.extent_key();
         if matches!(&self.read_extent, Some((m, r, _)) if (*m, *r) != key) {
             self.read_extent = None;
         }
-        if let Some(planning) = self.planning.take() {
-            self.planning = Some(PanePlanning::new(
-                Arc::clone(planning.scans()),
-                &self.settings,
-                OdometryParams::WHEELS,
-                self.budget_cells,
-                None,
-            ));
+        let Some((scans, purpose)) = replan else {
+            return Ok(self.geometry(0).ok());
+        };
+        let planning = PanePlanning::new(
+            scans,
+            &self.settings,
+            OdometryParams::WHEELS,
+            self.budget_cells,
+            None,
+        );
+        let planning_before = self.planning.replace((planning, purpose));
+        if purpose != PlanFor::Read {
+            if let Err(e) = self.plan(CONFIGURE_SCANS) {
+                // Found within this call: nothing changes (a planning
+                // under way goes on).
+                (self.settings, self.pending) = (previous, pending_error);
+                self.planning = planning_before;
+                return Err(e);
+            }
+            // A read refused since then is the news no longer: the map is.
+            self.read_failure = None;
         }
         Ok(self.geometry(0).ok())
     }
@@ -383,7 +466,8 @@ impl RealLogSession {
     /// reaches the budget. At least one scan is integrated while any is
     /// left, whatever the budget. An error once a pane's beams reach past
     /// its tile budget (saying how much the log would need); the maps so
-    /// far stay.
+    /// far stay. The tiles the call wrote are recounted at its end
+    /// ([`LogPane::counts`]).
     pub fn build_slice(&mut self, max_cells: u64) -> Result<SessionState> {
         if self.panes.is_empty() {
             return Err(self.no_map());
@@ -400,15 +484,21 @@ impl RealLogSession {
                 .min_by_key(|p| p.progress().scans_done);
             let Some(pane) = behind else { break };
             let before = pane.progress().work;
-            let after = pane.advance(1);
-            spent += after.work - before;
+            pane.integrate_next();
+            spent += pane.progress().work - before;
             if let Some(e) = pane.failure() {
-                return Err(e.clone());
+                let e = e.clone();
+                self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
+                return Err(e);
             }
             if spent >= max_cells {
                 break;
             }
         }
+        // The tiles the call wrote are recounted once, at its end (on the
+        // campus at 5 cm, half a recounted cell per cell update: a cell
+        // recounted takes a seventh of an update's time).
+        self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
         Ok(self.state())
     }
 
@@ -443,6 +533,10 @@ impl RealLogSession {
         for pane in &mut self.panes {
             pane.seek(scans)?;
         }
+        // Panes being planned head there too.
+        if let Some((_, PlanFor::Settings { target, .. })) = &mut self.planning {
+            *target = scans;
+        }
         self.after_read = false;
         self.read_failure = None;
         Ok(())
@@ -452,103 +546,8 @@ impl RealLogSession {
         OccError::State("the log has not been read yet".into())
     }
 
-    fn pane_failure(&self) -> Option<&OccError> {
+    pub(super) fn pane_failure(&self) -> Option<&OccError> {
         self.panes.iter().find_map(|p| p.failure())
-    }
-
-    /// Where the session stands.
-    pub fn stage(&self) -> Stage {
-        if self.loader.is_some() || self.planning.is_some() {
-            Stage::Reading
-        } else if self.read_failure.is_some() || self.pane_failure().is_some() {
-            Stage::Failed
-        } else if self.pending.is_some() {
-            Stage::AwaitingSettings
-        } else if self.panes.is_empty() {
-            Stage::Idle
-        } else if self.panes.iter().all(|p| p.progress().finished) {
-            Stage::Done
-        } else {
-            Stage::Building
-        }
-    }
-
-    /// The one state a panel renders.
-    pub fn state(&self) -> SessionState {
-        let stage = self.stage();
-        let error = match stage {
-            Stage::Failed => self
-                .read_failure
-                .as_ref()
-                .or_else(|| self.pane_failure())
-                .map(|e| e.to_string()),
-            Stage::AwaitingSettings => self.pending.as_ref().map(|(_, e)| e.to_string()),
-            _ => None,
-        };
-        let failed = match stage {
-            Stage::Failed if self.read_failure.is_some() => Some(FailedStep::Read),
-            Stage::Failed => Some(FailedStep::Build),
-            _ => None,
-        };
-        let panes: Vec<PaneState> = self
-            .panes
-            .iter()
-            .map(|p| PaneState {
-                poses: p.source(),
-                model: p.model(),
-                caption: p.caption(),
-                progress: p.progress(),
-            })
-            .collect();
-        let fraction = |p: &BuildProgress| {
-            if p.scans_target == 0 {
-                1.0
-            } else {
-                p.scans_done as f64 / p.scans_target as f64
-            }
-        };
-        let built = if panes.is_empty() {
-            0.0
-        } else {
-            panes.iter().map(|p| fraction(&p.progress)).sum::<f64>() / panes.len() as f64
-        };
-        let read_fraction = self.read_report.as_ref().map_or(0.0, |r| {
-            if r.progress.finished {
-                1.0
-            } else {
-                r.progress.bytes_read as f64 / r.bytes_total.max(1) as f64
-            }
-        });
-        let progress = match stage {
-            Stage::Reading | Stage::AwaitingSettings => READ_SHARE * read_fraction.min(1.0),
-            _ if self.after_read => READ_SHARE + (1.0 - READ_SHARE) * built,
-            _ => built,
-        };
-        let first = panes.first().map(|p| p.progress);
-        let settings = *self.settings.settings();
-        SessionState {
-            state: stage,
-            log: self.log.clone(),
-            error,
-            failed,
-            progress,
-            read: self.read_report.clone(),
-            scans_done: panes
-                .iter()
-                .map(|p| p.progress.scans_done)
-                .min()
-                .unwrap_or(0),
-            scans_target: first.map_or(0, |p| p.scans_target),
-            scans_total: first.map_or(0, |p| p.scans_total),
-            cell_updates: panes.iter().map(|p| p.progress.cell_updates).sum(),
-            work: panes.iter().map(|p| p.progress.work).sum(),
-            beams: panes.iter().map(|p| p.progress.beams).sum(),
-            finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
-            panes,
-            settings,
-            limits: SettingLimits::at(settings.resolution)
-                .expect("checked settings have a positive resolution"),
-        }
     }
 
     /// How the last read ended (also when setting up the map failed), or

@@ -9,7 +9,8 @@ use super::pane::LogPane;
 use super::settings::LogPoses;
 use crate::error::{invalid, Result};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
-use crate::io::map_server::{self, ExportCounts, MapServerPair};
+use crate::grid::storage::TILE_CELLS;
+use crate::io::map_server::{self, ExportCounts, MapServerPair, FREE_THRESH, OCCUPIED_THRESH};
 use crate::render::overlay::RobotMark;
 use crate::render::viewport::MapViewport;
 
@@ -87,8 +88,34 @@ impl LogPane {
     /// How many cells are occupied, free and unknown now, counted with the
     /// thresholds of the exported file (what the PGM would show and
     /// `map_server` load), which the counts carry.
+    ///
+    /// Kept per tile as the build writes them
+    /// ([`crate::grid::stats::TileTally`]): a tile is
+    /// recounted once per call of the build that wrote it, so that the
+    /// counts of a finished map walk no cell.
     pub fn counts(&self) -> ExportCounts {
-        each_map!(&self.map, m => m.counts())
+        let s = each_map!(&self.map, m => self.tally.counts(m.grid()));
+        ExportCounts {
+            occupied: s.occupied,
+            free: s.free,
+            unknown: s.cells - s.occupied - s.free,
+            cells: s.cells,
+            occupied_thresh: OCCUPIED_THRESH,
+            free_thresh: FREE_THRESH,
+        }
+    }
+
+    /// Brings the counts kept per tile up to date with the tiles written
+    /// since the last call; returns the cells recounted.
+    pub(super) fn refresh_counts(&mut self) -> usize {
+        let tally = &mut self.tally;
+        each_map!(&mut self.map, m => tally.refresh(m.grid_mut()))
+    }
+
+    /// The cells [`Self::refresh_counts`] would recount now: the tiles
+    /// written since it last ran.
+    pub fn counts_pending(&self) -> usize {
+        each_map!(&self.map, m => m.grid().store().touched().len()) * TILE_CELLS
     }
 
     /// The laser positions of all scans in image units (x to the right, y
