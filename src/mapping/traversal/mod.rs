@@ -292,7 +292,11 @@ impl RayMapper {
     /// still updated once per scan. (The third level took the Infinite
     /// Corridor's pinholes from 1.21 to 0.82 per 1,000 free cells and the
     /// campus's from 1.48 to 0.92, for 4.4 % more cell updates on the
-    /// campus; docs/ARCHITECTURE.md, "Real logs".)
+    /// campus; docs/ARCHITECTURE.md, "Real logs".) Where two neighbouring
+    /// beams end on one surface (readings close enough not to be a depth
+    /// jump), the arc of the beams' width between the two readings is
+    /// occupied too: a wall seen from afar, its readings several cells
+    /// apart, is drawn whole instead of in dots.
     pub fn integrate_bands_between<C: CellModel, S: Store<C::Cell>>(
         &mut self,
         grid: &mut Grid<C, S>,

@@ -412,12 +412,102 @@ fn the_space_between_two_beams_is_free_out_to_eight_times_where_they_part() {
     assert!(holes_thin > 500, "thin beams leave {holes_thin} holes");
     assert_eq!(holes_wide, 0);
     assert!(wide_stats.cells_updated > thin_stats.cells_updated);
-    // The walls stay the beams' own: nothing occupied between them.
-    let occupied = |grid: &TiledGrid| {
-        (0..900)
-            .flat_map(|iy| (0..900).map(move |ix| (ix, iy)))
-            .filter(|&(ix, iy)| grid.log_odds_at(ix, iy).unwrap() > 0.0)
+    // Occupied only on the wall the two readings lie on, nothing nearer.
+    for (ix, iy) in cells_where(&wide, |l| l > 0.0) {
+        let (x, y) = g.cell_center(ix, iy);
+        let r = x.hypot(y);
+        assert!((19.9..=20.1).contains(&r), "occupied at {r} m");
+    }
+}
+
+/// Every cell of `grid` (900 × 900) whose log odds pass `keep`.
+fn cells_where(grid: &crate::grid::TiledGrid, keep: impl Fn(f32) -> bool) -> Vec<(usize, usize)> {
+    (0..900)
+        .flat_map(|iy| (0..900).map(move |ix| (ix, iy)))
+        .filter(|&(ix, iy)| keep(grid.log_odds_at(ix, iy).unwrap()))
+        .collect()
+}
+
+/// Two beams 1° apart with readings `ranges` (Table 9.2's bands, `alpha`
+/// thick) at bearings 0.25 and 0.25 + 1° from the origin, integrated into
+/// an empty 45 m map with and without the space between beams.
+fn two_beams_of_width(ranges: [f64; 2], alpha: f64) -> [crate::grid::TiledGrid; 2] {
+    use crate::grid::TiledGrid;
+    let bearings = vec![0.25, 0.25 + 1f64.to_radians()];
+    let scan = Scan::new(Pose::new(0.0, 0.0, 0.0).unwrap(), ranges.to_vec(), bearings).unwrap();
+    let bands = ranges.map(|z| {
+        Some(BeamBand {
+            reach: z + alpha / 2.0,
+            free_until: z - alpha / 2.0,
+            occupied_from: z - alpha / 2.0,
+            occupied_until: z + alpha / 2.0,
+        })
+    });
+    let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
+    let settings = FilterSettings {
+        prior: 0.5,
+        clamp: 3.5,
+    };
+    [false, true].map(|between| {
+        let mut grid = TiledGrid::new(g, settings, 1 << 22).unwrap();
+        RayMapper::new().integrate_bands_between(&mut grid, &scan, &bands, (-0.4, 0.85), between);
+        grid
+    })
+}
+
+/// [`two_beams_of_width`] with a lidar's α, 0.1 m.
+fn two_beams(ranges: [f64; 2]) -> [crate::grid::TiledGrid; 2] {
+    two_beams_of_width(ranges, 0.1)
+}
+
+/// Two beams ending on a straight wall 15 m away (the plane x = 15 m)
+/// read endpoints 27 cm apart; each beam is as wide as the spacing
+/// (Table 9.2's β), so the wall between them is drawn whole, not as two
+/// dots, and no free cell lies beyond it.
+#[test]
+fn the_wall_between_two_beams_far_away_is_drawn_whole() {
+    let bearings = [0.25, 0.25 + 1f64.to_radians()];
+    let [thin, wide] = two_beams(bearings.map(|b| 15.0 / b.cos()));
+    let g = *wide.geometry();
+    let (y0, y1) = (15.0 * bearings[0].tan(), 15.0 * bearings[1].tan());
+    let wall: Vec<(usize, usize)> = (0..=100)
+        .map(|k| y0 + (y1 - y0) * k as f64 / 100.0)
+        .map(|y| g.world_to_cell(15.0, y).unwrap())
+        .collect();
+    let gaps = |grid: &crate::grid::TiledGrid| {
+        wall.iter()
+            .filter(|&&(ix, iy)| !(grid.log_odds_at(ix, iy).unwrap() > 0.0))
             .count()
     };
+    assert!(gaps(&thin) > 50, "thin beams leave {} gaps", gaps(&thin));
+    assert_eq!(gaps(&wide), 0, "the wall between the readings is occupied");
+    for (ix, iy) in cells_where(&wide, |l| l != 0.0) {
+        let (x, _) = g.cell_center(ix, iy);
+        assert!(
+            x < 15.0 || wide.log_odds_at(ix, iy).unwrap() > 0.0,
+            "free beyond the wall at x = {x}"
+        );
+        assert!(wide.updates_at(ix, iy).unwrap() <= 1, "once per scan");
+    }
+}
+
+/// A depth jump between two beams (an object's edge 10 m away in front of
+/// a wall at 14 m) is no surface: nothing is drawn across it.
+#[test]
+fn nothing_is_drawn_across_a_depth_jump_between_two_beams() {
+    let [thin, wide] = two_beams([10.0, 14.0]);
+    let occupied = |grid| cells_where(grid, |l| l > 0.0);
+    assert!(!occupied(&thin).is_empty());
+    assert_eq!(occupied(&thin), occupied(&wide));
+}
+
+/// The wall between two readings has a budget: no more cells than the two
+/// beams' own walks. A band as thick as the range (a setting no scanner
+/// has) draws no wall rather than a wide fan of long walks.
+#[test]
+fn a_band_as_thick_as_the_range_draws_no_wall_between_beams() {
+    let [thin, wide] = two_beams_of_width([20.0, 20.0], 16.0);
+    let occupied = |grid| cells_where(grid, |l| l > 0.0);
+    assert!(!occupied(&thin).is_empty());
     assert_eq!(occupied(&thin), occupied(&wide));
 }
