@@ -137,13 +137,16 @@ async function checkFive(url, shot) {
       await w.scrollIntoViewIfNeeded();
       // Polled (a course page's CSP rightly forbids evaluating code strings);
       // the deadline only stops a hang.
+      // A widget shows its numbers, then draws them in a later frame: both awaited.
       let numbers = [];
+      let c = [];
+      const drawn = () => numbers.length >= 2 && numbers.every(Number.isFinite) && c.length >= 1 && c.every((n) => n > 2);
       for (const until = Date.now() + 60_000; Date.now() < until; await p.waitForTimeout(100)) {
         numbers = await w.evaluate(spec.numbers);
-        if (numbers.length >= 2 && numbers.every(Number.isFinite)) break;
+        c = await canvasColours(w, spec.canvases);
+        if (drawn()) break;
       }
       assert.ok(numbers.length >= 2 && numbers.every(Number.isFinite), `occgrid-${name} shows numbers from the core: ${numbers}`);
-      const c = await canvasColours(w, spec.canvases);
       assert.ok(c.length >= 1 && c.every((n) => n > 2), `occgrid-${name} canvases hold pictures: ${c}`);
       // The widget's own stylesheet applies (found beside the module).
       assert.equal(await w.evaluate((el) => getComputedStyle(el).borderTopStyle), 'solid', `occgrid-${name} is styled`);

@@ -530,7 +530,9 @@ test('the README’s Embedding section shows every widget with every attribute i
   const { page: q, errors, logs, close: closeQ } = await openPage(`${pasted.origin}/readme.html`, { reducedMotion: 'reduce' });
   for (const tag of tags) {
     for (const w of await q.locator(tag).all()) {
-      await w.scrollIntoViewIfNeeded();
+      // Scrolled to as a reader scrolls, without waiting for the page to stop
+      // moving: the widgets above start one after another and grow as they do.
+      await w.evaluate((e) => e.scrollIntoView({ block: 'center' }));
       await q.waitForTimeout(100);
     }
     await q.waitForFunction((t) => [...document.querySelectorAll(t)].every((e) => e.querySelector('canvas')), tag);
