@@ -16,7 +16,9 @@ const keep = (w) => !filter || String(w.workload).includes(filter);
 
 const own = filter && /^[\w-]+$/.test(filter) && path.join(root, 'scripts/bench', `${filter}.mjs`);
 if (own && fs.existsSync(own)) {
-  const { core } = await loadCore();
+  // The page's two modules as one namespace: a workload of real logs finds
+  // `RealLogSession` (the logs module), the others the chapter's classes.
+  const core = { ...(await loadCore()).core, ...(await loadCore({ logs: true })).core };
   const rows = await (await import(pathToFileURL(own).href)).default(core, args);
   for (const row of rows) console.log(JSON.stringify(row));
   process.exit(process.exitCode ?? 0);
