@@ -8,8 +8,7 @@
 
 use occgrid::apps::real_log::{LogCellModel, LogGrid, LogMapSettings, LogPoses, RealLogSession};
 use occgrid::geometry::{wrap_angle, GridGeometry, Pose};
-use occgrid::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
-use occgrid::grid::{FilterSettings, TiledGrid};
+use occgrid::grid::TiledGrid;
 use occgrid::inverse::HandCraftedParams;
 use occgrid::io::carmen::LaserScans;
 use occgrid::mapping::reach::covering_grid;
@@ -22,25 +21,12 @@ use occgrid::sensors::Scan;
 use occgrid::OccError;
 use std::path::PathBuf;
 
-fn scans(name: &str) -> LaserScans {
-    let dir: PathBuf = std::env::var_os("OCCGRID_DATASETS")
-        .map(Into::into)
-        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
-    LaserScans::read(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
-}
+mod scan_match_support;
+use scan_match_support::{distance, grid, scans, turn};
 
 /// The real-log map's recipe at the real-log defaults.
 fn insertion() -> ScanInsertion {
     LogMapSettings::default().scan_insertion()
-}
-
-fn grid(geometry: GridGeometry) -> TiledGrid {
-    let s = LogMapSettings::default();
-    let filter = FilterSettings {
-        prior: 0.5,
-        clamp: s.clamp,
-    };
-    TiledGrid::new(geometry, filter, DEFAULT_TILE_BUDGET_CELLS).unwrap()
 }
 
 /// A map wide enough for the log at its corrected poses and at `extra`
@@ -60,14 +46,6 @@ fn grid_for(log: &LaserScans, extra: &[Pose]) -> TiledGrid {
         a[3].max(b[3]) + 5.0,
     ];
     grid(covering_grid(extent, s.resolution, s.margin).unwrap())
-}
-
-fn distance(a: &Pose, b: &Pose) -> f64 {
-    (a.x - b.x).hypot(a.y - b.y)
-}
-
-fn turn(a: &Pose, b: &Pose) -> f64 {
-    wrap_angle(a.theta - b.theta).abs()
 }
 
 /// Three Intel scans, each moved 0.15 m and 0.1 m and turned 3° one way

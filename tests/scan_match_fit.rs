@@ -5,31 +5,16 @@
 //! least one). The matched path of whole logs is `tests/scan_match.rs`.
 
 use occgrid::apps::real_log::LogMapSettings;
-use occgrid::geometry::{wrap_angle, GridGeometry, Pose};
-use occgrid::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
-use occgrid::grid::{FilterSettings, TiledGrid};
+use occgrid::geometry::{GridGeometry, Pose};
+use occgrid::grid::TiledGrid;
 use occgrid::io::carmen::LaserScans;
 use occgrid::mapping::reach::covering_grid;
 use occgrid::mapping::scan_match::{compose, MatchSettings, Prediction, ScanInserter, ScanMatcher};
 use occgrid::sensors::odometry::OdometryParams;
 use occgrid::sensors::Scan;
-use std::path::PathBuf;
 
-fn scans(name: &str) -> LaserScans {
-    let dir: PathBuf = std::env::var_os("OCCGRID_DATASETS")
-        .map(Into::into)
-        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
-    LaserScans::read(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
-}
-
-fn grid(geometry: GridGeometry) -> TiledGrid {
-    let s = LogMapSettings::default();
-    let filter = FilterSettings {
-        prior: 0.5,
-        clamp: s.clamp,
-    };
-    TiledGrid::new(geometry, filter, DEFAULT_TILE_BUDGET_CELLS).unwrap()
-}
+mod scan_match_support;
+use scan_match_support::{distance, grid, scans, turn};
 
 /// The map of a log at its corrected poses but for the scans `left_out`,
 /// at the real-log defaults.
@@ -43,14 +28,6 @@ fn map_without(log: &LaserScans, left_out: &[usize]) -> TiledGrid {
         inserter.insert(&mut map, &log.scan(k).unwrap(), log.max_range(k).unwrap());
     }
     map
-}
-
-fn distance(a: &Pose, b: &Pose) -> f64 {
-    (a.x - b.x).hypot(a.y - b.y)
-}
-
-fn turn(a: &Pose, b: &Pose) -> f64 {
-    wrap_angle(a.theta - b.theta).abs()
 }
 
 /// A room's walls: x from -3 to 4 m, y from -2.5 to 3 m, and a pillar

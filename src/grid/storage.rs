@@ -402,6 +402,18 @@ impl<C: Copy> Tiled<C> {
         k: usize,
         unknown: C,
     ) -> Option<(&mut [C; TILE_CELLS], &mut [u32; TILE_CELLS])> {
+        let tile = self.written_tile(k, unknown)?;
+        Some((
+            (&mut tile.cells[..]).try_into().ok()?,
+            (&mut tile.updates[..]).try_into().ok()?,
+        ))
+    }
+
+    /// Tile `k` about to be written: allocated on first touch (`None`, and
+    /// `refused` set, past the budget) and marked touched, so that the
+    /// counts kept per tile recount it.
+    #[inline(always)]
+    fn written_tile(&mut self, k: usize, unknown: C) -> Option<&mut Tile<C>> {
         let mut t = *self.index.get(k)?;
         if t == NO_TILE {
             if self.tiles.len() >= self.max_tiles {
@@ -421,10 +433,7 @@ impl<C: Copy> Tiled<C> {
             tile.touched = true;
             self.touched.push(t);
         }
-        Some((
-            (&mut tile.cells[..]).try_into().ok()?,
-            (&mut tile.updates[..]).try_into().ok()?,
-        ))
+        Some(tile)
     }
 
     /// Tiles allocated so far.
@@ -517,26 +526,8 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
             return None;
         }
         let k = self.tile_of(ix, iy);
-        let mut t = self.index[k];
-        if t == NO_TILE {
-            if self.tiles.len() >= self.max_tiles {
-                self.refused = true;
-                return None;
-            }
-            t = self.tiles.len() as u32;
-            self.tiles.push(Tile {
-                cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
-                updates: vec![0; TILE_CELLS].into_boxed_slice(),
-                touched: false,
-            });
-            self.index[k] = t;
-        }
+        let tile = self.written_tile(k, unknown)?;
         let o = Self::offset(ix, iy);
-        let tile = &mut self.tiles[t as usize];
-        if !tile.touched {
-            tile.touched = true;
-            self.touched.push(t);
-        }
         Some((&mut tile.cells[o], &mut tile.updates[o]))
     }
 

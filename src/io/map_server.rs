@@ -22,7 +22,7 @@
 //!   the lower-left pixel, metres and radians: exactly the grid's origin.
 
 use crate::error::{OccError, Result};
-use crate::grid::stats::{count_states_between, log_odds_thresholds};
+use crate::grid::stats::{count_states_between, log_odds_thresholds, StateCounts};
 use crate::grid::{CellModel, Grid, Store};
 
 /// `occupied_thresh` of the YAML: a cell with `p > 0.65` is exported as
@@ -103,14 +103,21 @@ pub struct ExportCounts {
 
 /// The cells of `grid` as its export would show them ([`map_server_pair`]).
 pub fn export_counts<M: CellModel, S: Store<M::Cell>>(grid: &Grid<M, S>) -> ExportCounts {
-    let s = count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH);
-    ExportCounts {
-        occupied: s.occupied,
-        free: s.free,
-        unknown: s.cells - s.occupied - s.free,
-        cells: s.cells,
-        occupied_thresh: OCCUPIED_THRESH,
-        free_thresh: FREE_THRESH,
+    ExportCounts::from_states(count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH))
+}
+
+impl ExportCounts {
+    /// The export's counts from cells counted between its thresholds
+    /// (`OCCUPIED_THRESH`, `FREE_THRESH`), however they were counted.
+    pub fn from_states(s: StateCounts) -> Self {
+        Self {
+            occupied: s.occupied,
+            free: s.free,
+            unknown: s.cells - s.occupied - s.free,
+            cells: s.cells,
+            occupied_thresh: OCCUPIED_THRESH,
+            free_thresh: FREE_THRESH,
+        }
     }
 }
 

@@ -10,7 +10,7 @@ use super::settings::LogPoses;
 use crate::error::{invalid, Result};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::grid::storage::TILE_CELLS;
-use crate::io::map_server::{self, ExportCounts, MapServerPair, FREE_THRESH, OCCUPIED_THRESH};
+use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::render::overlay::RobotMark;
 use crate::render::viewport::MapViewport;
 
@@ -94,15 +94,7 @@ impl LogPane {
     /// recounted once per call of the build that wrote it, so that the
     /// counts of a finished map walk no cell.
     pub fn counts(&self) -> ExportCounts {
-        let s = each_map!(&self.map, m => self.tally.counts(m.grid()));
-        ExportCounts {
-            occupied: s.occupied,
-            free: s.free,
-            unknown: s.cells - s.occupied - s.free,
-            cells: s.cells,
-            occupied_thresh: OCCUPIED_THRESH,
-            free_thresh: FREE_THRESH,
-        }
+        ExportCounts::from_states(each_map!(&self.map, m => self.tally.counts(m.grid())))
     }
 
     /// Brings the counts kept per tile up to date with the tiles written
