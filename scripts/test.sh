@@ -16,7 +16,7 @@ wasm-pack --log-level warn test --node -- --features bench
 
 bash scripts/build.sh
 echo "== node: wasm soak and JS-side garbage"
-node --test --test-concurrency=1 tests/node/
+node --test --test-concurrency=1 --test-timeout=600000 --test-force-exit tests/node/
 
 echo "== browser: Chromium"
-node --test --test-concurrency=1 tests/browser/
+node --test --test-concurrency=1 --test-timeout=600000 --test-force-exit tests/browser/

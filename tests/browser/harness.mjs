@@ -17,13 +17,39 @@ export const SCREENSHOTS = path.resolve(path.dirname(new URL(import.meta.url).pa
 
 let shared = null;
 
-/** One server and one browser for the whole test file. */
+const LAUNCH_ATTEMPTS = 3;
+
+/**
+ * Starts Chromium, trying again when a launch dies (a browser that crashes
+ * while starting up, as one did once on a loaded machine, is no test result).
+ */
+async function launchBrowser() {
+  for (let attempt = 1; ; attempt += 1) {
+    try {
+      return await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
+    } catch (e) {
+      if (attempt >= LAUNCH_ATTEMPTS) throw e;
+      console.error(`Chromium did not start (attempt ${attempt} of ${LAUNCH_ATTEMPTS}): ${String(e.message).split('\n')[0]}`);
+    }
+  }
+}
+
+/**
+ * One server and one browser for the whole test file. When the browser
+ * cannot start, the server is closed again: a listening server would keep the
+ * test file's process alive after its tests have failed.
+ */
 async function startShared() {
   if (!shared) {
     shared = (async () => {
       const { server, port } = await listen(0, { fixtures: true });
-      const browser = await chromium.launch({ executablePath: CHROMIUM, args: FLAGS, headless: true });
-      return { server, port, browser };
+      try {
+        const browser = await launchBrowser();
+        return { server, port, browser };
+      } catch (e) {
+        await new Promise((r) => server.close(r));
+        throw e;
+      }
     })();
   }
   return shared;
@@ -114,8 +140,11 @@ export async function screenshot(target, name) {
 /** Closes the shared browser and server (call from `after`). */
 export async function shutdown() {
   if (!shared) return;
-  const { server, browser } = await shared;
+  const started = shared;
   shared = null;
+  // A browser that never started has already closed its server.
+  const { server, browser } = await started.catch(() => ({}));
+  if (!browser) return;
   await browser.close();
   await new Promise((r) => server.close(r));
 }
