@@ -15,7 +15,7 @@ import { loadCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import {
   el, slider, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn, setText,
+  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn, setText, nextTask,
 } from './lib/ui.js';
 import { exportButton, exportMap, followPaneVisibility, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
@@ -38,6 +38,12 @@ const MAX_STEPS_PER_FRAME = 4;
 const FRAME_WORK_MS = 8;
 /** The first frame's budget, cell visits: about one step of the chapter's scene, which the first call corrects. */
 const FIRST_FRAME_VISITS = 30_000;
+/**
+ * The core's work per slice of the scans a link asks for before the first
+ * frame, milliseconds: each slice is a task of its own, so the page paints
+ * and answers input in between.
+ */
+const SLICE_MS = 25;
 /** Largest drawn map, CSS pixels. */
 const MAX_CSS_WIDTH = 440;
 const FOOTPRINT_COLOR = COLORS.series[3];
@@ -76,6 +82,11 @@ class SensorFusionElement extends HTMLElement {
     this.playing = false;
     this.pace = pacer(STEPS_PER_SECOND, MAX_STEPS_PER_FRAME);
     this.frameBudget = workBudget(FRAME_WORK_MS, FIRST_FRAME_VISITS);
+    this.sliceBudget = workBudget(SLICE_MS, FIRST_FRAME_VISITS);
+    /** Steps the Step button asked for that are not integrated yet. */
+    this.stepsOwed = 0;
+    /** Steps the LiDAR's maps still lack after a beam count changed (the core's `rebuilding`). */
+    this.rebuilding = 0;
   }
 
   async connectedCallback() {
@@ -108,13 +119,13 @@ class SensorFusionElement extends HTMLElement {
     whenVisible(this, async () => {
       await startTurn();
       this.started = true;
-      this.create();
-      if (this.values.autoplay && !prefersReducedMotion() && this.sim) this.play();
+      if ((await this.create()) && this.values.autoplay && !prefersReducedMotion()) this.play();
     }, { ahead: true });
   }
 
   disconnectedCallback() {
     this.pause();
+    this.loop?.stop();
   }
 
   attributeChangedCallback(name) {
@@ -176,8 +187,8 @@ class SensorFusionElement extends HTMLElement {
     this.loop = frameLoop(this, (dt) => this.tick(dt));
     const playback = [
       this.playButton,
-      button('Step', () => { this.pause(); this.advance(1); }, { name: 'step' }),
-      button('Reset', () => { this.pause(); this.sim && this.sim.reset(); this.draw(); }, { name: 'reset' }),
+      button('Step', () => this.step(), { name: 'step' }),
+      button('Reset', () => this.reset(), { name: 'reset' }),
     ];
     for (const b of playback) b.dataset.controls = 'playback';
     this.beamSlider.root.dataset.controls = 'sliders';
@@ -218,33 +229,73 @@ class SensorFusionElement extends HTMLElement {
     return layers;
   }
 
-  /** (Re)creates the experiment in the core from the attributes. */
-  create() {
+  /**
+   * (Re)creates the experiment in the core from the attributes; true once
+   * the new run is shown. The core simulates each scan when a step first
+   * needs it, so a new run costs a moment; the scans a link asks for
+   * before the first frame are integrated in slices, each a task of its
+   * own, the count on screen (the run shown stays until they are done).
+   * A later create() supersedes this one.
+   */
+  async create() {
     this.pause();
+    const generation = (this.generation = (this.generation ?? 0) + 1);
     const v = this.values;
+    let next;
     try {
       let scene;
       if (v.scene || v.seed !== undefined) scene = { ...(v.scene ?? {}), ...(v.seed !== undefined ? { seed: v.seed } : {}) };
-      const next = new this.core.SensorFusion(scene, undefined);
+      next = new this.core.SensorFusion(scene, undefined);
+      // Before the first step: nothing to rebuild.
       if (this.beams !== this.defaultBeams) next.setLidarBeams(this.beams);
       // A link may open the lap part-way through.
-      for (let i = 0; i < v.scans && next.step(); i++);
+      if (v.scans > 0 && !(await this.fastForward(next, v.scans, generation))) {
+        next.free();
+        return false;
+      }
       this.sim?.free();
       this.sim = next;
+      this.stepsOwed = 0;
+      this.rebuilding = 0;
       clearError(this);
     } catch (e) {
+      if (next && next !== this.sim) next.free();
       showError(this, e);
       // With no scene there is nothing to wait for: say so where the
       // status would say how far the lap has got.
       if (!this.sim) {
         this.status.textContent = 'No maps: the scene was refused (see the message above).';
         this.dataset.state = 'refused';
-      }
-      return;
+      } else if (this.reading) this.statusText(this.reading);
+      return false;
     }
     this.dataset.state = 'ready';
     this.syncSlider();
     this.layout();
+    return true;
+  }
+
+  /**
+   * Integrates the first `target` steps of `sim` (fewer if its lap is
+   * shorter) in calls of about SLICE_MS, each in a task of its own; false
+   * when a later create() took over.
+   */
+  async fastForward(sim, target, generation) {
+    try {
+      for (let done = 0; ;) {
+        this.dataset.fastForward = `${done}/${target}`;
+        setText(this.status, `Integrating the first ${grouped(target)} scans: ${grouped(done)} done…`);
+        await nextTask();
+        if (generation !== this.generation) return false;
+        const t = performance.now();
+        const r = sim.work(target - done, this.sliceBudget.value);
+        this.sliceBudget.learn(r.cellVisits, performance.now() - t);
+        done = r.step;
+        if (done >= target || r.done) return true;
+      }
+    } finally {
+      delete this.dataset.fastForward;
+    }
   }
 
   syncSlider() {
@@ -255,9 +306,20 @@ class SensorFusionElement extends HTMLElement {
     this.beamSlider.set(this.steps.indexOf(this.beams));
   }
 
-  /** Applies the latest requested beam count, one rebuild at a time. */
+  /**
+   * Applies the latest requested beam count: the core empties the LiDAR's
+   * two maps at once, and the frames that follow rebuild them over the
+   * scans so far within the frame's budget, before any new scan (the status
+   * says how far the rebuild has got).
+   */
   requestBeams(n) {
     this.wantBeams = n;
+    // A run still being made takes the count when it starts again.
+    if (this.dataset.fastForward !== undefined) {
+      this.beams = n;
+      this.create();
+      return;
+    }
     if (this.beamTask || !this.sim) return;
     this.beamTask = setTimeout(() => {
       this.beamTask = null;
@@ -265,13 +327,15 @@ class SensorFusionElement extends HTMLElement {
       try {
         this.sim.setLidarBeams(beams);
         this.beams = beams;
+        this.rebuilding = this.sim.readout().rebuilding;
         clearError(this);
       } catch (e) {
         showError(this, e);
       }
       this.syncSlider();
       this.draw();
-      this.announce();
+      if (this.busy()) this.loop.start();
+      else this.announce();
     }, 0);
   }
 
@@ -285,72 +349,112 @@ class SensorFusionElement extends HTMLElement {
   play() {
     if (!this.sim || this.playing) return;
     const r = this.sim.readout();
-    if (r.step >= r.steps) this.sim.reset();
+    if (r.step >= r.steps && r.rebuilding === 0) this.sim.reset();
     this.playing = true;
+    this.stepsOwed = 0;
     showPlaying(this.playButton, true);
     this.pace.reset();
     // The loop gets frames only while the widget is on screen.
     this.loop.start();
   }
 
+  /** Work left for the frames: playing, steps Step asked for, or a rebuild. */
+  busy() {
+    return this.playing || this.stepsOwed > 0 || this.rebuilding > 0;
+  }
+
   /**
    * One animation frame, `dt` ms after the previous one: the steps the
-   * pace owes, in one call of the core with the frame's budget (steps the
-   * budget left undone stay owed to the next frame), drawn in the next
-   * frame: a frame either works or draws, so that on a slow phone neither
-   * waits for the other and the page keeps its frame rate.
+   * pace owes (or Step asked for), after what a rebuild still lacks, in one
+   * call of the core with the frame's budget (steps the budget left undone
+   * stay owed to the next frame), drawn in the next frame: a frame either
+   * works or draws, so that on a slow phone neither waits for the other
+   * and the page keeps its frame rate.
    */
   tick(dt) {
-    if (!this.playing || !this.sim) return false;
-    const n = this.pace.take(dt);
+    if (!this.sim) return false;
+    const n = this.playing ? this.pace.take(dt) : Math.min(this.stepsOwed, MAX_STEPS_PER_FRAME);
     if (this.drawOwed) {
       this.drawOwed = false;
-      this.pace.giveBack(n);
+      if (this.playing) this.pace.giveBack(n);
       this.draw();
-      return true;
+      if (!this.busy()) this.announce();
+      return this.busy();
     }
-    if (n === 0) return true;
-    let report;
-    try {
-      const t = performance.now();
-      report = this.sim.work(n, this.frameBudget.value);
-      this.frameBudget.learn(report.cellVisits, performance.now() - t);
-    } catch (e) {
-      showError(this, e);
-      this.pause();
-      return false;
-    }
-    this.pace.giveBack(n - report.steps);
+    if (n === 0 && this.rebuilding === 0) return this.busy();
+    const report = this.work(n);
+    if (!report) return false;
     if (report.done) {
       this.draw();
       this.pause();
       return false;
     }
-    this.drawOwed = report.steps > 0;
+    this.drawOwed = report.steps + report.rebuilt > 0;
     return true;
+  }
+
+  /**
+   * One call of the core's work: `n` steps (and what a rebuild lacks first)
+   * within the frame's budget, at least `floor` cell visits. Returns the
+   * core's report, or null after showing an error.
+   */
+  work(n, floor = 1) {
+    let report;
+    try {
+      const t = performance.now();
+      report = this.sim.work(n, Math.max(floor, this.frameBudget.value));
+      this.frameBudget.learn(report.cellVisits, performance.now() - t);
+    } catch (e) {
+      showError(this, e);
+      this.stepsOwed = 0;
+      this.pause();
+      return null;
+    }
+    this.rebuilding = report.rebuilding;
+    if (this.playing) this.pace.giveBack(n - report.steps);
+    else this.stepsOwed = report.done ? 0 : this.stepsOwed - report.steps;
+    return report;
   }
 
   pause() {
     this.loop?.stop();
-    if (!this.playing) return;
+    // A rebuild or Step's steps go on over the next frames.
+    const wasPlaying = this.playing;
+    this.playing = false;
+    if (this.sim && this.busy()) this.loop.start();
+    if (!wasPlaying) return;
     // Steps a frame took and the next was to draw are drawn now.
     if (this.drawOwed) {
       this.drawOwed = false;
       this.draw();
     }
-    this.playing = false;
     showPlaying(this.playButton, false);
     this.announce();
   }
 
-  /** Integrates up to `n` steps; false once the lap is over. */
-  advance(n) {
-    if (!this.sim) return false;
-    let moved = true;
-    for (let i = 0; i < n && moved; i++) moved = this.sim.step();
+  /** Step: one more scan, at once (after a rebuild under way, which the next frames finish first). */
+  step() {
+    this.pause();
+    if (!this.sim) return;
+    this.stepsOwed += 1;
+    // At once: the click shows its scan. A budget of one visit takes one step.
+    const report = this.work(this.stepsOwed > 0 ? 1 : 0);
+    this.drawOwed = false;
     this.draw();
-    if (!this.playing) this.announce();
-    return moved;
+    if (report && this.busy()) this.loop.start();
+    else this.announce();
+  }
+
+  /** Reset: every map back to the prior, the robot to the start. */
+  reset() {
+    this.pause();
+    if (!this.sim) return;
+    this.sim.reset();
+    this.stepsOwed = 0;
+    this.rebuilding = 0;
+    this.drawOwed = false;
+    this.draw();
+    this.announce();
   }
 
   /** Draws the four maps and the readouts from the core's current state. */
@@ -382,9 +486,15 @@ class SensorFusionElement extends HTMLElement {
       return;
     }
     this.dataset.step = String(r.step);
-    this.dataset.lidarBeams = String(r.lidarBeams);
-    this.dataset.maxMean = String(r.footprint.max);
-    this.dataset.sumMean = String(r.footprint.sum);
+    // The beam count and the means are those of finished maps: while the
+    // LiDAR's maps are rebuilt, the data attributes keep the last ones.
+    if (r.rebuilding > 0) this.dataset.rebuilding = `${r.step - r.rebuilding}/${r.step}`;
+    else {
+      delete this.dataset.rebuilding;
+      this.dataset.lidarBeams = String(r.lidarBeams);
+      this.dataset.maxMean = String(r.footprint.max);
+      this.dataset.sumMean = String(r.footprint.sum);
+    }
     this.reading = r;
     if (this.playing) setText(this.status, 'off', 'aria-live');
     this.statusText(r);
@@ -396,7 +506,10 @@ class SensorFusionElement extends HTMLElement {
     setText(this.status,
       `Scan ${grouped(r.step)} of ${grouped(r.steps)}. Mean occupancy over the table’s ${grouped(r.footprintCells)} cells: ` +
       `max fusion ${fixed(r.footprint.max, 3)}, summation ${fixed(r.footprint.sum, 3)} ` +
-      `(sonar alone ${fixed(r.footprint.sonar, 3)}, LiDAR alone ${fixed(r.footprint.lidar, 3)}).`);
+      `(sonar alone ${fixed(r.footprint.sonar, 3)}, LiDAR alone ${fixed(r.footprint.lidar, 3)}).` +
+      (r.rebuilding > 0
+        ? ` Rebuilding the LiDAR and summed maps with ${grouped(r.lidarBeams)} beams: ${grouped(r.step - r.rebuilding)} of ${grouped(r.step)} scans.`
+        : ''));
   }
 
   /** Lets screen readers hear the state once the motion stops. */

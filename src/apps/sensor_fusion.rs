@@ -165,6 +165,13 @@ pub struct FusionReadout {
     pub footprint: FootprintMeans,
     /// The last integrated pose (the first pose before any step).
     pub pose: Pose,
+    /// Steps the LiDAR's two maps (its own and the summed one) still lack
+    /// after a beam count changed: they are rebuilt over the steps so far
+    /// by the next [`TableFusion::work`] calls.
+    pub rebuilding: usize,
+    /// Steps whose scans are simulated so far (the run simulates a scan
+    /// when it first integrates it).
+    pub scans_simulated: usize,
 }
 
 /// What the widget draws over the maps, in image units (see
@@ -190,14 +197,21 @@ pub struct SceneView {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct FusionWork {
-    /// Steps integrated by this call.
+    /// New steps integrated by this call.
     pub steps: usize,
+    /// Steps the call integrated again into the LiDAR's two maps after a
+    /// beam count changed.
+    pub rebuilt: usize,
     /// Cells the call's mappers looked at (every cell of the map for each
-    /// sonar sweep, the raster of each LiDAR beam).
+    /// sonar sweep, the raster of each LiDAR beam), and the cost of the
+    /// scans it simulated in the same units (each ray cast counted as the
+    /// cells along its range).
     pub cell_visits: u64,
     /// Steps integrated so far, this call's included.
     pub step: usize,
-    /// True once the run is over.
+    /// Steps the LiDAR's two maps still lack after this call.
+    pub rebuilding: usize,
+    /// True once the run is over and no map lacks a step.
     pub done: bool,
 }
 
@@ -215,7 +229,11 @@ pub struct TableFusion {
     fused_p: Vec<f64>,
     lidar_mapper: RayMapper,
     summed_mapper: RayMapper,
+    /// Steps integrated into the sonar's map.
     next: usize,
+    /// Steps integrated into the LiDAR's two maps: `next`, except while
+    /// they are rebuilt after a beam count changed.
+    lidar_next: usize,
 }
 
 impl TableFusion {
@@ -226,7 +244,9 @@ impl TableFusion {
 
     pub fn with_models(scene: &TableScene, models: FusionModels) -> Result<Self> {
         models.validate(scene)?;
-        let run = scene.build()?;
+        // The scans are simulated as the steps reach them: the first frame
+        // waits for no scan of the rest of the lap.
+        let run = scene.start()?;
         let g = *run.geometry();
         let s = models.settings();
         let fresh = LogOddsGrid::new(g, s)?;
@@ -242,45 +262,64 @@ impl TableFusion {
             lidar_mapper: RayMapper::new(),
             summed_mapper: RayMapper::new(),
             next: 0,
+            lidar_next: 0,
             run,
         })
     }
 
-    /// Integrates the next time step's sonar and LiDAR scans. Returns false
-    /// (and changes nothing) once the run is over.
+    /// Integrates the next time step's sonar and LiDAR scans, after any
+    /// rebuild under way (unbounded: [`TableFusion::work`] is the bounded
+    /// call). Returns false (and changes nothing) once the run is over.
     pub fn step(&mut self) -> bool {
+        let rebuilt = self.rebuild_all();
         let stepped = self.advance();
-        if stepped {
+        if stepped || rebuilt {
             self.refresh_fused();
         }
         stepped
     }
 
     /// Integrates up to `steps` steps, for about `budget` cell visits: the
-    /// per-frame call of a page that must keep its frames. Each call
-    /// integrates at least one step while the run lasts (a budget of 0
+    /// per-frame call of a page that must keep its frames. A rebuild under
+    /// way (see [`TableFusion::stage_lidar_beams`]) goes first, and new
+    /// steps follow only once it is done. Each call integrates at least one
+    /// step (new or rebuilt) while there is one to take (a budget of 0
     /// counts as 1) and goes past its budget by at most one step; the fused
     /// map is refreshed once, at the end of the call. The maps after any
     /// sequence of calls are those of as many [`TableFusion::step`]s.
     pub fn work(&mut self, steps: usize, budget: u64) -> FusionWork {
         let budget = budget.max(1);
-        let (mut spent, mut taken) = (0u64, 0usize);
-        while spent < budget && taken < steps {
+        let (mut spent, mut taken, mut rebuilt) = (0u64, 0usize, 0usize);
+        while spent < budget && self.lidar_next < self.next {
+            let Some(visits) = self.rebuild_counted() else {
+                break;
+            };
+            spent = spent.saturating_add(visits);
+            rebuilt += 1;
+        }
+        while spent < budget && taken < steps && self.lidar_next == self.next {
             let Some(visits) = self.advance_counted() else {
                 break;
             };
             spent = spent.saturating_add(visits);
             taken += 1;
         }
-        if taken > 0 {
+        if taken + rebuilt > 0 {
             self.refresh_fused();
         }
         FusionWork {
             steps: taken,
+            rebuilt,
             cell_visits: spent,
             step: self.next,
-            done: self.next >= self.run.len(),
+            rebuilding: self.rebuilding(),
+            done: self.next >= self.run.len() && self.rebuilding() == 0,
         }
+    }
+
+    /// Steps the LiDAR's two maps still lack after a beam count changed.
+    pub fn rebuilding(&self) -> usize {
+        self.next - self.lidar_next
     }
 
     /// [`TableFusion::step`] without refreshing the fused map, for replays
@@ -290,8 +329,13 @@ impl TableFusion {
     }
 
     /// [`TableFusion::advance`], returning the cells its mappers visited
-    /// (at least 1); `None` once the run is over.
+    /// and the cost of the scans it simulated (at least 1); `None` once
+    /// the run is over. Only with the LiDAR's maps caught up.
     fn advance_counted(&mut self) -> Option<u64> {
+        // A validated scene's sensors refuse no reading (`TableScene::
+        // validate` checks what a cast refuses): an error here would be a
+        // bug, and the run stops at it rather than integrate a wrong scan.
+        let simulated = self.run.simulate_through(self.next + 1).ok()?;
         let (Some(sonar), Some(lidar)) = (
             self.run.sonar().get(self.next),
             self.run.lidar().get(self.next),
@@ -313,11 +357,52 @@ impl TableFusion {
         .map(|stats| stats.cells_visited as u64)
         .sum::<u64>();
         self.next += 1;
-        Some(visits.max(1))
+        self.lidar_next = self.next;
+        Some(visits.saturating_add(simulated).max(1))
     }
 
-    /// Steps to the end of the run; returns the number of steps taken.
+    /// Integrates the next step the LiDAR's two maps lack (after a beam
+    /// count changed) into them, returning the cells visited and the cost
+    /// of the LiDAR scan it simulated (at least 1); `None` when they lack
+    /// none. The summed map takes the step's sonar scan then its LiDAR
+    /// scan, as in [`TableFusion::advance_counted`], so a rebuilt map is
+    /// the map of a run that had the new beam count all along.
+    fn rebuild_counted(&mut self) -> Option<u64> {
+        if self.lidar_next >= self.next {
+            return None;
+        }
+        let k = self.lidar_next;
+        let simulated = self.run.simulate_through(k + 1).ok()?;
+        let (Some(sonar), Some(lidar)) = (self.run.sonar().get(k), self.run.lidar().get(k)) else {
+            return None;
+        };
+        let visits = [
+            self.lidar_mapper
+                .integrate(&mut self.lidar, &self.lidar_model, lidar),
+            sweep_scan(&mut self.summed, &self.sonar_model, sonar),
+            self.summed_mapper
+                .integrate(&mut self.summed, &self.lidar_model, lidar),
+        ]
+        .iter()
+        .map(|stats| stats.cells_visited as u64)
+        .sum::<u64>();
+        self.lidar_next += 1;
+        Some(visits.saturating_add(simulated).max(1))
+    }
+
+    /// Finishes a rebuild under way at once; true if it had one.
+    fn rebuild_all(&mut self) -> bool {
+        let mut any = false;
+        while self.rebuild_counted().is_some() {
+            any = true;
+        }
+        any
+    }
+
+    /// Steps to the end of the run (after any rebuild under way); returns
+    /// the number of new steps taken.
     pub fn run_to_end(&mut self) -> usize {
+        self.rebuild_all();
         let mut n = 0;
         while self.advance() {
             n += 1;
@@ -337,33 +422,36 @@ impl TableFusion {
             m.reset();
         }
         self.next = 0;
+        self.lidar_next = 0;
         self.refresh_fused();
     }
 
     /// Changes only the LiDAR's beam count (same seed, same path, same
-    /// sonar readings) and rebuilds every map up to the current step, so the
-    /// reader sees the effect at the same point of the run. On error nothing
-    /// changes.
+    /// sonar readings) and rebuilds every map up to the current step at
+    /// once, so the reader sees the effect at the same point of the run.
+    /// On error nothing changes. [`TableFusion::stage_lidar_beams`] is the
+    /// same change with the rebuild left to bounded calls.
     pub fn set_lidar_beams(&mut self, beams: usize) -> Result<()> {
-        let run = self.run.with_lidar_beams(beams)?;
-        let lidar_model = self.models.lidar_model(run.scene())?;
-        self.run = run;
+        self.stage_lidar_beams(beams)?;
+        self.rebuild_all();
+        self.refresh_fused();
+        Ok(())
+    }
+
+    /// Changes only the LiDAR's beam count and empties the two maps it
+    /// feeds (the sonar's map is unchanged: its scans are), to be rebuilt
+    /// over the steps so far by the next [`TableFusion::work`] calls before
+    /// any new step, within their budgets: a slider dragged late in a long
+    /// run never blocks the page. The LiDAR's scans are simulated again as
+    /// the rebuild reaches them. On error nothing changes.
+    pub fn stage_lidar_beams(&mut self, beams: usize) -> Result<()> {
+        let scene = self.run.scene().with_lidar_beams(beams)?;
+        let lidar_model = self.models.lidar_model(&scene)?;
+        self.run.restart_lidar(beams)?;
         self.lidar_model = lidar_model;
-        // The sonar's scans are unchanged, and so is its map: only the maps
-        // the LiDAR feeds are rebuilt (a slider drag stays responsive).
         self.lidar.reset();
         self.summed.reset();
-        for k in 0..self.next {
-            let (Some(sonar), Some(lidar)) = (self.run.sonar().get(k), self.run.lidar().get(k))
-            else {
-                break;
-            };
-            self.lidar_mapper
-                .integrate(&mut self.lidar, &self.lidar_model, lidar);
-            sweep_scan(&mut self.summed, &self.sonar_model, sonar);
-            self.summed_mapper
-                .integrate(&mut self.summed, &self.lidar_model, lidar);
-        }
+        self.lidar_next = 0;
         self.refresh_fused();
         Ok(())
     }
@@ -476,6 +564,8 @@ impl TableFusion {
             footprint_cells: self.run.footprint().len(),
             footprint: self.footprint_means(),
             pose: self.run.poses().get(last).copied().unwrap_or_default(),
+            rebuilding: self.rebuilding(),
+            scans_simulated: self.run.simulated(),
         }
     }
 }

@@ -38,7 +38,8 @@ impl SensorFusion {
         })
     }
 
-    /// Integrates the next step into all four maps; false at the end.
+    /// Integrates the next step into all four maps (after any rebuild under
+    /// way, at once); false at the end.
     pub fn step(&mut self) -> bool {
         self.fusion.step()
     }
@@ -46,8 +47,9 @@ impl SensorFusion {
     /// Integrates up to `steps` steps for about `budget` cell visits (whole
     /// numbers, `Infinity` for no limit; at least one step while the lap
     /// lasts, past the budget by at most one step), then refreshes the fused
-    /// map once: the call a page makes per animation frame. Returns
-    /// `{ steps, cellVisits, step, done }`.
+    /// map once: the call a page makes per animation frame. A rebuild after
+    /// `setLidarBeams` comes first and `steps` new steps only after it.
+    /// Returns `{ steps, rebuilt, cellVisits, step, rebuilding, done }`.
     pub fn work(&mut self, steps: JsValue, budget: JsValue) -> Result<JsValue, JsError> {
         let steps = budget_from_js("steps", &steps)?;
         let budget = budget_from_js("budget", &budget)? as u64;
@@ -64,8 +66,11 @@ impl SensorFusion {
         self.fusion.reset();
     }
 
-    /// Changes only the LiDAR's beam count and rebuilds the maps up to the
-    /// current step. `beams` must be a whole number from 1 to 2048.
+    /// Changes only the LiDAR's beam count and empties the LiDAR's own and
+    /// the summed map, which the next `work` calls rebuild over the steps so
+    /// far within their budgets (`readout().rebuilding` counts the steps
+    /// they still lack), before any new step. `beams` must be a whole
+    /// number from 1 to 2048; a refused one changes nothing.
     #[wasm_bindgen(js_name = setLidarBeams)]
     pub fn set_lidar_beams(&mut self, beams: JsValue) -> Result<(), JsError> {
         let beams = number_from_js("lidar.beams", &beams)?;
@@ -74,11 +79,12 @@ impl SensorFusion {
                 "invalid lidar.beams: {beams} (expected a whole number of beams)"
             )));
         }
-        Ok(self.fusion.set_lidar_beams(beams as usize)?)
+        Ok(self.fusion.stage_lidar_beams(beams as usize)?)
     }
 
     /// `{ step, steps, lidarBeams, sonarCount, footprintCells, footprint:
-    /// { sonar, lidar, max, sum }, pose: { x, y, theta } }`.
+    /// { sonar, lidar, max, sum }, pose: { x, y, theta }, rebuilding,
+    /// scansSimulated }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
         to_js(&self.fusion.readout())
     }

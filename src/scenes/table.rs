@@ -10,7 +10,9 @@
 //! Data flow: a [`TableScene`] (plain serde data, seeded) is turned by
 //! [`TableScene::build`] into a [`TableRun`]: the two slices, the robot's
 //! poses along its path, and one sonar scan and one LiDAR scan per pose,
-//! with Gaussian range noise. [`crate::fusion`] integrates those scans into
+//! with Gaussian range noise. [`TableScene::start`] leaves the scans to be
+//! simulated as the run reaches them, so that a page's first frame waits
+//! for no scan of the lap's end. [`crate::fusion`] integrates those scans into
 //! one grid per modality and compares the fusion rules.
 //!
 //! The two sensors draw their noise from two separate seeded streams, so
@@ -437,8 +439,19 @@ impl TableScene {
     }
 
     /// Builds the scene: both slices, the poses, and one noisy sonar scan
-    /// and one noisy LiDAR scan per pose.
+    /// and one noisy LiDAR scan per pose, all simulated at once.
     pub fn build(&self) -> Result<TableRun> {
+        let mut run = self.start()?;
+        run.simulate_through(run.len())?;
+        Ok(run)
+    }
+
+    /// Builds the scene without its scans: the slices, the poses and the
+    /// footprint, which take time in proportion to the map; each scan is
+    /// simulated when the run first needs it ([`TableRun::simulate_through`]),
+    /// from the same noise streams in the same order, so the scans are those
+    /// of [`TableScene::build`] bit for bit.
+    pub fn start(&self) -> Result<TableRun> {
         self.validate()?;
         let geometry = self.geometry()?;
         let (top, shins) = self.slices(geometry);
@@ -451,8 +464,6 @@ impl TableScene {
                 table.contains(x, y)
             })
             .collect();
-        let sonar = self.sonar_scans(&top, &poses)?;
-        let lidar = self.lidar_scans(&shins, &poses)?;
         Ok(TableRun {
             scene: self.clone(),
             geometry,
@@ -460,45 +471,61 @@ impl TableScene {
             shins,
             footprint,
             poses,
-            sonar,
-            lidar,
+            sonar: Vec::new(),
+            lidar: Vec::new(),
+            sonar_noise: StdRng::seed_from_u64(self.seed),
+            lidar_noise: self.lidar_noise(),
         })
     }
 
-    /// The sonar ring's scans: each cone reads the nearest echo inside it
-    /// (the table top's near edge, or a wall), plus noise.
-    fn sonar_scans(&self, top: &World, poses: &[Pose]) -> Result<Vec<Scan>> {
-        let s = self.sonar;
-        let mut rng = StdRng::seed_from_u64(self.seed);
-        let spacing = s.spacing();
-        poses
-            .iter()
-            .map(|p| {
-                let ranges = (0..s.count)
-                    .map(|j| s.read(top, p.x, p.y, p.theta + j as f64 * spacing, &mut rng))
-                    .collect::<Result<Vec<f64>>>()?;
-                Scan::uniform(*p, ranges, 0.0, spacing)
-            })
-            .collect()
+    /// The LiDAR's own noise stream, from its first draw.
+    fn lidar_noise(&self) -> StdRng {
+        StdRng::seed_from_u64(self.seed.wrapping_add(LIDAR_STREAM))
     }
 
-    /// The LiDAR's scans: thin beams, the exact range to the first occupied
-    /// cell of the shin slice, plus noise.
-    fn lidar_scans(&self, shins: &World, poses: &[Pose]) -> Result<Vec<Scan>> {
+    /// The sonar ring's scan from `p`: each cone reads the nearest echo
+    /// inside it (the table top's near edge, or a wall), plus noise.
+    fn sonar_scan(&self, top: &World, p: &Pose, rng: &mut StdRng) -> Result<Scan> {
+        let s = self.sonar;
+        let spacing = s.spacing();
+        let ranges = (0..s.count)
+            .map(|j| s.read(top, p.x, p.y, p.theta + j as f64 * spacing, rng))
+            .collect::<Result<Vec<f64>>>()?;
+        Scan::uniform(*p, ranges, 0.0, spacing)
+    }
+
+    /// The LiDAR's scan from `p`: thin beams, the exact range to the first
+    /// occupied cell of the shin slice, plus noise.
+    fn lidar_scan(&self, shins: &World, p: &Pose, rng: &mut StdRng) -> Result<Scan> {
         let l = self.lidar;
-        let mut rng = StdRng::seed_from_u64(self.seed.wrapping_add(LIDAR_STREAM));
-        poses
-            .iter()
-            .map(|p| {
-                let mut ranges = Vec::with_capacity(l.beams);
-                l.scan_into(shins, p, &mut rng, &mut ranges);
-                Scan::uniform(*p, ranges, l.first_bearing, l.spacing())
-            })
-            .collect()
+        let mut ranges = Vec::with_capacity(l.beams);
+        l.scan_into(shins, p, rng, &mut ranges);
+        Scan::uniform(*p, ranges, l.first_bearing, l.spacing())
+    }
+
+    /// What simulating one scan on `g` costs, in the cell visits a
+    /// mapper's work is counted in: every ray cast (a sonar cone's
+    /// sub-rays, a LiDAR beam) counted as the most cells its walk can
+    /// cross, those along its whole range but no more than the map's width
+    /// and height together (a walk leaves the map after those).
+    fn scan_cost(&self, g: &GridGeometry, lidar: bool) -> u64 {
+        let across = (g.width() + g.height()) as f64;
+        let cells = |z_max: f64| (z_max / self.resolution).ceil().clamp(1.0, across) as u64;
+        let (rays, z_max) = if lidar {
+            (self.lidar.beams, self.lidar.z_max)
+        } else {
+            (
+                self.sonar.count.saturating_mul(self.sonar.sub_rays),
+                self.sonar.z_max,
+            )
+        };
+        (rays as u64).saturating_mul(cells(z_max))
     }
 }
 
-/// A built table scene: ground truth per slice and every scan of the run.
+/// A built table scene: ground truth per slice, the poses, and the scans
+/// simulated so far (all of them from [`TableScene::build`], none yet from
+/// [`TableScene::start`]) with each sensor's noise stream where it stopped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TableRun {
     scene: TableScene,
@@ -509,6 +536,8 @@ pub struct TableRun {
     poses: Vec<Pose>,
     sonar: Vec<Scan>,
     lidar: Vec<Scan>,
+    sonar_noise: StdRng,
+    lidar_noise: StdRng,
 }
 
 impl TableRun {
@@ -533,26 +562,65 @@ impl TableRun {
     pub fn poses(&self) -> &[Pose] {
         &self.poses
     }
-    /// One sonar scan per pose.
+    /// The sonar scans simulated so far, one per pose from the first.
     pub fn sonar(&self) -> &[Scan] {
         &self.sonar
     }
-    /// One LiDAR scan per pose.
+    /// The LiDAR scans simulated so far, one per pose from the first.
     pub fn lidar(&self) -> &[Scan] {
         &self.lidar
     }
+    /// Poses whose two scans are both simulated.
+    pub fn simulated(&self) -> usize {
+        self.sonar.len().min(self.lidar.len())
+    }
+
+    /// Simulates every scan not yet simulated of the first `steps` poses
+    /// (at most the run's) and returns their cost in cell visits. Each
+    /// sensor draws from its own noise stream in pose order, so a scan is
+    /// the same whenever it is simulated.
+    pub fn simulate_through(&mut self, steps: usize) -> Result<u64> {
+        let steps = steps.min(self.poses.len());
+        let mut cost = 0u64;
+        while self.sonar.len() < steps {
+            let p = self.poses[self.sonar.len()];
+            let scan = self
+                .scene
+                .sonar_scan(&self.top, &p, &mut self.sonar_noise)?;
+            self.sonar.push(scan);
+            cost = cost.saturating_add(self.scene.scan_cost(&self.geometry, false));
+        }
+        while self.lidar.len() < steps {
+            let p = self.poses[self.lidar.len()];
+            let scan = self
+                .scene
+                .lidar_scan(&self.shins, &p, &mut self.lidar_noise)?;
+            self.lidar.push(scan);
+            cost = cost.saturating_add(self.scene.scan_cost(&self.geometry, true));
+        }
+        Ok(cost)
+    }
+
     /// The same run with a LiDAR of `beams` beams: only the LiDAR's scans
-    /// are simulated again (from the LiDAR's own noise stream, so exactly
-    /// as [`TableScene::build`] would); slices, poses and sonar scans are
-    /// kept.
+    /// are simulated again, as many as this run had (from the LiDAR's own
+    /// noise stream, so exactly as [`TableScene::build`] would); slices,
+    /// poses and sonar scans are kept.
     pub fn with_lidar_beams(&self, beams: usize) -> Result<TableRun> {
-        let scene = self.scene.with_lidar_beams(beams)?;
-        let lidar = scene.lidar_scans(&self.shins, &self.poses)?;
-        Ok(TableRun {
-            scene,
-            lidar,
-            ..self.clone()
-        })
+        let mut run = self.clone();
+        run.restart_lidar(beams)?;
+        run.simulate_through(self.lidar.len())?;
+        Ok(run)
+    }
+
+    /// A LiDAR of `beams` beams from the first pose on: its scans so far
+    /// are dropped, to be simulated again as the run reaches them, from the
+    /// start of its noise stream. Slices, poses and sonar scans are kept.
+    /// On error (a refused beam count) nothing changes.
+    pub fn restart_lidar(&mut self, beams: usize) -> Result<()> {
+        self.scene = self.scene.with_lidar_beams(beams)?;
+        self.lidar.clear();
+        self.lidar_noise = self.scene.lidar_noise();
+        Ok(())
     }
 
     /// Number of time steps (poses) in the run.
