@@ -118,11 +118,14 @@ class DoorwayTrapElement extends HTMLElement {
       await startTurn();
       this.started = true;
       this.create();
-      this.twoCell.start(this.core, this.values);
       if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
         this.play('sweep');
         this.play('map');
       }
+      // The two-cell table in a turn of its own: with the scene's run and
+      // first drawing, one task would hold both halves' work.
+      await startTurn();
+      this.twoCell.start(this.core, this.values);
     }, { ahead: true });
   }
 

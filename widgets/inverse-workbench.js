@@ -17,7 +17,7 @@
 // reading, seed, density, zoom, controls.
 import { loadCore } from './lib/core.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped, startTurn } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped, startTurn, nextTask } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
 import { copyLinkControl, firstConnection } from './lib/state.js';
 import { workBudget } from './lib/work-budget.js';
@@ -36,6 +36,8 @@ const ZOOM = 1.5;
 const IMAGE_HEIGHT = 150;
 /** The time of one training call, ms: the page paints and takes input between calls. */
 const TRAIN_SLICE_MS = 20;
+/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
+const FIRST_TRAIN_UNITS = 2_000;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
@@ -71,7 +73,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.bench = null;
     this.frame = 0;
     this.zMax = null;
-    this.trainBudget = workBudget(TRAIN_SLICE_MS, 2_000);
+    this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
   }
 
   async connectedCallback() {
@@ -299,7 +301,7 @@ class InverseWorkbenchElement extends HTMLElement {
       const finished = step(units);
       this.trainBudget.learn(units, performance.now() - t);
       if (finished) return true;
-      await new Promise((r) => setTimeout(r, 0));
+      await nextTask();
       if (!current()) return false;
     }
   }
@@ -312,6 +314,12 @@ class InverseWorkbenchElement extends HTMLElement {
    */
   async train(seed, density) {
     const generation = (this.trainings = (this.trainings ?? 0) + 1);
+    // Every training starts from the first call's budget: a unit of its
+    // sampling (a triplet drawn, a ray cast through a sampled map) costs
+    // far more than one of its fitting (an SGD update), so a budget learned
+    // at the end of the last fit would make the next sampling's first call
+    // many times too long.
+    this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
     const current = () => generation === this.trainings;
     this.retrainButton.disabled = true;
     let trained = false;

@@ -51,9 +51,16 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
  * The clock budget of one slice of the scans a link asks for before the
  * first frame: the page gets the main thread back between slices, so a
  * fine grid's thousands of scans never freeze the tab. (The core bounds the
- * total: `checkFastForward`.)
+ * total: `checkFastForward`.) A slice's budget is in cell visits, learned
+ * from the last slice's time, and a scan's simulation and readouts cost
+ * time no visit counts, so a slice can take twice its target: 12 ms keeps
+ * it well under a 50 ms task.
  */
-const SLICE_MS = 25;
+const SLICE_MS = 12;
+/** The clock budget of one call of the learned model's training. */
+const TRAIN_SLICE_MS = 20;
+/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
+const FIRST_TRAIN_UNITS = 2_000;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
 /**
@@ -176,7 +183,7 @@ class MapWeaverElement extends HTMLElement {
     this.pace = pacer(1, MAX_SCANS_PER_FRAME);
     this.frameBudget = workBudget(FRAME_WORK_MS, AT_ONCE_VISITS);
     this.sliceBudget = workBudget(SLICE_MS, AT_ONCE_VISITS);
-    this.trainBudget = workBudget(SLICE_MS, 2_000);
+    this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
     /** Scans Step asked for that are not integrated yet. */
     this.stepsOwed = 0;
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
@@ -525,7 +532,10 @@ class MapWeaverElement extends HTMLElement {
       const settings = { seed: v.seed, laps: v.laps, situation: v.situation, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
       // The learned model trains in slices (once per page for the same
-      // training settings), the page painting in between.
+      // training settings), the page painting in between. Each training
+      // starts from the first call's budget: a unit of its sampling costs
+      // far more than one of its fitting, where the last one ended.
+      this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
       const start = new this.core.MapWeaverStart(settings);
       try {
         next = await trainInSlices(start, this.trainBudget, () => generation === this.generation);

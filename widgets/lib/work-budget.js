@@ -4,6 +4,7 @@
 // visited), sized from how long the last call took, so that each call stays
 // near a target time and the page keeps its frames (docs/ARCHITECTURE.md,
 // "Sessions and panes").
+import { nextTask } from './ui.js';
 
 /**
  * The next call's budget: the work the last call did (`done`, in its units)
@@ -55,8 +56,9 @@ export async function trainInSlices(start, budget, stillWanted) {
     const trained = start.work(units);
     budget.learn(units, performance.now() - t);
     if (trained) return start.finish();
-    // A task boundary: the page paints and handles input in between.
-    await new Promise((r) => setTimeout(r, 0));
+    // A task boundary: the page paints and handles input in between (a
+    // new task at once: a timer would be held back 4 ms once nested).
+    await nextTask();
     if (!stillWanted()) return null;
   }
 }
@@ -74,7 +76,7 @@ export async function fastForward(weaver, target, budget, progress, stillWanted)
     done += r.scans;
     if (done >= target && r.behind[0] + r.behind[1] === 0) return true;
     progress(done);
-    await new Promise((resolve) => setTimeout(resolve, 0));
+    await nextTask();
     if (!stillWanted()) return false;
   }
 }
