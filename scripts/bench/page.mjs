@@ -15,9 +15,16 @@
 //   first frame, then the left Mapper menu set to "Every-cell sweep",
 //   recorded from the choice until the pane is rebuilt.
 //
+// - `knobs` (desktop, only when named in `OCCGRID_PAGE_SITUATIONS`): every
+//   knob, attribute and link of the chapter's widgets but the real-log
+//   panel, each on a fresh page (see `KNOBS`): the longest task from the
+//   change until the widget says it is done, one line per knob
+//   (`situation: "knob"`, `knob: NAME`).
+//
 // `OCCGRID_PAGE_SITUATIONS` (a comma list of situations) and
 // `OCCGRID_PAGE_VIEWPORTS` (desktop, phone) pick a part; `OCCGRID_PAGE_RUNS`
-// sets the runs per line.
+// sets the runs per line; `OCCGRID_PAGE_KNOBS` keeps the knobs whose name
+// holds it.
 //
 // Every main-thread task over 50 ms is a `longtask` entry (buffered from the
 // page's start); total blocking time is the sum of each one's part over
@@ -46,6 +53,121 @@ const VIEWPORTS = {
   desktop: { viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1, throttle: 1 },
   phone: { viewport: { width: 390, height: 844 }, deviceScaleFactor: 3, hasTouch: true, isMobile: true, throttle: 4 },
 };
+
+/**
+ * The knob audit: what each knob changes, on which page, and the state that
+ * means done. `ready`, `pre`, `act` and `done` are expressions evaluated in
+ * the page (`act` may also be a function of the page); `act: null` measures
+ * the widget's start, scrolled to from the top of a page gone quiet.
+ */
+const KNOBS = (() => {
+  const list = [];
+  const set = (tag, name, value) => `document.querySelector('${tag}').setAttribute('${name}', ${JSON.stringify(value)})`;
+  const click = (tag, name) => `document.querySelector('${tag}').querySelector('button[name=${name}]').click()`;
+  const markOld = (tag, field) => `window.__old = document.querySelector('${tag}').${field}`;
+
+  const MW = 'occgrid-map-weaver';
+  const mwSettled = `(() => { const el = document.querySelector('${MW}'); if (!el?.weaver || el.dataset.fastForward) return false;
+    return el.weaver.progress().behind.every((n) => n === 0) && !el.loop.running; })()`;
+  const mwNewRun = `(document.querySelector('${MW}').weaver !== window.__old && ${mwSettled})`;
+  const mw = (name, act, { scans = 1959, done = mwSettled, pre = null, extra = '' } = {}) => list.push({
+    name: `map-weaver: ${name}`, url: `/?map-weaver.autoplay=off&map-weaver.scans=${scans}${extra}#map-weaver`, tag: MW, ready: mwSettled, pre, act, done,
+  });
+  const mwRun = { pre: markOld(MW, 'weaver'), done: mwNewRun };
+  mw('start', null, { scans: 0 });
+  mw('left-mapper sweep after 3 laps', set(MW, 'left-mapper', 'sweep'));
+  mw('right-mapper sweep after 3 laps', set(MW, 'right-mapper', 'sweep'));
+  mw('left-sensor cone', set(MW, 'left-sensor', 'cone'));
+  mw('left-beta 40', set(MW, 'left-beta', '40'), { extra: '&map-weaver.left-sensor=cone' });
+  mw('left-beams 15', set(MW, 'left-beams', '15'));
+  mw('left-resolution 0.025', set(MW, 'left-resolution', '0.025'));
+  mw('left-model learned', set(MW, 'left-model', 'learned'));
+  mw('left-pose dead-reckoning', set(MW, 'left-pose', 'dead-reckoning'));
+  mw('left-clamp 3', set(MW, 'left-clamp', '3'));
+  mw('left-strength 2', set(MW, 'left-strength', '2'));
+  mw('left-forget-l0 on', set(MW, 'left-forget-l0', 'on'), { extra: '&map-weaver.left-model=learned' });
+  mw('person off', set(MW, 'person', 'off'));
+  mw('situation ghost-watch', set(MW, 'situation', 'ghost-watch'), mwRun);
+  mw('laps 5', set(MW, 'laps', '5'), mwRun);
+  mw('seed 3', set(MW, 'seed', '3'), mwRun);
+  mw('scene 1024 x 1024', set(MW, 'scene', '{"width":1024,"height":1024,"resolution":0.01171875}'), { scans: 0, ...mwRun });
+  mw('scans 13060 (20 laps)', set(MW, 'scans', '13060'), { scans: 0, extra: '&map-weaver.laps=20', ...mwRun });
+  mw('reset', click(MW, 'reset'));
+  mw('step', click(MW, 'step'), { scans: 100 });
+  mw('map-width 900', set(MW, 'map-width', '900'));
+  mw('speed 8, playing 3 s', async (page) => {
+    await page.evaluate(`${set(MW, 'speed', '8')}; ${click(MW, 'play')}`);
+    await page.waitForTimeout(3000);
+  }, { scans: 0, done: 'true' });
+
+  const SF = 'occgrid-sensor-fusion';
+  const sfSettled = `(() => { const el = document.querySelector('${SF}'); return !!el?.sim && el.dataset.state === 'ready'
+    && el.dataset.fastForward === undefined && el.dataset.rebuilding === undefined && !el.beamTask && !el.loop.running; })()`;
+  const sfPlayed = `(document.querySelector('${SF}').dataset.step === '81' && !document.querySelector('${SF}').playing)`;
+  const sfRun = { pre: markOld(SF, 'sim'), done: `(document.querySelector('${SF}').sim !== window.__old && ${sfSettled})` };
+  const sf = (name, act, { extra = '', done = sfSettled, pre = null } = {}) => list.push({
+    name: `sensor-fusion: ${name}`, url: `/?sensor-fusion.autoplay=off${extra}#sensor-fusion`, tag: SF, ready: sfSettled, pre, act, done,
+  });
+  const fine = '&sensor-fusion.scene=' + encodeURIComponent('{"resolution": 0.0125}');
+  sf('start', null);
+  sf('lidar-beams 12 after the lap', set(SF, 'lidar-beams', '12'), { extra: '&sensor-fusion.scans=81' });
+  sf('lidar-beams 720 after the lap', set(SF, 'lidar-beams', '720'), { extra: '&sensor-fusion.scans=81' });
+  sf('lidar-beams 2048 after 2 laps', set(SF, 'lidar-beams', '2048'), { extra: '&sensor-fusion.scans=162&sensor-fusion.scene=' + encodeURIComponent('{"laps":2}') });
+  sf('seed 3', set(SF, 'seed', '3'), sfRun);
+  sf('scans 81', set(SF, 'scans', '81'), sfRun);
+  sf('scene 10 laps, scans 810', `${set(SF, 'scene', '{"laps": 10}')}; ${set(SF, 'scans', '810')}`, sfRun);
+  sf('scene resolution 0.0125', set(SF, 'scene', '{"resolution": 0.0125}'), sfRun);
+  sf('step', click(SF, 'step'));
+  sf('reset', click(SF, 'reset'), { extra: '&sensor-fusion.scans=81' });
+  sf('play the lap', click(SF, 'play'), { done: sfPlayed });
+  sf('play the lap at 0.0125 m', click(SF, 'play'), { extra: fine, done: sfPlayed });
+  sf('map-width 900', set(SF, 'map-width', '900'));
+
+  const DT = 'occgrid-doorway-trap';
+  const dtReady = `(document.querySelector('${DT}')?.dataset.state === 'ready')`;
+  const dtRun = { pre: markOld(DT, 'trap'), done: `(document.querySelector('${DT}').trap !== window.__old && ${dtReady})` };
+  const dt = (name, act, { done = 'true', pre = null } = {}) => list.push({
+    name: `doorway-trap: ${name}`, url: '/?doorway-trap.autoplay=off#doorway-trap', tag: DT, ready: dtReady, pre, act, done,
+  });
+  dt('start', null);
+  dt('seed 3', set(DT, 'seed', '3'), dtRun);
+  dt('scans 4096', set(DT, 'scans', '4096'), dtRun);
+  dt('flips 100000', set(DT, 'flips', '100000'), dtRun);
+  dt('scene prior 0.3', set(DT, 'scene', '{"prior": 0.3}'), dtRun);
+  dt('scene resolution 0.01', set(DT, 'scene', '{"resolution": 0.01}'), dtRun);
+  dt('arrangement collinear', set(DT, 'arrangement', 'collinear'));
+  dt('cells', set(DT, 'cells', '1.5, 0, 2, 5'));
+  dt('reading 1.5', set(DT, 'reading', '1.5'));
+  dt('prior 0.3', set(DT, 'prior', '0.30'));
+  dt('ten MAP steps', `for (let i = 0; i < 10; i++) ${click(DT, 'map-step')}`);
+  dt('both halves playing 4 s', async (page) => {
+    await page.evaluate(`${click(DT, 'sweep-play')}; ${click(DT, 'map-play')}`);
+    await page.waitForTimeout(4000);
+  });
+  dt('map-width 900', set(DT, 'map-width', '900'));
+
+  const IW = 'occgrid-inverse-workbench';
+  const iwTrained = (key, value) => `(document.querySelector('${IW}').dataset.${key} === '${value}' && !document.querySelector('${IW}').retrainButton.disabled)`;
+  const iw = (name, act, done) => list.push({
+    name: `inverse-workbench: ${name}`, url: '/#inverse-workbench', tag: IW, ready: iwTrained('state', 'ready'), act, done,
+  });
+  iw('start', null, 'true');
+  iw('reading 6', set(IW, 'reading', '6'), `document.querySelector('${IW}').dataset.reading === '6'`);
+  iw('zoom on', set(IW, 'zoom', 'on'), 'true');
+  iw('seed 3', set(IW, 'seed', '3'), iwTrained('seed', '3'));
+  iw('density 0.45', set(IW, 'density', '0.45'), iwTrained('density', '0.45'));
+
+  const CF = 'occgrid-cell-filter';
+  const many = 'of'.repeat(500);
+  const cf = (name, act, query = '') => list.push({
+    name: `cell-filter: ${name}`, url: `/?${query}#cell-filter`, tag: CF, ready: `document.querySelector('${CF}')?.ready === true`, act, done: 'true',
+  });
+  cf('readings 1000', set(CF, 'readings', many));
+  cf('p-occ 0.9 over 1000 readings', set(CF, 'p-occ', '0.9'), `cell-filter.readings=${many}`);
+  cf('clamp off over 1000 readings', set(CF, 'clamp', 'off'), `cell-filter.readings=${many}`);
+  cf('forget-l0 on', set(CF, 'forget-l0', 'on'));
+  return list;
+})();
 
 /** Installed before any script of the page runs. */
 function instrument() {
@@ -86,6 +208,40 @@ const summary = ({ tasks, firstDraw }, from, to, widgets) => {
     all_drawn_ms: drawn.every((t) => t !== undefined) ? Math.max(...drawn) : null,
   };
 };
+
+/**
+ * One knob on a fresh desktop page: the longest main-thread task from the
+ * change (or, for a start, from the scroll) until its done state holds and
+ * half a second more.
+ */
+async function oneKnob(browser, port, knob) {
+  // The page's policy allows no string evaluation; the audit's own
+  // expressions are the page's test harness, not its code.
+  const context = await browser.newContext({ viewport: VIEWPORTS.desktop.viewport, bypassCSP: true });
+  const page = await context.newPage();
+  try {
+    await page.addInitScript(instrument);
+    const starting = knob.act === null;
+    await page.goto(`http://127.0.0.1:${port}${starting ? knob.url.replace(/#.*$/, '') : knob.url}`, { waitUntil: 'load' });
+    if (starting) await page.waitForTimeout(4000);
+    let t0 = await page.evaluate(() => performance.now());
+    await page.locator(knob.tag).first().scrollIntoViewIfNeeded();
+    if (!starting) {
+      await page.waitForFunction(knob.ready, null, { timeout: 300_000, polling: 100 });
+      await page.waitForTimeout(700);
+      if (knob.pre) await page.evaluate(knob.pre);
+      t0 = await page.evaluate(() => performance.now());
+      if (typeof knob.act === 'function') await knob.act(page);
+      else await page.evaluate(knob.act);
+    }
+    await page.waitForFunction(starting ? knob.ready : knob.done, null, { timeout: 300_000, polling: 100 });
+    await page.waitForTimeout(500);
+    const { tasks } = await page.evaluate(() => window.__pageBench);
+    return summary({ tasks, firstDraw: {} }, t0, Infinity, []).longest_task_ms;
+  } finally {
+    await context.close();
+  }
+}
 
 async function oneRun(browser, port, viewportName, situation) {
   const v = VIEWPORTS[viewportName];
@@ -172,6 +328,17 @@ export default async function (core, args) {
   });
   const rows = [];
   try {
+    const named = (process.env.OCCGRID_PAGE_SITUATIONS || '').split(',');
+    if (named.includes('knobs') && pick('OCCGRID_PAGE_VIEWPORTS', ['desktop']).length) {
+      for (const knob of KNOBS.filter((k) => k.name.includes(process.env.OCCGRID_PAGE_KNOBS || ''))) {
+        const runs = [];
+        for (let k = 0; k < RUNS; k++) runs.push(await oneKnob(browser, port, knob));
+        rows.push({
+          workload: WORKLOAD, runtime: 'chromium', viewport: 'desktop', situation: 'knob', knob: knob.name,
+          longest_task_ms: round(median(runs), 1),
+        });
+      }
+    }
     for (const viewport of pick('OCCGRID_PAGE_VIEWPORTS', Object.keys(VIEWPORTS))) {
       const links = viewport === 'desktop' ? Object.keys(LINKS) : [];
       for (const situation of pick('OCCGRID_PAGE_SITUATIONS', ['load', 'scroll', ...PLAYERS.map((p) => `play-${p}`), ...links])) {
