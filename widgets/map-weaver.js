@@ -41,7 +41,7 @@ import {
 } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import {
-  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
+  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, SIDES, inAttributeTerms, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
 } from './lib/map-weaver-words.js';
 import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
 import { showComparison, showPaneReadout } from './lib/map-weaver-readouts.js';
@@ -49,17 +49,14 @@ import { showComparison, showPaneReadout } from './lib/map-weaver-readouts.js';
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /**
  * The clock budget of one slice of the scans a link asks for before the
- * first frame: the page gets the main thread back between slices, so a
- * fine grid's thousands of scans never freeze the tab. (The core bounds the
- * total: `checkFastForward`.) A slice's budget is in cell visits, learned
- * from the last slice's time, and a scan's simulation and readouts cost
- * time no visit counts, so a slice can take twice its target: 12 ms keeps
- * it well under a 50 ms task.
+ * first frame (the core bounds the total: `checkFastForward`). The budget
+ * is in cell visits learned from the last slice's time, and a scan's
+ * simulation and readouts cost time no visit counts: 12 ms keeps a slice
+ * well under a 50 ms task. A training call gets 20 ms, its first call
+ * 2,000 units (triplets drawn or SGD updates), which its time corrects.
  */
 const SLICE_MS = 12;
-/** The clock budget of one call of the learned model's training. */
 const TRAIN_SLICE_MS = 20;
-/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
 const FIRST_TRAIN_UNITS = 2_000;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
@@ -79,21 +76,6 @@ const AT_ONCE_VISITS = 50_000;
 /** Least time between two chart redraws while playing, ms. */
 const CHART_EVERY_MS = 150;
 const MAX_CSS_WIDTH = 480;
-const SIDES = ['left', 'right'];
-/**
- * A core refusal of a pane setting in the words of the attribute that set
- * it: "invalid panes[0].beams: 16 (…)" is "invalid left-beams: 16 (…)" to
- * an instructor who wrote `left-beams="16"`.
- */
-function inAttributeTerms(error) {
-  const message = error && error.message ? error.message : String(error);
-  const words = message.replace(/panes\[([01])\]\.(\w+)/g, (whole, k, field) => {
-    const suffix = Object.keys(PANE_FIELDS).find((a) => PANE_FIELDS[a] === field);
-    return suffix ? `${SIDES[Number(k)]}-${suffix}` : whole;
-  });
-  return words === message ? error : new Error(words);
-}
-
 
 const ROBOT_COLOR = COLORS.series[1];
 const PERSON_COLOR = '#d01c8b';
@@ -532,9 +514,8 @@ class MapWeaverElement extends HTMLElement {
       const settings = { seed: v.seed, laps: v.laps, situation: v.situation, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
       // The learned model trains in slices (once per page for the same
-      // training settings), the page painting in between. Each training
-      // starts from the first call's budget: a unit of its sampling costs
-      // far more than one of its fitting, where the last one ended.
+      // settings), each training from the first call's budget: a unit of
+      // sampling costs far more than one of fitting, where the last ended.
       this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
       const start = new this.core.MapWeaverStart(settings);
       try {

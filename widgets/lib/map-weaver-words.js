@@ -129,3 +129,19 @@ export const bits = (x) => grouped(x, 1);
 export const signed = (x, d) => (x > 0 ? '+' : '') + fixed(x, d);
 /** A cell size as the menu says it: 0.10, 0.05, 0.0125. */
 export const metres = (m) => m.toLocaleString('en-US', { minimumFractionDigits: 2, maximumFractionDigits: 6 });
+
+/** The two panes' attribute prefixes, in the core's pane order. */
+export const SIDES = ['left', 'right'];
+/**
+ * A core refusal of a pane setting in the words of the attribute that set
+ * it: "invalid panes[0].beams: 16 (…)" is "invalid left-beams: 16 (…)" to
+ * an instructor who wrote `left-beams="16"`.
+ */
+export function inAttributeTerms(error) {
+  const message = error && error.message ? error.message : String(error);
+  const words = message.replace(/panes\[([01])\]\.(\w+)/g, (whole, k, field) => {
+    const suffix = Object.keys(PANE_FIELDS).find((a) => PANE_FIELDS[a] === field);
+    return suffix ? `${SIDES[Number(k)]}-${suffix}` : whole;
+  });
+  return words === message ? error : new Error(words);
+}
