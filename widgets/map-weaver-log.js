@@ -33,7 +33,8 @@ const DATASET_BASE = new URL('../datasets/', import.meta.url);
 /**
  * Milliseconds of core work per call before yielding: half the 50 ms at
  * which a task counts as long, leaving room for a call slower than the
- * last predicted. Reads are sized in scans, builds in cell updates (a scan
+ * last predicted. Reads are sized in scans, builds in the core's units of
+ * work (a cell update, or two cells visited: `work` in its state; a scan
  * down a corridor updates ten times the cells of one in an office).
  */
 const SLICE_MS = 25;
@@ -51,6 +52,12 @@ const FIRST_SLICE_CELLS = 250_000;
  * (every cell: 30 ms on the campus) wait for the finished map.
  */
 const DRAW_EVERY_MS = 250;
+/**
+ * Map cells sampled per core drawing call: a view is drawn a band of rows
+ * at a time (a 1200 × 900 view of the zoomed-out campus samples 17 M
+ * cells, about 45 ms in one call), a few milliseconds each.
+ */
+const VIEW_BAND_SAMPLES = 2_000_000;
 const REDRAW_SPACING = 8;
 /** Least time between two updates of the progress bar and status line. */
 const PROGRESS_EVERY_MS = 100;
@@ -350,7 +357,7 @@ export class RealLogPanel {
   /**
    * Drives the session while its state is `reading` or `building`: one
    * call into the core per task (a read of a budget of scans, a build
-   * slice of a budget of cell updates, or a drawing), each budget sized
+   * slice of a budget of work, or a band of a drawing), each budget sized
    * from the last call's duration. One loop at a time: new settings, a
    * scrub or another log change the session, and the loop follows it.
    */
@@ -378,8 +385,7 @@ export class RealLogPanel {
             // needs): the maps so far stay on screen.
             this.show(this.session.state());
             showError(this.root, e, 'map: ');
-            this.renderView();
-            this.drawSidePanes();
+            this.drawLater();
             break;
           }
           const ms = performance.now() - t;
@@ -441,21 +447,75 @@ export class RealLogPanel {
     this.show(state, report.finished || this.progressDue());
   }
 
-  /** Draws the operated map, its counts (`finished`), each map beside it, a task each; false if the panel went away. */
+  /**
+   * Draws the operated map, its counts (`finished`), each map beside it: a
+   * view a band of rows per task (the core's `renderViewWithin`, the
+   * picture on screen staying until the new one is whole), the counts a
+   * task of their own; false if the panel went away.
+   */
   async drawEach(finished = true) {
-    // The view and the counts are a core call each: two tasks, not one.
-    const steps = [() => this.renderView(), ...(finished ? [() => this.draw(false)] : [])];
-    for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
     this.redrawMs = 0;
-    for (const step of steps) {
-      await this.pause();
-      if (this.disposed || !this.session) return false;
+    const timed = (step) => {
       const t1 = performance.now();
-      step();
+      const out = step();
       this.trace.push(['draw', performance.now() - t1]);
       this.redrawMs += this.trace.at(-1)[1];
+      return out;
+    };
+    const panes = [MAIN, ...this.sidePanes.flatMap((side, i) => (side.geometry && !side.figure.hidden ? [i + 1] : []))];
+    for (const k of panes) {
+      for (let whole = false; !whole;) {
+        await this.pause();
+        if (this.disposed || !this.session) return false;
+        whole = timed(() => this.drawBand(k, !finished && this.state?.state === 'building'));
+        if (whole === null) return false;
+      }
+      if (k === MAIN && finished) {
+        await this.pause();
+        if (this.disposed || !this.session) return false;
+        timed(() => this.draw(false));
+      }
     }
     return true;
+  }
+
+  /** One band of pane `k`'s view (`quick`: a picture of a map still being built); once the view is whole, it is shown. True when shown, null if the pane is gone. */
+  drawBand(k, quick = false) {
+    if (k === MAIN ? !this.geometry : !this.sidePanes[k - 1]?.geometry) return null;
+    let whole;
+    try {
+      whole = this.session.renderViewWithin(k, VIEW_BAND_SAMPLES, quick);
+    } catch {
+      return null; // the panes changed meanwhile (another log, fewer panes)
+    }
+    if (whole) {
+      if (k === MAIN) this.showView();
+      else this.paintSide(k);
+    }
+    return whole;
+  }
+
+  /**
+   * Every pane's view drawn again in bands, after this task (a new size, new
+   * settings, a rebuild shown at once): one such drawing at a time, started
+   * over when asked again meanwhile.
+   */
+  drawLater() {
+    this.drawAsked = (this.drawAsked ?? 0) + 1;
+    if (this.drawingLater) return;
+    this.drawingLater = true;
+    (async () => {
+      try {
+        let asked;
+        do {
+          asked = this.drawAsked;
+          if (!(await this.drawEach(false))) break;
+        } while (asked !== this.drawAsked);
+      } finally {
+        this.drawingLater = false;
+        if (this.state) this.root.dataset.state = this.state.state;
+      }
+    })();
   }
 
   /** The load or rebuild that just finished: its time on the page. */
@@ -483,7 +543,8 @@ export class RealLogPanel {
   /** Shows the core's state: `data-state` is the session's; with `full`, the progress, status and controls too. */
   show(state, full = true) {
     this.state = state;
-    this.root.dataset.state = state.state;
+    // A panel is done once its maps are drawn (drawLater ends by saying so).
+    this.root.dataset.state = state.state === 'done' && this.drawingLater ? 'drawing' : state.state;
     this.root.setAttribute('aria-busy', String(/^(reading|planning|building)$/.test(state.state)));
     if (!full) return;
     this.progress.value = state.progress;
@@ -697,8 +758,7 @@ export class RealLogPanel {
       this.session.setViewSize(k, w, h);
     }
     this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
-    this.renderView();
-    this.drawSidePanes();
+    this.drawLater();
   }
 
   /** The operated map's figures in the status line, counts and label, after drawing it (unless `render` is false: drawn already). */
@@ -731,7 +791,13 @@ export class RealLogPanel {
   /** Draws the view of the operated map the core holds (no map-sized image: the view's pixels only) and states its scale. */
   renderView() {
     if (!this.session || !this.geometry) return;
-    this.pixels = this.session.renderView(MAIN);
+    this.session.renderView(MAIN);
+    this.showView();
+  }
+
+  /** Shows the operated map's last whole view (no core drawing), and states its scale. */
+  showView() {
+    this.pixels = this.session.viewPixels(MAIN);
     this.view = this.session.view(MAIN);
     this.redraw();
     const v = this.view;
@@ -769,14 +835,11 @@ export class RealLogPanel {
     this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
-  /** The maps beside the operated one (or pane `only` of them: one per task while building), whole, with their paths and robots. */
-  drawSidePanes(only = null) {
-    if (!this.session) return;
-    this.sidePanes.forEach((side, i) => {
-      if (!side.geometry || side.figure.hidden || (only !== null && only !== i + 1)) return;
-      const ptr = this.session.renderView(i + 1);
-      this.paint(side.canvas, i + 1, ptr, this.session.view(i + 1), side.path);
-    });
+  /** Pane `k` beside the operated one, from its last whole view, with its path and robot. */
+  paintSide(k) {
+    const side = this.sidePanes[k - 1];
+    if (!this.session || !side?.geometry || side.figure.hidden) return;
+    this.paint(side.canvas, k, this.session.viewPixels(k), this.session.view(k), side.path);
   }
 
   /** The operated map's keyboard cursor `{ col, row }` (the core's), or null. */
@@ -848,10 +911,10 @@ export class RealLogPanel {
 
   /** Shows the state after a change of the maps: drawn at once if there is nothing to build (a scrub to where the maps are), else built. */
   follow(state) {
+    if (state.state === 'done') this.drawLater();
     this.show(state);
     if (state.state !== 'done') return void this.drive();
-    this.draw();
-    this.drawSidePanes();
+    this.draw(false);
     this.finishJob(state);
   }
 

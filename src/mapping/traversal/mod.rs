@@ -63,6 +63,9 @@ pub struct RayMapper {
     /// in wasm are software routines).
     bearings: Vec<f64>,
     bearing_trig: Vec<(f64, f64)>,
+    /// The current scan's wedges between neighbouring beams (with the
+    /// space between beams only).
+    wedges: Vec<Option<between::Wedge>>,
 }
 
 impl RayMapper {
@@ -322,19 +325,36 @@ impl RayMapper {
             return ScanStats::default();
         };
         self.cache_bearing_trig(scan.bearings());
+        self.wedges.clear();
+        if between {
+            between::plan_wedges(bands, scan.bearings(), res, walkable, &mut self.wedges);
+        }
         let mut gathered = frame.codes(&mut self.codes, &mut self.touched);
         let mut visits = 0;
-        for (band, &trig) in bands.iter().zip(&self.bearing_trig) {
+        for (i, (band, &trig)) in bands.iter().zip(&self.bearing_trig).enumerate() {
             let Some(b) = *band else { continue };
             if !walkable(b.reach) {
                 continue;
             }
-            let Some((walk, at)) = frame.beam(trig, b.reach) else {
+            // Where the wedges on both sides hold the beam's middle cells,
+            // only its near part and its tail are walked.
+            let Some((near, tail)) = between::beam_spans(&self.wedges, i, res) else {
+                let Some((walk, at)) = frame.beam(trig, b.reach) else {
+                    continue;
+                };
+                let n;
+                (n, gathered) = trace(walk, at, BandCodes(b), gathered);
+                visits += n;
                 continue;
             };
-            let n;
-            (n, gathered) = trace(walk, at, BandCodes(b), gathered);
-            visits += n;
+            for (from, to) in [(0.0, near), (tail, b.reach)] {
+                let Some((walk, at)) = frame.segment(trig, from, to) else {
+                    continue;
+                };
+                let n;
+                (n, gathered) = trace(walk, at, BandCodes(b), gathered);
+                visits += n;
+            }
         }
         if between {
             let n;
@@ -343,7 +363,7 @@ impl RayMapper {
                 bands,
                 scan.bearings(),
                 &self.bearing_trig,
-                walkable,
+                &self.wedges,
                 gathered,
             );
             visits += n;
@@ -887,3 +907,5 @@ use windowed::settle_windowed;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod wedge_tests;
