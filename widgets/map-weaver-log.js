@@ -370,6 +370,17 @@ export class RealLogPanel {
       // Setting the map up (reading's last call, or new settings) had a task of its own.
       await this.pause();
       while (!this.disposed && this.session) {
+        if (this.drawPending) {
+          this.drawPending = false;
+          this.drawingLater = true;
+          const whole = await this.drawEach(false);
+          this.drawingLater = false;
+          // A panel is done once its maps are drawn.
+          if (!this.drawPending && this.state) this.root.dataset.state = this.state.state;
+          if (!whole) break;
+          await this.pause();
+          continue;
+        }
         const s = this.state;
         if (s.state === 'reading' || s.state === 'planning') {
           this.readStep(s.state === 'planning');
@@ -414,6 +425,8 @@ export class RealLogPanel {
       }
     } finally {
       this.driving = false;
+      // A drawing asked for as the loop ended (a refused build) still gets its loop.
+      if (this.drawPending && !this.disposed && this.session) this.drive();
     }
   }
 
@@ -497,25 +510,12 @@ export class RealLogPanel {
 
   /**
    * Every pane's view drawn again in bands, after this task (a new size, new
-   * settings, a rebuild shown at once): one such drawing at a time, started
-   * over when asked again meanwhile.
+   * settings, a rebuild shown at once), by the one loop that drives the
+   * session: a band per task, between its reads and build slices.
    */
   drawLater() {
-    this.drawAsked = (this.drawAsked ?? 0) + 1;
-    if (this.drawingLater) return;
-    this.drawingLater = true;
-    (async () => {
-      try {
-        let asked;
-        do {
-          asked = this.drawAsked;
-          if (!(await this.drawEach(false))) break;
-        } while (asked !== this.drawAsked);
-      } finally {
-        this.drawingLater = false;
-        if (this.state) this.root.dataset.state = this.state.state;
-      }
-    })();
+    this.drawPending = true;
+    this.drive();
   }
 
   /** The load or rebuild that just finished: its time on the page. */
@@ -543,8 +543,8 @@ export class RealLogPanel {
   /** Shows the core's state: `data-state` is the session's; with `full`, the progress, status and controls too. */
   show(state, full = true) {
     this.state = state;
-    // A panel is done once its maps are drawn (drawLater ends by saying so).
-    this.root.dataset.state = state.state === 'done' && this.drawingLater ? 'drawing' : state.state;
+    // A panel is done once its maps are drawn (drive says so after drawLater's drawing).
+    this.root.dataset.state = state.state === 'done' && (this.drawPending || this.drawingLater) ? 'drawing' : state.state;
     this.root.setAttribute('aria-busy', String(/^(reading|planning|building)$/.test(state.state)));
     if (!full) return;
     this.progress.value = state.progress;
