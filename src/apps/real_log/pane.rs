@@ -6,7 +6,8 @@
 //! readouts and export) is in `view.rs`.
 
 use super::budget::{
-    at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed, VISITS_PER_UNIT,
+    at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed, UNITS_PER_NEW_CELL,
+    VISITS_PER_UNIT,
 };
 use super::map::{each_map, LogGrid, LogMap};
 use super::matched::{matched_grid, PoseMatching};
@@ -44,8 +45,8 @@ pub struct BuildProgress {
     pub cell_updates: u64,
     /// Cells the mapper looked at since then.
     pub cells_visited: u64,
-    /// The build's work in cell updates: the updates, one per [`VISITS_PER_UNIT`] visits, and
-    /// the matching's ([`super::matched::match_work`]): what a slice's budget counts.
+    /// The build's work in cell updates: the updates, visits ([`VISITS_PER_UNIT`]), tiles' cells
+    /// ([`UNITS_PER_NEW_CELL`]), matching ([`super::matched::match_work`]): what a budget counts.
     pub work: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
@@ -437,6 +438,7 @@ impl LogPane {
             cells_visited: self.map.work().cells_visited,
             work: self.map.work().cell_updates
                 + self.map.work().cells_visited / VISITS_PER_UNIT
+                + self.grid().cells_allocated() as u64 * UNITS_PER_NEW_CELL
                 + self.matching.as_ref().map_or(0, |m| m.work()),
             beams: self.map.work().beams,
             finished: self.done == self.target,
