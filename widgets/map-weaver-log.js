@@ -23,10 +23,10 @@
 // (resolution, the model's sliders, the pose source and its seed) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
-import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 import { listedLogs } from './lib/dataset-listing.js';
-import { POSE_OPTIONS, drawMatch, livePath } from './lib/log-match.js';
+import { POSE_OPTIONS } from './lib/log-match.js';
 import { modelControls, modelNote } from './lib/log-models.js';
+import { drawViews, dpr, paintPane } from './lib/log-view.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -52,18 +52,9 @@ const FIRST_SLICE_CELLS = 250_000;
  * (every cell: 30 ms on the campus) wait for the finished map.
  */
 const DRAW_EVERY_MS = 250;
-/**
- * Map cells sampled per core drawing call: a view is drawn a band of rows
- * at a time (a 1200 × 900 view of the zoomed-out campus samples 17 M
- * cells, about 45 ms in one call), a few milliseconds each.
- */
-const VIEW_BAND_SAMPLES = 2_000_000;
 const REDRAW_SPACING = 8;
 /** Least time between two updates of the progress bar and status line. */
 const PROGRESS_EVERY_MS = 100;
-const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
-const ROBOT_COLOR = '#1a9850';
-const CURSOR_COLOR = '#2c7bb6';
 
 const count = (n) => Number(n).toLocaleString('en-US');
 const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.';
@@ -122,8 +113,6 @@ function rangeCapMax(core, resolution) {
     return 80;
   }
 }
-/** The device pixels per screen pixel of a canvas, as it is sized. */
-const dpr = (canvas) => canvas.width / Math.max(1, canvas.clientWidth || canvas.width);
 
 export class RealLogPanel {
   /**
@@ -370,19 +359,15 @@ export class RealLogPanel {
       // Setting the map up (reading's last call, or new settings) had a task of its own.
       await this.pause();
       while (!this.disposed && this.session) {
+        const s = this.state;
         if (this.drawPending) {
-          this.drawPending = false;
-          this.drawingLater = true;
-          const whole = await this.drawEach(false);
+          [this.drawPending, this.drawingLater] = [false, true];
+          const whole = await drawViews(this, false);
           this.drawingLater = false;
           // A panel is done once its maps are drawn.
           if (!this.drawPending && this.state) this.root.dataset.state = this.state.state;
           if (!whole) break;
-          await this.pause();
-          continue;
-        }
-        const s = this.state;
-        if (s.state === 'reading' || s.state === 'planning') {
+        } else if (s.state === 'reading' || s.state === 'planning') {
           this.readStep(s.state === 'planning');
         } else if (s.state === 'building') {
           const last = s.panes[MAIN];
@@ -410,7 +395,7 @@ export class RealLogPanel {
             // The panel shows a finished state once it has drawn it.
             if (next.finished) this.state = next;
             else this.show(next, this.progressDue());
-            if (!(await this.drawEach(next.finished))) break;
+            if (!(await drawViews(this, next.finished))) break;
             drawn = performance.now();
             // The session may have moved on meanwhile (new settings, a scrub): show where it is now.
             if (next.finished) this.show(this.session.state());
@@ -460,59 +445,7 @@ export class RealLogPanel {
     this.show(state, report.finished || this.progressDue());
   }
 
-  /**
-   * Draws the operated map, its counts (`finished`), each map beside it: a
-   * view a band of rows per task (the core's `renderViewWithin`, the
-   * picture on screen staying until the new one is whole), the counts a
-   * task of their own; false if the panel went away.
-   */
-  async drawEach(finished = true) {
-    this.redrawMs = 0;
-    const timed = (step) => {
-      const t1 = performance.now();
-      const out = step();
-      this.trace.push(['draw', performance.now() - t1]);
-      this.redrawMs += this.trace.at(-1)[1];
-      return out;
-    };
-    const panes = [MAIN, ...this.sidePanes.flatMap((side, i) => (side.geometry && !side.figure.hidden ? [i + 1] : []))];
-    for (const k of panes) {
-      for (let whole = false; !whole;) {
-        await this.pause();
-        if (this.disposed || !this.session) return false;
-        whole = timed(() => this.drawBand(k, !finished && this.state?.state === 'building'));
-        if (whole === null) return false;
-      }
-      if (k === MAIN && finished) {
-        await this.pause();
-        if (this.disposed || !this.session) return false;
-        timed(() => this.draw(false));
-      }
-    }
-    return true;
-  }
-
-  /** One band of pane `k`'s view (`quick`: a picture of a map still being built); once the view is whole, it is shown. True when shown, null if the pane is gone. */
-  drawBand(k, quick = false) {
-    if (k === MAIN ? !this.geometry : !this.sidePanes[k - 1]?.geometry) return null;
-    let whole;
-    try {
-      whole = this.session.renderViewWithin(k, VIEW_BAND_SAMPLES, quick);
-    } catch {
-      return null; // the panes changed meanwhile (another log, fewer panes)
-    }
-    if (whole) {
-      if (k === MAIN) this.showView();
-      else this.paintSide(k);
-    }
-    return whole;
-  }
-
-  /**
-   * Every pane's view drawn again in bands, after this task (a new size, new
-   * settings, a rebuild shown at once), by the one loop that drives the
-   * session: a band per task, between its reads and build slices.
-   */
+  /** Every pane's view drawn again in bands (a new size, new settings, a rebuild shown at once) by the loop that drives the session, between its calls. */
   drawLater() {
     this.drawPending = true;
     this.drive();
@@ -806,40 +739,17 @@ export class RealLogPanel {
     Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
   }
 
-  /**
-   * Draws pane `k`'s rendered view `v` (`ptr` its pixels) on `canvas`, the
-   * laser's path so far with the robot, and `cursor` (if any), through the
-   * view's transform, their widths in screen pixels at any zoom.
-   */
-  paint(canvas, k, ptr, v, path, cursor = null) {
-    drawMapImage(canvas, this.memory, ptr, v.width, v.height);
-    const ctx = canvas.getContext('2d');
-    ctx.save();
-    ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
-    const unit = dpr(canvas) / v.scale;
-    const done = this.state?.panes[k]?.scansDone ?? 0;
-    if (path && done >= 1) {
-      drawPath(ctx, 1, livePath(this, k, path), done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, this.session.robotAt(k, done - 1), {
-        color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
-      });
-    }
-    drawMatch(ctx, this, k, unit);
-    if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
-    ctx.restore();
-  }
-
   /** The operated map from its last rendered view (no core drawing). */
   redraw() {
     if (!this.pixels || !this.view) return;
-    this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
+    paintPane(this, this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
   /** Pane `k` beside the operated one, from its last whole view, with its path and robot. */
   paintSide(k) {
     const side = this.sidePanes[k - 1];
     if (!this.session || !side?.geometry || side.figure.hidden) return;
-    this.paint(side.canvas, k, this.session.viewPixels(k), this.session.view(k), side.path);
+    paintPane(this, side.canvas, k, this.session.viewPixels(k), this.session.view(k), side.path);
   }
 
   /** The operated map's keyboard cursor `{ col, row }` (the core's), or null. */
