@@ -260,12 +260,9 @@ impl RealLogSession {
         let pane = index_from_js("pane", &pane)?;
         let max_samples = budget_from_js("maxSamples", &max_samples)?;
         let quick = quick.as_bool().ok_or_else(|| {
-            let shown = js_sys::JSON::stringify(&quick)
-                .ok()
-                .and_then(|s| s.as_string());
             JsError::new(&format!(
                 "invalid quick: {} (expected true or false)",
-                shown.unwrap_or_else(|| format!("{quick:?}"))
+                super::describe(&quick)
             ))
         })?;
         Ok(self
