@@ -3,7 +3,9 @@
 //! with Table 5.6's noise, integrated from the first pose, seeded; and the
 //! work budget that bounds each call of a map build.
 
-use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, MAX_SEED};
+use occgrid::apps::real_log::{
+    BuildProgress, LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, MAX_SEED,
+};
 use occgrid::io::carmen::LaserScans;
 use occgrid::sensors::odometry::OdometryParams;
 use std::path::PathBuf;
@@ -87,9 +89,19 @@ fn zero_noise_dead_reckoning_reproduces_the_corrected_map_exactly() {
             "{p:?} vs {q:?}"
         );
     }
-    // …and the map is the corrected one, cell for cell.
+    // …and the map is the corrected one, cell for cell. (The cells
+    // visited, and the work that counts them, may differ by a few where
+    // two poses differ by rounding.)
     assert!(bits(&exact) == bits(&corrected));
-    assert_eq!(exact.progress(), corrected.progress());
+    let updates_only = |p: BuildProgress| BuildProgress {
+        cells_visited: 0,
+        work: 0,
+        ..p
+    };
+    assert_eq!(
+        updates_only(exact.progress()),
+        updates_only(corrected.progress())
+    );
 }
 
 #[test]
@@ -158,18 +170,18 @@ fn a_slice_stops_after_the_scan_that_reaches_its_cell_budget() {
     let mut one = LogPane::new(log.clone(), LogMapSettings::default()).unwrap();
     let mut per_scan = Vec::new();
     while !one.progress().finished {
-        let before = one.progress().cell_updates;
-        per_scan.push(one.advance(1).cell_updates - before);
+        let before = one.progress().work;
+        per_scan.push(one.advance(1).work - before);
     }
     let budget = 40_000;
     let mut b = LogPane::new(log, LogMapSettings::default()).unwrap();
     let mut calls = 0;
     while !b.progress().finished {
-        let (k0, u0) = (b.progress().scans_done, b.progress().cell_updates);
+        let (k0, u0) = (b.progress().scans_done, b.progress().work);
         let p = b.advance_within(usize::MAX, budget);
         calls += 1;
         let did = &per_scan[k0..p.scans_done];
-        assert_eq!(p.cell_updates - u0, did.iter().sum::<u64>());
+        assert_eq!(p.work - u0, did.iter().sum::<u64>());
         // Every scan but the last started below the budget…
         assert!(
             did[..did.len() - 1].iter().sum::<u64>() < budget,

@@ -508,17 +508,18 @@ fn one_cell_budget_bounds_a_slice_across_the_panes() {
     })
     .unwrap();
     read_all(&mut s);
-    // The most one scan of the log updates (180 beams of at most 30 m at
-    // 5 cm, each cell of a beam once, its band twice at most).
-    let one_scan = 180 * 600 * 2;
+    // The most one scan of the log costs (180 beams of at most 30 m at
+    // 5 cm, each cell of a beam once, its band twice at most, visits at
+    // half a unit, and as much again between the beams).
+    let one_scan = 180 * 600 * 2 * 2;
     let budget = 50_000;
     let mut last = 0;
     let mut calls = 0;
     loop {
         let state = s.build_slice(budget).unwrap();
         calls += 1;
-        let did = state.cell_updates - last;
-        last = state.cell_updates;
+        let did = state.work - last;
+        last = state.work;
         assert!(did < budget + one_scan, "call {calls} did {did}");
         assert!(
             state.finished || did >= budget,
@@ -529,6 +530,57 @@ fn one_cell_budget_bounds_a_slice_across_the_panes() {
         }
     }
     assert!(calls > 20, "{calls} calls");
+}
+
+/// What a scan costs, in units of a cell update: its updates, and its
+/// visits (along the beams and in the wedges between them) at
+/// `VISITS_PER_UNIT` to the unit, over every pane.
+fn cost(state: &occgrid::apps::real_log::SessionState) -> u64 {
+    use occgrid::apps::real_log::VISITS_PER_UNIT;
+    let p = state.panes.iter().map(|p| p.progress);
+    p.map(|p| p.cell_updates + p.cells_visited / VISITS_PER_UNIT)
+        .sum()
+}
+
+/// A build call never runs past its budget by more than one scan's
+/// cost, counting the cells it visits and not only those it updates: the
+/// space between beams is mostly visits (cells another beam already
+/// updated), so on a log of long beams a budget of updates alone let a
+/// call cost half again its budget.
+#[test]
+fn a_build_call_costs_its_budget_and_at_most_one_scan_more() {
+    let open = || {
+        let mut s = RealLogSession::new(dataset("freiburg-101-corrected.log.gz"));
+        read_all(&mut s);
+        s
+    };
+    let mut one_by_one = open();
+    let (mut last, mut one_scan) = (0, 0);
+    loop {
+        let state = one_by_one.build_chunk(1).unwrap();
+        one_scan = one_scan.max(cost(&state) - last);
+        last = cost(&state);
+        if state.finished {
+            break;
+        }
+    }
+    let budget = 40 * one_scan;
+    let mut s = open();
+    let (mut last, mut calls) = (0, 0);
+    loop {
+        let state = s.build_slice(budget).unwrap();
+        calls += 1;
+        let did = cost(&state) - last;
+        last = cost(&state);
+        assert!(
+            did <= budget + one_scan,
+            "call {calls} cost {did}, budget {budget}, one scan at most {one_scan}"
+        );
+        if state.finished {
+            break;
+        }
+    }
+    assert!(calls > 3, "{calls} calls");
 }
 
 /// The panel's numbers come from here: the range cap's limit at each

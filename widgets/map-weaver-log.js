@@ -23,17 +23,18 @@
 // (resolution, the model's sliders, the pose source and its seed) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
-import { drawMapImage, drawPath, drawRobot, outlineCell } from './lib/layers.js';
 import { listedLogs } from './lib/dataset-listing.js';
-import { POSE_OPTIONS, drawMatch, livePath } from './lib/log-match.js';
+import { POSE_OPTIONS } from './lib/log-match.js';
 import { modelControls, modelNote } from './lib/log-models.js';
+import { drawViews, dpr, paintPane } from './lib/log-view.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
 /**
  * Milliseconds of core work per call before yielding: half the 50 ms at
  * which a task counts as long, leaving room for a call slower than the
- * last predicted. Reads are sized in scans, builds in cell updates (a scan
+ * last predicted. Reads are sized in scans, builds in the core's units of
+ * work (a cell update, or two cells visited: `work` in its state; a scan
  * down a corridor updates ten times the cells of one in an office).
  */
 const SLICE_MS = 25;
@@ -54,9 +55,6 @@ const DRAW_EVERY_MS = 250;
 const REDRAW_SPACING = 8;
 /** Least time between two updates of the progress bar and status line. */
 const PROGRESS_EVERY_MS = 100;
-const PATH_COLOR = 'rgba(26, 152, 80, 0.55)';
-const ROBOT_COLOR = '#1a9850';
-const CURSOR_COLOR = '#2c7bb6';
 
 const count = (n) => Number(n).toLocaleString('en-US');
 const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) to read its log odds, probability and update count.';
@@ -115,8 +113,6 @@ function rangeCapMax(core, resolution) {
     return 80;
   }
 }
-/** The device pixels per screen pixel of a canvas, as it is sized. */
-const dpr = (canvas) => canvas.width / Math.max(1, canvas.clientWidth || canvas.width);
 
 export class RealLogPanel {
   /**
@@ -350,7 +346,7 @@ export class RealLogPanel {
   /**
    * Drives the session while its state is `reading` or `building`: one
    * call into the core per task (a read of a budget of scans, a build
-   * slice of a budget of cell updates, or a drawing), each budget sized
+   * slice of a budget of work, or a band of a drawing), each budget sized
    * from the last call's duration. One loop at a time: new settings, a
    * scrub or another log change the session, and the loop follows it.
    */
@@ -364,7 +360,14 @@ export class RealLogPanel {
       await this.pause();
       while (!this.disposed && this.session) {
         const s = this.state;
-        if (s.state === 'reading' || s.state === 'planning') {
+        if (this.drawPending) {
+          [this.drawPending, this.drawingLater] = [false, true];
+          const whole = await drawViews(this, false);
+          this.drawingLater = false;
+          // A panel is done once its maps are drawn.
+          if (!this.drawPending && this.state) this.root.dataset.state = this.state.state;
+          if (!whole) break;
+        } else if (s.state === 'reading' || s.state === 'planning') {
           this.readStep(s.state === 'planning');
         } else if (s.state === 'building') {
           const last = s.panes[MAIN];
@@ -378,8 +381,7 @@ export class RealLogPanel {
             // needs): the maps so far stay on screen.
             this.show(this.session.state());
             showError(this.root, e, 'map: ');
-            this.renderView();
-            this.drawSidePanes();
+            this.drawLater();
             break;
           }
           const ms = performance.now() - t;
@@ -393,7 +395,7 @@ export class RealLogPanel {
             // The panel shows a finished state once it has drawn it.
             if (next.finished) this.state = next;
             else this.show(next, this.progressDue());
-            if (!(await this.drawEach(next.finished))) break;
+            if (!(await drawViews(this, next.finished))) break;
             drawn = performance.now();
             // The session may have moved on meanwhile (new settings, a scrub): show where it is now.
             if (next.finished) this.show(this.session.state());
@@ -408,6 +410,8 @@ export class RealLogPanel {
       }
     } finally {
       this.driving = false;
+      // A drawing asked for as the loop ended (a refused build) still gets its loop.
+      if (this.drawPending && !this.disposed && this.session) this.drive();
     }
   }
 
@@ -441,21 +445,10 @@ export class RealLogPanel {
     this.show(state, report.finished || this.progressDue());
   }
 
-  /** Draws the operated map, its counts (`finished`), each map beside it, a task each; false if the panel went away. */
-  async drawEach(finished = true) {
-    // The view and the counts are a core call each: two tasks, not one.
-    const steps = [() => this.renderView(), ...(finished ? [() => this.draw(false)] : [])];
-    for (let k = 1; k < this.state.panes.length; k++) steps.push(() => this.drawSidePanes(k));
-    this.redrawMs = 0;
-    for (const step of steps) {
-      await this.pause();
-      if (this.disposed || !this.session) return false;
-      const t1 = performance.now();
-      step();
-      this.trace.push(['draw', performance.now() - t1]);
-      this.redrawMs += this.trace.at(-1)[1];
-    }
-    return true;
+  /** Every pane's view drawn again in bands (a new size, new settings, a rebuild shown at once) by the loop that drives the session, between its calls. */
+  drawLater() {
+    this.drawPending = true;
+    this.drive();
   }
 
   /** The load or rebuild that just finished: its time on the page. */
@@ -483,7 +476,8 @@ export class RealLogPanel {
   /** Shows the core's state: `data-state` is the session's; with `full`, the progress, status and controls too. */
   show(state, full = true) {
     this.state = state;
-    this.root.dataset.state = state.state;
+    // A panel is done once its maps are drawn (drive says so after drawLater's drawing).
+    this.root.dataset.state = state.state === 'done' && (this.drawPending || this.drawingLater) ? 'drawing' : state.state;
     this.root.setAttribute('aria-busy', String(/^(reading|planning|building)$/.test(state.state)));
     if (!full) return;
     this.progress.value = state.progress;
@@ -697,8 +691,7 @@ export class RealLogPanel {
       this.session.setViewSize(k, w, h);
     }
     this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
-    this.renderView();
-    this.drawSidePanes();
+    this.drawLater();
   }
 
   /** The operated map's figures in the status line, counts and label, after drawing it (unless `render` is false: drawn already). */
@@ -731,7 +724,13 @@ export class RealLogPanel {
   /** Draws the view of the operated map the core holds (no map-sized image: the view's pixels only) and states its scale. */
   renderView() {
     if (!this.session || !this.geometry) return;
-    this.pixels = this.session.renderView(MAIN);
+    this.session.renderView(MAIN);
+    this.showView();
+  }
+
+  /** Shows the operated map's last whole view (no core drawing), and states its scale. */
+  showView() {
+    this.pixels = this.session.viewPixels(MAIN);
     this.view = this.session.view(MAIN);
     this.redraw();
     const v = this.view;
@@ -740,43 +739,17 @@ export class RealLogPanel {
     Object.assign(this.root.dataset, { viewScale: String(v.scale), viewWidth: String(v.width), viewHeight: String(v.height) });
   }
 
-  /**
-   * Draws pane `k`'s rendered view `v` (`ptr` its pixels) on `canvas`, the
-   * laser's path so far with the robot, and `cursor` (if any), through the
-   * view's transform, their widths in screen pixels at any zoom.
-   */
-  paint(canvas, k, ptr, v, path, cursor = null) {
-    drawMapImage(canvas, this.memory, ptr, v.width, v.height);
-    const ctx = canvas.getContext('2d');
-    ctx.save();
-    ctx.setTransform(v.scale, 0, 0, v.scale, -v.u0 * v.scale, -v.v0 * v.scale);
-    const unit = dpr(canvas) / v.scale;
-    const done = this.state?.panes[k]?.scansDone ?? 0;
-    if (path && done >= 1) {
-      drawPath(ctx, 1, livePath(this, k, path), done, { color: PATH_COLOR, lineWidth: unit });
-      drawRobot(ctx, 1, this.session.robotAt(k, done - 1), {
-        color: ROBOT_COLOR, radius: 4 * unit, tick: 10 * unit, lineWidth: 1.5 * unit,
-      });
-    }
-    drawMatch(ctx, this, k, unit);
-    if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
-    ctx.restore();
-  }
-
   /** The operated map from its last rendered view (no core drawing). */
   redraw() {
     if (!this.pixels || !this.view) return;
-    this.paint(this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
+    paintPane(this, this.canvas, MAIN, this.pixels, this.view, this.path, this.cursor());
   }
 
-  /** The maps beside the operated one (or pane `only` of them: one per task while building), whole, with their paths and robots. */
-  drawSidePanes(only = null) {
-    if (!this.session) return;
-    this.sidePanes.forEach((side, i) => {
-      if (!side.geometry || side.figure.hidden || (only !== null && only !== i + 1)) return;
-      const ptr = this.session.renderView(i + 1);
-      this.paint(side.canvas, i + 1, ptr, this.session.view(i + 1), side.path);
-    });
+  /** Pane `k` beside the operated one, from its last whole view, with its path and robot. */
+  paintSide(k) {
+    const side = this.sidePanes[k - 1];
+    if (!this.session || !side?.geometry || side.figure.hidden) return;
+    paintPane(this, side.canvas, k, this.session.viewPixels(k), this.session.view(k), side.path);
   }
 
   /** The operated map's keyboard cursor `{ col, row }` (the core's), or null. */
@@ -848,10 +821,10 @@ export class RealLogPanel {
 
   /** Shows the state after a change of the maps: drawn at once if there is nothing to build (a scrub to where the maps are), else built. */
   follow(state) {
+    if (state.state === 'done') this.drawLater();
     this.show(state);
     if (state.state !== 'done') return void this.drive();
-    this.draw();
-    this.drawSidePanes();
+    this.draw(false);
     this.finishJob(state);
   }
 

@@ -19,7 +19,8 @@ use crate::mapping::traversal::{BeamBand, RayMapper, ScanStats, MAX_REACH_CELLS}
 use crate::render::map_view::MapView;
 use crate::render::overlay::RobotMark;
 use crate::render::viewport::{
-    render_view, MapViewport, MAX_PIXELS_PER_CELL, MAX_VIEW_PIXELS, MAX_VIEW_SIDE,
+    render_view, render_view_rows, samples_per_pixel, MapViewport, MAX_PIXELS_PER_CELL,
+    MAX_SAMPLES, MAX_VIEW_PIXELS, MAX_VIEW_SIDE,
 };
 use crate::sensors::Scan;
 
@@ -82,7 +83,21 @@ pub trait PaneView<M: CellModel, S: Store<M::Cell>> {
 #[derive(Debug, Clone)]
 pub struct ScreenView {
     pub viewport: MapViewport,
+    /// The last picture drawn whole.
     pixels: Vec<u8>,
+    /// A picture being drawn in bands ([`ScreenView::refresh_within`]).
+    drawing: Drawing,
+}
+
+/// A picture drawn a band of rows per call: the viewport it is drawn at,
+/// its buffer and the rows done. A picture of another viewport starts
+/// over.
+#[derive(Debug, Clone, Default)]
+struct Drawing {
+    /// The viewport, and the samples per pixel side at most.
+    viewport: Option<(MapViewport, usize)>,
+    pixels: Vec<u8>,
+    rows_done: usize,
 }
 
 impl ScreenView {
@@ -91,13 +106,58 @@ impl ScreenView {
         Ok(Self {
             viewport: MapViewport::new(geometry.width(), geometry.height(), width, height)?,
             pixels: Vec::new(),
+            drawing: Drawing::default(),
         })
+    }
+
+    /// Draws at most `max_samples` map cells' worth of the view (whole
+    /// rows, at least one) into a picture of its own, and returns true once
+    /// that picture is whole: it then becomes [`Self::pixels`]. Until then
+    /// the last whole picture stays. A zoomed-out view of a 26 M-cell map
+    /// samples 16 cells per pixel (about 45 ms for 1200 x 900 pixels in a
+    /// browser): drawn in bands, no call holds the page for long. A
+    /// `quick` picture (a map still being built) samples one cell per
+    /// pixel.
+    pub fn refresh_within<M: CellModel, S: Store<M::Cell>>(
+        &mut self,
+        grid: &Grid<M, S>,
+        max_samples: usize,
+        quick: bool,
+    ) -> bool {
+        let v = self.viewport;
+        let side = if quick { 1 } else { MAX_SAMPLES };
+        let d = &mut self.drawing;
+        if d.viewport != Some((v, side)) {
+            d.viewport = Some((v, side));
+            d.pixels.clear();
+            d.pixels.resize(v.width * v.height * 4, 0);
+            d.rows_done = 0;
+        }
+        let per_row = (v.width * samples_per_pixel(&v, side)).max(1);
+        let rows = (max_samples / per_row).max(1);
+        let end = d.rows_done.saturating_add(rows).min(v.height);
+        render_view_rows(grid, &v, &mut d.pixels, d.rows_done..end, side);
+        d.rows_done = end;
+        if end < v.height {
+            return false;
+        }
+        std::mem::swap(&mut self.pixels, &mut d.pixels);
+        d.viewport = None;
+        true
+    }
+
+    /// The last picture drawn whole (RGBA, north up; empty before the
+    /// first).
+    pub fn pixels(&self) -> &[u8] {
+        &self.pixels
     }
 }
 
 impl<M: CellModel, S: Store<M::Cell>> PaneView<M, S> for ScreenView {
     fn refresh(&mut self, grid: &Grid<M, S>) -> &[u8] {
         render_view(grid, &self.viewport, &mut self.pixels);
+        // A picture under way is of an older map, or of this viewport.
+        self.drawing.viewport = None;
         &self.pixels
     }
     fn image_cell_at(&self, x: f64, y: f64) -> Option<(usize, usize)> {
@@ -241,6 +301,15 @@ impl<M: CellModel, S: Store<M::Cell>, V: PaneView<M, S>> MapPane<M, S, V> {
     }
 }
 
+impl<M: CellModel, S: Store<M::Cell>> MapPane<M, S, ScreenView> {
+    /// Draws the view in a band of rows of at most `max_samples` sampled
+    /// cells ([`ScreenView::refresh_within`]); true once the picture is
+    /// whole.
+    pub fn pixels_within(&mut self, max_samples: usize, quick: bool) -> bool {
+        self.view.refresh_within(&self.grid, max_samples, quick)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,6 +319,40 @@ mod tests {
     fn scan() -> Scan {
         let bearings: Vec<f64> = (0..36).map(|k| k as f64 * 10f64.to_radians()).collect();
         Scan::new(Pose::new(0.0, 0.0, 0.3).unwrap(), vec![2.0; 36], bearings).unwrap()
+    }
+
+    /// A large view is drawn a band of rows per call, each call sampling
+    /// at most its budget of cells (whole rows, at least one); the last
+    /// whole picture stays on screen until the new one is whole, which is
+    /// then the picture drawn at once.
+    #[test]
+    fn a_view_drawn_in_bands_samples_at_most_its_budget_per_call() {
+        let settings = FilterSettings {
+            prior: 0.5,
+            clamp: 3.5,
+        };
+        let g = GridGeometry::sparse(60, 50, 0.1, -3.0, -2.5).unwrap();
+        let mut pane = MapPane::new(
+            TiledGrid::new(g, settings, 1 << 20).unwrap(),
+            ScreenView::new(&g, 20, 16).unwrap(),
+        );
+        let model = HandCrafted::new(HandCraftedParams::laser(8.0)).unwrap();
+        pane.integrate(&model, &scan());
+        let whole = pane.clone().pixels().to_vec();
+        // 20 x 16 pixels of a 60 x 50 map: 4 x 4 samples per pixel, 320
+        // samples a row.
+        let per_row = 20 * samples_per_pixel(&pane.view().viewport, MAX_SAMPLES);
+        assert_eq!(per_row, 320);
+        for (budget, calls_needed) in [(3 * per_row, 6), (per_row + 1, 16), (0, 16)] {
+            let shown = pane.view().pixels().to_vec();
+            let mut calls = 1;
+            while !pane.pixels_within(budget, false) {
+                calls += 1;
+                assert_eq!(pane.view().pixels(), &shown[..], "budget {budget}");
+            }
+            assert_eq!(calls, calls_needed, "budget {budget}");
+            assert_eq!(pane.view().pixels(), &whole[..]);
+        }
     }
 
     /// A dense pane seen whole and a tiled pane seen through a screen view

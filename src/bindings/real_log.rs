@@ -129,7 +129,8 @@ impl RealLogSession {
         to_js(&self.session.state())
     }
 
-    /// Advances every pane within one budget of `maxCells` cell updates (a
+    /// Advances every pane within one budget of `maxCells` units of work
+    /// (a cell update each, or two cells visited: `state().work`; a
     /// whole number; the scan that reaches it is finished, and at least
     /// one scan is integrated while any is left; `Infinity` for the whole
     /// build): a call's work, and so its time, is bounded whatever the
@@ -241,6 +242,42 @@ impl RealLogSession {
     pub fn render_view(&mut self, pane: JsValue) -> Result<usize, JsError> {
         let pane = index_from_js("pane", &pane)?;
         Ok(self.session.pane_mut(pane)?.render_view().as_ptr() as usize)
+    }
+
+    /// Draws a band of pane `pane`'s view, at most `maxSamples` map cells
+    /// sampled (a whole number; whole rows, at least one), and returns
+    /// true once the picture is whole: `viewPixels` then holds it. Until
+    /// then the last whole picture stays, so a page can draw a large view
+    /// over several tasks and show it when done. A `quick` picture (of a
+    /// map still being built) samples one cell per pixel.
+    #[wasm_bindgen(js_name = renderViewWithin)]
+    pub fn render_view_within(
+        &mut self,
+        pane: JsValue,
+        max_samples: JsValue,
+        quick: JsValue,
+    ) -> Result<bool, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        let max_samples = budget_from_js("maxSamples", &max_samples)?;
+        let quick = quick.as_bool().ok_or_else(|| {
+            JsError::new(&format!(
+                "invalid quick: {} (expected true or false)",
+                super::describe(&quick)
+            ))
+        })?;
+        Ok(self
+            .session
+            .pane_mut(pane)?
+            .render_view_within(max_samples, quick))
+    }
+
+    /// The address of pane `pane`'s last whole picture (the view's
+    /// `width * height * 4` RGBA bytes), as `renderView` or
+    /// `renderViewWithin` left it; nothing is drawn.
+    #[wasm_bindgen(js_name = viewPixels)]
+    pub fn view_pixels(&self, pane: JsValue) -> Result<usize, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        Ok(self.session.pane(pane)?.view_pixels().as_ptr() as usize)
     }
 
     /// The cell under output position `(x, y)` of pane `pane`'s view

@@ -86,6 +86,18 @@ pub fn beam_bands(
     let (ranges, bearings) = (scan.ranges(), scan.bearings());
     let z_max = model.z_max();
     let is_return = |z: f64| z < z_max && z > 0.0;
+    // Each bearing's `(sin, cos)` computed once, kept for the beam and its
+    // two neighbours (three consecutive indices, three slots): in wasm
+    // each is a library routine, and four per beam were a twentieth of a
+    // real log's build.
+    let mut kept = [(usize::MAX, (0.0, 0.0)); 3];
+    let mut trig = |k: usize| {
+        let slot = &mut kept[k % 3];
+        if slot.0 != k {
+            *slot = (k, bearings[k].sin_cos());
+        }
+        slot.1
+    };
     for (i, &z) in ranges.iter().enumerate() {
         let reach = model.reach(z);
         let Some(p) = model.axis_profile(z).filter(|_| reach > 0.0) else {
@@ -114,8 +126,8 @@ pub fn beam_bands(
                     continue;
                 }
                 let dphi = (bj - bearings[i]).abs();
-                let (si, ci) = bearings[i].sin_cos();
-                let (sj, cj) = bj.sin_cos();
+                let (si, ci) = trig(i);
+                let (sj, cj) = trig(j);
                 let de = ((z * ci - zj * cj).powi(2) + (z * si - zj * sj).powi(2)).sqrt();
                 if dphi > 0.0 {
                     inv_sin = inv_sin.min(de / (z * dphi));

@@ -25,7 +25,7 @@ pub const MAX_PIXELS_PER_CELL: f64 = 64.0;
 /// Samples per pixel side when a pixel spans several cells: a one-cell wall
 /// stays visible down to this many cells per pixel, and the cost of a frame
 /// stays within `16 x` its pixels.
-const MAX_SAMPLES: usize = 4;
+pub const MAX_SAMPLES: usize = 4;
 /// Outside the map: a blue-gray no cell state uses.
 const OUTSIDE: [u8; 4] = [214, 222, 232, 255];
 
@@ -243,23 +243,52 @@ pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
     view: &MapViewport,
     out: &mut [u8],
 ) {
-    render_counting_lookups(grid, view, out);
+    render_counting_lookups(grid, view, out, 0..view.height, MAX_SAMPLES);
 }
 
-/// [`render_view_into`], returning how many times it looked up a block of
+/// [`render_view_into`] for the output rows `rows` only (the others are
+/// left as they are), at most `side` by `side` samples per pixel (1 for a
+/// quick picture, [`MAX_SAMPLES`] for the view as drawn at once): a large
+/// view drawn in bands, a call each.
+pub fn render_view_rows<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    view: &MapViewport,
+    out: &mut [u8],
+    rows: std::ops::Range<usize>,
+    side: usize,
+) {
+    render_counting_lookups(grid, view, out, rows, side);
+}
+
+/// Map cells sampled per output pixel at `view`'s zoom, at most `side` by
+/// `side` of them: what one output row costs is `width` times this.
+pub fn samples_per_pixel(view: &MapViewport, side: usize) -> usize {
+    let k = samples_per_side(view, side);
+    k * k
+}
+
+/// Samples per pixel side at `view`'s zoom, at most `side`.
+fn samples_per_side(view: &MapViewport, side: usize) -> usize {
+    ((1.0 / view.scale).ceil() as usize).clamp(1, side.clamp(1, MAX_SAMPLES))
+}
+
+/// [`render_view_rows`], returning how many times it looked up a block of
 /// storage: at most one per tile a sample row crosses, plus one per sample
 /// row (the bound a test holds it to).
 fn render_counting_lookups<M: CellModel, S: Store<M::Cell>>(
     grid: &Grid<M, S>,
     view: &MapViewport,
     out: &mut [u8],
+    out_rows: std::ops::Range<usize>,
+    side: usize,
 ) -> usize {
     let mut lookups = 0;
     let (w, h) = (view.width, view.height);
+    let out_rows = out_rows.start.min(h)..out_rows.end.min(h);
     let g = grid.geometry();
     let (mw, mh) = (g.width(), g.height());
     let per_pixel = 1.0 / view.scale;
-    let k = (per_pixel.ceil() as usize).clamp(1, MAX_SAMPLES);
+    let k = samples_per_side(view, side);
     // The image columns (rows) sampled for each output column (row), or
     // none off the map: computed once per frame.
     let samples = |n: usize, start: f64, extent: usize| -> Vec<[usize; MAX_SAMPLES]> {
@@ -278,6 +307,7 @@ fn render_counting_lookups<M: CellModel, S: Store<M::Cell>>(
     };
     let cols = samples(w, view.u0, mw);
     let rows = samples(h, view.v0, mh);
+    let first_row = out_rows.start;
     let model = grid.model();
     let store = grid.store();
     // One accumulator per output pixel of the row being drawn: the row's
@@ -285,7 +315,8 @@ fn render_counting_lookups<M: CellModel, S: Store<M::Cell>>(
     // looked up once per run of samples it holds (a zoomed-out campus
     // spans 84 tiles per row) and never once per pixel or per sample.
     let mut acc = vec![Darkest::default(); w];
-    for (py, rs) in rows.iter().enumerate() {
+    for (py, rs) in rows[out_rows].iter().enumerate() {
+        let py = first_row + py;
         let Some(line) = out.get_mut(py * w * 4..(py + 1) * w * 4) else {
             return lookups;
         };
@@ -541,7 +572,7 @@ mod tests {
         }
         for v in views {
             let mut out = vec![0; v.width * v.height * 4];
-            let lookups = render_counting_lookups(&g, &v, &mut out);
+            let lookups = render_counting_lookups(&g, &v, &mut out, 0..v.height, MAX_SAMPLES);
             assert!(
                 out == reference_render(&g, &v),
                 "pixels at scale {}",

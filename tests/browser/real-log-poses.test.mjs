@@ -185,15 +185,18 @@ test('a long log is read and mapped one core call per task, each call within a b
     else if (['read', 'build', 'draw'].includes(entry[0])) tasks.at(-1).push(entry[0]);
   }
   for (const [k, task] of tasks.entries()) assert.ok(task.length <= 1, `task ${k} made ${task.join(', ')}`);
-  // A build slice is a budget of cell updates, never more than twice the
+  // A build slice is a budget of work (cell updates, cells visited at two
+  // to the update, two per cell of a new tile), never more than twice the
   // last one's, and the call stops at the scan that reaches it: it does
-  // less than its budget plus one scan's cells (a scan of 180 beams updates
-  // at most 180 × 30 m / 5 cm × 2 cells).
+  // less than its budget plus one scan's work (a scan of 180 beams updates
+  // at most 180 × 30 m / 5 cm × 2 cells, visits as many again between its
+  // beams, and allocates at most the 200 tiles of 64 × 64 cells a half
+  // disc of 30 m touches).
   const builds = calls('build');
-  const oneScan = 180 * (30 / 0.05) * 2;
+  const oneScan = 180 * (30 / 0.05) * 2 * 2 + 2 * 200 * 4096;
   for (const [k, [, , budget, did]] of builds.entries()) {
     if (k > 0) assert.ok(budget <= 2 * builds[k - 1][2], `slice ${k}: ${budget} after ${builds[k - 1][2]}`);
-    assert.ok(did < budget + oneScan, `slice ${k} did ${did} cell updates for a budget of ${budget}`);
+    assert.ok(did < budget + oneScan, `slice ${k} did ${did} units of work for a budget of ${budget}`);
   }
   const last = builds.at(-1);
   assert.equal(last[4], 910);

@@ -167,6 +167,35 @@ test('hovering the map reads the cell under the pointer from the core', async ()
   await close();
 });
 
+test('a view is drawn a band of rows per call, the last whole picture kept until the new one is whole; bad arguments are refused by name', async () => {
+  const { page, errors, close } = await openPanel();
+  await loadIntel(page);
+  const r = await page.evaluate(() => {
+    const s = window.realLogPanel.session;
+    const shown = s.viewPixels(0);
+    const v = s.view(0);
+    // A budget of one sampled cell: one row per call.
+    let calls = 1;
+    while (!s.renderViewWithin(0, 1, false)) calls++;
+    const refusals = [[0, 1, 'yes'], [0, -1, false], [9, 1, false]].map((args) => {
+      try {
+        s.renderViewWithin(...args);
+        return null;
+      } catch (e) {
+        return e.message;
+      }
+    });
+    return { calls, height: v.height, shown: shown > 0, refusals, drawn: s.viewPixels(0) > 0 };
+  });
+  assert.equal(r.calls, r.height, 'one row per call');
+  assert.ok(r.shown && r.drawn);
+  assert.match(r.refusals[0], /quick/);
+  assert.match(r.refusals[1], /maxSamples/);
+  assert.match(r.refusals[2], /pane/);
+  assert.deepEqual(errors, []);
+  await close();
+});
+
 test('scrubbing back rebuilds the map from the first scan, and forward restores it', async () => {
   const { page, errors, close } = await openPanel();
   await loadIntel(page);

@@ -29,6 +29,7 @@ mod session;
 mod settings;
 mod view;
 
+pub use budget::VISITS_PER_UNIT;
 pub use map::LogGrid;
 pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};

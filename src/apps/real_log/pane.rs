@@ -5,7 +5,10 @@
 //! progress towards a target scan count. What it shows (its view, cursor,
 //! readouts and export) is in `view.rs`.
 
-use super::budget::{at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed};
+use super::budget::{
+    at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed, UNITS_PER_NEW_CELL,
+    VISITS_PER_UNIT,
+};
 use super::map::{each_map, LogGrid, LogMap};
 use super::matched::{matched_grid, PoseMatching};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
@@ -40,9 +43,10 @@ pub struct BuildProgress {
     pub scans_total: usize,
     /// Cell updates since the map was last reset.
     pub cell_updates: u64,
-    /// The build's work in cell updates: the updates, and for a
-    /// scan-matched pane the matching's cost in the same units
-    /// ([`super::matched::match_work`]): what a time slice's budget counts.
+    /// Cells the mapper looked at since then.
+    pub cells_visited: u64,
+    /// The build's work in cell updates: the updates, visits ([`VISITS_PER_UNIT`]), tiles' cells
+    /// ([`UNITS_PER_NEW_CELL`]), matching ([`super::matched::match_work`]): what a budget counts.
     pub work: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
@@ -54,11 +58,10 @@ pub struct BuildProgress {
     pub cells: usize,
 }
 
-/// A map of a log at one pose source, built a few scans at a time. The
-/// build heads for a target scan count: all scans at first, or any scrub
-/// position; going back resets the map and rebuilds from the first scan
-/// (the build is fast, and keeping snapshots of a million-cell map would
-/// cost more memory than the whole log).
+/// A map of a log at one pose source, built a few scans at a time towards
+/// a target scan count (all scans, or a scrub position); going back resets
+/// the map and rebuilds from the first scan (snapshots of a large map
+/// would cost more memory than the whole log).
 pub struct LogPane {
     /// The log's scans at its own (corrected) poses, shared by the panes.
     scans: Arc<LaserScans>,
@@ -84,9 +87,10 @@ pub struct LogPane {
     pub(super) matching: Option<PoseMatching>,
     /// Scratch: the current scan's beam bands.
     bands: Vec<Option<BeamBand>>,
-    /// The ray traversal (and its scratch), which also fills the free
-    /// space between neighbouring beams when the settings ask for it.
+    /// The ray traversal (and its scratch), with the space between beams;
+    /// the bytes of tiles the allocator was grown for ([`LogMap::integrate`]).
     mapper: RayMapper,
+    reserved: usize,
     done: usize,
     target: usize,
     /// The keyboard cursor's image cell `(col, row)`, if any.
@@ -210,6 +214,7 @@ impl LogPane {
             matching,
             bands: Vec::new(),
             mapper: RayMapper::new(),
+            reserved: 0,
             done: 0,
             target,
             cursor: None,
@@ -314,14 +319,12 @@ impl LogPane {
     }
 
     /// Integrates up to `max_scans` more scans towards the target, and
-    /// stops after the scan whose cell updates (and matching, counted as
-    /// [`BuildProgress::work`]) bring this call's to `max_cells` or more:
-    /// the work of a call is bounded by what it does (a scan down a long
-    /// corridor updates ten times the cells of one in an office), so a page that sizes the next call from the last one's
+    /// stops after the scan whose work ([`BuildProgress::work`]) brings
+    /// this call's to `max_cells` or more: a call is bounded by what it
+    /// does (a scan down a long corridor updates ten times the cells of one
+    /// in an office), so a page sizing the next call from the last one's
     /// duration keeps every call near its time slice. At least one scan is
-    /// integrated when any is left (and `max_scans` is not 0), whatever the
-    /// budget: a caller looping until the build is finished always gets
-    /// there.
+    /// integrated when any is left (and `max_scans` is not 0).
     pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
         let end = self.target.min(self.done.saturating_add(max_scans));
         let start = self.progress().work;
@@ -355,21 +358,13 @@ impl LogPane {
                 res,
                 &mut self.bands,
             );
-            let (free, occupied) = (
-                (s.l_free - model.params().l0) as f32,
-                (s.l_occ - model.params().l0) as f32,
-            );
-            let (bands, mapper, between) = (&self.bands, &mut self.mapper, s.between_beams);
-            each_map!(&mut self.map, m => {
-                let stats = mapper.integrate_bands_between(
-                    m.grid_mut(),
-                    &scan,
-                    bands,
-                    (free, occupied),
-                    between,
-                );
-                m.count(&scan, stats);
-            });
+            let l0 = model.params().l0;
+            let evidence = ((s.l_free - l0) as f32, (s.l_occ - l0) as f32);
+            let (bands, between) = (&self.bands, s.between_beams);
+            let (mapper, reserved) = (&mut self.mapper, self.reserved);
+            self.reserved = self
+                .map
+                .integrate(mapper, &scan, bands, evidence, between, reserved);
             if self.grid().refused() {
                 let needed = self.tiles_reached();
                 let grid = self.grid();
@@ -440,7 +435,11 @@ impl LogPane {
             scans_target: self.target,
             scans_total: self.scans.len(),
             cell_updates: self.map.work().cell_updates,
-            work: self.map.work().cell_updates + self.matching.as_ref().map_or(0, |m| m.work()),
+            cells_visited: self.map.work().cells_visited,
+            work: self.map.work().cell_updates
+                + self.map.work().cells_visited / VISITS_PER_UNIT
+                + self.grid().cells_allocated() as u64 * UNITS_PER_NEW_CELL
+                + self.matching.as_ref().map_or(0, |m| m.work()),
             beams: self.map.work().beams,
             finished: self.done == self.target,
             cells_allocated: self.grid().cells_allocated(),

@@ -460,8 +460,8 @@ impl RealLogSession {
     }
 
     /// Advances every pane towards its target within one budget of
-    /// `max_cells` cell updates for the whole call (scan matching counted
-    /// in the same units: [`BuildProgress::work`]), the pane furthest
+    /// `max_cells` units of work for the whole call (cell updates, visits
+    /// and scan matching: [`BuildProgress::work`]), the pane furthest
     /// behind first, one scan at a time; the call stops after the scan that
     /// reaches the budget. At least one scan is integrated while any is
     /// left, whatever the budget. An error once a pane's beams reach past

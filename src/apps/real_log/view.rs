@@ -164,6 +164,22 @@ impl LogPane {
         each_map!(&mut self.map, m => m.pixels())
     }
 
+    /// Draws the view a band of rows at a time, at most `max_samples` map
+    /// cells sampled per call (whole rows, at least one; a `quick` picture
+    /// one cell per pixel: see
+    /// [`crate::apps::pane::ScreenView::refresh_within`]); true once the
+    /// picture is whole, when [`Self::view_pixels`] holds it. The last
+    /// whole picture stays until then.
+    pub fn render_view_within(&mut self, max_samples: usize, quick: bool) -> bool {
+        each_map!(&mut self.map, m => m.pixels_within(max_samples, quick))
+    }
+
+    /// The last view drawn whole (RGBA, `width * height * 4` bytes of the
+    /// view it was drawn at; empty before the first).
+    pub fn view_pixels(&self) -> &[u8] {
+        each_map!(&self.map, m => m.view().pixels())
+    }
+
     /// The cell under output position `(x, y)` (pixels, finite), or `None`
     /// off the map.
     pub fn readout_at_view(&self, x: f64, y: f64) -> Result<Option<CellReadout>> {
