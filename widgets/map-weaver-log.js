@@ -105,6 +105,29 @@ function pick(settings) {
 export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed', 'model', 'compareModel'];
 /** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
 const SEED_TEXT = /^\d{1,16}$/;
+
+/**
+ * Gives `canvas` `w × h` device pixels with its picture stretched onto
+ * them: resizing a canvas clears it, and the new view is drawn in bands
+ * over several tasks, so until it is whole the reader sees the old one.
+ */
+function resizeKeepingPicture(canvas, w, h) {
+  let old = null;
+  if (canvas.width > 1 && canvas.height > 1) {
+    old = document.createElement('canvas');
+    old.width = canvas.width;
+    old.height = canvas.height;
+    old.getContext('2d').drawImage(canvas, 0, 0);
+  }
+  canvas.width = w;
+  canvas.height = h;
+  if (old) {
+    const ctx = canvas.getContext('2d');
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(old, 0, 0, w, h);
+  }
+}
+
 /** The longest range cap `core` takes at `resolution`, whole metres (80 if it refuses the resolution: it says why at the load). */
 function rangeCapMax(core, resolution) {
   try {
@@ -684,10 +707,7 @@ export class RealLogPanel {
       const h = Math.max(1, Math.round(cssH * scale));
       canvas.style.width = `${Math.floor(cssW)}px`;
       canvas.style.height = `${Math.floor(cssH)}px`;
-      if (canvas.width !== w || canvas.height !== h) {
-        canvas.width = w;
-        canvas.height = h;
-      }
+      if (canvas.width !== w || canvas.height !== h) resizeKeepingPicture(canvas, w, h);
       this.session.setViewSize(k, w, h);
     }
     this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);

@@ -196,6 +196,34 @@ test('a view is drawn a band of rows per call, the last whole picture kept until
   await close();
 });
 
+test('a new panel size keeps the map on screen, stretched, until the view of the new size is drawn', async () => {
+  const { page, errors, close } = await openPanel();
+  await loadIntel(page);
+  const r = await page.evaluate(() => {
+    const panel = window.realLogPanel;
+    const colours = () => {
+      const c = panel.canvas;
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      const seen = new Set();
+      for (let i = 0; i < d.length; i += 4 * 7) seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+      return seen.size;
+    };
+    const before = { width: panel.canvas.width, colours: colours() };
+    // A narrower stage: the canvas gets fewer pixels, and its new view is
+    // drawn in bands by tasks to come; what shows in between is read here,
+    // in the same task.
+    panel.stage.style.width = `${Math.floor(panel.stage.clientWidth / 2)}px`;
+    panel.fitCanvas();
+    return { before, after: { width: panel.canvas.width, colours: colours() } };
+  });
+  assert.ok(r.after.width < r.before.width, JSON.stringify(r));
+  assert.ok(r.before.colours > 2, JSON.stringify(r));
+  assert.ok(r.after.colours > 2, `the resized canvas still shows the map: ${JSON.stringify(r)}`);
+  await page.waitForFunction(() => window.realLogPanel.root.dataset.state === 'done');
+  assert.deepEqual(errors, []);
+  await close();
+});
+
 test('scrubbing back rebuilds the map from the first scan, and forward restores it', async () => {
   const { page, errors, close } = await openPanel();
   await loadIntel(page);
