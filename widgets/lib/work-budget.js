@@ -4,7 +4,14 @@
 // visited), sized from how long the last call took, so that each call stays
 // near a target time and the page keeps its frames (docs/ARCHITECTURE.md,
 // "Sessions and panes").
-import { nextTask } from './ui.js';
+
+/**
+ * The pause between two slices of work: a timer, not a posted message. A
+ * chain of posted messages runs ahead of every timer of the page (another
+ * widget's, a reader's script), which would then wait for the whole work;
+ * after a timer the page's own timers due by then have had their turn.
+ */
+const betweenSlices = () => new Promise((resolve) => setTimeout(resolve, 0));
 
 /**
  * The next call's budget: the work the last call did (`done`, in its units)
@@ -56,9 +63,8 @@ export async function trainInSlices(start, budget, stillWanted) {
     const trained = start.work(units);
     budget.learn(units, performance.now() - t);
     if (trained) return start.finish();
-    // A task boundary: the page paints and handles input in between (a
-    // new task at once: a timer would be held back 4 ms once nested).
-    await nextTask();
+    // A task boundary: the page paints and handles input in between.
+    await betweenSlices();
     if (!stillWanted()) return null;
   }
 }
@@ -76,7 +82,7 @@ export async function fastForward(weaver, target, budget, progress, stillWanted)
     done += r.scans;
     if (done >= target && r.behind[0] + r.behind[1] === 0) return true;
     progress(done);
-    await nextTask();
+    await betweenSlices();
     if (!stillWanted()) return false;
   }
 }
