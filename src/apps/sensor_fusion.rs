@@ -332,33 +332,10 @@ impl TableFusion {
     /// and the cost of the scans it simulated (at least 1); `None` once
     /// the run is over. Only with the LiDAR's maps caught up.
     fn advance_counted(&mut self) -> Option<u64> {
-        // A validated scene's sensors refuse no reading (`TableScene::
-        // validate` checks what a cast refuses): an error here would be a
-        // bug, and the run stops at it rather than integrate a wrong scan.
-        let simulated = self.run.simulate_through(self.next + 1).ok()?;
-        let (Some(sonar), Some(lidar)) = (
-            self.run.sonar().get(self.next),
-            self.run.lidar().get(self.next),
-        ) else {
-            return None;
-        };
-        // One grid per modality, each with the mapper its beam shape needs:
-        // a 25° cone covers cells no beam raster crosses (docs/ARCHITECTURE.md, "The data flow").
-        let visits = [
-            sweep_scan(&mut self.sonar, &self.sonar_model, sonar),
-            self.lidar_mapper
-                .integrate(&mut self.lidar, &self.lidar_model, lidar),
-            // The naive alternative: both streams into the same cells.
-            sweep_scan(&mut self.summed, &self.sonar_model, sonar),
-            self.summed_mapper
-                .integrate(&mut self.summed, &self.lidar_model, lidar),
-        ]
-        .iter()
-        .map(|stats| stats.cells_visited as u64)
-        .sum::<u64>();
+        let cost = self.integrate_step(self.next, true)?;
         self.next += 1;
         self.lidar_next = self.next;
-        Some(visits.saturating_add(simulated).max(1))
+        Some(cost)
     }
 
     /// Integrates the next step the LiDAR's two maps lack (after a beam
@@ -371,22 +348,39 @@ impl TableFusion {
         if self.lidar_next >= self.next {
             return None;
         }
-        let k = self.lidar_next;
+        let cost = self.integrate_step(self.lidar_next, false)?;
+        self.lidar_next += 1;
+        Some(cost)
+    }
+
+    /// Integrates step `k`'s scans (simulated first, if they are not yet)
+    /// into the LiDAR map and the summed map, and into the sonar map too
+    /// with `into_sonar`; returns the cells visited plus the simulation's
+    /// cost (at least 1), `None` past the run's end.
+    fn integrate_step(&mut self, k: usize, into_sonar: bool) -> Option<u64> {
+        // A validated scene's sensors refuse no reading (`TableScene::
+        // validate` checks what a cast refuses): an error here would be a
+        // bug, and the run stops at it rather than integrate a wrong scan.
         let simulated = self.run.simulate_through(k + 1).ok()?;
         let (Some(sonar), Some(lidar)) = (self.run.sonar().get(k), self.run.lidar().get(k)) else {
             return None;
         };
-        let visits = [
-            self.lidar_mapper
-                .integrate(&mut self.lidar, &self.lidar_model, lidar),
-            sweep_scan(&mut self.summed, &self.sonar_model, sonar),
-            self.summed_mapper
-                .integrate(&mut self.summed, &self.lidar_model, lidar),
-        ]
-        .iter()
-        .map(|stats| stats.cells_visited as u64)
-        .sum::<u64>();
-        self.lidar_next += 1;
+        // One grid per modality, each with the mapper its beam shape needs:
+        // a 25° cone covers cells no beam raster crosses (docs/ARCHITECTURE.md, "The data flow").
+        let mut visits = 0;
+        if into_sonar {
+            visits += sweep_scan(&mut self.sonar, &self.sonar_model, sonar).cells_visited as u64;
+        }
+        visits += self
+            .lidar_mapper
+            .integrate(&mut self.lidar, &self.lidar_model, lidar)
+            .cells_visited as u64;
+        // The naive alternative: both streams into the same cells.
+        visits += sweep_scan(&mut self.summed, &self.sonar_model, sonar).cells_visited as u64;
+        visits += self
+            .summed_mapper
+            .integrate(&mut self.summed, &self.lidar_model, lidar)
+            .cells_visited as u64;
         Some(visits.saturating_add(simulated).max(1))
     }
 
