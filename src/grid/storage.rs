@@ -172,6 +172,13 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
     /// the budget.
     fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
 
+    /// The cells of row `iy` from column `ix` (a multiple of
+    /// [`TILE_SIDE`]) to the east edge of its tile (or of the map), and
+    /// their updates, for an update pass, allocating their storage on
+    /// first touch; `None` outside the map, or (and [`Self::refused`] set)
+    /// past the budget.
+    fn tile_row(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut [C], &mut [u32])>;
+
     /// Row `iy` of the map in runs, west to east.
     fn row_runs(&self, iy: usize, f: impl FnMut(RowRun<'_, C>));
 
@@ -274,6 +281,18 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
     }
 
     #[inline]
+    fn tile_row(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut [C], &mut [u32])> {
+        if ix >= self.width || iy >= self.height {
+            return None;
+        }
+        let len = TILE_SIDE.min(self.width - ix);
+        let at = iy * self.width + ix;
+        Some((
+            &mut self.cells[at..at + len],
+            &mut self.updates[at..at + len],
+        ))
+    }
+
     fn slot(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut C, &mut u32)> {
         let i = iy * self.width + ix;
         let (cells, updates) = self.cells_mut();
@@ -518,6 +537,19 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
             window,
             unknown,
         }
+    }
+
+    #[inline(always)]
+    fn tile_row(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut [C], &mut [u32])> {
+        if ix >= self.width || iy >= self.height {
+            return None;
+        }
+        debug_assert_eq!(ix & TILE_MASK, 0);
+        let len = TILE_SIDE.min(self.width - ix);
+        let k = self.tile_of(ix, iy);
+        let tile = self.written_tile(k, unknown)?;
+        let o = Self::offset(ix, iy);
+        Some((&mut tile.cells[o..o + len], &mut tile.updates[o..o + len]))
     }
 
     #[inline(always)]

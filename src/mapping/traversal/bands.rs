@@ -3,7 +3,7 @@
 //! beams: the real-log path (docs/ARCHITECTURE.md, "Real logs").
 
 use super::{
-    between, trace, BandCodes, BeamBand, BeamFrame, RayMapper, ScanEvidence, ScanStats,
+    between, trace, BandCodes, BeamBand, BeamFrame, Gathered, RayMapper, ScanEvidence, ScanStats,
     MAX_REACH_CELLS,
 };
 use crate::grid::{CellModel, Grid, Store};
@@ -76,21 +76,70 @@ impl RayMapper {
         let Some(frame) = BeamFrame::new::<C, S>(grid.geometry(), &scan.pose(), reach) else {
             return ScanStats::default();
         };
+        // A windowed map gathers by segment (see `Gathered`); a dense one
+        // in a touched list, as every other path does.
+        let frame = if S::WINDOWED {
+            frame.in_segments()
+        } else {
+            frame
+        };
         self.cache_bearing_trig(scan.bearings());
         self.wedges.clear();
         if between {
             between::plan_wedges(bands, scan.bearings(), res, walkable, &mut self.wedges);
         }
-        let mut gathered = frame.codes(&mut self.codes, &mut self.touched);
+        let evidence = ScanEvidence { free, occupied };
+        let plan = BandsPlan {
+            frame: &frame,
+            bands,
+            bearings: scan.bearings(),
+            trig: &self.bearing_trig,
+            wedges: &self.wedges,
+            between,
+            res,
+        };
+        if S::WINDOWED {
+            let gathered = frame.segment_codes(&mut self.codes, &mut self.segments);
+            plan.gather(gathered, grid, evidence)
+        } else {
+            let gathered = frame.codes(&mut self.codes, &mut self.touched);
+            plan.gather(gathered, grid, evidence)
+        }
+    }
+}
+
+/// One scan's bands on the way to the map: what
+/// [`RayMapper::integrate_bands_between`] walks and fills.
+struct BandsPlan<'p> {
+    frame: &'p BeamFrame,
+    bands: &'p [Option<BeamBand>],
+    bearings: &'p [f64],
+    trig: &'p [(f64, f64)],
+    wedges: &'p [Option<between::Wedge>],
+    between: bool,
+    res: f64,
+}
+
+impl BandsPlan<'_> {
+    /// Walks the beams (the wedges' spans left out), fills the wedges and
+    /// draws the walls between, then updates the map once per cell.
+    fn gather<C: CellModel, S: Store<C::Cell>, const SEGMENTED: bool>(
+        &self,
+        mut gathered: Gathered<'_, u8, SEGMENTED>,
+        grid: &mut Grid<C, S>,
+        evidence: ScanEvidence,
+    ) -> ScanStats {
+        let (frame, res) = (self.frame, self.res);
+        let walkable = |r: f64| r > 0.0 && (!S::WINDOWED || r / res <= MAX_REACH_CELLS);
         let mut visits = 0;
-        for (i, (band, &trig)) in bands.iter().zip(&self.bearing_trig).enumerate() {
+        for (i, (band, &trig)) in self.bands.iter().zip(self.trig).enumerate() {
             let Some(b) = *band else { continue };
             if !walkable(b.reach) {
                 continue;
             }
             // Where the wedges on both sides hold the beam's middle cells,
             // only its near part and its tail are walked.
-            let Some((near, tail)) = between::beam_spans(&self.wedges, i, res) else {
+            let Some((near, tail)) = between::beam_spans(self.wedges, i, res) else {
                 let Some((walk, at)) = frame.beam(trig, b.reach) else {
                     continue;
                 };
@@ -108,20 +157,19 @@ impl RayMapper {
                 visits += n;
             }
         }
-        if between {
+        if self.between {
             let n;
             (n, gathered) = between::trace_between(
-                &frame,
-                bands,
-                scan.bearings(),
-                &self.bearing_trig,
-                &self.wedges,
+                frame,
+                self.bands,
+                self.bearings,
+                self.trig,
+                self.wedges,
                 gathered,
             );
             visits += n;
         }
-        let count = gathered.count;
-        gathered.settle(grid, &frame.window, ScanEvidence { free, occupied });
+        let count = gathered.settle(grid, &frame.window, evidence);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,

@@ -7,7 +7,7 @@
 //! them do not already hold their cells. Where both beams end on one
 //! surface, the wall between their readings is drawn too.
 
-use super::{trace, BandCodes, BeamBand, BeamFrame, BeamState, Code, Codes};
+use super::{trace, BandCodes, BeamBand, BeamFrame, BeamState, Code, Gathered};
 use crate::geometry::raster::Walk;
 
 /// The widest spacing of two neighbouring beams whose between is filled
@@ -91,14 +91,14 @@ pub(super) fn beam_spans(wedges: &[Option<Wedge>], i: usize, res: f64) -> Option
 /// wall between two neighbouring readings as hits
 /// ([`trace_wall_between`]); returns the cells visited and the
 /// gathering.
-pub(super) fn trace_between<'a>(
+pub(super) fn trace_between<'a, const SEGMENTED: bool>(
     frame: &BeamFrame,
     bands: &[Option<BeamBand>],
     bearings: &[f64],
     trig: &[(f64, f64)],
     wedges: &[Option<Wedge>],
-    mut gathered: Codes<'a>,
-) -> (usize, Codes<'a>) {
+    mut gathered: Gathered<'a, u8, SEGMENTED>,
+) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
     for (i, wedge) in wedges.iter().enumerate() {
         let Some(wedge) = *wedge else { continue };
@@ -145,13 +145,13 @@ const WALL_SLOPE: f64 = 1.5;
 /// each as wide in range as the bands (interpolated); the cells join the
 /// scan's verdicts as hits. Without them a wall seen from afar (one
 /// reading every 26 cm at 15 m for 1°) prints as a dotted line.
-pub(super) fn trace_wall_between<'a>(
+pub(super) fn trace_wall_between<'a, const SEGMENTED: bool>(
     frame: &BeamFrame,
     (a, b): (BeamBand, BeamBand),
     ((s0, c0), (s1, c1)): ((f64, f64), (f64, f64)),
     spacing: f64,
-    mut gathered: Codes<'a>,
-) -> (usize, Codes<'a>) {
+    mut gathered: Gathered<'a, u8, SEGMENTED>,
+) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
     // A no-return has no occupied band.
     if !(a.occupied_until > a.occupied_from && b.occupied_until > b.occupied_from) {
@@ -227,7 +227,7 @@ impl BeamFrame {
         let walk = Walk::new(self.width, self.height, start, end)?;
         let (ix, iy) = walk.start;
         let w = &self.window;
-        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < w.stride && iy - w.y0 < w.rows) {
+        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < self.cols && iy - w.y0 < w.rows) {
             return None;
         }
         let at = self.beam_state(&walk, (s, c));
@@ -246,13 +246,13 @@ impl BeamFrame {
 /// between the two beams, each level twice the walks and twice the range,
 /// reached the same floor visiting its cells several times each.)
 /// Returns the cells filled and the gathering.
-pub(super) fn fill_wedge<'a>(
+pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
     frame: &BeamFrame,
     (a, b): ((f64, f64), (f64, f64)),
     from: f64,
     to: f64,
-    gathered: Codes<'a>,
-) -> (usize, Codes<'a>) {
+    gathered: Gathered<'a, u8, SEGMENTED>,
+) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     if !(from >= 0.0 && from < to) {
         return (0, gathered);
     }
@@ -283,9 +283,9 @@ pub(super) fn fill_wedge<'a>(
     let columns = (da.1 + db.1).abs() > (da.0 + db.0).abs();
     let (lines, along, line_step, cell_step) = if columns {
         corners.iter_mut().for_each(|p| *p = (p.1, p.0));
-        ((w.x0, w.stride), (w.y0, w.rows), 1, w.stride)
+        ((w.x0, frame.cols), (w.y0, w.rows), 1, w.stride)
     } else {
-        ((w.y0, w.rows), (w.x0, w.stride), w.stride, 1)
+        ((w.y0, w.rows), (w.x0, frame.cols), w.stride, 1)
     };
     if corners
         .iter()

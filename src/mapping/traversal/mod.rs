@@ -54,6 +54,9 @@ pub struct RayMapper {
     pending: Vec<f32>,
     /// The cells touched in the current scan, in first-touch order.
     touched: Vec<u32>,
+    /// A bit per segment of the window holding a verdict of the current
+    /// scan (the bands' path on a windowed map, see [`Gathered`]).
+    segments: Vec<u64>,
     /// The current scan's reach and axis profile per beam (step-profile
     /// path; `None` for a beam with nothing to walk).
     profiles: Vec<Option<(f64, AxisProfile)>>,
@@ -167,8 +170,7 @@ impl RayMapper {
             visits += n;
         }
 
-        let count = gathered.count;
-        gathered.settle(grid, &frame.window, evidence);
+        let count = gathered.settle(grid, &frame.window, evidence);
         ScanStats {
             cells_visited: visits,
             cells_updated: count,
@@ -207,9 +209,8 @@ impl RayMapper {
             visits += n;
         }
 
-        let count = gathered.count;
         // (The floats are the evidence itself: nothing to look up.)
-        gathered.settle(
+        let count = gathered.settle(
             grid,
             &frame.window,
             ScanEvidence {
@@ -310,6 +311,9 @@ struct BeamFrame {
     /// itself is always in the map's own frame, so both visit the same
     /// cells.
     window: Window,
+    /// The window's width in map cells (its stride, unless the frame is
+    /// [`Self::in_segments`]).
+    cols: usize,
     /// True when the scratch buffers fit the window exactly (a dense map).
     shrink: bool,
 }
@@ -325,7 +329,7 @@ impl BeamFrame {
     ) -> Option<Self> {
         let (su, sv) = g.world_to_grid(pose.x, pose.y);
         let res = g.resolution();
-        let window = if S::WINDOWED {
+        let (window, cols) = if S::WINDOWED {
             if !(reach > 0.0 && su.is_finite() && sv.is_finite()) {
                 return None;
             }
@@ -341,14 +345,17 @@ impl BeamFrame {
             if x0 >= x1 || y0 >= y1 {
                 return None;
             }
-            Window {
-                x0,
-                y0,
-                stride: x1 - x0,
-                rows: y1 - y0,
-            }
+            (
+                Window {
+                    x0,
+                    y0,
+                    stride: x1 - x0,
+                    rows: y1 - y0,
+                },
+                x1 - x0,
+            )
         } else {
-            Window::whole(g)
+            (Window::whole(g), g.width())
         };
         let (sin_t, cos_t) = pose.theta.sin_cos();
         Some(Self {
@@ -361,6 +368,7 @@ impl BeamFrame {
             sin_t,
             cos_t,
             window,
+            cols,
             shrink: !S::WINDOWED,
         })
     }
@@ -371,14 +379,46 @@ impl BeamFrame {
     fn codes<'a>(&self, codes: &'a mut Vec<u8>, touched: &'a mut Vec<u32>) -> Codes<'a> {
         fit(codes, Code::Untouched as u8, self.window.len(), self.shrink);
         same_length(touched, codes.len());
-        Codes::new(codes, touched)
+        Codes::new(codes, touched, &mut [])
+    }
+
+    /// The frame with its window widened to start on a tile's west edge
+    /// and to hold whole segments per row, so that a segment of the window
+    /// is a row of one tile ([`Gathered`]); the cells it covers are the
+    /// same.
+    fn in_segments(mut self) -> Self {
+        let w = &mut self.window;
+        let pad = w.x0 % SEGMENT;
+        w.x0 -= pad;
+        self.cols += pad;
+        w.stride = self.cols.div_ceil(SEGMENT) * SEGMENT;
+        self
+    }
+
+    /// As [`Self::codes`], gathered by segment (a windowed map's bands,
+    /// see [`Gathered`]; the frame [`Self::in_segments`]): no touched
+    /// list, a bit per segment instead.
+    fn segment_codes<'a>(
+        &self,
+        codes: &'a mut Vec<u8>,
+        segments: &'a mut Vec<u64>,
+    ) -> Gathered<'a, u8, true> {
+        debug_assert!(
+            self.window.x0.is_multiple_of(SEGMENT) && self.window.stride.is_multiple_of(SEGMENT)
+        );
+        fit(codes, Code::Untouched as u8, self.window.len(), self.shrink);
+        let words = (codes.len() / (SEGMENT * 64)).max(1);
+        if segments.len() < words {
+            *segments = vec![0; words];
+        }
+        Gathered::new(codes, &mut [], &mut segments[..words])
     }
 
     /// As [`Self::codes`], for verdicts as log odds.
     fn pending<'a>(&self, pending: &'a mut Vec<f32>, touched: &'a mut Vec<u32>) -> Pending<'a> {
         fit(pending, UNTOUCHED, self.window.len(), self.shrink);
         same_length(touched, pending.len());
-        Pending::new(pending, touched)
+        Pending::new(pending, touched, &mut [])
     }
 
     /// The walk along the beam of bearing `(sin, cos)` from the sensor out
@@ -474,6 +514,14 @@ trait Slot: Copy + PartialEq {
         updates: &mut u32,
         evidence: ScanEvidence,
     );
+    /// Of eight slots, which hold a verdict: bit `8 k + 7` set for slot
+    /// `k` (the update pass visits only those, without a branch per slot).
+    #[inline(always)]
+    fn held(slots: &[Self; 8]) -> u64 {
+        slots.iter().enumerate().fold(0, |m, (k, &s)| {
+            m | ((s != Self::UNTOUCHED) as u64) << (8 * k + 7)
+        })
+    }
 }
 
 /// [`Code`] flags (step-profile path).
@@ -482,6 +530,15 @@ impl Slot for u8 {
     #[inline(always)]
     fn merge(self, v: u8) -> u8 {
         self | v
+    }
+    /// Eight codes as one word: a lane's high bit is set when any of its
+    /// bits is (codes are below 128, so the sum never carries between
+    /// lanes).
+    #[inline(always)]
+    fn held(slots: &[u8; 8]) -> u64 {
+        const LOW7: u64 = 0x7f7f_7f7f_7f7f_7f7f;
+        let w = u64::from_le_bytes(*slots);
+        (((w & LOW7) + LOW7) | w) & !LOW7
     }
     /// (The evidence's signs are known, see [`RayMapper::step_profiles`], so
     /// each update needs one side of the clamp only.)
@@ -537,21 +594,39 @@ impl Slot for f32 {
 /// `& mask`: the compiler then sees every index in range and drops the
 /// bounds checks from the per-cell loop. The mask never changes an index:
 /// the walk stays inside the map, and the count below the number of cells.
-struct Gathered<'a, T> {
+///
+/// `SEGMENTED` (a windowed map's bands): instead of the touched list, a
+/// bit per segment of [`SEGMENT`] window cells marks the segments holding
+/// a verdict, and the update pass walks those segments, each a row of one
+/// tile of the map: a tile is looked up once a segment rather than once a
+/// cell, and the cells are written in the order they lie in memory.
+struct Gathered<'a, T, const SEGMENTED: bool = false> {
     slots: &'a mut [T],
     touched: &'a mut [u32],
+    segments: &'a mut [u64],
     mask: usize,
     count: usize,
 }
 
-impl<'a, T: Slot> Gathered<'a, T> {
-    /// `slots` and `touched` have the same power-of-two length.
-    fn new(slots: &'a mut [T], touched: &'a mut [u32]) -> Self {
-        debug_assert!(slots.len().is_power_of_two() && touched.len() == slots.len());
+/// Window cells per segment: a tile's row ([`crate::grid::storage::TILE_SIDE`]).
+const SEGMENT: usize = crate::grid::storage::TILE_SIDE;
+const SEGMENT_SHIFT: u32 = SEGMENT.trailing_zeros();
+
+impl<'a, T: Slot, const SEGMENTED: bool> Gathered<'a, T, SEGMENTED> {
+    /// `slots` has a power-of-two length; `touched` the same length, or
+    /// (segmented) `segments` a bit per segment of the slots.
+    fn new(slots: &'a mut [T], touched: &'a mut [u32], segments: &'a mut [u64]) -> Self {
+        debug_assert!(slots.len().is_power_of_two());
+        debug_assert!(if SEGMENTED {
+            segments.len() * 64 * SEGMENT >= slots.len()
+        } else {
+            touched.len() == slots.len()
+        });
         let mask = slots.len() - 1;
         Self {
             slots,
             touched,
+            segments,
             mask,
             count: 0,
         }
@@ -565,7 +640,11 @@ impl<'a, T: Slot> Gathered<'a, T> {
         let mask = self.mask;
         Self {
             slots: &mut self.slots[..=mask],
-            touched: &mut self.touched[..=mask],
+            touched: if SEGMENTED {
+                self.touched
+            } else {
+                &mut self.touched[..=mask]
+            },
             ..self
         }
     }
@@ -581,8 +660,15 @@ impl<'a, T: Slot> Gathered<'a, T> {
         let old = *slot;
         let new = old.merge(v);
         *slot = new;
-        self.touched[self.count & self.mask] = i as u32;
-        self.count += (old == T::UNTOUCHED && new != T::UNTOUCHED) as usize;
+        if SEGMENTED {
+            let segment = (i & self.mask) >> SEGMENT_SHIFT;
+            if let Some(word) = self.segments.get_mut(segment >> 6) {
+                *word |= 1 << (segment & 63);
+            }
+        } else {
+            self.touched[self.count & self.mask] = i as u32;
+            self.count += (old == T::UNTOUCHED && new != T::UNTOUCHED) as usize;
+        }
     }
 
     /// Table 9.1's update, once per touched cell, written through the
@@ -598,16 +684,20 @@ impl<'a, T: Slot> Gathered<'a, T> {
         grid: &mut Grid<C, S>,
         window: &Window,
         evidence: ScanEvidence,
-    ) {
+    ) -> usize {
         let Self {
             slots,
             touched,
+            segments,
             mask,
             count,
         } = self.narrowed();
         let (model, store) = grid.model_and_store();
+        if SEGMENTED {
+            return settle_segments(slots, segments, model, store, window, evidence);
+        }
         if S::WINDOWED {
-            return settle_windowed(
+            settle_windowed(
                 &touched[..count],
                 slots,
                 mask,
@@ -616,6 +706,7 @@ impl<'a, T: Slot> Gathered<'a, T> {
                 window,
                 evidence,
             );
+            return count;
         }
         let cells = &mut store.window_cells(*window, model.unknown());
         // (A function rather than a closure: at opt-level "s" a closure
@@ -646,10 +737,11 @@ impl<'a, T: Slot> Gathered<'a, T> {
         for &w in fours.remainder() {
             settle_one(slots, mask, model, cells, evidence, w);
         }
+        count
     }
 }
 
-impl<T> Gathered<'_, T> {
+impl<T, const SEGMENTED: bool> Gathered<'_, T, SEGMENTED> {
     /// The length of the buffers for a map of `cells` cells: a power of
     /// two, and more than `cells`, so that the touched list always has a
     /// spare entry past its end (see [`Gathered::record`]).
@@ -689,9 +781,9 @@ impl Verdict<Codes<'_>> for StepCodes {
 /// A [`BeamBand`], as codes.
 struct BandCodes(BeamBand);
 
-impl Verdict<Codes<'_>> for BandCodes {
+impl<const SEGMENTED: bool> Verdict<Gathered<'_, u8, SEGMENTED>> for BandCodes {
     #[inline(always)]
-    fn visit(&self, r: f64, i: usize, gathered: &mut Codes) {
+    fn visit(&self, r: f64, i: usize, gathered: &mut Gathered<'_, u8, SEGMENTED>) {
         let b = &self.0;
         if r <= b.free_until {
             gathered.record(i, Code::Free as u8);
@@ -736,12 +828,12 @@ impl<M: InverseModel + ?Sized> Verdict<Pending<'_>> for ModelEvidence<'_, M> {
 /// beams: under Node a call per beam, its arguments passed through memory,
 /// cost more than the registers the loop gives up.)
 #[inline(always)]
-fn trace<'a, T: Slot, V: Verdict<Gathered<'a, T>>>(
+fn trace<'a, T: Slot, V: Verdict<Gathered<'a, T, SEGMENTED>>, const SEGMENTED: bool>(
     walk: Walk,
     at: BeamState,
     verdict: V,
-    gathered: Gathered<'a, T>,
-) -> (usize, Gathered<'a, T>) {
+    gathered: Gathered<'a, T, SEGMENTED>,
+) -> (usize, Gathered<'a, T, SEGMENTED>) {
     let mut cursor = BeamCursor {
         at,
         gathered: gathered.narrowed(),
@@ -784,7 +876,7 @@ impl<G, V: Verdict<G>> Cursor for BeamCursor<G, V> {
 mod bands;
 mod between;
 mod windowed;
-use windowed::settle_windowed;
+use windowed::{settle_segments, settle_windowed};
 
 #[cfg(test)]
 mod tests;

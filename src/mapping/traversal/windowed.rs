@@ -1,7 +1,7 @@
 //! The update pass on a windowed (tiled) store: the window index turned
 //! into a map cell without a hardware division.
 
-use super::{ScanEvidence, Slot};
+use super::{ScanEvidence, Slot, SEGMENT};
 use crate::grid::storage::WindowCells;
 use crate::grid::{CellModel, Store, Window};
 
@@ -81,4 +81,66 @@ pub(super) fn settle_windowed<T: Slot, C: CellModel, S: Store<C::Cell>>(
         }
         *slot_code = T::UNTOUCHED;
     });
+}
+
+/// [`Gathered::settle`](super::Gathered) for a gathering by segment: each
+/// segment marked in `segments` is a row of one tile of the map (the
+/// window starts on a tile's edge and its stride is whole segments), so
+/// its tile is found once, and its cells are updated in the order they lie
+/// in memory. Clears the slots and the marks; returns the cells updated
+/// (the cells holding a verdict, as a touched list would have counted
+/// them).
+#[inline(never)]
+pub(super) fn settle_segments<T: Slot, C: CellModel, S: Store<C::Cell>>(
+    slots: &mut [T],
+    segments: &mut [u64],
+    model: &C,
+    store: &mut S,
+    window: &Window,
+    evidence: ScanEvidence,
+) -> usize {
+    let unknown = model.unknown();
+    let per_row = window.stride / SEGMENT;
+    let mut count = 0;
+    for (k, word) in segments.iter_mut().enumerate() {
+        let mut bits = std::mem::take(word);
+        while bits != 0 {
+            let segment = k * 64 + bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let Some(codes) = slots.get_mut(segment * SEGMENT..(segment + 1) * SEGMENT) else {
+                continue;
+            };
+            let (row, column) = (segment / per_row, segment % per_row * SEGMENT);
+            let (ix, iy) = (window.x0 + column, window.y0 + row);
+            match store.tile_row(ix, iy, unknown) {
+                Some((cells, updates)) => {
+                    let n = cells.len().min(updates.len()).min(SEGMENT);
+                    let (cells, updates) = (&mut cells[..n], &mut updates[..n]);
+                    for (eight, k0) in codes.chunks_exact_mut(8).zip((0..n).step_by(8)) {
+                        let Ok(lanes) = <&mut [T; 8]>::try_from(eight) else {
+                            continue;
+                        };
+                        let mut held = T::held(lanes);
+                        // (Cells past the map's east edge hold no verdict:
+                        // the walks and fills stay inside the map.)
+                        while held != 0 {
+                            let k = held.trailing_zeros() as usize / 8;
+                            held &= held - 1;
+                            let i = k0 + k;
+                            if let (Some(cell), Some(u)) = (cells.get_mut(i), updates.get_mut(i)) {
+                                lanes[k].apply(model, cell, u, evidence);
+                            }
+                            lanes[k] = T::UNTOUCHED;
+                            count += 1;
+                        }
+                    }
+                }
+                None => {
+                    count += codes.iter().filter(|&&c| c != T::UNTOUCHED).count();
+                    codes.fill(T::UNTOUCHED);
+                }
+            }
+        }
+    }
+    count
 }
