@@ -220,8 +220,7 @@ impl MapView {
         let w = self.width;
         let n = now.len().min(self.shown.len());
         let (start, end) = ((rows.start * w).min(n), (rows.end.saturating_mul(w)).min(n));
-        for i in start..end {
-            let l = now[i];
+        for (i, &l) in now.iter().enumerate().take(end).skip(start) {
             if l.to_bits() != self.shown[i].to_bits() {
                 self.redraw(i, model.log_odds(l), model.is_unknown(l));
             }

@@ -1,7 +1,8 @@
 // A page that never blocks (BENCHMARKS.md W7) while a widget makes a large
 // run: Map Weaver's 1024 x 1024 scene is drawn in calls of the core bounded
 // by a budget of cells (`MapWeaverStart.build`), and its run is made only
-// once every map is drawn. The tests check the calls' structure (the work
+// once every map is drawn; the doorway trap's MAP search at 1 cm is set up
+// in calls bounded by a budget of units (`DoorwayTrapStart.work`). The tests check the calls' structure (the work
 // each did, in the core's units, against its budget), never their time.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -50,6 +51,48 @@ test('Map Weaver draws a 1024 x 1024 scene in budgeted calls, a row past the bud
     const over = builds.filter((c) => c.cells >= c.budget + 1024);
     assert.ok(over.length <= 2, `${over.length} calls past a row: ${JSON.stringify(over)}`);
     for (const c of over) assert.ok(c.cells < c.budget + 1024 * 1024 / 4, JSON.stringify(c));
+    assert.deepEqual(errors, []);
+  } finally {
+    await close();
+  }
+});
+
+test('the doorway trap sets its MAP search up at 1 cm in budgeted calls, then makes its run', async () => {
+  const tag = 'occgrid-doorway-trap';
+  const { page, errors, close } = await openPage('/?doorway-trap.autoplay=off#doorway-trap');
+  try {
+    await page.waitForFunction((t) => document.querySelector(t)?.dataset.state === 'ready', tag, { timeout: 60_000 });
+    await page.evaluate((t) => {
+      const { core } = document.querySelector(t);
+      const proto = core.DoorwayTrapStart.prototype;
+      window.__calls = [];
+      const work = proto.work;
+      proto.work = function (budget) {
+        const r = work.call(this, budget);
+        window.__calls.push({ name: 'work', budget, units: r.units, done: r.done });
+        return r;
+      };
+      const finish = proto.finish;
+      proto.finish = function () {
+        window.__calls.push({ name: 'finish' });
+        return finish.call(this);
+      };
+      window.__old = document.querySelector(t).trap;
+    }, tag);
+    await page.locator(tag).evaluate((el) => el.setAttribute('scene', '{"resolution": 0.01}'));
+    await page.waitForFunction((t) => {
+      const el = document.querySelector(t);
+      return el.trap !== window.__old && el.dataset.state === 'ready';
+    }, tag, { timeout: 120_000 });
+    const calls = await page.evaluate(() => window.__calls);
+    const works = calls.filter((c) => c.name === 'work');
+    assert.ok(works.length > 3, `the search was set up in ${works.length} calls`);
+    assert.deepEqual(calls.at(-1), { name: 'finish' }, 'the run is made last, once');
+    assert.equal(calls.filter((c) => c.name === 'finish').length, 1);
+    // Every call but the last stopped because its budget was spent.
+    for (const c of works.slice(0, -1)) assert.ok(!c.done && c.units >= c.budget, JSON.stringify(c));
+    assert.ok(works.at(-1).done);
+    assert.equal(await page.locator(tag).evaluate((el) => el.trap.width), 500, 'the 5 m scene at 1 cm');
     assert.deepEqual(errors, []);
   } finally {
     await close();

@@ -80,6 +80,23 @@ export async function startInSlices(start, trainBudget, buildBudget, stillWanted
 }
 
 /**
+ * Works `job` (a core object whose `work(budget)` returns `{ units, done }`)
+ * to its end in calls of about `budget`'s target time, each in a task of
+ * its own. Returns true once done; false when `stillWanted()` turns false
+ * between calls (the caller frees `job`).
+ */
+export async function workInSlices(job, budget, stillWanted) {
+  for (;;) {
+    const t = performance.now();
+    const report = job.work(budget.value);
+    budget.learn(report.units, performance.now() - t);
+    if (report.done) return true;
+    await betweenSlices();
+    if (!stillWanted()) return false;
+  }
+}
+
+/**
  * Advances a Map Weaver run by `target` scans in calls of about `budget`'s
  * target time, each in a task of its own (a hidden tab still gets on with
  * the work), calling `progress(done)` between them; false when

@@ -14,7 +14,7 @@
 use super::pane::{Pane, PaneModel};
 use super::settings::{renamed, PaneSettings, WeaverSettings};
 use super::timing::RecentTimes;
-use super::{timing, Clock, Weaver};
+use super::{Clock, Weaver};
 use crate::apps::pane::MapPane;
 use crate::error::Result;
 use crate::geometry::GridGeometry;
@@ -312,7 +312,7 @@ impl WeaverBuild {
         let tracked_cells = settings.scene.tracked_cells()?;
         let panes = [left.finish(&settings)?, right.finish(&settings)?];
         #[cfg(not(target_arch = "wasm32"))]
-        let clock: Option<Clock> = Some(timing::native_clock);
+        let clock: Option<Clock> = Some(super::timing::native_clock);
         #[cfg(target_arch = "wasm32")]
         let clock: Option<Clock> = None;
         Ok(Weaver {
