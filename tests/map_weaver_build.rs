@@ -20,8 +20,10 @@ fn learned() -> LearnedInverse {
 /// Two different panes: the sweep at the scene's resolution, and the
 /// traversal of the learned model at the coarser one.
 fn settings() -> WeaverSettings {
-    let mut s = WeaverSettings::default();
-    s.seed = 11;
+    let mut s = WeaverSettings {
+        seed: 11,
+        ..WeaverSettings::default()
+    };
     s.panes[0].mapper = MapperKind::Sweep;
     s.panes[0].model = ModelKind::HandCrafted;
     s.panes[1].model = ModelKind::Learned;

@@ -580,6 +580,14 @@ impl TableRun {
     /// sensor draws from its own noise stream in pose order, so a scan is
     /// the same whenever it is simulated.
     pub fn simulate_through(&mut self, steps: usize) -> Result<u64> {
+        let sonar = self.simulate_sonar_through(steps)?;
+        Ok(sonar.saturating_add(self.simulate_lidar_through(steps)?))
+    }
+
+    /// [`TableRun::simulate_through`] for the sonar's scans only: the two
+    /// sensors' streams are independent, so a page may simulate a step's
+    /// two scans in two calls.
+    pub fn simulate_sonar_through(&mut self, steps: usize) -> Result<u64> {
         let steps = steps.min(self.poses.len());
         let mut cost = 0u64;
         while self.sonar.len() < steps {
@@ -590,6 +598,13 @@ impl TableRun {
             self.sonar.push(scan);
             cost = cost.saturating_add(self.scene.scan_cost(&self.geometry, false));
         }
+        Ok(cost)
+    }
+
+    /// [`TableRun::simulate_through`] for the LiDAR's scans only.
+    pub fn simulate_lidar_through(&mut self, steps: usize) -> Result<u64> {
+        let steps = steps.min(self.poses.len());
+        let mut cost = 0u64;
         while self.lidar.len() < steps {
             let p = self.poses[self.lidar.len()];
             let scan = self
