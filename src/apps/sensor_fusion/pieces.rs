@@ -5,10 +5,10 @@
 //! twice for the sonar (its own map and the summed one, Table 9.1 as
 //! printed), about 30 ms in a browser: one call of at least a whole step
 //! was a long task. Here a step is its two scans' simulation (a piece
-//! each), the sonar's sweep
-//! of its map in bands of rows, the LiDAR's rasters, then the sonar's sweep
-//! of the summed map in bands and the LiDAR's rasters into it: the order
-//! of [`TableFusion::integrate_step`], each cell's update depending on that
+//! each), the sonar's sweep of its map in bands of rows, the LiDAR's
+//! rasters, then the sonar's sweep of the summed map in bands and the
+//! LiDAR's rasters into it: the order of [`TableFusion::integrate_step`],
+//! each cell's update depending on that
 //! cell alone ([`sweep_rows`]), so the maps are those of a whole step bit
 //! for bit. The pieces write copies of the maps, swapped in once the step
 //! is whole: what the widget shows (maps, readouts) changes a whole step at
