@@ -44,6 +44,12 @@ impl DoorwayTrapStarting {
         Ok(DoorwayTrapStarting(Some(DoorwayTrapStart::new(scene)?)))
     }
 
+    /// True once the search is set up (or the experiment was made).
+    #[wasm_bindgen(getter)]
+    pub fn done(&self) -> bool {
+        self.0.as_ref().is_none_or(DoorwayTrapStart::done)
+    }
+
     /// Works for about `budget` units (a whole number, or `Infinity`): at
     /// least one piece, past the budget by at most one. Returns `{ units,
     /// done }`.
