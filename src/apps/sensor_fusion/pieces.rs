@@ -121,14 +121,14 @@ impl TableFusion {
             // validate` checks what a cast refuses): an error here would be
             // a bug, and the run stops at it.
             Piece::SimulateSonar => {
-                let cost = self.run.simulate_sonar_through(k + 1).ok()?;
+                let cost = self.run.simulate_sensor_through(k + 1, false).ok()?;
                 let cost = cost.div_ceil(SONAR_CAST_CELLS_PER_VISIT);
                 self.run.sonar().get(k)?;
                 w.next = Piece::SimulateLidar;
                 cost
             }
             Piece::SimulateLidar => {
-                let cost = self.run.simulate_lidar_through(k + 1).ok()?;
+                let cost = self.run.simulate_sensor_through(k + 1, true).ok()?;
                 let cost = cost.div_ceil(LIDAR_CAST_CELLS_PER_VISIT);
                 self.run.lidar().get(k)?;
                 w.next = if w.new_step {
