@@ -61,9 +61,30 @@ impl World {
 
     /// Sets every cell whose centre lies in `rect` to `occupied`.
     pub fn fill(&mut self, rect: &Rect, occupied: bool) {
+        self.fill_rows(rect, occupied, 0..self.geometry.height());
+    }
+
+    /// [`World::fill`] over the rows `rows` only (clipped to the map): a
+    /// large world is drawn a band of rows at a time this way, and bands
+    /// that cover the map leave it as one `fill` does. Only the cells under
+    /// the box's bounds are looked at (`contains` decides, as for every
+    /// cell: the cells outside the span have centres at least half a cell
+    /// outside the box), so a box costs its own cells, not the map's.
+    pub fn fill_rows(&mut self, rect: &Rect, occupied: bool, rows: std::ops::Range<usize>) {
         let g = self.geometry;
-        for iy in 0..g.height() {
-            for ix in 0..g.width() {
+        let [ox, oy] = g.origin();
+        let res = g.resolution();
+        // A NaN bound gives an empty span, an infinite one the whole map.
+        let span = |lo: f64, hi: f64, origin: f64, n: usize| {
+            let first = ((lo - origin) / res).floor().max(0.0) as usize;
+            let end = (((hi - origin) / res).ceil().max(0.0) as usize).min(n);
+            first..end
+        };
+        let ys = span(rect.min_y, rect.max_y, oy, g.height());
+        let ys = ys.start.max(rows.start)..ys.end.min(rows.end);
+        let xs = span(rect.min_x, rect.max_x, ox, g.width());
+        for iy in ys {
+            for ix in xs.clone() {
                 let (x, y) = g.cell_center(ix, iy);
                 if rect.contains(x, y) {
                     self.occupied[g.index(ix, iy)] = occupied;

@@ -128,7 +128,7 @@ fn the_session_simulates_a_scan_only_when_a_step_reaches_it_and_maps_the_eager_s
         let mut calls = 1;
         loop {
             let r = f.work(3, one_step.cell_visits);
-            if r.steps == 0 {
+            if r.steps == 0 && !r.under_way {
                 break;
             }
             calls += 1;
@@ -159,21 +159,40 @@ fn a_staged_beam_count_does_no_work_and_the_budgeted_calls_rebuild_it_first() {
     let empty = LogOddsGrid::new(*f.run().geometry(), settings).unwrap();
     assert_eq!((f.lidar(), f.summed()), (&empty, &empty));
 
-    // Each call rebuilds within its budget (and one step), and asks for
-    // new steps in vain until the rebuild is done.
-    // A budget of 1 rebuilds one step: the sonar's sweep of the summed map
-    // and the LiDAR's two rasters. Then two such steps' work per call.
-    let first = f.work(4, 1);
-    assert_eq!((first.rebuilt, first.steps, first.rebuilding), (1, 0, 59));
-    let budget = 2 * first.cell_visits;
-    let (mut calls, mut rebuilt) = (1, 1);
+    // Each call rebuilds within its budget (and one piece of a step), and
+    // asks for new steps in vain until the rebuild is done.
+    // A budget of 1 does one piece of a rebuilt step (its LiDAR scan
+    // simulated, the LiDAR's raster, a band of the sonar's sweep of the
+    // summed map, the LiDAR's raster into it), and nothing shown changes
+    // until the step is whole.
+    let shown = (f.lidar().clone(), f.summed().clone(), f.readout());
+    let (mut first, mut pieces) = (0, 0);
+    loop {
+        let w = f.work(4, 1);
+        pieces += 1;
+        first += w.cell_visits;
+        assert_eq!(w.steps, 0);
+        if w.rebuilt == 1 {
+            assert_eq!((w.rebuilding, w.under_way), (59, false));
+            break;
+        }
+        assert_eq!((w.rebuilt, w.rebuilding, w.under_way), (0, 60, true));
+        assert_eq!(
+            (f.lidar(), f.summed(), f.readout()),
+            (&shown.0, &shown.1, shown.2)
+        );
+    }
+    assert!(pieces > 3, "a rebuilt step in {pieces} pieces");
+    // Then two such steps' work per call.
+    let budget = 2 * first;
+    let (mut calls, mut rebuilt) = (pieces, 1);
     while f.rebuilding() > 0 {
         let before = f.rebuilding();
         let w = f.work(4, budget);
         calls += 1;
         rebuilt += w.rebuilt;
         assert!(
-            w.rebuilt >= 1 && w.cell_visits < budget + step_cost,
+            (w.rebuilt >= 1 || w.under_way) && w.cell_visits < budget + step_cost,
             "{w:?}"
         );
         assert_eq!(w.rebuilding, before - w.rebuilt);

@@ -17,12 +17,18 @@ fn work_reports_its_steps_visits_and_the_end_of_the_lap() {
     let r = f.work(num(3.0), num(1.0)).unwrap();
     assert_eq!(
         get(&r, "steps").as_f64(),
-        Some(1.0),
-        "a budget of 1 takes one step"
+        Some(0.0),
+        "a budget of 1 does one piece of a step"
     );
     assert!(get(&r, "cellVisits").as_f64().unwrap() > 1.0);
-    assert_eq!(get(&r, "step").as_f64(), Some(1.0));
+    assert_eq!(get(&r, "step").as_f64(), Some(0.0));
+    assert_eq!(get(&r, "underWay").as_bool(), Some(true));
     assert_eq!(get(&r, "done").as_bool(), Some(false));
+    // The step under way is the next call's first.
+    let r = f.work(num(1.0), num(f64::INFINITY)).unwrap();
+    assert_eq!(get(&r, "steps").as_f64(), Some(1.0));
+    assert_eq!(get(&r, "step").as_f64(), Some(1.0));
+    assert_eq!(get(&r, "underWay").as_bool(), Some(false));
     let r = f.work(num(f64::INFINITY), num(f64::INFINITY)).unwrap();
     assert_eq!(get(&r, "step").as_f64(), Some(81.0), "the rest of the lap");
     assert_eq!(get(&r, "done").as_bool(), Some(true));

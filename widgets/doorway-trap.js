@@ -21,6 +21,7 @@
 // seed, scene, autoplay, scans, flips, arrangement, cells, reading, prior,
 // map-width, controls.
 import { loadCore } from './lib/core.js';
+import { workBudget, workInSlices } from './lib/work-budget.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import {
   el, button, showError, clearError,
@@ -36,6 +37,13 @@ import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell 
 import { MIN_RANGE, TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
 /** Sweep scans and MAP flips per second while playing. */
+/**
+ * The MAP search is set up in calls of about this many ms (a fine scene's
+ * incidence and gains are a long task in one call), the first of this many
+ * units (raster steps), which its time corrects.
+ */
+const SETUP_SLICE_MS = 12;
+const FIRST_SETUP_UNITS = 50_000;
 const SCANS_PER_SECOND = 1.5;
 const FLIPS_PER_SECOND = 3;
 /** Largest drawn map, CSS pixels. */
@@ -117,7 +125,7 @@ class DoorwayTrapElement extends HTMLElement {
     whenVisible(this, async () => {
       await startTurn();
       this.started = true;
-      this.create();
+      await this.create();
       if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
         this.play('sweep');
         this.play('map');
@@ -257,16 +265,23 @@ class DoorwayTrapElement extends HTMLElement {
 
   // ---- Core state ----
 
-  create() {
+  async create() {
     this.pause('sweep');
     this.pause('map');
+    // A later create() (an attribute changed meanwhile) supersedes this one.
+    const generation = (this.generation = (this.generation ?? 0) + 1);
     const v = this.values;
     let lastScan = null;
     let lastFlip = null;
+    let start = null;
     try {
       let scene;
       if (v.scene || v.seed !== undefined) scene = { ...(v.scene ?? {}), ...(v.seed !== undefined ? { seed: v.seed } : {}) };
-      const next = new this.core.DoorwayTrap(scene);
+      start = new this.core.DoorwayTrapStart(scene);
+      // The budget learns per run: each starts from the first guess.
+      const budget = workBudget(SETUP_SLICE_MS, FIRST_SETUP_UNITS);
+      if (!(await workInSlices(start, budget, () => generation === this.generation))) return;
+      const next = start.finish();
       // A link may open the sweep and the climb part-way through.
       for (let i = 0; i < v.scans; i++) {
         const s = next.sweepStep();
@@ -297,6 +312,8 @@ class DoorwayTrapElement extends HTMLElement {
         this.dataset.state = 'refused';
       }
       return;
+    } finally {
+      start?.free();
     }
     this.dataset.state = 'ready';
     this.lastFlip = lastFlip;

@@ -25,7 +25,7 @@
 import { loadCore, loadLogCore } from './lib/core.js';
 import { COLORS } from './lib/chart.js';
 import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
-import { fastForward, trainInSlices, workBudget, workOnce } from './lib/work-budget.js';
+import { fastForward, startInSlices, workBudget, workOnce } from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
   whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying, startTurn,
@@ -58,6 +58,12 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 const SLICE_MS = 12;
 const TRAIN_SLICE_MS = 20;
 const FIRST_TRAIN_UNITS = 2_000;
+/**
+ * A run's maps are drawn in calls of `SLICE_MS`, the first of this many
+ * cells (a cell of a view synced; the scene's largest size has two views of
+ * a million), which its time corrects.
+ */
+const FIRST_BUILD_CELLS = 50_000;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
 /**
@@ -166,6 +172,7 @@ class MapWeaverElement extends HTMLElement {
     this.frameBudget = workBudget(FRAME_WORK_MS, AT_ONCE_VISITS);
     this.sliceBudget = workBudget(SLICE_MS, AT_ONCE_VISITS);
     this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
+    this.buildBudget = workBudget(SLICE_MS, FIRST_BUILD_CELLS);
     /** Scans Step asked for that are not integrated yet. */
     this.stepsOwed = 0;
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
@@ -519,7 +526,7 @@ class MapWeaverElement extends HTMLElement {
       this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
       const start = new this.core.MapWeaverStart(settings);
       try {
-        next = await trainInSlices(start, this.trainBudget, () => generation === this.generation);
+        next = await startInSlices(start, this.trainBudget, this.buildBudget, () => generation === this.generation);
       } finally {
         start.free();
       }

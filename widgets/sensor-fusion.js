@@ -36,8 +36,14 @@ const MAX_STEPS_PER_FRAME = 4;
  * call's time (widgets/lib/work-budget.js).
  */
 const FRAME_WORK_MS = 8;
-/** The first frame's budget, cell visits: about one step of the chapter's scene, which the first call corrects. */
-const FIRST_FRAME_VISITS = 30_000;
+/** The first frame's budget, cell visits: about one step of the chapter's scene (173,000, its scans' simulation included), which the first call corrects. */
+const FIRST_FRAME_VISITS = 180_000;
+/**
+ * The least budget of Step's call, cell visits: a step of the chapter's
+ * scene fits, so that Step shows its scan before the click returns; a step
+ * at a fine resolution stops within its budget and goes on over the frames.
+ */
+const AT_ONCE_VISITS = 200_000;
 /**
  * The core's work per slice of the scans a link asks for before the first
  * frame, milliseconds: each slice is a task of its own, so the page paints
@@ -437,8 +443,9 @@ class SensorFusionElement extends HTMLElement {
     this.pause();
     if (!this.sim) return;
     this.stepsOwed += 1;
-    // At once: the click shows its scan. A budget of one visit takes one step.
-    const report = this.work(this.stepsOwed > 0 ? 1 : 0);
+    // At once when the step fits AT_ONCE_VISITS (the click shows its
+    // scan); a step at a fine resolution goes on over the next frames.
+    const report = this.work(this.stepsOwed > 0 ? 1 : 0, AT_ONCE_VISITS);
     this.drawOwed = false;
     this.draw();
     if (report && this.busy()) this.loop.start();

@@ -9,7 +9,7 @@ use crate::grid::readout::{readout_at_cell, CellReadout};
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::io::map_server::{map_server_pair, MapServerPair};
-use crate::mapping::map_search::{Flip, MapSearch, MapSearchSettings};
+use crate::mapping::map_search::{Flip, MapSearch, MapSearchSettings, MapSearchSetup};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
 use crate::render::gray::render_binary_rgba;
@@ -230,18 +230,56 @@ pub struct DoorwayTrapSession {
     reached: Vec<bool>,
 }
 
-impl DoorwayTrapSession {
+/// The doorway trap being made: the scene checked and the sweep's grid
+/// made at once, the MAP search set up in calls of bounded work
+/// ([`MapSearchSetup`]: a fine scene's incidence and gains are a long task
+/// in one call). The session is the one [`DoorwayTrapSession::new`] makes.
+pub struct DoorwayTrapStart {
+    scene: DoorwayScene,
+    sweep: DoorwaySweep,
+    setup: MapSearchSetup,
+}
+
+impl DoorwayTrapStart {
+    /// Checks `scene` as the session does (the search's fields first).
     pub fn new(scene: DoorwayScene) -> Result<Self> {
-        let search = map_search(&scene)?;
+        let setup =
+            MapSearchSetup::new(scene.geometry()?, scene.beams()?, search_settings(&scene))?;
+        Ok(Self {
+            sweep: DoorwaySweep::new(&scene)?,
+            setup,
+            scene,
+        })
+    }
+
+    /// Sets the search up for about `budget` units ([`MapSearchSetup::work`]);
+    /// returns the units spent.
+    pub fn work(&mut self, budget: u64) -> u64 {
+        self.setup.work(budget)
+    }
+
+    pub fn done(&self) -> bool {
+        self.setup.done()
+    }
+
+    /// The session, what is left of the setup done first.
+    pub fn finish(self) -> Result<DoorwayTrapSession> {
+        let search = self.setup.finish()?;
         let reached = (0..search.geometry().len())
             .map(|i| search.beams_through(i) > 0)
             .collect();
-        Ok(Self {
-            sweep: DoorwaySweep::new(&scene)?,
+        Ok(DoorwayTrapSession {
+            sweep: self.sweep,
             search,
             reached,
-            scene,
+            scene: self.scene,
         })
+    }
+}
+
+impl DoorwayTrapSession {
+    pub fn new(scene: DoorwayScene) -> Result<Self> {
+        DoorwayTrapStart::new(scene)?.finish()
     }
 
     /// Draws the MAP map into `out` (RGBA, north up): occupied black, free

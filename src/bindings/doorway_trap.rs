@@ -6,7 +6,7 @@ use super::{
     budget_from_js, map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js,
     Pixels,
 };
-use crate::apps::doorway_trap::DoorwayTrapSession;
+use crate::apps::doorway_trap::{DoorwayTrapSession, DoorwayTrapStart};
 use crate::scenes::doorway::DoorwayScene;
 use wasm_bindgen::prelude::*;
 
@@ -17,6 +17,69 @@ pub struct DoorwayTrap {
     sweep_pixels: Pixels,
     /// The MAP map's RGBA image (binary, so not a `LogOddsGrid` render).
     map_pixels: Vec<u8>,
+}
+
+/// The doorway experiment being made ([`DoorwayTrapStart`]): the MAP
+/// search set up in calls of bounded work (`work`), then the experiment
+/// (`finish`), the one `new DoorwayTrap(scene)` makes bit for bit.
+#[wasm_bindgen(js_name = DoorwayTrapStart)]
+pub struct DoorwayTrapStarting(Option<DoorwayTrapStart>);
+
+/// What one `DoorwayTrapStart.work` call did: the units spent (a raster
+/// step of a beam's sub-rays; a cell's gain counts a fraction of one), and
+/// whether the setup is done.
+#[derive(serde::Serialize)]
+struct StartReport {
+    units: u64,
+    done: bool,
+}
+
+#[wasm_bindgen(js_class = DoorwayTrapStart)]
+impl DoorwayTrapStarting {
+    /// Checks the scene as `new DoorwayTrap(scene)` does (a refusal names
+    /// the field), before any work.
+    #[wasm_bindgen(constructor)]
+    pub fn new(scene: JsValue) -> Result<DoorwayTrapStarting, JsError> {
+        let scene: DoorwayScene = object_or_default("scene", scene, DoorwayScene::standard)?;
+        Ok(DoorwayTrapStarting(Some(DoorwayTrapStart::new(scene)?)))
+    }
+
+    /// True once the search is set up (or the experiment was made).
+    #[wasm_bindgen(getter)]
+    pub fn done(&self) -> bool {
+        self.0.as_ref().is_none_or(DoorwayTrapStart::done)
+    }
+
+    /// Works for about `budget` units (a whole number, or `Infinity`): at
+    /// least one piece, past the budget by at most one. Returns `{ units,
+    /// done }`.
+    pub fn work(&mut self, budget: JsValue) -> Result<JsValue, JsError> {
+        let budget = budget_from_js("budget", &budget)? as u64;
+        let start = self.started()?;
+        let units = start.work(budget);
+        to_js(&StartReport {
+            units,
+            done: start.done(),
+        })
+    }
+
+    /// The experiment, what is left of the setup done first.
+    pub fn finish(&mut self) -> Result<DoorwayTrap, JsError> {
+        let Some(start) = self.0.take() else {
+            return Err(JsError::new("the doorway trap was already finished"));
+        };
+        Ok(DoorwayTrap {
+            session: start.finish()?,
+            sweep_pixels: Pixels::default(),
+            map_pixels: Vec::new(),
+        })
+    }
+
+    fn started(&mut self) -> Result<&mut DoorwayTrapStart, JsError> {
+        self.0
+            .as_mut()
+            .ok_or_else(|| JsError::new("the doorway trap was already finished"))
+    }
 }
 
 #[wasm_bindgen]

@@ -6,7 +6,7 @@ use super::{
     bool_from_js, budget_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
     number_from_js, object_or_default, patch_from_js, to_js,
 };
-use crate::apps::map_weaver::{Weaver, WeaverSettings};
+use crate::apps::map_weaver::{Weaver, WeaverBuild, WeaverSettings};
 use crate::inverse::training::{self, Trainer};
 use crate::inverse::{LearnedInverse, TrainingConfig};
 use crate::io::map_server as export;
@@ -253,14 +253,17 @@ impl MapWeaver {
 }
 
 /// A Map Weaver run being made: the learned model trained in calls of a
-/// bounded amount of work (`work`), then the run (`finish`), so that a page
-/// keeps its frames while the model trains. The model is the one
-/// `new MapWeaver(settings)` trains, bit for bit, and is kept for the
-/// page's later runs as that one is.
+/// bounded amount of work (`work`), then the run's maps drawn in calls of a
+/// bounded number of cells (`build`), then the run (`finish`), so that a
+/// page keeps its frames while the model trains and a large scene is drawn.
+/// The model is the one `new MapWeaver(settings)` trains, bit for bit, and
+/// is kept for the page's later runs as that one is; the run is the one
+/// `new MapWeaver(settings)` makes, bit for bit.
 #[wasm_bindgen]
 pub struct MapWeaverStart {
     settings: WeaverSettings,
     trainer: Option<Trainer>,
+    build: Option<WeaverBuild>,
 }
 
 #[wasm_bindgen]
@@ -279,7 +282,11 @@ impl MapWeaverStart {
         } else {
             Some(Trainer::new(&settings.training)?)
         };
-        Ok(MapWeaverStart { settings, trainer })
+        Ok(MapWeaverStart {
+            settings,
+            trainer,
+            build: None,
+        })
     }
 
     /// True once the model is trained.
@@ -302,19 +309,43 @@ impl MapWeaverStart {
         }
     }
 
-    /// The run, training what is left of the model first.
+    /// Draws the run's maps for about `budget` cells (a whole number, or
+    /// `Infinity`), the model trained first if it is not yet: at least one
+    /// band of rows, past the budget by at most one piece. Returns `{
+    /// cells, done }`: the cells drawn, and whether every map is.
+    pub fn build(&mut self, budget: JsValue) -> Result<JsValue, JsError> {
+        let budget = budget_from_js("budget", &budget)? as u64;
+        to_js(&self.started()?.work(budget)?)
+    }
+
+    /// The run, what is left of the training and of the maps done first.
     pub fn finish(&mut self) -> Result<MapWeaver, JsError> {
-        let learned = match self.trainer.take() {
-            Some(t) => {
-                let (model, _, _) = t.finish()?;
-                LEARNED.set(Some((self.settings.training, model.clone())));
-                model
-            }
-            None => learned_for(&self.settings.training)?,
+        self.started()?;
+        let Some(build) = self.build.take() else {
+            return Err(JsError::new("the run was already finished"));
         };
-        let mut weaver = Weaver::with_learned(self.settings.clone(), learned)?;
+        let mut weaver = build.finish()?;
         weaver.set_clock(Some(page_clock));
         Ok(MapWeaver(weaver))
+    }
+
+    /// The run's build, begun (with the model trained to its end) on the
+    /// first call.
+    fn started(&mut self) -> Result<&mut WeaverBuild, JsError> {
+        if self.build.is_none() {
+            let learned = match self.trainer.take() {
+                Some(t) => {
+                    let (model, _, _) = t.finish()?;
+                    LEARNED.set(Some((self.settings.training, model.clone())));
+                    model
+                }
+                None => learned_for(&self.settings.training)?,
+            };
+            self.build = Some(WeaverBuild::new(self.settings.clone(), learned)?);
+        }
+        self.build
+            .as_mut()
+            .ok_or_else(|| JsError::new("the run was already finished"))
     }
 }
 

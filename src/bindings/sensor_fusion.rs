@@ -45,11 +45,14 @@ impl SensorFusion {
     }
 
     /// Integrates up to `steps` steps for about `budget` cell visits (whole
-    /// numbers, `Infinity` for no limit; at least one step while the lap
-    /// lasts, past the budget by at most one step), then refreshes the fused
-    /// map once: the call a page makes per animation frame. A rebuild after
+    /// numbers, `Infinity` for no limit; at least one piece of a step while
+    /// the lap lasts, past the budget by at most one piece: a step left
+    /// under way is finished by the next calls, and the maps and readouts
+    /// change only when a step is whole), then refreshes the fused map
+    /// once: the call a page makes per animation frame. A rebuild after
     /// `setLidarBeams` comes first and `steps` new steps only after it.
-    /// Returns `{ steps, rebuilt, cellVisits, step, rebuilding, done }`.
+    /// Returns `{ steps, rebuilt, cellVisits, step, rebuilding, underWay,
+    /// done }`.
     pub fn work(&mut self, steps: JsValue, budget: JsValue) -> Result<JsValue, JsError> {
         let steps = budget_from_js("steps", &steps)?;
         let budget = budget_from_js("budget", &budget)? as u64;

@@ -37,12 +37,14 @@
 //!   those beams' cells are recomputed.
 
 use crate::error::{self, invalid, OccError, Result};
-use crate::geometry::raster::{entry_parameter, raster_work, supercover, MAX_RASTER_WORK};
+use crate::geometry::raster::{raster_work, MAX_RASTER_WORK};
 use crate::geometry::GridGeometry;
 use crate::geometry::Pose;
 use crate::grid::{logit, FilterSettings, LogOddsGrid};
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 use crate::sensors::scan::ConeBeam;
+
+use super::search_incidence::{Incidence, IncidenceBuild};
 
 /// No entry (a beam with no occupied cell).
 const NONE: u32 = u32::MAX;
@@ -50,10 +52,6 @@ const NONE: u32 = u32::MAX;
 /// A flip must raise the objective by more than this (nats) to be taken:
 /// ties and rounding noise do not count as progress, so the climb ends.
 pub const MIN_GAIN: f64 = 1e-9;
-
-/// A density the model calls (numerically) impossible is floored here before
-/// its logarithm, so that every objective stays finite and comparable.
-const MIN_DENSITY: f64 = 1e-300;
 
 /// How the search sees the world: the cone's geometry, the forward model and
 /// the prior.
@@ -134,26 +132,6 @@ pub struct Flip {
     pub beams: Vec<BeamChange>,
 }
 
-/// The beam–cell incidence of Table 9.3's search, in compressed rows.
-#[derive(Debug, Clone)]
-struct Incidence {
-    /// Beam `b`'s entries are `beam_start[b]..beam_start[b + 1]`, sorted by
-    /// range.
-    beam_start: Vec<u32>,
-    entry_cell: Vec<u32>,
-    entry_beam: Vec<u32>,
-    /// Range (metres) at which the cone first enters the entry's cell.
-    entry_range: Vec<f64>,
-    /// `log p(z_b | z* = entry_range)`, nats.
-    entry_log_lik: Vec<f64>,
-    /// `log p(z_b | z* = z_max)`: the beam on an empty cone.
-    empty_log_lik: Vec<f64>,
-    /// Cell `i`'s entries (global entry indices) are
-    /// `cell_entries[cell_start[i]..cell_start[i + 1]]`.
-    cell_start: Vec<u32>,
-    cell_entries: Vec<u32>,
-}
-
 /// The climb: state, caches and history.
 #[derive(Debug, Clone)]
 pub struct MapSearch {
@@ -183,72 +161,47 @@ pub struct MapSearch {
 
 impl MapSearch {
     /// Validates the input, builds the incidence cache on the empty map and
-    /// puts the climb at its all-free start.
+    /// puts the climb at its all-free start: a [`MapSearchSetup`] worked to
+    /// its end in one call.
     pub fn new(
         geometry: GridGeometry,
         beams: Vec<ConeBeam>,
         settings: MapSearchSettings,
     ) -> Result<Self> {
-        let model = settings.validate()?;
-        if beams.is_empty() {
-            return Err(invalid("beams", "[]", "at least one beam"));
-        }
-        for (i, b) in beams.iter().enumerate() {
-            Pose::new(b.pose.x, b.pose.y, b.pose.theta).map_err(|e| prefix(i, e))?;
-            error::finite(&format!("beams[{i}].bearing"), b.bearing)?;
-            error::non_negative(&format!("beams[{i}].range"), b.range)?;
-        }
-        let work = raster_work(
-            beams.len(),
-            settings.sub_rays,
-            settings.model.z_max,
-            geometry.resolution(),
-        );
-        // Written to refuse a NaN too.
-        if !(work <= MAX_RASTER_WORK) {
-            return Err(invalid(
-                "beams x sub_rays x (z_max / resolution)",
-                work,
-                "at most 5e7 raster steps",
-            ));
-        }
-        let inc = build_incidence(&geometry, &beams, &settings, &model);
-        let n = geometry.len();
-        let l0 = logit(settings.prior);
-        let mut search = Self {
-            geometry,
-            settings,
-            l0,
-            occupied: vec![false; n],
-            first: vec![NONE; beams.len()],
-            second: vec![NONE; beams.len()],
-            beam_log_lik: inc.empty_log_lik.clone(),
-            gains: vec![0.0; n],
-            occupied_count: 0,
-            objective: 0.0,
-            history: Vec::new(),
-            flips: Vec::new(),
-            converged: false,
-            stamp: vec![0; n],
-            epoch: 0,
-            affected: Vec::new(),
-            inc,
-            beams,
-        };
-        search.reset();
-        Ok(search)
+        MapSearchSetup::new(geometry, beams, settings)?.finish()
     }
 
     /// Back to the all-free start: every gain recomputed, history cleared.
     pub fn reset(&mut self) {
+        self.reset_start();
+        self.reset_gains(0..self.geometry.len());
+        self.reset_end();
+    }
+
+    /// The start of [`MapSearch::reset`]: every cell free, every beam on
+    /// its empty cone.
+    fn reset_start(&mut self) {
         self.occupied.fill(false);
         self.first.fill(NONE);
         self.second.fill(NONE);
         self.beam_log_lik.clone_from(&self.inc.empty_log_lik);
         self.occupied_count = 0;
-        for i in 0..self.geometry.len() {
+    }
+
+    /// The gains of `cells` recomputed; returns their units of work (a
+    /// cell and each of its entries, [`GAIN_VISITS_PER_UNIT`] to a unit).
+    fn reset_gains(&mut self, cells: std::ops::Range<usize>) -> u64 {
+        let mut visits = 0u64;
+        for i in cells {
             self.gains[i] = self.gain_of(i);
+            let (s, t) = self.cell_range(i);
+            visits += 1 + (t - s) as u64;
         }
+        visits.div_ceil(GAIN_VISITS_PER_UNIT)
+    }
+
+    /// The end of [`MapSearch::reset`]: the objective and a fresh history.
+    fn reset_end(&mut self) {
         self.objective = self.current_objective();
         self.history = vec![self.objective];
         self.flips.clear();
@@ -587,6 +540,164 @@ impl MapSearch {
     }
 }
 
+/// Table 9.3's search being set up in pieces of bounded work, so that a
+/// page's call on a fine map (the doorway at 1 cm: 200,000 cells) stops
+/// within one piece of its budget (docs/ARCHITECTURE.md, "Sessions and
+/// panes"): each beam's incidence ([`super::search_incidence`]), its
+/// transpose, the search's arrays, then every cell's gain a band of cells
+/// at a time. The pieces compute what [`MapSearch::new`] computes, in the
+/// same order: the search is the same bit for bit.
+///
+/// The unit of work is a raster step of a beam's sub-rays
+/// ([`raster_work`]); the cheaper visits of the other pieces count a
+/// fraction of a unit each, so that a page's budget learned from one
+/// piece's time fits the next.
+#[derive(Debug, Clone)]
+pub struct MapSearchSetup {
+    geometry: GridGeometry,
+    settings: MapSearchSettings,
+    beams: Vec<ConeBeam>,
+    incidence: Option<IncidenceBuild>,
+    search: Option<MapSearch>,
+    /// Cells whose gain is computed.
+    next_cell: usize,
+}
+
+/// A cell's gain visits the cell and each of its entries: this many
+/// visits count as a unit.
+const GAIN_VISITS_PER_UNIT: u64 = 2;
+/// The search's arrays made (three of the map's size): this many cells
+/// count as a unit.
+const ARRAY_CELLS_PER_UNIT: u64 = 8;
+
+impl MapSearchSetup {
+    /// Validates the input (a refusal names the field and value, before
+    /// anything is built).
+    pub fn new(
+        geometry: GridGeometry,
+        beams: Vec<ConeBeam>,
+        settings: MapSearchSettings,
+    ) -> Result<Self> {
+        let model = settings.validate()?;
+        if beams.is_empty() {
+            return Err(invalid("beams", "[]", "at least one beam"));
+        }
+        for (i, b) in beams.iter().enumerate() {
+            Pose::new(b.pose.x, b.pose.y, b.pose.theta).map_err(|e| prefix(i, e))?;
+            error::finite(&format!("beams[{i}].bearing"), b.bearing)?;
+            error::non_negative(&format!("beams[{i}].range"), b.range)?;
+        }
+        let work = raster_work(
+            beams.len(),
+            settings.sub_rays,
+            settings.model.z_max,
+            geometry.resolution(),
+        );
+        // Written to refuse a NaN too.
+        if !(work <= MAX_RASTER_WORK) {
+            return Err(invalid(
+                "beams x sub_rays x (z_max / resolution)",
+                work,
+                "at most 5e7 raster steps",
+            ));
+        }
+        Ok(Self {
+            geometry,
+            settings,
+            beams,
+            incidence: Some(IncidenceBuild::new(geometry, settings, model)),
+            search: None,
+            next_cell: 0,
+        })
+    }
+
+    /// True once every piece is done: [`MapSearchSetup::finish`] then only
+    /// sums the objective.
+    pub fn done(&self) -> bool {
+        self.search.is_some() && self.next_cell >= self.geometry.len()
+    }
+
+    /// Works pieces while the call has spent less than `budget` units (a
+    /// budget of 0 counts as 1): at least one piece while there is one, and
+    /// past the budget by at most one piece (a beam's raster, the
+    /// transpose, the arrays made, or one cell's gain). Returns the units
+    /// spent.
+    pub fn work(&mut self, budget: u64) -> u64 {
+        let budget = budget.max(1);
+        let mut spent = 0u64;
+        while spent < budget && !self.done() {
+            spent = spent.saturating_add(self.piece(budget - spent));
+        }
+        spent
+    }
+
+    /// One piece of at most about `budget` units (at least one cell's
+    /// gain); returns its units.
+    fn piece(&mut self, budget: u64) -> u64 {
+        if let Some(build) = &mut self.incidence {
+            if !build.done() {
+                return build.piece(&self.beams);
+            }
+        }
+        let Some(search) = &mut self.search else {
+            let Some(build) = self.incidence.take() else {
+                return 0;
+            };
+            let inc = build.into_incidence();
+            let n = self.geometry.len();
+            let beams = self.beams.len();
+            let mut search = MapSearch {
+                geometry: self.geometry,
+                settings: self.settings,
+                l0: logit(self.settings.prior),
+                occupied: vec![false; n],
+                first: vec![NONE; beams],
+                second: vec![NONE; beams],
+                beam_log_lik: inc.empty_log_lik.clone(),
+                gains: vec![0.0; n],
+                occupied_count: 0,
+                objective: 0.0,
+                history: Vec::new(),
+                flips: Vec::new(),
+                converged: false,
+                stamp: vec![0; n],
+                epoch: 0,
+                affected: Vec::new(),
+                inc,
+                beams: std::mem::take(&mut self.beams),
+            };
+            search.reset_start();
+            self.search = Some(search);
+            return (n as u64).div_ceil(ARRAY_CELLS_PER_UNIT);
+        };
+        // A band of cells whose visits fit the budget, at least one.
+        let (start, n) = (self.next_cell, self.geometry.len());
+        let limit = budget.saturating_mul(GAIN_VISITS_PER_UNIT);
+        let mut visits = 0u64;
+        while self.next_cell < n && (self.next_cell == start || visits < limit) {
+            let (s, t) = search.cell_range(self.next_cell);
+            visits += 1 + (t - s) as u64;
+            self.next_cell += 1;
+        }
+        search.reset_gains(start..self.next_cell)
+    }
+
+    /// The search at its all-free start, what is left of the setup done
+    /// first.
+    pub fn finish(mut self) -> Result<MapSearch> {
+        self.work(u64::MAX);
+        let Some(mut search) = self.search.take() else {
+            return Err(invalid(
+                "search",
+                "unfinished",
+                "a search set up to its end",
+            ));
+        };
+        search.reset_end();
+        Ok(search)
+    }
+}
+
 fn prefix(i: usize, e: OccError) -> OccError {
     match e {
         OccError::InvalidParameter {
@@ -599,104 +710,6 @@ fn prefix(i: usize, e: OccError) -> OccError {
             expected,
         },
         other => other,
-    }
-}
-
-/// Rasters every beam's sub-rays on the empty map and tabulates the log
-/// likelihood of each possible expected range.
-fn build_incidence(
-    geometry: &GridGeometry,
-    beams: &[ConeBeam],
-    settings: &MapSearchSettings,
-    model: &BeamModel,
-) -> Incidence {
-    let (w, h) = (geometry.width(), geometry.height());
-    let res = geometry.resolution();
-    let z_max = settings.model.z_max;
-    let n_rays = settings.sub_rays;
-    let log_density = |z: f64, z_star: f64| model.density(z, z_star).max(MIN_DENSITY).ln();
-
-    let mut beam_start = Vec::with_capacity(beams.len() + 1);
-    let mut entry_cell: Vec<u32> = Vec::new();
-    let mut entry_beam: Vec<u32> = Vec::new();
-    let mut entry_range_v: Vec<f64> = Vec::new();
-    let mut entry_log_lik = Vec::new();
-    let mut empty_log_lik = Vec::with_capacity(beams.len());
-    // Per cell, the smallest entry range seen for the current beam.
-    let mut best: Vec<f64> = vec![f64::INFINITY; geometry.len()];
-    let mut touched: Vec<usize> = Vec::new();
-
-    for (b, beam) in beams.iter().enumerate() {
-        beam_start.push(entry_cell.len() as u32);
-        let (su, sv) = geometry.world_to_grid(beam.pose.x, beam.pose.y);
-        let axis = beam.pose.theta + beam.bearing;
-        for k in 0..n_rays {
-            // The same spread of sub-rays as World::cast_cone.
-            let f = if n_rays == 1 {
-                0.0
-            } else {
-                -1.0 + 2.0 * k as f64 / (n_rays - 1) as f64
-            };
-            let (s, c) = (axis + f * settings.half_width).sin_cos();
-            let end = (su + z_max * c / res, sv + z_max * s / res);
-            supercover(w, h, (su, sv), end, |ix, iy| {
-                // The same entry as World::cast's, so that a beam's z*
-                // here equals the cone cast of the same map bit for bit.
-                let r = entry_parameter(ix, iy, (su, sv), (c, s)) * res;
-                // A cell entered at z_max or beyond leaves z* at z_max.
-                if r >= z_max {
-                    return;
-                }
-                let i = iy * w + ix;
-                if best[i] == f64::INFINITY {
-                    touched.push(i);
-                }
-                if r < best[i] {
-                    best[i] = r;
-                }
-            });
-        }
-        let mut cells: Vec<(f64, usize)> = touched.drain(..).map(|i| (best[i], i)).collect();
-        // Nearest first; equal ranges by cell index, so the order (and the
-        // tie between two cells entered at the same range) is fixed.
-        cells.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for &(r, i) in &cells {
-            best[i] = f64::INFINITY;
-            entry_cell.push(i as u32);
-            entry_beam.push(b as u32);
-            entry_range_v.push(r);
-            entry_log_lik.push(log_density(beam.range, r));
-        }
-        empty_log_lik.push(log_density(beam.range, z_max));
-    }
-    beam_start.push(entry_cell.len() as u32);
-
-    // The transpose: for every cell, the entries (beam, range) it has.
-    let n = geometry.len();
-    let mut cell_start = vec![0u32; n + 1];
-    for &i in &entry_cell {
-        cell_start[i as usize + 1] += 1;
-    }
-    for i in 0..n {
-        cell_start[i + 1] += cell_start[i];
-    }
-    let mut fill = cell_start.clone();
-    let mut cell_entries = vec![0u32; entry_cell.len()];
-    for (e, &i) in entry_cell.iter().enumerate() {
-        let slot = &mut fill[i as usize];
-        cell_entries[*slot as usize] = e as u32;
-        *slot += 1;
-    }
-
-    Incidence {
-        beam_start,
-        entry_cell,
-        entry_beam,
-        entry_range: entry_range_v,
-        entry_log_lik,
-        empty_log_lik,
-        cell_start,
-        cell_entries,
     }
 }
 

@@ -11,6 +11,7 @@ pub mod joint;
 pub mod map_search;
 pub mod reach;
 pub mod scan_match;
+mod search_incidence;
 pub mod sweep;
 pub mod traversal;
 pub mod walls;

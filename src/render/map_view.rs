@@ -205,6 +205,29 @@ impl MapView {
         self.dirty = dirty;
     }
 
+    /// [`MapView::sync`] over the rows `rows` of the map only (clipped to
+    /// it), returning the cells looked at. A row's cells are redrawn in the
+    /// order `sync` redraws them, so rows synced in increasing bands that
+    /// cover the map leave the view, its sums included, bit for bit as one
+    /// `sync` does: a large view is first drawn a band per call this way.
+    pub fn sync_rows<M: CellModel<Cell = f32>>(
+        &mut self,
+        grid: &Grid<M, Dense<f32>>,
+        rows: std::ops::Range<usize>,
+    ) -> usize {
+        let model = grid.model();
+        let now = grid.cells();
+        let w = self.width;
+        let n = now.len().min(self.shown.len());
+        let (start, end) = ((rows.start * w).min(n), (rows.end.saturating_mul(w)).min(n));
+        for (i, &l) in now.iter().enumerate().take(end).skip(start) {
+            if l.to_bits() != self.shown[i].to_bits() {
+                self.redraw(i, model.log_odds(l), model.is_unknown(l));
+            }
+        }
+        end.saturating_sub(start)
+    }
+
     /// Draws and scores cell `i` at log odds `l` (`unknown`: still at the
     /// prior).
     #[inline]

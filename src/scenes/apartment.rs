@@ -469,6 +469,34 @@ impl ApartmentSim {
     /// the corridor when `person` is true.
     pub fn new(scene: ApartmentScene, seed: u64, person: bool) -> Result<Self> {
         let truth = scene.ground_truth()?;
+        Self::with_truth(scene, truth, seed, person)
+    }
+
+    /// [`ApartmentSim::new`] with the scene's ground truth already drawn
+    /// (a large one is drawn a band of rows per call, [`World::fill_rows`]).
+    /// Refused when `truth` does not have the scene's limits.
+    pub fn with_truth(
+        scene: ApartmentScene,
+        truth: World,
+        seed: u64,
+        person: bool,
+    ) -> Result<Self> {
+        let g = scene.validate()?;
+        if *truth.geometry() != g {
+            return Err(invalid(
+                "truth",
+                format!(
+                    "{} x {} cells",
+                    truth.geometry().width(),
+                    truth.geometry().height()
+                ),
+                format!(
+                    "the scene's ground truth, {} x {} cells",
+                    g.width(),
+                    g.height()
+                ),
+            ));
+        }
         let start = scene.path.pose_at(0.0);
         Ok(Self {
             bearings: scene.lidar.bearings(),

@@ -580,25 +580,30 @@ impl TableRun {
     /// sensor draws from its own noise stream in pose order, so a scan is
     /// the same whenever it is simulated.
     pub fn simulate_through(&mut self, steps: usize) -> Result<u64> {
+        let sonar = self.simulate_sensor_through(steps, false)?;
+        Ok(sonar.saturating_add(self.simulate_sensor_through(steps, true)?))
+    }
+
+    /// [`TableRun::simulate_through`] for the LiDAR's scans (`lidar`) or the
+    /// sonar's: independent streams, so a step may simulate them apart.
+    pub fn simulate_sensor_through(&mut self, steps: usize, lidar: bool) -> Result<u64> {
         let steps = steps.min(self.poses.len());
-        let mut cost = 0u64;
-        while self.sonar.len() < steps {
-            let p = self.poses[self.sonar.len()];
-            let scan = self
-                .scene
-                .sonar_scan(&self.top, &p, &mut self.sonar_noise)?;
-            self.sonar.push(scan);
-            cost = cost.saturating_add(self.scene.scan_cost(&self.geometry, false));
+        let (scans, world, rng) = if lidar {
+            (&mut self.lidar, &self.shins, &mut self.lidar_noise)
+        } else {
+            (&mut self.sonar, &self.top, &mut self.sonar_noise)
+        };
+        let from = scans.len();
+        for p in self.poses.get(from..steps).unwrap_or_default() {
+            let scan = if lidar {
+                self.scene.lidar_scan(world, p, rng)
+            } else {
+                self.scene.sonar_scan(world, p, rng)
+            };
+            scans.push(scan?);
         }
-        while self.lidar.len() < steps {
-            let p = self.poses[self.lidar.len()];
-            let scan = self
-                .scene
-                .lidar_scan(&self.shins, &p, &mut self.lidar_noise)?;
-            self.lidar.push(scan);
-            cost = cost.saturating_add(self.scene.scan_cost(&self.geometry, true));
-        }
-        Ok(cost)
+        let cost = self.scene.scan_cost(&self.geometry, lidar);
+        Ok(cost.saturating_mul(steps.saturating_sub(from) as u64))
     }
 
     /// The same run with a LiDAR of `beams` beams: only the LiDAR's scans

@@ -51,21 +51,48 @@ export function workOnce(weaver, budget, scans, floor = 1) {
 }
 
 /**
- * Trains a Map Weaver run's learned model (`start`, a `MapWeaverStart`) in
- * calls of about `budget`'s target time, each in a task of its own, and
- * returns the run; null (with `start` left to the caller to free) when
- * `stillWanted()` turns false between calls (a newer run was asked for).
+ * Makes a Map Weaver run from `start` (a `MapWeaverStart`): its learned
+ * model trained in calls of about `trainBudget`'s target time, then its maps
+ * drawn in calls of about `buildBudget`'s (a scene of a million cells has
+ * three such maps), each call in a task of its own. Returns the run; null
+ * (with `start` left to the caller to free) when `stillWanted()` turns false
+ * between calls (a newer run was asked for).
  */
-export async function trainInSlices(start, budget, stillWanted) {
+export async function startInSlices(start, trainBudget, buildBudget, stillWanted) {
   for (;;) {
     const t = performance.now();
-    const units = budget.value;
+    const units = trainBudget.value;
     const trained = start.work(units);
-    budget.learn(units, performance.now() - t);
-    if (trained) return start.finish();
+    trainBudget.learn(units, performance.now() - t);
+    if (trained) break;
     // A task boundary: the page paints and handles input in between.
     await betweenSlices();
     if (!stillWanted()) return null;
+  }
+  for (;;) {
+    await betweenSlices();
+    if (!stillWanted()) return null;
+    const t = performance.now();
+    const report = start.build(buildBudget.value);
+    buildBudget.learn(report.cells, performance.now() - t);
+    if (report.done) return start.finish();
+  }
+}
+
+/**
+ * Works `job` (a core object whose `work(budget)` returns `{ units, done }`)
+ * to its end in calls of about `budget`'s target time, each in a task of
+ * its own. Returns true once done; false when `stillWanted()` turns false
+ * between calls (the caller frees `job`).
+ */
+export async function workInSlices(job, budget, stillWanted) {
+  for (;;) {
+    const t = performance.now();
+    const report = job.work(budget.value);
+    budget.learn(report.units, performance.now() - t);
+    if (report.done) return true;
+    await betweenSlices();
+    if (!stillWanted()) return false;
   }
 }
 

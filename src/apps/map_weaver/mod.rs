@@ -20,6 +20,7 @@
 //! within its frames. What a run may be set to, and the limits the widget
 //! shows, are in [`settings`].
 
+mod building;
 mod compare;
 mod ghosts;
 mod pane;
@@ -32,6 +33,7 @@ mod timing;
 /// The evidence-strength wrapper lives with the inverse models; named here
 /// too for the benchmark workloads that replay Map Weaver's panes.
 pub use crate::inverse::Scaled;
+pub use building::{BuildReport, WeaverBuild};
 pub use compare::{L0Drift, MapDifference};
 pub use ghosts::GhostReadout;
 pub use readout::{CellInfo, Leaning, Overlay, PaneReadout, Readout, TrackedCell};
@@ -85,33 +87,8 @@ impl Weaver {
 
     /// Like [`Weaver::new`] with an already trained model (a page that
     /// trained one for another widget, or a test that trains once).
-    pub fn with_learned(mut settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
-        // The robot's path and the person's walk are the situation's.
-        settings.scene = settings.situation.apply(&settings.scene);
-        settings.validate()?;
-        let sim = ApartmentSim::new(settings.scene.clone(), settings.seed, settings.person)?;
-        let geometry = *sim.ground_truth().geometry();
-        let tracked_cells = settings.scene.tracked_cells()?;
-        let panes = [
-            Pane::new(&settings, &learned, 0, &settings.panes[0])?,
-            Pane::new(&settings, &learned, 1, &settings.panes[1])?,
-        ];
-        #[cfg(not(target_arch = "wasm32"))]
-        let clock: Option<Clock> = Some(timing::native_clock);
-        #[cfg(target_arch = "wasm32")]
-        let clock: Option<Clock> = None;
-        Ok(Self {
-            scans_per_lap: settings.scene.scans_per_lap(),
-            learned,
-            geometry,
-            sim,
-            tracked_cells,
-            history: Vec::new(),
-            panes,
-            frame_ms: RecentTimes::default(),
-            clock,
-            settings,
-        })
+    pub fn with_learned(settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
+        WeaverBuild::new(settings, learned)?.finish()
     }
 
     /// Sets the clock that times each pane's scans (`None`: no timing).

@@ -9,14 +9,12 @@
 //! curves, the tracked cells and the ghost watch take one more point.
 
 use super::ghosts::GhostTracker;
-use super::settings::{
-    renamed, MapperKind, ModelKind, PaneSettings, PoseSource, SensorKind, WeaverSettings,
-};
+use super::settings::{MapperKind, ModelKind, PaneSettings, PoseSource, SensorKind};
 use super::timing::{Clock, RecentTimes};
 use crate::apps::pane::MapPane;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
-use crate::grid::{Dense, FilterSettings, LogOdds, LogOddsGrid};
+use crate::grid::{Dense, LogOdds};
 use crate::inverse::{HandCrafted, HandCraftedParams, InverseModel, LearnedInverse, Scaled};
 use crate::mapping::sweep::sweep_scan;
 use crate::mapping::traversal::ScanStats;
@@ -188,58 +186,6 @@ pub(super) struct SweepProgress {
 }
 
 impl Pane {
-    /// An empty pane `k` of `settings` with pane settings `p`.
-    pub fn new(
-        settings: &WeaverSettings,
-        learned: &LearnedInverse,
-        k: usize,
-        p: &PaneSettings,
-    ) -> Result<Self> {
-        p.validate(k, &settings.scene)?;
-        // A resolution the scene cannot be drawn at is the pane's field.
-        let field = format!("panes[{k}].resolution (the scene's width x height at it)");
-        let scene = match p.resolution {
-            Some(r) => settings
-                .scene
-                .at_resolution(r)
-                .map_err(|e| renamed(&field, e))?,
-            None => settings.scene.clone(),
-        };
-        let world = scene.ground_truth().map_err(|e| renamed(&field, e))?;
-        let geometry = *world.geometry();
-        let truth = world.occupied().to_vec();
-        let tracked_cells = scene.tracked_cells()?;
-        let region = scene.cells_in(&geometry, &[scene.surveyed]);
-        let grid = LogOddsGrid::new(
-            geometry,
-            FilterSettings {
-                prior: 0.5,
-                clamp: p.clamp,
-            },
-        )?;
-        let mut view = MapView::new(&geometry, &truth, &region)?;
-        view.sync(&grid);
-        let model = PaneModel::build(p, &settings.hand_crafted, learned)?;
-        let first = tracked_cells.map(|i| grid.log_odds()[i]);
-        Ok(Self {
-            settings: *p,
-            model,
-            geometry,
-            truth,
-            tracked_cells,
-            entropy_curve: vec![view.entropy_bits()],
-            brier_curve: vec![view.brier_region()],
-            tracked: vec![first],
-            map: MapPane::new(grid, view),
-            last: ScanStats::default(),
-            pose: settings.scene.path.pose_at(0.0),
-            ghost: GhostTracker::default(),
-            scan_ms: RecentTimes::default(),
-            sweep: SweepProgress::default(),
-            scene,
-        })
-    }
-
     /// The scan this pane maps: at the pose its settings ask for, thinned
     /// to its beams.
     pub fn scan<'a>(&self, scans: &'a PoseScans) -> Result<Cow<'a, Scan>> {

@@ -18,6 +18,8 @@ use crate::mapping::traversal::RayMapper;
 use crate::render::overlay::{RayMark, RobotMark};
 use crate::scenes::table::{TableRun, TableScene};
 
+mod pieces;
+
 /// What the widget's beam count keeps to: the chapter's LiDAR and the
 /// scene's cap.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -170,7 +172,7 @@ pub struct FusionReadout {
     /// by the next [`TableFusion::work`] calls.
     pub rebuilding: usize,
     /// Steps whose scans are simulated so far (the run simulates a scan
-    /// when it first integrates it).
+    /// when it first integrates it; a step under way counts once whole).
     pub scans_simulated: usize,
 }
 
@@ -202,15 +204,19 @@ pub struct FusionWork {
     /// Steps the call integrated again into the LiDAR's two maps after a
     /// beam count changed.
     pub rebuilt: usize,
-    /// Cells the call's mappers looked at (every cell of the map for each
-    /// sonar sweep, the raster of each LiDAR beam), and the cost of the
-    /// scans it simulated in the same units (each ray cast counted as the
-    /// cells along its range).
+    /// The call's work in cells of the sonar's sweep (every cell of the
+    /// map per sweep): the raster of each LiDAR beam, the scans it
+    /// simulated (each ray cast counted as the cells along its range) and
+    /// the fused map's refresh count in the same unit, a fraction of a
+    /// visit per cell by their cost ([`pieces`]).
     pub cell_visits: u64,
     /// Steps integrated so far, this call's included.
     pub step: usize,
     /// Steps the LiDAR's two maps still lack after this call.
     pub rebuilding: usize,
+    /// True when the call stopped within a step (new or rebuilt): the next
+    /// calls finish it; the maps shown change once it is whole.
+    pub under_way: bool,
     /// True once the run is over and no map lacks a step.
     pub done: bool,
 }
@@ -234,6 +240,8 @@ pub struct TableFusion {
     /// Steps integrated into the LiDAR's two maps: `next`, except while
     /// they are rebuilt after a beam count changed.
     lidar_next: usize,
+    /// A step a budgeted call left within its pieces ([`pieces`]).
+    under_way: Option<pieces::StepUnderWay>,
 }
 
 impl TableFusion {
@@ -263,16 +271,19 @@ impl TableFusion {
             summed_mapper: RayMapper::new(),
             next: 0,
             lidar_next: 0,
+            under_way: None,
             run,
         })
     }
 
     /// Integrates the next time step's sonar and LiDAR scans, after any
     /// rebuild under way (unbounded: [`TableFusion::work`] is the bounded
-    /// call). Returns false (and changes nothing) once the run is over.
+    /// call); a step a budgeted call left under way is that step, finished.
+    /// Returns false (and changes nothing) once the run is over.
     pub fn step(&mut self) -> bool {
-        let rebuilt = self.rebuild_all();
-        let stepped = self.advance();
+        let finished = self.finish_under_way();
+        let rebuilt = self.rebuild_all() || finished == Some(false);
+        let stepped = finished == Some(true) || self.advance();
         if stepped || rebuilt {
             self.refresh_fused();
         }
@@ -282,27 +293,44 @@ impl TableFusion {
     /// Integrates up to `steps` steps, for about `budget` cell visits: the
     /// per-frame call of a page that must keep its frames. A rebuild under
     /// way (see [`TableFusion::stage_lidar_beams`]) goes first, and new
-    /// steps follow only once it is done. Each call integrates at least one
-    /// step (new or rebuilt) while there is one to take (a budget of 0
-    /// counts as 1) and goes past its budget by at most one step; the fused
-    /// map is refreshed once, at the end of the call. The maps after any
-    /// sequence of calls are those of as many [`TableFusion::step`]s.
+    /// steps follow only once it is done. A step goes in pieces (its
+    /// scans' simulation, bands of rows of the sonar's sweeps, the LiDAR's
+    /// rasters: [`pieces`]), and a call stops as soon as it has spent its
+    /// budget (a budget of 0 counts as 1), past it by at most one piece, at
+    /// least one piece done while there is work: a step left under way is
+    /// finished by the next calls (it counts as one of their `steps`), and
+    /// the maps shown change only when a step is whole. The fused map is
+    /// refreshed once, at the end of a call that made a step whole. The
+    /// maps after any sequence of calls are those of as many
+    /// [`TableFusion::step`]s as steps were made whole.
     pub fn work(&mut self, steps: usize, budget: u64) -> FusionWork {
         let budget = budget.max(1);
         let (mut spent, mut taken, mut rebuilt) = (0u64, 0usize, 0usize);
-        while spent < budget && self.lidar_next < self.next {
-            let Some(visits) = self.rebuild_counted() else {
+        while spent < budget {
+            let rebuild = self.lidar_next < self.next;
+            if self.under_way.is_none() {
+                if !rebuild && (taken >= steps || self.next >= self.run.len()) {
+                    break;
+                }
+                self.begin_step(!rebuild);
+            } else if !rebuild && taken >= steps {
+                break;
+            }
+            let Some((visits, whole)) = self.work_step(budget - spent) else {
                 break;
             };
             spent = spent.saturating_add(visits);
-            rebuilt += 1;
-        }
-        while spent < budget && taken < steps && self.lidar_next == self.next {
-            let Some(visits) = self.advance_counted() else {
-                break;
-            };
-            spent = spent.saturating_add(visits);
-            taken += 1;
+            if whole && taken + rebuilt == 0 {
+                // The fused map's refresh at the end of the call, a cell
+                // of each map read and max-fused per cell: about half a
+                // swept cell each (measured in Chromium).
+                spent = spent.saturating_add((self.fused.geometry().len() as u64).div_ceil(2));
+            }
+            match (whole, rebuild) {
+                (true, true) => rebuilt += 1,
+                (true, false) => taken += 1,
+                _ => {}
+            }
         }
         if taken + rebuilt > 0 {
             self.refresh_fused();
@@ -313,6 +341,7 @@ impl TableFusion {
             cell_visits: spent,
             step: self.next,
             rebuilding: self.rebuilding(),
+            under_way: self.under_way.is_some(),
             done: self.next >= self.run.len() && self.rebuilding() == 0,
         }
     }
@@ -396,8 +425,8 @@ impl TableFusion {
     /// Steps to the end of the run (after any rebuild under way); returns
     /// the number of new steps taken.
     pub fn run_to_end(&mut self) -> usize {
+        let mut n = usize::from(self.finish_under_way() == Some(true));
         self.rebuild_all();
-        let mut n = 0;
         while self.advance() {
             n += 1;
         }
@@ -417,6 +446,7 @@ impl TableFusion {
         }
         self.next = 0;
         self.lidar_next = 0;
+        self.under_way = None;
         self.refresh_fused();
     }
 
@@ -446,6 +476,9 @@ impl TableFusion {
         self.lidar.reset();
         self.summed.reset();
         self.lidar_next = 0;
+        // A step under way wrote copies of the maps with the old beams: it
+        // starts again (its scans are kept, the LiDAR's simulated again).
+        self.under_way = None;
         self.refresh_fused();
         Ok(())
     }
@@ -559,7 +592,7 @@ impl TableFusion {
             footprint: self.footprint_means(),
             pose: self.run.poses().get(last).copied().unwrap_or_default(),
             rebuilding: self.rebuilding(),
-            scans_simulated: self.run.simulated(),
+            scans_simulated: self.run.simulated().min(self.lidar_next),
         }
     }
 }
