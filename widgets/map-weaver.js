@@ -531,6 +531,13 @@ class MapWeaverElement extends HTMLElement {
         start.free();
       }
       if (!next) return;
+      // The first drawing of the new run's maps in a task of its own, after
+      // the one that made the run (together they passed 50 ms at 1024²).
+      await nextTask();
+      if (generation !== this.generation) {
+        next.free();
+        return;
+      }
       // A link may open the run part-way through: the core refuses more
       // work than its budget (naming `scans`), and the rest is done in
       // slices with the count on screen.

@@ -25,11 +25,15 @@ test('Map Weaver draws a 1024 x 1024 scene in budgeted calls, a row past the bud
       proto.build = function (budget) {
         const r = build.call(this, budget);
         window.__calls.push({ name: 'build', budget, cells: r.cells, done: r.done });
+        // A timer set now has run by the next call only if the task that
+        // made this one ended first (timers run in the order they were set).
+        window.__taskEnded = false;
+        setTimeout(() => { window.__taskEnded = true; });
         return r;
       };
       const finish = proto.finish;
       proto.finish = function () {
-        window.__calls.push({ name: 'finish' });
+        window.__calls.push({ name: 'finish', afterTask: window.__taskEnded });
         return finish.call(this);
       };
     }, tag);
@@ -43,7 +47,7 @@ test('Map Weaver draws a 1024 x 1024 scene in budgeted calls, a row past the bud
     const calls = await page.evaluate(() => window.__calls);
     const builds = calls.filter((c) => c.name === 'build');
     assert.ok(builds.length > 3, `the maps were drawn in ${builds.length} calls`);
-    assert.deepEqual(calls.at(-1), { name: 'finish' }, 'the run is made last');
+    assert.deepEqual(calls.at(-1), { name: 'finish', afterTask: true }, 'the run is made last, in a task after the last band’s');
     assert.equal(calls.filter((c) => c.name === 'finish').length, 1);
     assert.ok(builds.at(-1).done && builds.slice(0, -1).every((c) => !c.done), 'finished once every map was drawn');
     // A band of rows passes its budget by less than a row (1024 cells); a

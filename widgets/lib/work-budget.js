@@ -75,8 +75,12 @@ export async function startInSlices(start, trainBudget, buildBudget, stillWanted
     const t = performance.now();
     const report = start.build(buildBudget.value);
     buildBudget.learn(report.cells, performance.now() - t);
-    if (report.done) return start.finish();
+    if (report.done) break;
   }
+  // Making the run from its drawn maps is a task of its own too: with the
+  // last band of a large scene it ran past 50 ms.
+  await betweenSlices();
+  return stillWanted() ? start.finish() : null;
 }
 
 /**
