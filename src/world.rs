@@ -31,6 +31,27 @@ impl Rect {
     pub fn contains(&self, x: f64, y: f64) -> bool {
         x >= self.min_x && x < self.max_x && y >= self.min_y && y < self.max_y
     }
+
+    /// The columns and rows of `g` whose cell centres may lie in the box:
+    /// from the cell holding its lower bound to the one holding its upper
+    /// bound, clipped to the map (a superset; [`Rect::contains`] decides).
+    /// A NaN bound gives an empty span, an infinite one the whole map.
+    pub fn cells_under(
+        &self,
+        g: &GridGeometry,
+    ) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+        let [ox, oy] = g.origin();
+        let res = g.resolution();
+        let span = |lo: f64, hi: f64, origin: f64, n: usize| {
+            let first = ((lo - origin) / res).floor().max(0.0) as usize;
+            let end = (((hi - origin) / res).ceil().max(0.0) as usize).min(n);
+            first..end
+        };
+        (
+            span(self.min_x, self.max_x, ox, g.width()),
+            span(self.min_y, self.max_y, oy, g.height()),
+        )
+    }
 }
 
 /// Ground truth: which cells are occupied.
@@ -67,22 +88,13 @@ impl World {
     /// [`World::fill`] over the rows `rows` only (clipped to the map): a
     /// large world is drawn a band of rows at a time this way, and bands
     /// that cover the map leave it as one `fill` does. Only the cells under
-    /// the box's bounds are looked at (`contains` decides, as for every
-    /// cell: the cells outside the span have centres at least half a cell
-    /// outside the box), so a box costs its own cells, not the map's.
+    /// the box's bounds are looked at ([`Rect::cells_under`]; `contains`
+    /// decides, as for every cell), so a box costs its own cells, not the
+    /// map's.
     pub fn fill_rows(&mut self, rect: &Rect, occupied: bool, rows: std::ops::Range<usize>) {
         let g = self.geometry;
-        let [ox, oy] = g.origin();
-        let res = g.resolution();
-        // A NaN bound gives an empty span, an infinite one the whole map.
-        let span = |lo: f64, hi: f64, origin: f64, n: usize| {
-            let first = ((lo - origin) / res).floor().max(0.0) as usize;
-            let end = (((hi - origin) / res).ceil().max(0.0) as usize).min(n);
-            first..end
-        };
-        let ys = span(rect.min_y, rect.max_y, oy, g.height());
+        let (xs, ys) = rect.cells_under(&g);
         let ys = ys.start.max(rows.start)..ys.end.min(rows.end);
-        let xs = span(rect.min_x, rect.max_x, ox, g.width());
         for iy in ys {
             for ix in xs.clone() {
                 let (x, y) = g.cell_center(ix, iy);

@@ -370,20 +370,11 @@ impl ApartmentScene {
     /// at, so a small box (the person, once per scan and pane) costs its
     /// own cells, not the map's.
     pub fn cells_in(&self, g: &GridGeometry, boxes: &[Rect]) -> Vec<usize> {
-        let [ox, oy] = g.origin();
-        let res = g.resolution();
-        // The cells whose centres may lie in [lo, hi): a superset, from the
-        // cell holding `lo` to the one holding `hi`; `contains` decides. A
-        // NaN bound gives an empty span, an infinite one the whole row.
-        let span = |lo: f64, hi: f64, origin: f64, n: usize| {
-            let first = ((lo - origin) / res).floor().max(0.0) as usize;
-            let end = (((hi - origin) / res).ceil().max(0.0) as usize).min(n);
-            first..end
-        };
         let mut out = Vec::new();
         for b in boxes {
-            for iy in span(b.min_y, b.max_y, oy, g.height()) {
-                for ix in span(b.min_x, b.max_x, ox, g.width()) {
+            let (xs, ys) = b.cells_under(g);
+            for iy in ys {
+                for ix in xs.clone() {
                     let (x, y) = g.cell_center(ix, iy);
                     if b.contains(x, y) {
                         out.push(g.index(ix, iy));
