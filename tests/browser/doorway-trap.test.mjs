@@ -87,6 +87,15 @@ test('stepping the MAP climb updates the per-beam bars and the objective; it end
     assert.match(s.flipText, new RegExp(`^Flip ${k}: cell \\(\\d+, \\d+\\) set occupied`));
     previous = s.objective;
   }
+  // The chart draws its latest data at a bounded rate, on a timer after
+  // the flip: wait for the drawing (on a loaded machine it comes later).
+  await page.waitForFunction(([sel, bars]) => {
+    const c = document.querySelector(sel).querySelector(bars);
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i + 1] > 120 && d[i] < 80 && d[i + 2] < 110) n++;
+    return n > 200;
+  }, [SELECTOR, '.doorway-trap-bars canvas'], { timeout: 15_000 }).catch(() => {});
   assert.ok(await greenPixels(w, '.doorway-trap-bars canvas') > 200, 'the bars are drawn');
   await screenshot(w, 'doorway-trap-3-flips');
 
