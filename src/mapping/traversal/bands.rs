@@ -2,6 +2,7 @@
 //! ([`BeamBand`]), with or without the free space between neighbouring
 //! beams: the real-log path (docs/ARCHITECTURE.md, "Real logs").
 
+use super::fans::Fans;
 use super::{
     between, trace, BandCodes, BeamBand, BeamFrame, Gathered, RayMapper, ScanEvidence, ScanStats,
     MAX_REACH_CELLS,
@@ -89,12 +90,13 @@ impl RayMapper {
             between::plan_wedges(bands, scan.bearings(), res, walkable, &mut self.wedges);
         }
         let evidence = ScanEvidence { free, occupied };
-        let plan = BandsPlan {
+        let mut plan = BandsPlan {
             frame: &frame,
             bands,
             bearings: scan.bearings(),
             trig: &self.bearing_trig,
             wedges: &self.wedges,
+            fans: &mut self.fans,
             between,
             res,
         };
@@ -116,6 +118,7 @@ struct BandsPlan<'p> {
     bearings: &'p [f64],
     trig: &'p [(f64, f64)],
     wedges: &'p [Option<between::Wedge>],
+    fans: &'p mut Fans,
     between: bool,
     res: f64,
 }
@@ -124,7 +127,7 @@ impl BandsPlan<'_> {
     /// Walks the beams (the wedges' spans left out), fills the wedges and
     /// draws the walls between, then updates the map once per cell.
     fn gather<C: CellModel, S: Store<C::Cell>, const SEGMENTED: bool>(
-        &self,
+        &mut self,
         mut gathered: Gathered<'_, u8, SEGMENTED>,
         grid: &mut Grid<C, S>,
         evidence: ScanEvidence,
@@ -132,23 +135,40 @@ impl BandsPlan<'_> {
         let (frame, res) = (self.frame, self.res);
         let walkable = |r: f64| r > 0.0 && (!S::WINDOWED || r / res <= MAX_REACH_CELLS);
         let mut visits = 0;
+        if self.between {
+            // Near the sensor, the fans of beams with wedges on both sides
+            // (their beams then walked only as far as the fans need).
+            let n;
+            (n, gathered) = self
+                .fans
+                .fill(frame, self.wedges, self.bearings, self.trig, gathered);
+            visits += n;
+        }
         for (i, (band, &trig)) in self.bands.iter().zip(self.trig).enumerate() {
             let Some(b) = *band else { continue };
             if !walkable(b.reach) {
                 continue;
             }
             // Where the wedges on both sides hold the beam's middle cells,
-            // only its near part and its tail are walked.
-            let Some((near, tail)) = between::beam_spans(self.wedges, i, res) else {
-                let Some((walk, at)) = frame.beam(trig, b.reach) else {
+            // only its near part and its tail are walked; where a fan holds
+            // part of it (`held`, empty without the space between beams),
+            // that part is not walked either.
+            let (held_from, held_to) = self.fans.held(i);
+            let spans = match between::beam_spans(self.wedges, i, res) {
+                // The fan holds the near part out to the wedges' start.
+                Some((near, tail)) => [(0.0, near.min(held_from)), (tail, b.reach)],
+                None if held_from < held_to => [(0.0, held_from), (held_to, b.reach)],
+                None => {
+                    let Some((walk, at)) = frame.beam(trig, b.reach) else {
+                        continue;
+                    };
+                    let n;
+                    (n, gathered) = trace(walk, at, BandCodes(b), gathered);
+                    visits += n;
                     continue;
-                };
-                let n;
-                (n, gathered) = trace(walk, at, BandCodes(b), gathered);
-                visits += n;
-                continue;
+                }
             };
-            for (from, to) in [(0.0, near), (tail, b.reach)] {
+            for (from, to) in spans {
                 let Some((walk, at)) = frame.segment(trig, from, to) else {
                     continue;
                 };
@@ -165,6 +185,7 @@ impl BandsPlan<'_> {
                 self.bearings,
                 self.trig,
                 self.wedges,
+                |k, from| self.fans.wedge_from(k, from),
                 gathered,
             );
             visits += n;

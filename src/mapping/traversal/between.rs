@@ -7,8 +7,7 @@
 //! them do not already hold their cells. Where both beams end on one
 //! surface, the wall between their readings is drawn too.
 
-use super::{trace, BandCodes, BeamBand, BeamFrame, BeamState, Code, Gathered};
-use crate::geometry::raster::Walk;
+use super::{trace, BandCodes, BeamBand, BeamFrame, Code, Gathered};
 
 /// The widest spacing of two neighbouring beams whose between is filled
 /// ([`super::RayMapper::integrate_bands_between`]), radians: 5°, past any
@@ -34,6 +33,18 @@ const FILL_FROM_PARTED: f64 = 0.9;
 pub(super) struct Wedge {
     from: f64,
     to: f64,
+}
+
+impl Wedge {
+    /// Where the wedge's fill starts, metres.
+    pub(super) fn from(&self) -> f64 {
+        self.from
+    }
+    /// Where it ends, metres: the nearer of its beams' free ranges (at
+    /// most [`FILL_PARTED`] times where the axes part by a cell).
+    pub(super) fn to(&self) -> f64 {
+        self.to
+    }
 }
 
 /// Plans the wedges of a scan: `wedges[i]` between beams `i - 1` and `i`
@@ -87,7 +98,8 @@ pub(super) fn beam_spans(wedges: &[Option<Wedge>], i: usize, res: f64) -> Option
 }
 
 /// Fills the wedges of a scan (planned by [`plan_wedges`], bearings with
-/// `(sin, cos)` in `trig`) into `gathered` as free verdicts, and draws the
+/// `(sin, cos)` in `trig`; wedge `i` from `starts(i, from)` on, where a
+/// fan holds its nearer part) into `gathered` as free verdicts, and draws the
 /// wall between two neighbouring readings as hits
 /// ([`trace_wall_between`]); returns the cells visited and the
 /// gathering.
@@ -97,6 +109,7 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
     bearings: &[f64],
     trig: &[(f64, f64)],
     wedges: &[Option<Wedge>],
+    starts: impl Fn(usize, f64) -> f64,
     mut gathered: Gathered<'a, u8, SEGMENTED>,
 ) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
@@ -114,7 +127,7 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
         (n, gathered) = fill_wedge(
             frame,
             (trig[i - 1], trig[i]),
-            wedge.from,
+            starts(i, wedge.from),
             wedge.to,
             gathered,
         );
@@ -202,37 +215,6 @@ pub(super) fn trace_wall_between<'a, const SEGMENTED: bool>(
         visits += n;
     }
     (visits, gathered)
-}
-
-impl BeamFrame {
-    /// As [`Self::beam`], from range `from` (metres) on, out to `to`;
-    /// `None` also when its first cell lies outside the window (a segment
-    /// past the reach the window was made for). (A function of its own:
-    /// the beam's walk is the hot one, and stays as it was.)
-    pub(super) fn segment(
-        &self,
-        (sin_b, cos_b): (f64, f64),
-        from: f64,
-        to: f64,
-    ) -> Option<(Walk, BeamState)> {
-        if !(from >= 0.0 && from < to) {
-            return None;
-        }
-        let (su, sv) = (self.su, self.sv);
-        let s = self.sin_t * cos_b + self.cos_t * sin_b;
-        let c = self.cos_t * cos_b - self.sin_t * sin_b;
-        let (near, far) = (from * self.per_metre, to * self.per_metre);
-        let start = (su + near * c, sv + near * s);
-        let end = (su + far * c, sv + far * s);
-        let walk = Walk::new(self.width, self.height, start, end)?;
-        let (ix, iy) = walk.start;
-        let w = &self.window;
-        if !(ix >= w.x0 && iy >= w.y0 && ix - w.x0 < self.cols && iy - w.y0 < w.rows) {
-            return None;
-        }
-        let at = self.beam_state(&walk, (s, c));
-        Some((walk, at))
-    }
 }
 
 /// Fills the wedge between two neighbouring beams' axes (bearings'
@@ -328,9 +310,13 @@ pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
             continue;
         }
         let mut i = (k - lines.0) * line_step + (lo - along.0) * cell_step;
-        for _ in lo..=hi {
-            gathered.record(i, Code::Free as u8);
-            i += cell_step;
+        if columns {
+            for _ in lo..=hi {
+                gathered.record(i, Code::Free as u8);
+                i += cell_step;
+            }
+        } else {
+            gathered.record_row(i, hi - lo + 1, Code::Free as u8);
         }
         filled += hi - lo + 1;
     }
@@ -340,7 +326,7 @@ pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
 /// `ceil(v)` for a finite `v >= 0`, without a library call (native code
 /// without SSE4.1 has no rounding instruction).
 #[inline(always)]
-fn ceil_at_least(v: f64) -> usize {
+pub(super) fn ceil_at_least(v: f64) -> usize {
     let t = v as usize;
     t + ((t as f64) < v) as usize
 }

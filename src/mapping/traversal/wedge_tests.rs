@@ -147,7 +147,7 @@ fn laser_scan(rng: &mut StdRng, n: usize, spacing: f64) -> (Scan, Vec<Option<Bea
     (Scan::new(pose, ranges, bearings).unwrap(), bands)
 }
 
-fn empty_map() -> TiledGrid {
+pub(super) fn empty_map() -> TiledGrid {
     let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
     let settings = FilterSettings {
         prior: 0.5,

@@ -120,6 +120,19 @@ pub(super) fn settle_segments<T: Slot, C: CellModel, S: Store<C::Cell>>(
                         let Ok(lanes) = <&mut [T; 8]>::try_from(eight) else {
                             continue;
                         };
+                        if T::all_free(lanes) {
+                            if let (Some(cells), Some(updates)) =
+                                (cells.get_mut(k0..k0 + 8), updates.get_mut(k0..k0 + 8))
+                            {
+                                for (cell, u) in cells.iter_mut().zip(updates) {
+                                    model.miss(cell, evidence.free);
+                                    *u += 1;
+                                }
+                                *lanes = [T::UNTOUCHED; 8];
+                                count += 8;
+                                continue;
+                            }
+                        }
                         let mut held = T::held(lanes);
                         // (Cells past the map's east edge hold no verdict:
                         // the walks and fills stay inside the map.)
