@@ -132,8 +132,115 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
             gathered,
         );
         visits += n;
+        // The nearer beam, the farther, and the nearer one's other
+        // neighbour.
+        let (near, far, near_trig, far_trig, other) = if a.free_until > b.free_until {
+            (
+                b,
+                a,
+                trig[i],
+                trig[i - 1],
+                bands.get(i + 1).copied().flatten(),
+            )
+        } else {
+            (
+                a,
+                b,
+                trig[i - 1],
+                trig[i],
+                i.checked_sub(2).and_then(|k| bands[k]),
+            )
+        };
+        let n;
+        (n, gathered) = fill_beside_a_post(
+            frame,
+            (near, far),
+            (near_trig, far_trig),
+            other,
+            wedge,
+            spacing,
+            gathered,
+        );
+        visits += n;
     }
     (visits, gathered)
+}
+
+/// How far past a nearer reading's occupied band the space behind it
+/// starts to be filled beside it ([`fill_beside_a_post`]), metres: a door
+/// frame or a wall's end seen edge-on runs back from its edge, and filling
+/// nearer than this wore such walls away.
+const BESIDE_POST_FROM: f64 = 0.5;
+
+/// How many cells short of the farther beam's free range the space beside
+/// a post stops ([`fill_beside_a_post`]): a wall the farther beam meets at
+/// a slant lies nearer on the post's side of its axis.
+const BESIDE_POST_SHORT: f64 = 4.0;
+
+/// Past a reading nearer than both its neighbours' (a door frame's edge, a
+/// post, a leg: the beams on both sides pass it), the wedge between it and
+/// a farther neighbour is filled only out to its own free range
+/// ([`plan_wedges`]); beyond, the half of the wedge on the farther beam's
+/// side of the bisector lies within half the spacing of that beam's
+/// bearing, inside its footprint (Table 9.2's `β/2`), and is free out to
+/// its free range. In a room seen through a doorway, beams alternately
+/// pass the door and meet its frame, and the floor between the passing
+/// ones stayed gray in pinholes (docs/ARCHITECTURE.md, "Real logs").
+/// `near` and `far` are the wedge's two beams (bearings' `(sin, cos)` in
+/// `trig`), `other` the near beam's other neighbour.
+fn fill_beside_a_post<'a, const SEGMENTED: bool>(
+    frame: &BeamFrame,
+    (near, far): (BeamBand, BeamBand),
+    (near_trig, far_trig): ((f64, f64), (f64, f64)),
+    other: Option<BeamBand>,
+    wedge: Wedge,
+    spacing: f64,
+    gathered: Gathered<'a, u8, SEGMENTED>,
+) -> (usize, Gathered<'a, u8, SEGMENTED>) {
+    // A post: both neighbours pass it (depth jumps on both sides).
+    let Some(other) = other else {
+        return (0, gathered);
+    };
+    let passed = |b: BeamBand| b.free_until > near.free_until && !one_surface(near, b, spacing);
+    if !(passed(far) && passed(other)) {
+        return (0, gathered);
+    }
+    let bound = FILL_PARTED * frame.res / spacing;
+    let to = bound.min(far.free_until - BESIDE_POST_SHORT * frame.res);
+    let from = wedge
+        .to
+        .max(wedge.from)
+        .max(near.occupied_until + BESIDE_POST_FROM);
+    if !(to > from) {
+        return (0, gathered);
+    }
+    // The bisector's direction: the sum of the two unit vectors, scaled
+    // back to unit length.
+    let (s, c) = (near_trig.0 + far_trig.0, near_trig.1 + far_trig.1);
+    let norm = s.hypot(c);
+    if !(norm > 0.0) {
+        return (0, gathered);
+    }
+    fill_wedge(frame, ((s / norm, c / norm), far_trig), from, to, gathered)
+}
+
+/// Whether two neighbouring beams `spacing` apart both end on one surface:
+/// both return, and their readings lie no further apart than their bands'
+/// overlap and [`WALL_SLOPE`] allow (a larger difference is a depth jump).
+fn one_surface(a: BeamBand, b: BeamBand, spacing: f64) -> bool {
+    // A no-return has no occupied band.
+    if !(a.occupied_until > a.occupied_from && b.occupied_until > b.occupied_from) {
+        return false;
+    }
+    let (za, zb) = (
+        0.5 * (a.occupied_from + a.occupied_until),
+        0.5 * (b.occupied_from + b.occupied_until),
+    );
+    let (ha, hb) = (
+        0.5 * (a.occupied_until - a.occupied_from),
+        0.5 * (b.occupied_until - b.occupied_from),
+    );
+    (za - zb).abs() <= ha + hb + WALL_SLOPE * za.min(zb) * spacing
 }
 
 /// How far apart the readings of two neighbouring beams may be, beyond
@@ -166,8 +273,7 @@ pub(super) fn trace_wall_between<'a, const SEGMENTED: bool>(
     mut gathered: Gathered<'a, u8, SEGMENTED>,
 ) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
-    // A no-return has no occupied band.
-    if !(a.occupied_until > a.occupied_from && b.occupied_until > b.occupied_from) {
+    if !one_surface(a, b, spacing) {
         return (visits, gathered);
     }
     let (za, zb) = (
@@ -178,9 +284,6 @@ pub(super) fn trace_wall_between<'a, const SEGMENTED: bool>(
         0.5 * (a.occupied_until - a.occupied_from),
         0.5 * (b.occupied_until - b.occupied_from),
     );
-    if !((za - zb).abs() <= ha + hb + WALL_SLOPE * za.min(zb) * spacing) {
-        return (visits, gathered);
-    }
     let (ea, eb) = ((za * c0, za * s0), (zb * c1, zb * s1));
     let chord_cells = (eb.0 - ea.0).hypot(eb.1 - ea.1) * frame.per_metre;
     // Endpoints within a cell of each other leave no gap to draw.

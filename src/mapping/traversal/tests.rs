@@ -514,3 +514,71 @@ fn a_band_as_thick_as_the_range_draws_no_wall_between_beams() {
     assert!(!occupied(&thin).is_empty());
     assert_eq!(occupied(&thin), occupied(&wide));
 }
+
+/// Three beams 1° apart from the origin at bearings 0.25, 0.25 + 1° and
+/// 0.25 + 2°, with readings `ranges` (a lidar's bands), integrated with the
+/// space between beams into an empty 45 m map.
+fn three_beams(ranges: [f64; 3]) -> crate::grid::TiledGrid {
+    let bearings: Vec<f64> = (0..3).map(|k| 0.25 + (k as f64).to_radians()).collect();
+    let scan = Scan::new(Pose::new(0.0, 0.0, 0.0).unwrap(), ranges.to_vec(), bearings).unwrap();
+    let bands = ranges.map(|z| {
+        Some(BeamBand {
+            reach: z + 0.05,
+            free_until: z - 0.05,
+            occupied_from: z - 0.05,
+            occupied_until: z + 0.05,
+        })
+    });
+    let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
+    let settings = FilterSettings {
+        prior: 0.5,
+        clamp: 3.5,
+    };
+    let mut grid = crate::grid::TiledGrid::new(g, settings, 1 << 22).unwrap();
+    RayMapper::new().integrate_bands_between(&mut grid, &scan, &bands, (-0.4, 0.85), true);
+    grid
+}
+
+/// The cells of `grid` whose centres lie between bearings `from` and `to`
+/// (radians) and between 8 and 12 m from the origin: how many are free,
+/// and how many unknown.
+fn free_and_unknown_between(grid: &crate::grid::TiledGrid, from: f64, to: f64) -> (usize, usize) {
+    let g = *grid.geometry();
+    let (mut free, mut unknown) = (0, 0);
+    for (ix, iy) in cells_where(grid, |_| true) {
+        let (x, y) = g.cell_center(ix, iy);
+        let (r, bearing) = (x.hypot(y), y.atan2(x));
+        if (8.0..12.0).contains(&r) && bearing > from && bearing < to {
+            match grid.log_odds_at(ix, iy).unwrap() {
+                l if l < 0.0 => free += 1,
+                l if l == 0.0 => unknown += 1,
+                _ => {}
+            }
+        }
+    }
+    (free, unknown)
+}
+
+/// A post 4 m away seen by one beam, with the beams on both sides passing
+/// it to a wall 15 m away (a door frame's edge in a doorway): past the
+/// post, the half of each wedge on the passing beam's side lies in that
+/// beam's footprint and is free, not a strip of gray pinholes; behind the
+/// post (within a quarter of the spacing of its bearing) nothing is
+/// filled. Where the near reading is a wall's end (its other neighbour as
+/// near), the wedge past it is left as before.
+#[test]
+fn the_floor_beside_a_post_both_neighbours_pass_is_free() {
+    let b = |k: f64| 0.25 + k.to_radians();
+    let eps = 0.02f64.to_radians();
+    let post = three_beams([15.0, 4.0, 15.0]);
+    for (from, to) in [(b(0.0) + eps, b(0.5) - eps), (b(1.5) + eps, b(2.0) - eps)] {
+        let (free, unknown) = free_and_unknown_between(&post, from, to);
+        assert!(free > 20, "{free} free cells beside the post");
+        assert_eq!(unknown, 0, "no pinholes beside the post");
+    }
+    let (free, _) = free_and_unknown_between(&post, b(0.75), b(1.25));
+    assert_eq!(free, 0, "nothing is filled behind the post");
+    let wall_end = three_beams([15.0, 4.0, 4.0]);
+    let (_, unknown) = free_and_unknown_between(&wall_end, b(0.0) + eps, b(0.5) - eps);
+    assert!(unknown > 0, "beside a wall's end the wedge is left as it was");
+}
