@@ -580,5 +580,8 @@ fn the_floor_beside_a_post_both_neighbours_pass_is_free() {
     assert_eq!(free, 0, "nothing is filled behind the post");
     let wall_end = three_beams([15.0, 4.0, 4.0]);
     let (_, unknown) = free_and_unknown_between(&wall_end, b(0.0) + eps, b(0.5) - eps);
-    assert!(unknown > 0, "beside a wall's end the wedge is left as it was");
+    assert!(
+        unknown > 0,
+        "beside a wall's end the wedge is left as it was"
+    );
 }
