@@ -136,8 +136,9 @@ impl BandsPlan<'_> {
         let walkable = |r: f64| r > 0.0 && (!S::WINDOWED || r / res <= MAX_REACH_CELLS);
         let mut visits = 0;
         if self.between {
-            // Near the sensor, the fans of beams with wedges on both sides
-            // (their beams then walked only as far as the fans need).
+            // The fans near the sensor and far out (`fans`): a beam inside
+            // a near fan is then walked only where its cells may leave it,
+            // and a wedge inside a far fan filled only beyond it.
             let n;
             (n, gathered) = self
                 .fans
