@@ -201,7 +201,8 @@ fn fill_beside_a_post<'a, const SEGMENTED: bool>(
     let Some(other) = other else {
         return (0, gathered);
     };
-    let passed = |b: BeamBand| b.free_until > near.free_until && !one_surface(near, b, spacing);
+    let passed =
+        |b: BeamBand| b.free_until > near.free_until && one_surface(near, b, spacing).is_none();
     if !(passed(far) && passed(other)) {
         return (0, gathered);
     }
@@ -224,13 +225,21 @@ fn fill_beside_a_post<'a, const SEGMENTED: bool>(
     fill_wedge(frame, ((s / norm, c / norm), far_trig), from, to, gathered)
 }
 
-/// Whether two neighbouring beams `spacing` apart both end on one surface:
-/// both return, and their readings lie no further apart than their bands'
-/// overlap and [`WALL_SLOPE`] allow (a larger difference is a depth jump).
-fn one_surface(a: BeamBand, b: BeamBand, spacing: f64) -> bool {
+/// Two neighbouring readings as their bands give them: the middles `z`
+/// and half-widths `h` of the two occupied bands.
+struct Surface {
+    z: (f64, f64),
+    h: (f64, f64),
+}
+
+/// Where two neighbouring beams `spacing` apart both end on one surface,
+/// their readings: both return, and the readings lie no further apart
+/// than their bands' overlap and [`WALL_SLOPE`] allow (a larger difference
+/// is a depth jump); `None` otherwise.
+fn one_surface(a: BeamBand, b: BeamBand, spacing: f64) -> Option<Surface> {
     // A no-return has no occupied band.
     if !(a.occupied_until > a.occupied_from && b.occupied_until > b.occupied_from) {
-        return false;
+        return None;
     }
     let (za, zb) = (
         0.5 * (a.occupied_from + a.occupied_until),
@@ -240,7 +249,10 @@ fn one_surface(a: BeamBand, b: BeamBand, spacing: f64) -> bool {
         0.5 * (a.occupied_until - a.occupied_from),
         0.5 * (b.occupied_until - b.occupied_from),
     );
-    (za - zb).abs() <= ha + hb + WALL_SLOPE * za.min(zb) * spacing
+    ((za - zb).abs() <= ha + hb + WALL_SLOPE * za.min(zb) * spacing).then_some(Surface {
+        z: (za, zb),
+        h: (ha, hb),
+    })
 }
 
 /// How far apart the readings of two neighbouring beams may be, beyond
@@ -273,17 +285,13 @@ pub(super) fn trace_wall_between<'a, const SEGMENTED: bool>(
     mut gathered: Gathered<'a, u8, SEGMENTED>,
 ) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
-    if !one_surface(a, b, spacing) {
+    let Some(Surface {
+        z: (za, zb),
+        h: (ha, hb),
+    }) = one_surface(a, b, spacing)
+    else {
         return (visits, gathered);
-    }
-    let (za, zb) = (
-        0.5 * (a.occupied_from + a.occupied_until),
-        0.5 * (b.occupied_from + b.occupied_until),
-    );
-    let (ha, hb) = (
-        0.5 * (a.occupied_until - a.occupied_from),
-        0.5 * (b.occupied_until - b.occupied_from),
-    );
+    };
     let (ea, eb) = ((za * c0, za * s0), (zb * c1, zb * s1));
     let chord_cells = (eb.0 - ea.0).hypot(eb.1 - ea.1) * frame.per_metre;
     // Endpoints within a cell of each other leave no gap to draw.
@@ -361,17 +369,10 @@ pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
     let cos_half = (0.5 * (1.0 + da.0 * db.0 + da.1 * db.1)).max(0.0).sqrt();
     let far = to / cos_half + 0.01 * frame.res;
     let mut corners = [at(da, from), at(da, far), at(db, far), at(db, from)];
-    let w = &frame.window;
     // Lines of cells along the wedge's longer extent: rows when it points
-    // along x, columns when along y (then the corners' coordinates are
-    // swapped, and a step along a line is a step of a row).
-    let columns = (da.1 + db.1).abs() > (da.0 + db.0).abs();
-    let (lines, along, line_step, cell_step) = if columns {
-        corners.iter_mut().for_each(|p| *p = (p.1, p.0));
-        ((w.x0, frame.cols), (w.y0, w.rows), 1, w.stride)
-    } else {
-        ((w.y0, w.rows), (w.x0, frame.cols), w.stride, 1)
-    };
+    // along x, columns when along y.
+    let lines = Lines::of(frame, (da.1 + db.1).abs() > (da.0 + db.0).abs());
+    lines.orient(&mut corners);
     if corners
         .iter()
         .any(|p| !(p.0.is_finite() && p.1.is_finite()))
@@ -384,16 +385,97 @@ pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
     let mut gathered = gathered.narrowed();
     // Lines whose centres `k + 0.5` lie within the wedge, inside the
     // window (which holds every cell within the scan's reach).
-    let (lo_limit, hi_limit) = (along.0 as f64, (along.0 + along.1) as f64 - 1.0);
-    let first = ceil_at_least((bounds.min - 0.5).max(lines.0 as f64));
-    let last = (bounds.max - 0.5).min((lines.0 + lines.1) as f64 - 1.0);
-    if !(last >= first as f64) {
+    let Some((first, last)) = lines.within(bounds.min, bounds.max) else {
         return (0, gathered);
-    }
+    };
     let mut filled = 0;
-    for k in first..=last as usize {
+    for k in first..=last {
         let (lo, hi) = bounds.span(k as f64 + 0.5);
-        // Cells whose centres `j + 0.5` lie within the line's span.
+        filled += lines.fill(&mut gathered, k, lo, hi);
+    }
+    (filled, gathered)
+}
+
+/// `ceil(v)` for a finite `v >= 0`, without a library call (native code
+/// without SSE4.1 has no rounding instruction).
+#[inline(always)]
+pub(super) fn ceil_at_least(v: f64) -> usize {
+    let t = v as usize;
+    t + ((t as f64) < v) as usize
+}
+
+/// The lines of cells of a scan's window a convex polygon is filled in
+/// (`fill_wedge`, and the fans of `fans`): rows, or columns (the polygon's
+/// coordinates then swapped, `(y, x)`, and a step along a line a step of
+/// a row). A line `k` and a cell `j` along it are map coordinates.
+pub(super) struct Lines {
+    /// The first line of the window and how many.
+    lines: (usize, usize),
+    /// The first cell along a line and how many.
+    along: (usize, usize),
+    line_step: usize,
+    cell_step: usize,
+    columns: bool,
+}
+
+impl Lines {
+    /// Rows of `frame`'s window, or its columns.
+    pub(super) fn of(frame: &BeamFrame, columns: bool) -> Self {
+        let w = &frame.window;
+        if columns {
+            Self {
+                lines: (w.x0, frame.cols),
+                along: (w.y0, w.rows),
+                line_step: 1,
+                cell_step: w.stride,
+                columns,
+            }
+        } else {
+            Self {
+                lines: (w.y0, w.rows),
+                along: (w.x0, frame.cols),
+                line_step: w.stride,
+                cell_step: 1,
+                columns,
+            }
+        }
+    }
+
+    /// True for columns.
+    pub(super) fn columns(&self) -> bool {
+        self.columns
+    }
+
+    /// Map coordinates `(x, y)` as `(along a line, across the lines)`.
+    pub(super) fn orient(&self, points: &mut [(f64, f64)]) {
+        if self.columns {
+            points.iter_mut().for_each(|p| *p = (p.1, p.0));
+        }
+    }
+
+    /// The first and last line whose centres `k + 0.5` lie within
+    /// `[min, max]`, inside the window; `None` for none.
+    pub(super) fn within(&self, min: f64, max: f64) -> Option<(usize, usize)> {
+        let first = ceil_at_least((min - 0.5).max(self.lines.0 as f64));
+        let last = (max - 0.5).min((self.lines.0 + self.lines.1) as f64 - 1.0);
+        (last >= first as f64).then_some((first, last as usize))
+    }
+
+    /// Records as free the cells of line `k` whose centres `j + 0.5` lie
+    /// within `[lo, hi]`, inside the window: a row's at once, a column's
+    /// one by one. Returns the cells recorded.
+    #[inline(always)]
+    pub(super) fn fill<const SEGMENTED: bool>(
+        &self,
+        gathered: &mut Gathered<'_, u8, SEGMENTED>,
+        k: usize,
+        lo: f64,
+        hi: f64,
+    ) -> usize {
+        let (lo_limit, hi_limit) = (
+            self.along.0 as f64,
+            (self.along.0 + self.along.1) as f64 - 1.0,
+        );
         // (Comparisons: in wasm `f64::max` is a library call.)
         let lo = if lo - 0.5 > lo_limit {
             lo - 0.5
@@ -406,32 +488,23 @@ pub(super) fn fill_wedge<'a, const SEGMENTED: bool>(
             hi_limit
         };
         if !(hi >= lo) {
-            continue;
+            return 0;
         }
         let (lo, hi) = (ceil_at_least(lo), hi as usize);
         if lo > hi {
-            continue;
+            return 0;
         }
-        let mut i = (k - lines.0) * line_step + (lo - along.0) * cell_step;
-        if columns {
+        let mut i = (k - self.lines.0) * self.line_step + (lo - self.along.0) * self.cell_step;
+        if self.columns {
             for _ in lo..=hi {
                 gathered.record(i, Code::Free as u8);
-                i += cell_step;
+                i += self.cell_step;
             }
         } else {
             gathered.record_row(i, hi - lo + 1, Code::Free as u8);
         }
-        filled += hi - lo + 1;
+        hi - lo + 1
     }
-    (filled, gathered)
-}
-
-/// `ceil(v)` for a finite `v >= 0`, without a library call (native code
-/// without SSE4.1 has no rounding instruction).
-#[inline(always)]
-pub(super) fn ceil_at_least(v: f64) -> usize {
-    let t = v as usize;
-    t + ((t as f64) < v) as usize
 }
 
 /// A convex quadrilateral as the lines that bound each scanline of it:

@@ -2,7 +2,8 @@
 //! same verdict on every cell, for far fewer visits.
 
 use super::between::{beam_spans, plan_wedges, trace_between};
-use super::wedge_tests::empty_map;
+use super::tests::{no_return_band, reading_band};
+use super::wedge_tests::{empty_map, settled};
 use super::*;
 use crate::geometry::Pose;
 use crate::grid::{LogOdds, Tiled, TiledGrid};
@@ -58,19 +59,7 @@ fn integrate_without_fans(
         gathered,
     );
     visits += n;
-    let count = gathered.count;
-    gathered.settle(
-        grid,
-        &frame.window,
-        ScanEvidence {
-            free: -0.4,
-            occupied: 0.85,
-        },
-    );
-    ScanStats {
-        cells_visited: visits,
-        cells_updated: count,
-    }
+    settled(gathered, grid, &frame, visits)
 }
 
 /// A scan `spacing` apart over the front, in stretches as a building and
@@ -95,12 +84,7 @@ fn stretches_scan(rng: &mut StdRng, n: usize, spacing: f64) -> (Scan, Vec<Option
             let band = match kind {
                 0 => {
                     ranges.push(30.0);
-                    BeamBand {
-                        reach: 5.0,
-                        free_until: 5.0,
-                        occupied_from: 5.0,
-                        occupied_until: 5.0,
-                    }
+                    no_return_band(5.0)
                 }
                 k => {
                     if k == 2 {
@@ -109,12 +93,7 @@ fn stretches_scan(rng: &mut StdRng, n: usize, spacing: f64) -> (Scan, Vec<Option
                         z = rng.random_range(0.5..20.0);
                     }
                     ranges.push(z);
-                    BeamBand {
-                        reach: z + alpha / 2.0,
-                        free_until: z - alpha / 2.0,
-                        occupied_from: z - alpha / 2.0,
-                        occupied_until: z + alpha / 2.0,
-                    }
+                    reading_band(z, alpha)
                 }
             };
             bands.push(Some(band));

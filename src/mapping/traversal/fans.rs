@@ -22,8 +22,8 @@
 // fan with such a bound fills nothing.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::between::{ceil_at_least, Wedge};
-use super::{BeamFrame, Code, Gathered, Slot, SEGMENT_SHIFT};
+use super::between::{ceil_at_least, Lines, Wedge};
+use super::{BeamFrame, Gathered, Slot, SEGMENT_SHIFT};
 
 /// The widest convex piece a fan is filled in, radians: a polygon with the
 /// sensor as a corner and its other corners on an arc is convex while the
@@ -288,7 +288,6 @@ impl Fans {
         frame: &BeamFrame,
         gathered: Gathered<'a, u8, SEGMENTED>,
     ) -> (usize, Gathered<'a, u8, SEGMENTED>) {
-        let w = &frame.window;
         let extent = |f: fn(&(f64, f64)) -> f64| {
             self.corners
                 .iter()
@@ -298,21 +297,13 @@ impl Fans {
                 })
         };
         let (x_range, y_range) = (extent(|p| p.0), extent(|p| p.1));
-        let columns = y_range.1 - y_range.0 > 3.0 * (x_range.1 - x_range.0);
-        // Lines `(first, count)` and cells along a line, in map cells.
-        let (lines, along, (line_min, line_max)) = if columns {
-            self.corners.iter_mut().for_each(|p| *p = (p.1, p.0));
-            ((w.x0, frame.cols), (w.y0, w.rows), x_range)
-        } else {
-            ((w.y0, w.rows), (w.x0, frame.cols), y_range)
-        };
-        let top = (lines.0 + lines.1) as f64 - 1.0;
-        let first = ceil_at_least((line_min - 0.5).max(lines.0 as f64));
-        let last = (line_max - 0.5).min(top);
-        if !(last >= first as f64) {
+        let lines = Lines::of(frame, y_range.1 - y_range.0 > 3.0 * (x_range.1 - x_range.0));
+        lines.orient(&mut self.corners);
+        let (line_min, line_max) = if lines.columns() { x_range } else { y_range };
+        let Some((first, last)) = lines.within(line_min, line_max) else {
             return (0, gathered);
-        }
-        let count = last as usize - first + 1;
+        };
+        let count = last - first + 1;
         self.lo.clear();
         self.lo.resize(count, f64::INFINITY);
         self.hi.clear();
@@ -329,7 +320,7 @@ impl Fans {
             let (a, b) = if p.1 < q.1 { (p, q) } else { (q, p) };
             let slope = (b.0 - a.0) / (b.1 - a.1);
             let from = ceil_at_least((a.1 - 0.5).max(first as f64));
-            let to = (b.1 - 0.5).min(last);
+            let to = (b.1 - 0.5).min(last as f64);
             if !(to >= from as f64) {
                 continue;
             }
@@ -345,34 +336,9 @@ impl Fans {
             }
         }
         let mut gathered = gathered.narrowed();
-        let (left, right) = (along.0 as f64, (along.0 + along.1) as f64 - 1.0);
         let mut filled = 0;
         for r in 0..count {
-            let (lo, hi) = (self.lo[r] - 0.5, self.hi[r] - 0.5);
-            let lo = if lo > left { lo } else { left };
-            let hi = if hi < right { hi } else { right };
-            if !(hi >= lo) {
-                continue;
-            }
-            let (lo, hi) = (ceil_at_least(lo), hi as usize);
-            if lo > hi {
-                continue;
-            }
-            let line = first + r - lines.0;
-            if columns {
-                let mut i = (lo - along.0) * w.stride + line;
-                for _ in lo..=hi {
-                    gathered.record(i, Code::Free as u8);
-                    i += w.stride;
-                }
-            } else {
-                gathered.record_row(
-                    line * w.stride + (lo - along.0),
-                    hi - lo + 1,
-                    Code::Free as u8,
-                );
-            }
-            filled += hi - lo + 1;
+            filled += lines.fill(&mut gathered, first + r, self.lo[r], self.hi[r]);
         }
         (filled, gathered)
     }

@@ -277,12 +277,7 @@ fn tiled_integration_builds_the_dense_map_cell_for_cell() {
                 .iter()
                 .map(|&z| {
                     let z = z.min(3.0);
-                    (z > 0.0).then_some(BeamBand {
-                        reach: z + 0.05,
-                        free_until: z - 0.05,
-                        occupied_from: z - 0.05,
-                        occupied_until: z + 0.05,
-                    })
+                    (z > 0.0).then_some(reading_band(z, 0.1))
                 })
                 .collect();
             let sd = a.integrate_bands_between(&mut dense, &scan, &bands, (-0.4, 0.85), between);
@@ -438,14 +433,7 @@ fn two_beams_of_width(ranges: [f64; 2], alpha: f64) -> [crate::grid::TiledGrid; 
     use crate::grid::TiledGrid;
     let bearings = vec![0.25, 0.25 + 1f64.to_radians()];
     let scan = Scan::new(Pose::new(0.0, 0.0, 0.0).unwrap(), ranges.to_vec(), bearings).unwrap();
-    let bands = ranges.map(|z| {
-        Some(BeamBand {
-            reach: z + alpha / 2.0,
-            free_until: z - alpha / 2.0,
-            occupied_from: z - alpha / 2.0,
-            occupied_until: z + alpha / 2.0,
-        })
-    });
+    let bands = ranges.map(|z| Some(reading_band(z, alpha)));
     let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
     let settings = FilterSettings {
         prior: 0.5,
@@ -521,14 +509,7 @@ fn a_band_as_thick_as_the_range_draws_no_wall_between_beams() {
 fn three_beams(ranges: [f64; 3]) -> crate::grid::TiledGrid {
     let bearings: Vec<f64> = (0..3).map(|k| 0.25 + (k as f64).to_radians()).collect();
     let scan = Scan::new(Pose::new(0.0, 0.0, 0.0).unwrap(), ranges.to_vec(), bearings).unwrap();
-    let bands = ranges.map(|z| {
-        Some(BeamBand {
-            reach: z + 0.05,
-            free_until: z - 0.05,
-            occupied_from: z - 0.05,
-            occupied_until: z + 0.05,
-        })
-    });
+    let bands = ranges.map(|z| Some(reading_band(z, 0.1)));
     let g = GridGeometry::sparse(900, 900, 0.05, -22.5, -22.5).unwrap();
     let settings = FilterSettings {
         prior: 0.5,
@@ -584,4 +565,25 @@ fn the_floor_beside_a_post_both_neighbours_pass_is_free() {
         unknown > 0,
         "beside a wall's end the wedge is left as it was"
     );
+}
+
+/// Table 9.2's band of a reading `z` with obstacle depth `alpha`: free in
+/// front of it, occupied within `alpha / 2` of it.
+pub(super) fn reading_band(z: f64, alpha: f64) -> BeamBand {
+    BeamBand {
+        reach: z + alpha / 2.0,
+        free_until: z - alpha / 2.0,
+        occupied_from: z - alpha / 2.0,
+        occupied_until: z + alpha / 2.0,
+    }
+}
+
+/// The band of a no-return that clears `reach` metres.
+pub(super) fn no_return_band(reach: f64) -> BeamBand {
+    BeamBand {
+        reach,
+        free_until: reach,
+        occupied_from: reach,
+        occupied_until: reach,
+    }
 }

@@ -3,6 +3,7 @@
 //! visited once.
 
 use super::between::{fill_wedge, trace_wall_between};
+use super::tests::{no_return_band, reading_band};
 use super::*;
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::{FilterSettings, LogOdds, Tiled, TiledGrid};
@@ -88,19 +89,7 @@ fn integrate_walking_between(
             }
         }
     }
-    let count = gathered.count;
-    gathered.settle(
-        grid,
-        &frame.window,
-        ScanEvidence {
-            free: -0.4,
-            occupied: 0.85,
-        },
-    );
-    ScanStats {
-        cells_visited: visits,
-        cells_updated: count,
-    }
+    settled(gathered, grid, &frame, visits)
 }
 
 /// A laser scan as a real scanner takes one: `n` beams `spacing` apart
@@ -124,27 +113,40 @@ fn laser_scan(rng: &mut StdRng, n: usize, spacing: f64) -> (Scan, Vec<Option<Bea
             0 => z = rng.random_range(0.5..20.0),
             1 => {
                 ranges.push(30.0);
-                bands.push(Some(BeamBand {
-                    reach: no_return,
-                    free_until: no_return,
-                    occupied_from: no_return,
-                    occupied_until: no_return,
-                }));
+                bands.push(Some(no_return_band(no_return)));
                 continue;
             }
             _ => z = (z + rng.random_range(-0.05..0.05)).clamp(0.3, 20.0),
         }
         ranges.push(z);
-        bands.push(Some(BeamBand {
-            reach: z + alpha / 2.0,
-            free_until: z - alpha / 2.0,
-            occupied_from: z - alpha / 2.0,
-            occupied_until: z + alpha / 2.0,
-        }));
+        bands.push(Some(reading_band(z, alpha)));
     }
     let first = -spacing * (n - 1) as f64 / 2.0;
     let bearings = (0..n).map(|k| first + k as f64 * spacing).collect();
     (Scan::new(pose, ranges, bearings).unwrap(), bands)
+}
+
+/// Updates `grid` once per cell gathered (the free and occupied log odds
+/// of the traversal's tests), and the scan's work with `visits`.
+pub(super) fn settled(
+    gathered: Codes<'_>,
+    grid: &mut TiledGrid,
+    frame: &BeamFrame,
+    visits: usize,
+) -> ScanStats {
+    let count = gathered.count;
+    gathered.settle(
+        grid,
+        &frame.window,
+        ScanEvidence {
+            free: -0.4,
+            occupied: 0.85,
+        },
+    );
+    ScanStats {
+        cells_visited: visits,
+        cells_updated: count,
+    }
 }
 
 pub(super) fn empty_map() -> TiledGrid {
