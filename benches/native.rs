@@ -5,6 +5,7 @@
 
 use occgrid::bench::intel as workloads;
 use occgrid::io::carmen;
+use occgrid::poses::PoseSourceKind;
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -38,7 +39,7 @@ fn intel_full() {
     };
     let t = Instant::now();
     // The reader the page uses, to the end: W1 maps the page's numbers.
-    let log = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
+    let log = carmen::read_scans(&bytes[..]).expect("the Intel log parses");
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
     let mut times = Vec::new();
     let mut counts = None;
@@ -153,7 +154,7 @@ fn intel_real_log() {
     let (mut read, mut build, mut last) = (Vec::new(), Vec::new(), None);
     for _ in 0..runs() {
         let t = Instant::now();
-        let scans = carmen::LaserScans::read(&bytes[..]).expect("the Intel log parses");
+        let scans = carmen::read_scans(&bytes[..]).expect("the Intel log parses");
         read.push(t.elapsed().as_secs_f64() * 1e3);
         let t = Instant::now();
         let mut b = occgrid::apps::real_log::LogPane::new(
@@ -281,7 +282,7 @@ fn real_logs() {
         let (mut render, mut counting) = (Vec::new(), Vec::new());
         for _ in 0..runs() {
             let t = Instant::now();
-            let scans = carmen::LaserScans::read(&bytes[..]).expect("the corpus's logs parse");
+            let scans = carmen::read_scans(&bytes[..]).expect("the corpus's logs parse");
             read.push(t.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
             let mut b = occgrid::apps::real_log::LogPane::new(
@@ -364,7 +365,7 @@ fn trajectory_errors(
 /// trajectory's errors against the corrected poses for dead reckoning and
 /// for scan matching.
 fn scan_match() {
-    use occgrid::apps::real_log::{LogMapSettings, LogPane, LogPoses};
+    use occgrid::apps::real_log::{LogMapSettings, LogPane};
     let Ok(dir) = std::fs::read_dir(datasets()) else {
         return eprintln!("skipping scan-match: cannot read the datasets folder");
     };
@@ -375,7 +376,7 @@ fn scan_match() {
     logs.sort();
     let s = LogMapSettings::default();
     let matched_settings = LogMapSettings {
-        poses: LogPoses::ScanMatched,
+        poses: PoseSourceKind::ScanMatched,
         seed: 1,
         ..s
     };
@@ -384,7 +385,7 @@ fn scan_match() {
         let Ok(bytes) = std::fs::read(&path) else {
             continue;
         };
-        let scans = carmen::LaserScans::read(&bytes[..]).expect("the corpus's logs parse");
+        let scans = carmen::read_scans(&bytes[..]).expect("the corpus's logs parse");
         let mut plain = Vec::new();
         for _ in 0..runs().min(3) {
             let t = Instant::now();

@@ -7,13 +7,14 @@
 //! * [`error`] — `OccError`, the validators, strict settings objects.
 //! * [`geometry`] — poses, the grid's limits (world ↔ cell), the supercover raster.
 //! * [`world`] — ground truth as a binary grid, and the one ray caster.
-//! * [`sensors`] — scans, the LiDAR, the sonar ring, odometry (Table 5.6), noise, the beam model (Table 6.1).
+//! * [`sensors`] — scans, a log's scans in one format-neutral store, the LiDAR, the sonar ring, odometry (Table 5.6), noise, the beam model (Table 6.1).
 //! * [`scenes`] — the apartment, the doorway, the table, training floor plans.
 //! * [`grid`] — the log-odds map (Table 9.1's state), entropy, Brier score, counts.
 //! * [`inverse`] — inverse sensor models: Table 9.2 and the learned one (§9.3).
-//! * [`mapping`] — traversal, the literal sweep, MAP search (Table 9.3), joint, fusion (eq. 9.9).
+//! * [`mapping`] — traversal, the one scan insertion of a log, the literal sweep, MAP search (Table 9.3), joint, fusion (eq. 9.9), scan matching.
+//! * [`poses`] — pose sources: where each scan of a log is put (the log's own poses, dead reckoning, scan matching).
 //! * [`render`] — the gray ramp and the incremental map view.
-//! * [`io`] — CARMEN logs in, ROS `map_server` maps out.
+//! * [`io`] — logs in (one reader per format behind one interface, CARMEN's first), ROS `map_server` maps out.
 //! * [`apps`] — one session per widget: what each widget shows, in image units.
 //! * [`bench`] — the workloads of BENCHMARKS.md.
 //!
@@ -30,6 +31,7 @@ pub mod grid;
 pub mod inverse;
 pub mod io;
 pub mod mapping;
+pub mod poses;
 pub mod render;
 pub mod scenes;
 pub mod sensors;

@@ -4,7 +4,9 @@
 //! may cost is in `tests/carmen_budgets.rs`.)
 
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
-use occgrid::io::carmen::{LaserMessage, LaserScans, LoadProgress, LogLoader, LogReader};
+use occgrid::io::carmen::{read_scans, LaserMessage, LogLoader, LogReader};
+use occgrid::io::LoadProgress;
+use occgrid::sensors::ScanLog;
 use occgrid::OccError;
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -48,13 +50,13 @@ fn assert_words_only(message: &str) {
 
 /// The whole log through the one reader the page uses: its scans and the
 /// last progress (lines read, a cut short's warning).
-fn read_all(bytes: &[u8]) -> occgrid::Result<(LaserScans, LoadProgress)> {
+fn read_all(bytes: &[u8]) -> occgrid::Result<(ScanLog, LoadProgress)> {
     LogLoader::new(bytes).read_to_end()
 }
 
 /// True when `a` holds the first scans of `b`, each exactly as in `b`.
-fn is_prefix(a: &LaserScans, b: &LaserScans) -> bool {
-    a.len() <= b.len() && (0..a.len()).all(|k| a.scan(k) == b.scan(k) && a.line(k) == b.line(k))
+fn is_prefix(a: &ScanLog, b: &ScanLog) -> bool {
+    a.len() <= b.len() && (0..a.len()).all(|k| a.scan(k) == b.scan(k) && a.origin(k) == b.origin(k))
 }
 
 fn parse_error(bytes: &[u8]) -> (usize, String) {
@@ -161,7 +163,7 @@ fn aces_log_streams_440_flaser_scans_with_valid_ranges_and_poses() {
 fn the_store_keeps_every_record_of_the_stream_at_f32_precision_gzip_or_plain() {
     let bytes = dataset(INTEL.name);
     let (scans, p) = read_all(&bytes).unwrap();
-    assert_eq!((scans.len(), p.lines), (INTEL.scans, INTEL.lines));
+    assert_eq!((scans.len(), p.records), (INTEL.scans, INTEL.lines));
     let (plain, _) = read_all(&gunzip(&bytes)).unwrap();
     assert_eq!(plain, scans, "gzip and plain text read alike");
     let records: Vec<_> = LogReader::new(&bytes[..]).map(|r| r.unwrap()).collect();
@@ -169,7 +171,7 @@ fn the_store_keeps_every_record_of_the_stream_at_f32_precision_gzip_or_plain() {
     for (k, r) in records.iter().enumerate() {
         let kept = scans.scan(k).unwrap();
         let text = r.to_scan().unwrap();
-        assert_eq!(scans.line(k), Some(r.line));
+        assert_eq!(scans.origin(k), Some(r.line));
         assert_eq!(
             (kept.pose(), kept.bearings()),
             (text.pose(), text.bearings())
@@ -186,7 +188,7 @@ fn the_store_keeps_every_record_of_the_stream_at_f32_precision_gzip_or_plain() {
 fn w1_maps_the_stores_scans_to_its_pinned_counts_and_the_cells_of_the_texts_readings() {
     use occgrid::bench::intel::{build_intel_map, intel_geometry, intel_model, intel_settings};
     let bytes = dataset(INTEL.name);
-    let (grid, c) = build_intel_map(&LaserScans::read(&bytes[..]).unwrap());
+    let (grid, c) = build_intel_map(&read_scans(&bytes[..]).unwrap());
     assert_eq!((c.beams, c.cell_updates), (163_800, 8_181_340), "{c:?}");
     assert_eq!(
         (c.occupied, c.free, c.unknown),
@@ -299,7 +301,7 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
     for cut in [start + 400, start + after_pose, start + after_pose + 3] {
         let (scans, p) = read_all(&text[..cut]).unwrap();
         assert_eq!(
-            (scans.len(), p.lines),
+            (scans.len(), p.records),
             (4, number),
             "cut at byte {}",
             cut - start
@@ -324,7 +326,7 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         .len();
     for cut in [start + after_odom, end - 2] {
         let (scans, p) = read_all(&text[..cut]).unwrap();
-        assert_eq!((scans.len(), p.lines, p.warning), (5, number, None));
+        assert_eq!((scans.len(), p.records, p.warning), (5, number, None));
     }
     // The Intel log cut at 30 %, mid-line, as a reader would have it: a map
     // of the scans before the cut, through the session the page drives.
@@ -338,11 +340,11 @@ fn a_plain_log_cut_inside_a_scan_keeps_the_scans_before_it_and_names_that_line()
         }
     };
     let w = report.progress.warning.expect("warned");
-    let complete = LaserScans::read(&text[..cut]).unwrap().len();
+    let complete = read_scans(&text[..cut]).unwrap().len();
     assert!(complete > 200, "{complete}");
     assert_eq!(report.progress.scans, complete);
     assert!(
-        w.contains(&format!("line {}:", report.progress.lines)),
+        w.contains(&format!("line {}:", report.progress.records)),
         "{w}"
     );
     while !session.build_chunk(usize::MAX).unwrap().finished {}
@@ -356,7 +358,7 @@ fn cutting_a_mixed_log_at_every_byte_never_panics() {
     for cut in 0..text.len() {
         match read_all(&text.as_bytes()[..cut]) {
             Ok((scans, _)) => assert!(is_prefix(&scans, &full)),
-            Err(OccError::Parse { line, .. }) => assert!(line >= 1 && line <= p.lines),
+            Err(OccError::Parse { line, .. }) => assert!(line >= 1 && line <= p.records),
             Err(e) => panic!("unexpected error kind {e}"),
         }
     }
@@ -502,7 +504,7 @@ fn a_reading_past_f32_is_refused_by_the_page_and_every_reading_kept_is_mapped() 
     );
     assert!(!session.awaiting_settings());
     // Just inside f32: kept, and every beam read is a beam mapped.
-    let scans = LaserScans::read(text.replace("1e39", "3e38").as_bytes()).unwrap();
+    let scans = read_scans(text.replace("1e39", "3e38").as_bytes()).unwrap();
     assert_eq!(scans.beams(), 6);
     let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     let p = b.advance(usize::MAX);
@@ -521,7 +523,7 @@ fn a_pose_past_a_thousand_kilometres_is_refused_by_the_page_at_read_time() {
     );
     assert!(!session.awaiting_settings());
     // At the bound, a pose is a pose.
-    let edge = LaserScans::read(&b"FLASER 3 1 1 1 1e6 -1e6 0 0 0 0\n"[..]).unwrap();
+    let edge = read_scans(&b"FLASER 3 1 1 1 1e6 -1e6 0 0 0 0\n"[..]).unwrap();
     assert_eq!(edge.pose(0).map(|p| (p.x, p.y)), Some((1e6, -1e6)));
 }
 
@@ -566,7 +568,7 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
     // 0.1 rad, reads 2 m. The cap (30 m) is longer than the laser's range.
     let text = "ROBOTLASER1 0 0 0.1 0.1 4.0 0.01 0 2 4.0 2.0 0 \
                 0.0 0.0 0.0 0.0 0.0 0.0 0 0 0 0 0 1 h 1\n";
-    let scans = LaserScans::read(text.as_bytes()).unwrap();
+    let scans = read_scans(text.as_bytes()).unwrap();
     let settings = LogMapSettings {
         resolution: 0.1,
         margin: 3.0,
@@ -602,7 +604,7 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
 
 #[test]
 fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
-    let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
+    let scans = read_scans(&dataset(INTEL.name)[..]).unwrap();
     let settings = LogMapSettings::default();
     let b = LogPane::new(scans.clone(), settings).unwrap();
     let geo = *b.grid().to_dense().unwrap().geometry();
@@ -643,7 +645,7 @@ fn the_grid_extent_holds_every_pose_and_endpoint_within_the_cap_plus_margin() {
 
 #[test]
 fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_count() {
-    let scans = LaserScans::read(&dataset(INTEL.name)[..]).unwrap();
+    let scans = read_scans(&dataset(INTEL.name)[..]).unwrap();
     let mut whole = LogPane::new(scans.clone(), LogMapSettings::chapter()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && p.scans_done == 910 && p.beams == 163_800);
@@ -689,7 +691,7 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
 
 #[test]
 fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
-    let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
+    let scans = read_scans(mixed_log().as_bytes()).unwrap();
     let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     b.advance(2);
     let state = |b: &LogPane| {
@@ -733,19 +735,18 @@ fn bad_settings_are_rejected_by_name_and_leave_the_map_as_it_was() {
     );
     assert!(b.seek(4).is_err(), "only 3 scans");
     assert_eq!(b.progress(), before.1);
-    let empty = LaserScans::read(&b"ODOM 0 0 0\n"[..]).unwrap();
+    let empty = read_scans(&b"ODOM 0 0 0\n"[..]).unwrap();
     let e = LogPane::new(empty, LogMapSettings::default())
         .err()
         .unwrap();
-    assert!(
-        e.to_string().contains("no FLASER or ROBOTLASER1 lines"),
-        "{e}"
-    );
+    // (A pane holds format-neutral scans: the words are the core's; the
+    // CARMEN reader's own refusal names FLASER and ROBOTLASER1.)
+    assert!(e.to_string().contains("no laser scans"), "{e}");
 }
 
 #[test]
 fn the_hover_readout_reads_the_cell_under_an_image_pixel() {
-    let scans = LaserScans::read(mixed_log().as_bytes()).unwrap();
+    let scans = read_scans(mixed_log().as_bytes()).unwrap();
     let mut b = LogPane::new(scans, LogMapSettings::default()).unwrap();
     b.advance(3);
     let geo = *b.grid().to_dense().unwrap().geometry();

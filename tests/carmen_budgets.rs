@@ -6,7 +6,8 @@
 //! nothing are in `tests/gzip.rs`.)
 
 use occgrid::apps::real_log::RealLogSession;
-use occgrid::io::carmen::{LogBudget, LogLoader, LogReader, MAX_LINE_BYTES};
+use occgrid::io::carmen::{LogLoader, LogReader, MAX_LINE_BYTES};
+use occgrid::io::LogBudget;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::io::Read;
@@ -27,7 +28,7 @@ fn the_loader_reports_progress_in_chunks_and_ends_with_every_scan() {
     // Bounded by scans alone (the compressed bytes a call may take are
     // not), then at the default budget, where they are too.
     let unbounded = LogBudget {
-        gzip_bytes_per_read: u64::MAX,
+        compressed_bytes_per_read: u64::MAX,
         ..LogBudget::default()
     };
     for budget in [unbounded, LogBudget::default()] {
@@ -38,11 +39,11 @@ fn the_loader_reports_progress_in_chunks_and_ends_with_every_scan() {
             let p = loader.read(100).unwrap();
             calls += 1;
             assert!(p.bytes_read >= last && p.bytes_read <= bytes.len() as u64);
-            assert!(p.bytes_read - last <= budget.gzip_bytes_per_read);
+            assert!(p.bytes_read - last <= budget.compressed_bytes_per_read);
             assert!(p.scans - scans <= 100);
             (last, scans) = (p.bytes_read, p.scans);
             if p.finished {
-                assert_eq!((p.scans, p.lines, p.beams), (440, ACES_LINES, 440 * 180));
+                assert_eq!((p.scans, p.records, p.beams), (440, ACES_LINES, 440 * 180));
                 break;
             }
             if by_scans {
@@ -52,7 +53,7 @@ fn the_loader_reports_progress_in_chunks_and_ends_with_every_scan() {
         if by_scans {
             assert_eq!(calls, 5);
         } else {
-            assert!(calls as u64 >= bytes.len() as u64 / budget.gzip_bytes_per_read);
+            assert!(calls as u64 >= bytes.len() as u64 / budget.compressed_bytes_per_read);
         }
         assert_eq!(loader.into_scans().len(), 440);
     }
@@ -207,7 +208,7 @@ fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so()
     gz.write_all(b"ODOM 1 2 3\n# a comment\n").unwrap();
     let blank = gz.finish().unwrap();
     let budget = LogBudget {
-        lines_per_read: 1000,
+        records_per_read: 1000,
         ..LogBudget::default()
     };
     let mut session = RealLogSession::with_budget(blank, budget);
@@ -216,11 +217,11 @@ fn blank_lines_are_read_in_bounded_steps_and_a_log_without_laser_lines_says_so()
         match session.read(usize::MAX) {
             Ok(r) => {
                 assert!(
-                    r.progress.lines - lines <= 1000,
+                    r.progress.records - lines <= 1000,
                     "one call read {} lines",
-                    r.progress.lines - lines
+                    r.progress.records - lines
                 );
-                lines = r.progress.lines;
+                lines = r.progress.records;
                 calls += 1;
             }
             Err(e) => break e.to_string(),

@@ -4,10 +4,12 @@
 //! work budget that bounds each call of a map build.
 
 use occgrid::apps::real_log::{
-    BuildProgress, LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, MAX_SEED,
+    BuildProgress, LogMapSettings, LogPane, RealLogSession, Stage, MAX_SEED,
 };
-use occgrid::io::carmen::LaserScans;
+use occgrid::io::carmen::read_scans;
+use occgrid::poses::PoseSourceKind;
 use occgrid::sensors::odometry::OdometryParams;
+use occgrid::sensors::ScanLog;
 use std::path::PathBuf;
 
 fn dataset(name: &str) -> Vec<u8> {
@@ -17,19 +19,19 @@ fn dataset(name: &str) -> Vec<u8> {
     std::fs::read(dir.join(name)).unwrap()
 }
 
-fn scans(name: &str) -> LaserScans {
-    LaserScans::read(&dataset(name)[..]).unwrap()
+fn scans(name: &str) -> ScanLog {
+    read_scans(&dataset(name)[..]).unwrap()
 }
 
 fn dead_reckoning(seed: u64) -> LogMapSettings {
     LogMapSettings {
-        poses: LogPoses::DeadReckoning,
+        poses: PoseSourceKind::DeadReckoning,
         seed,
         ..LogMapSettings::default()
     }
 }
 
-fn built(scans: LaserScans, settings: LogMapSettings, odometry: OdometryParams) -> LogPane {
+fn built(scans: ScanLog, settings: LogMapSettings, odometry: OdometryParams) -> LogPane {
     let mut b = LogPane::with_odometry(scans, settings, odometry).unwrap();
     b.advance(usize::MAX);
     b
@@ -113,7 +115,10 @@ fn dead_reckoning_is_one_more_pane_beside_the_corrected_map_and_a_change_of_sour
     while !s.build_chunk(usize::MAX).unwrap().finished {}
     // One session, two panes: the chosen source first, the corrected beside.
     let sources: Vec<_> = s.panes().iter().map(|p| p.source()).collect();
-    assert_eq!(sources, [LogPoses::DeadReckoning, LogPoses::Corrected]);
+    assert_eq!(
+        sources,
+        [PoseSourceKind::DeadReckoning, PoseSourceKind::Corrected]
+    );
     let dr = bits(&s.panes()[0]);
     let alone = built(
         scans("aces-corrected.log.gz"),

@@ -7,8 +7,9 @@
 
 use flate2::write::GzEncoder;
 use flate2::{Compression, GzBuilder};
-use occgrid::io::carmen::{LogBudget, LogLoader};
+use occgrid::io::carmen::LogLoader;
 use occgrid::io::gzip::{crc32, GzipReader};
+use occgrid::io::LogBudget;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::io::{ErrorKind, Read, Write};
@@ -376,7 +377,7 @@ fn read_in_bounded_calls(file: &[u8], budget: u64) -> (usize, usize) {
     let mut loader = LogLoader::with_budget(
         file,
         LogBudget {
-            gzip_bytes_per_read: budget,
+            compressed_bytes_per_read: budget,
             ..LogBudget::default()
         },
     );
@@ -427,7 +428,7 @@ fn gzip_files_that_inflate_to_almost_nothing_are_read_in_calls_bounded_by_their_
     let bomb = empty_members_then_a_scan(20_000);
     let mut session = occgrid::apps::real_log::RealLogSession::new(bomb.clone());
     let first = session.read(1).unwrap().progress;
-    assert!(!first.finished && first.bytes_read <= LogBudget::default().gzip_bytes_per_read);
+    assert!(!first.finished && first.bytes_read <= LogBudget::default().compressed_bytes_per_read);
     while !session.read(1).unwrap().progress.finished {}
     assert_eq!(session.pane(0).unwrap().scans().len(), 1);
 }

@@ -5,7 +5,7 @@
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{probability, FilterSettings, LogOddsGrid};
-use occgrid::io::carmen::LaserScans;
+use occgrid::io::carmen::read_scans;
 use occgrid::io::map_server::{map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH};
 
 fn datasets() -> std::path::PathBuf {
@@ -140,7 +140,7 @@ fn the_origin_puts_a_world_point_on_the_pixel_map_server_gives_it() {
 #[test]
 fn the_intel_map_read_back_from_its_pgm_matches_every_cell() {
     let bytes = std::fs::read(datasets().join("intel-corrected.log.gz")).unwrap();
-    let scans = LaserScans::read(&bytes[..]).unwrap();
+    let scans = read_scans(&bytes[..]).unwrap();
     let mut build = LogPane::new(scans, LogMapSettings::chapter()).unwrap();
     build.advance(usize::MAX);
     let grid = &build.grid().to_dense().unwrap();

@@ -14,8 +14,9 @@ mod properties_support;
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::geometry::GridGeometry;
 use occgrid::grid::{FilterSettings, LogOddsGrid};
-use occgrid::io::carmen::{flaser_angle_increment, LaserScans, LogLoader, LogReader};
+use occgrid::io::carmen::{flaser_angle_increment, read_scans, LogLoader, LogReader};
 use occgrid::io::map_server::{file_stem, map_server_pair, read_pgm, trinary_gray, zip_pair};
+use occgrid::sensors::ScanLog;
 use occgrid::OccError;
 use properties_support::*;
 use proptest::prelude::*;
@@ -147,7 +148,7 @@ fn apply(line: &str, d: &Damage) -> Vec<u8> {
 
 /// A scan the reader let through must be kept whole and finite throughout.
 #[track_caller]
-fn assert_finite_scans(scans: &LaserScans) {
+fn assert_finite_scans(scans: &ScanLog) {
     for k in 0..scans.len() {
         let s = scans.scan(k).expect("every kept scan can be mapped");
         let p = s.pose();
@@ -192,7 +193,7 @@ proptest! {
 
     #[test]
     fn random_bytes_are_read_or_refused_with_a_line_number(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
-        match LaserScans::read(&bytes[..]) {
+        match read_scans(&bytes[..]) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 let lines = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
@@ -214,7 +215,7 @@ proptest! {
         ),
     ) {
         let text = words.join(" ");
-        match LaserScans::read(text.as_bytes()) {
+        match read_scans(text.as_bytes()) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 prop_assert!(line >= 1);
@@ -233,7 +234,7 @@ proptest! {
     ) {
         let mut bytes = vec![0x1f, 0x8b];
         bytes.extend(tail);
-        match LaserScans::read(&bytes[..]) {
+        match read_scans(&bytes[..]) {
             Err(OccError::Parse { line, .. }) => prop_assert!(line >= 1),
             Ok(log) => assert_finite_scans(&log),
             Err(other) => prop_assert!(false, "not a parse error: {other}"),
@@ -251,7 +252,7 @@ proptest! {
         let bad_line = lines[..before].len() + 1;
         file.extend(apply(target, &d));
         file.extend(lines[before..before + 3].concat().into_bytes());
-        match LaserScans::read(&file[..]) {
+        match read_scans(&file[..]) {
             Ok(log) => {
                 assert_finite_scans(&log);
                 let most = lines[..before + 3].iter().filter(|l| l.starts_with("FLASER")).count() + 1;
@@ -287,7 +288,7 @@ proptest! {
         line += " ";
         line += &pose.iter().map(num).collect::<Vec<_>>().join(" ");
         line += &format!(" 0 0 0 0 0{}\n", tail.unwrap_or(""));
-        match LaserScans::read(line.as_bytes()) {
+        match read_scans(line.as_bytes()) {
             Ok(log) => assert_finite_scans(&log),
             Err(OccError::Parse { line, reason }) => {
                 prop_assert_eq!(line, 1);
@@ -303,12 +304,12 @@ proptest! {
     ) {
         let lasers = laser_lines();
         let text: String = lasers[..scans].iter().map(|s| s.as_str()).collect();
-        let read = LaserScans::read(text.as_bytes()).unwrap();
+        let read = read_scans(text.as_bytes()).unwrap();
         prop_assert_eq!(read.len(), scans);
         let inside = k < scans;
         prop_assert_eq!(read.scan(k).is_some(), inside);
         prop_assert_eq!(read.pose(k).is_some(), inside);
-        prop_assert_eq!(read.line(k).is_some(), inside);
+        prop_assert_eq!(read.origin(k).is_some(), inside);
         prop_assert_eq!(read.max_range(k).is_some(), inside);
         match read.endpoint_bounds(cap) {
             Some(b) => {
@@ -482,7 +483,7 @@ proptest! {
 fn an_absurd_map_resolution_is_refused_under_its_own_name() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = LaserScans::read(text.as_bytes()).unwrap();
+    let scans = read_scans(text.as_bytes()).unwrap();
     for resolution in [f64::MAX, 1e300] {
         let settings = LogMapSettings {
             resolution,
@@ -511,7 +512,7 @@ fn an_absurd_map_resolution_is_refused_under_its_own_name() {
 fn map_build_model_errors_carry_the_pages_field_names() {
     let lasers = laser_lines();
     let text: String = lasers[..3].iter().map(|s| s.as_str()).collect();
-    let scans = LaserScans::read(text.as_bytes()).unwrap();
+    let scans = read_scans(text.as_bytes()).unwrap();
     let cases = [
         (
             LogMapSettings {

@@ -2,10 +2,9 @@
 //! The real-log session (`apps::real_log`): no-return reach, walls that
 //! last, the chapter's model kept as a choice.
 
-use occgrid::apps::real_log::{
-    LogMapSettings, LogPane, LogPoses, RealLogSession, SettingLimits, Stage,
-};
-use occgrid::io::carmen::LaserScans;
+use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, SettingLimits, Stage};
+use occgrid::io::carmen::read_scans;
+use occgrid::poses::PoseSourceKind;
 use std::path::PathBuf;
 
 fn datasets() -> PathBuf {
@@ -27,7 +26,7 @@ mod log_support;
 use log_support::flaser_log;
 
 fn build(bytes: &[u8], settings: LogMapSettings) -> LogPane {
-    let scans = LaserScans::read(bytes).unwrap();
+    let scans = read_scans(bytes).unwrap();
     let mut b = LogPane::new(scans, settings).unwrap();
     b.advance(usize::MAX);
     b
@@ -175,11 +174,7 @@ fn a_person_s_ghost_still_fades_under_the_defaults() {
         let (ix, iy) = g.world_to_cell(3.0, 0.0).unwrap();
         b.grid().to_dense().unwrap().probability_at(g.index(ix, iy))
     };
-    let mut b = LogPane::new(
-        LaserScans::read(&bytes[..]).unwrap(),
-        LogMapSettings::default(),
-    )
-    .unwrap();
+    let mut b = LogPane::new(read_scans(&bytes[..]).unwrap(), LogMapSettings::default()).unwrap();
     b.seek(10).unwrap();
     b.advance(usize::MAX);
     assert!(at(&b) > 0.65, "the person is on the map");
@@ -232,7 +227,7 @@ fn a_campus_sized_log_maps_at_5_cm_in_tiles_and_exports_its_whole_extent() {
 /// whole log within the budget.
 #[test]
 fn a_tile_budget_refuses_a_resolution_it_cannot_hold_before_building_and_names_one_that_fits() {
-    let scans = LaserScans::read(&dataset("aces-corrected.log.gz")[..]).unwrap();
+    let scans = read_scans(&dataset("aces-corrected.log.gz")[..]).unwrap();
     let mut whole = LogPane::new(scans.clone(), LogMapSettings::default()).unwrap();
     let p = whole.advance(usize::MAX);
     assert!(p.finished && whole.failure().is_none());
@@ -341,9 +336,9 @@ fn the_session_state_runs_from_idle_through_reading_and_building_to_done() {
     }
     assert_eq!(s.stage(), Stage::Building);
     assert_eq!(s.state().panes.len(), 1);
-    assert_eq!(s.state().panes[0].poses, LogPoses::Corrected);
+    assert_eq!(s.state().panes[0].poses, PoseSourceKind::Corrected);
     s.configure(LogMapSettings {
-        poses: LogPoses::DeadReckoning,
+        poses: PoseSourceKind::DeadReckoning,
         seed: 9,
         ..LogMapSettings::default()
     })
@@ -503,7 +498,7 @@ fn a_log_past_its_tile_budget_waits_for_the_resolution_that_fits() {
 fn one_cell_budget_bounds_a_slice_across_the_panes() {
     let mut s = RealLogSession::new(dataset("aces-corrected.log.gz"));
     s.configure(LogMapSettings {
-        poses: LogPoses::DeadReckoning,
+        poses: PoseSourceKind::DeadReckoning,
         ..LogMapSettings::default()
     })
     .unwrap();
@@ -597,7 +592,7 @@ fn the_panel_s_limits_legend_cursor_and_export_come_from_the_pane() {
         range_cap: limits.range_cap_max,
         ..LogMapSettings::default()
     };
-    let scans = LaserScans::read(&corridor(5)[..]).unwrap();
+    let scans = read_scans(&corridor(5)[..]).unwrap();
     assert!(LogPane::check(&scans, &fits).is_ok());
     let past = LogMapSettings {
         range_cap: limits.range_cap_max + 0.01,
@@ -608,7 +603,7 @@ fn the_panel_s_limits_legend_cursor_and_export_come_from_the_pane() {
 
     let mut s = RealLogSession::new(corridor(5));
     s.configure(LogMapSettings {
-        poses: LogPoses::DeadReckoning,
+        poses: PoseSourceKind::DeadReckoning,
         seed: 4,
         ..LogMapSettings::default()
     })

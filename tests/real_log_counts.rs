@@ -4,7 +4,7 @@
 //! cell, through builds, scrubs back and new settings.
 
 use occgrid::apps::real_log::{LogGrid, LogMapSettings, RealLogSession, Stage};
-use occgrid::io::map_server::{export_counts, ExportCounts};
+use occgrid::io::map_server::ExportCounts;
 use std::path::PathBuf;
 
 fn dataset(name: &str) -> Vec<u8> {
@@ -15,12 +15,8 @@ fn dataset(name: &str) -> Vec<u8> {
 }
 
 /// The counts of every cell of `grid`, walked now.
-fn walked(grid: LogGrid<'_>) -> ExportCounts {
-    match grid {
-        LogGrid::LogOdds(g) => export_counts(g),
-        LogGrid::HitCounting(g) => export_counts(g),
-        LogGrid::HitMissOdds(g) => export_counts(g),
-    }
+fn walked(grid: &dyn LogGrid) -> ExportCounts {
+    grid.export_counts()
 }
 
 fn read_all(s: &mut RealLogSession) {
@@ -112,7 +108,7 @@ fn campus_calls_measured() {
         no_return_reach: 8.0,
         ..Default::default()
     };
-    let log = occgrid::io::carmen::LaserScans::read(&bytes[..]).unwrap();
+    let log = occgrid::io::carmen::read_scans(&bytes[..]).unwrap();
     let mut one_call = LogPane::new(log.clone(), LogMapSettings::default()).unwrap();
     let t = Instant::now();
     one_call.advance(usize::MAX);

@@ -5,14 +5,15 @@
 //! second pane shows another model of the same log, and the map's extent
 //! holds every cell the log carved.
 
-use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane, LogPoses, RealLogSession};
-use occgrid::io::carmen::LaserScans;
+use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane, RealLogSession};
+use occgrid::io::carmen::read_scans;
+use occgrid::poses::PoseSourceKind;
 
 mod log_support;
 use log_support::flaser_log;
 
 fn pane(bytes: &[u8], settings: LogMapSettings) -> LogPane {
-    LogPane::new(LaserScans::read(bytes).unwrap(), settings).unwrap()
+    LogPane::new(read_scans(bytes).unwrap(), settings).unwrap()
 }
 
 /// The probability of occupancy at world point `(x, y)`.
@@ -231,8 +232,8 @@ fn a_second_pane_shows_the_same_log_under_another_model() {
     assert_eq!(
         models,
         [
-            (LogPoses::Corrected, LogCellModel::HitCounting),
-            (LogPoses::Corrected, LogCellModel::LogOdds)
+            (PoseSourceKind::Corrected, LogCellModel::HitCounting),
+            (PoseSourceKind::Corrected, LogCellModel::LogOdds)
         ]
     );
     assert!(

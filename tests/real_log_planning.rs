@@ -7,11 +7,10 @@
 
 mod log_support;
 use log_support::flaser_log;
-use occgrid::apps::real_log::{
-    LogMapSettings, LogPane, LogPoses, RealLogSession, Stage, CONFIGURE_SCANS,
-};
+use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, CONFIGURE_SCANS};
 use occgrid::grid::storage::TILE_CELLS;
-use occgrid::io::carmen::LaserScans;
+use occgrid::io::carmen::read_scans;
+use occgrid::poses::PoseSourceKind;
 
 /// A robot driving 60 m along the diagonal with a 180-beam laser of 3 m
 /// readings (and a no-return in each scan): a map whose bounding box is
@@ -68,7 +67,7 @@ fn every_read_call_stays_within_its_budget_and_the_tile_walk_comes_after_the_las
     assert_eq!(session.stage(), Stage::Building);
 
     // The pane is the one a whole-log plan makes, and builds the same map.
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let settings = LogMapSettings::default();
     let mut whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
     assert_eq!(session.geometry(0).unwrap(), whole.geometry());
@@ -97,7 +96,7 @@ fn a_log_past_the_tile_budget_is_refused_by_the_last_planning_call_as_a_whole_pl
             Err(e) => break e,
         }
     };
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let whole = LogPane::with_tile_budget(log, LogMapSettings::default(), budget);
     assert_eq!(Some(e.to_string()), whole.err().map(|e| e.to_string()));
     assert!(e.to_string().contains("fits"), "{e}");
@@ -119,11 +118,11 @@ fn settings_changed_while_reading_plan_the_panes_at_the_new_settings() {
     session.configure(settings).unwrap();
     let works = read_all(&mut session, 10);
     assert!(works.iter().all(|&w| w <= 10), "{works:?}");
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
     assert_eq!(session.geometry(0).unwrap(), whole.geometry());
     // A no-return clearing 2 m instead of 5 m gives another extent.
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let before = LogPane::with_tile_budget(log, LogMapSettings::default(), BUDGET_CELLS).unwrap();
     assert_ne!(before.geometry(), whole.geometry());
 }
@@ -170,7 +169,7 @@ fn new_settings_plan_the_panes_in_bounded_calls_while_the_old_maps_stay() {
     assert_eq!(total, 2 * scans as u64, "{works:?}");
     assert_eq!(session.stage(), Stage::Building);
 
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let mut whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
     assert_eq!(session.geometry(0).unwrap(), whole.geometry());
     while !session.build_chunk(100).unwrap().finished {}
@@ -218,7 +217,7 @@ fn a_scan_matched_pane_is_planned_in_the_read_s_bounded_calls_too() {
     let bytes = diagonal_log(scans);
     let mut session = RealLogSession::with_tile_budget(bytes.clone(), BUDGET_CELLS);
     let settings = LogMapSettings {
-        poses: LogPoses::ScanMatched,
+        poses: PoseSourceKind::ScanMatched,
         ..Default::default()
     };
     session.configure(settings).unwrap();
@@ -228,7 +227,7 @@ fn a_scan_matched_pane_is_planned_in_the_read_s_bounded_calls_too() {
     // (both boxes grown as the lines were read), then the dead-reckoned
     // pane's box and tiles: every walk counted in some call's work.
     assert_eq!(works.iter().sum::<u64>(), 5 * scans as u64, "{works:?}");
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
     assert_eq!(session.geometry(0).unwrap(), whole.geometry());
 }
@@ -252,7 +251,7 @@ fn the_search_for_a_resolution_that_fits_is_spread_over_the_read_s_calls() {
     // refusing one included, hold three walks of the scans.
     let calls = works.len() as u64 + 1;
     assert!(calls * n as u64 >= 3 * scans as u64, "{works:?}");
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let whole = LogPane::with_tile_budget(log, LogMapSettings::default(), budget);
     assert_eq!(Some(e.to_string()), whole.err().map(|e| e.to_string()));
     assert!(e.to_string().contains("m or coarser fits"), "{e}");

@@ -6,32 +6,39 @@
 //! the odometry can place along its length, and the panel's scan-matched
 //! pane (built in slices, deterministic, from a raw log's own odometry).
 
-use occgrid::apps::real_log::{LogCellModel, LogGrid, LogMapSettings, LogPoses, RealLogSession};
+use occgrid::apps::real_log::{LogCellModel, LogMapSettings, RealLogSession};
 use occgrid::geometry::{wrap_angle, GridGeometry, Pose};
 use occgrid::grid::TiledGrid;
 use occgrid::inverse::HandCraftedParams;
-use occgrid::io::carmen::LaserScans;
+use occgrid::io::carmen::read_scans;
+use occgrid::mapping::insertion::{ScanInserter, ScanInsertion};
 use occgrid::mapping::reach::covering_grid;
 use occgrid::mapping::scan_match::{
-    compose, relative_motion, MatchSettings, MatchedPath, Prediction, ScanInserter, ScanInsertion,
-    ScanMatcher,
+    compose, relative_motion, MatchSettings, Prediction, ScanMatcher,
 };
+use occgrid::poses::MatchedPath;
+use occgrid::poses::PoseSourceKind;
 use occgrid::sensors::odometry::OdometryParams;
 use occgrid::sensors::Scan;
+use occgrid::sensors::ScanLog;
 use occgrid::OccError;
 use std::path::PathBuf;
 
 mod scan_match_support;
 use scan_match_support::{distance, grid, scans, turn};
 
-/// The real-log map's recipe at the real-log defaults.
+/// The real-log map's recipe at the real-log defaults, beam by beam (the
+/// space between beams left to the beams).
 fn insertion() -> ScanInsertion {
-    LogMapSettings::default().scan_insertion()
+    ScanInsertion {
+        between_beams: false,
+        ..LogMapSettings::default().scan_insertion()
+    }
 }
 
 /// A map wide enough for the log at its corrected poses and at `extra`
 /// (a dead-reckoned path), plus a few metres of drift.
-fn grid_for(log: &LaserScans, extra: &[Pose]) -> TiledGrid {
+fn grid_for(log: &ScanLog, extra: &[Pose]) -> TiledGrid {
     let s = LogMapSettings::default();
     let mut placed = log.clone();
     placed.set_poses(extra).unwrap();
@@ -619,7 +626,7 @@ fn pose_bits(poses: &[Pose]) -> Vec<[u64; 3]> {
 /// can be compared cell for cell.
 fn scan_matched(seed: u64) -> LogMapSettings {
     LogMapSettings {
-        poses: LogPoses::ScanMatched,
+        poses: PoseSourceKind::ScanMatched,
         seed,
         model: LogCellModel::LogOdds,
         between_beams: false,
@@ -637,13 +644,13 @@ fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
     let n = 150;
     let bytes = first_scans("intel-corrected.log.gz", n);
     let mut session = session_of(bytes.clone(), scan_matched(3));
-    let sources: Vec<LogPoses> = session.panes().iter().map(|p| p.source()).collect();
+    let sources: Vec<PoseSourceKind> = session.panes().iter().map(|p| p.source()).collect();
     assert_eq!(
         sources,
         [
-            LogPoses::ScanMatched,
-            LogPoses::Corrected,
-            LogPoses::DeadReckoning
+            PoseSourceKind::ScanMatched,
+            PoseSourceKind::Corrected,
+            PoseSourceKind::DeadReckoning
         ]
     );
     assert_eq!(
@@ -674,7 +681,7 @@ fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
         "matching counted"
     );
     // The same matcher on the same grid outside the session.
-    let log = LaserScans::read(&bytes[..]).unwrap();
+    let log = read_scans(&bytes[..]).unwrap();
     let odometry = pane.matched_odometry().unwrap().to_vec();
     assert_eq!(
         odometry,
@@ -686,7 +693,7 @@ fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
         grid(*pane.grid().geometry()),
         odometry,
         OdometryParams::WHEELS,
-        occgrid::apps::real_log::match_settings(&settings),
+        occgrid::poses::match_settings(settings.range_cap),
         settings.scan_insertion(),
     )
     .unwrap();
@@ -696,7 +703,7 @@ fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
     }
     assert_eq!(pose_bits(pane.poses()), pose_bits(path.poses()));
     assert!(
-        pane.grid() == LogGrid::LogOdds(path.grid()),
+        pane.grid().to_dense().unwrap() == path.grid().to_dense().unwrap(),
         "the same map, cell for cell"
     );
     // Its poses as a file, every number read back bit for bit.
@@ -738,7 +745,7 @@ fn one_seed_one_scan_matched_pane_bit_for_bit_and_after_a_scrub() {
     let (mut a, b) = (build(5), build(5));
     let (pa, pb) = (&a.panes()[0], &b.panes()[0]);
     assert_eq!(pose_bits(pa.poses()), pose_bits(pb.poses()));
-    assert!(pa.grid() == pb.grid());
+    assert!(pa.grid().to_dense().unwrap() == pb.grid().to_dense().unwrap());
     assert_eq!(pa.poses_tsv(), pb.poses_tsv());
     let (poses, map) = (pa.poses().to_vec(), pa.grid().to_dense().unwrap());
     a.seek(40).unwrap();

@@ -7,18 +7,19 @@
 use occgrid::apps::real_log::LogMapSettings;
 use occgrid::geometry::{GridGeometry, Pose};
 use occgrid::grid::TiledGrid;
-use occgrid::io::carmen::LaserScans;
+use occgrid::mapping::insertion::ScanInserter;
 use occgrid::mapping::reach::covering_grid;
-use occgrid::mapping::scan_match::{compose, MatchSettings, Prediction, ScanInserter, ScanMatcher};
+use occgrid::mapping::scan_match::{compose, MatchSettings, Prediction, ScanMatcher};
 use occgrid::sensors::odometry::OdometryParams;
 use occgrid::sensors::Scan;
+use occgrid::sensors::ScanLog;
 
 mod scan_match_support;
 use scan_match_support::{distance, grid, scans, turn};
 
 /// The map of a log at its corrected poses but for the scans `left_out`,
 /// at the real-log defaults.
-fn map_without(log: &LaserScans, left_out: &[usize]) -> TiledGrid {
+fn map_without(log: &ScanLog, left_out: &[usize]) -> TiledGrid {
     let s = LogMapSettings::default();
     let [x0, y0, x1, y1] = log.endpoint_bounds(s.range_cap).unwrap();
     let extent = [x0 - 5.0, y0 - 5.0, x1 + 5.0, y1 + 5.0];

@@ -488,7 +488,7 @@ export class RealLogPanel {
       // A log cut short is mapped up to the cut; say where it was cut.
       const warning = read?.warning ? ` Warning: ${read.warning}.` : '';
       this.timing.textContent =
-        `${job.name}: ${count(read?.lines ?? 0)} lines (${count(Math.round((read?.bytesTotal ?? 0) / 1024))} kB) read and ${count(state.panes[MAIN].scansDone)} scans mapped ` +
+        `${job.name}: ${count(read?.records ?? 0)} ${read?.recordName ?? 'records'} (${count(Math.round((read?.bytesTotal ?? 0) / 1024))} kB) read and ${count(state.panes[MAIN].scansDone)} scans mapped ` +
         `in ${count(Math.round(ms))} ms, file reading included (reading ${count(Math.round(job.readMs ?? ms))} ms).${warning}`;
     } else if (job.kind === 'rebuild') {
       this.timing.textContent =
@@ -508,7 +508,7 @@ export class RealLogPanel {
     const read = state.read;
     const name = this.reading ?? this.name;
     if (state.state === 'reading') {
-      this.status.textContent = `Reading ${name}: ${count(read?.lines ?? 0)} lines, ${count(read?.scans ?? 0)} scans…`;
+      this.status.textContent = `Reading ${name}: ${count(read?.records ?? 0)} ${read?.recordName ?? 'records'}, ${count(read?.scans ?? 0)} scans…`;
     } else if (state.state === 'planning') {
       this.status.textContent = 'Planning the maps at the new settings…';
     } else if (state.state === 'awaiting-settings') {

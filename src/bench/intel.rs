@@ -5,8 +5,8 @@ use crate::geometry::GridGeometry;
 use crate::grid::stats::count_states;
 use crate::grid::{FilterSettings, LogOddsGrid};
 use crate::inverse::{HandCrafted, HandCraftedParams};
-use crate::io::carmen::LaserScans;
 use crate::mapping::traversal::{RayMapper, ScanStats};
+use crate::sensors::ScanLog;
 
 /// W1 `intel-full`: the map's limits (5 cm, origin (-25 m, -30 m),
 /// 1000 x 900 cells).
@@ -62,9 +62,9 @@ pub fn map_counts(grid: &LogOddsGrid, work: ScanStats, beams: usize) -> MapCount
 }
 
 /// W1: integrates every scan of the log into a fresh Intel map. The scans
-/// come from the store the page maps too ([`LaserScans::scan`]), so W1
+/// come from the store the page maps too ([`ScanLog::scan`]), so W1
 /// measures the page's numbers; `beams` counts the beams integrated.
-pub fn build_intel_map(scans: &LaserScans) -> (LogOddsGrid, MapCounts) {
+pub fn build_intel_map(scans: &ScanLog) -> (LogOddsGrid, MapCounts) {
     let mut grid =
         LogOddsGrid::new(intel_geometry(), intel_settings()).expect("constant settings are valid");
     let model = intel_model();

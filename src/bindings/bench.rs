@@ -7,17 +7,18 @@ use super::{bytes_from_js, index_from_js, number_from_js, to_js};
 use crate::bench::apartment::{AllCellsVsTraversal, ApartmentFrame};
 use crate::bench::intel as workloads;
 use crate::inverse::training::{self, TrainingConfig};
-use crate::io::carmen::LaserScans;
+use crate::io::carmen::read_scans;
+use crate::sensors::ScanLog;
 use wasm_bindgen::prelude::*;
 
 /// A parsed CARMEN log held in wasm memory.
 #[wasm_bindgen]
-pub struct LaserLog(LaserScans);
+pub struct LaserLog(ScanLog);
 
 impl LaserLog {
     /// [`Self::from_bytes_js`] for Rust callers.
     pub fn from_bytes(bytes: &[u8]) -> Result<LaserLog, JsError> {
-        Ok(LaserLog(LaserScans::read(bytes)?))
+        Ok(LaserLog(read_scans(bytes)?))
     }
 }
 

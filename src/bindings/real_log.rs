@@ -96,9 +96,10 @@ impl RealLogSession {
         Ok(())
     }
 
-    /// Reads up to `maxScans` more laser lines (a whole number; `Infinity`
-    /// for the rest of the log) and returns `{ lines, scans, beams,
-    /// bytesRead, bytesTotal, finished, warning }`.
+    /// Reads up to `maxScans` more scans (a whole number; `Infinity` for
+    /// the rest of the log) and returns `{ records, recordName, scans,
+    /// beams, bytesRead, bytesTotal, finished, warning }` (`recordName` is
+    /// what the log's format calls its records: a CARMEN log's `lines`).
     pub fn read(&mut self, max_scans: JsValue) -> Result<JsValue, JsError> {
         let max_scans = budget_from_js("maxScans", &max_scans)?;
         to_js(&self.session.read(max_scans)?)

@@ -7,6 +7,7 @@
 pub mod cell_filter;
 pub mod drift;
 pub mod fusion;
+pub mod insertion;
 pub mod joint;
 pub mod map_search;
 pub mod reach;

@@ -6,15 +6,16 @@ use occgrid::apps::real_log::LogMapSettings;
 use occgrid::geometry::{wrap_angle, GridGeometry, Pose};
 use occgrid::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use occgrid::grid::{FilterSettings, TiledGrid};
-use occgrid::io::carmen::LaserScans;
+use occgrid::io::carmen::read_scans;
+use occgrid::sensors::ScanLog;
 use std::path::PathBuf;
 
 /// A log of ../shared/datasets (or `OCCGRID_DATASETS`), by file name.
-pub fn scans(name: &str) -> LaserScans {
+pub fn scans(name: &str) -> ScanLog {
     let dir: PathBuf = std::env::var_os("OCCGRID_DATASETS")
         .map(Into::into)
         .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
-    LaserScans::read(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
+    read_scans(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
 }
 
 /// An empty tiled map on `geometry` with the real-log defaults' clamp.

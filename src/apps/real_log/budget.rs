@@ -5,17 +5,16 @@
 //! a build that stops part way through the log. After a read, the panes
 //! are planned in calls of bounded work ([`PanePlanning`]).
 
-use super::matched::MATCH_DRIFT_MARGIN;
-use super::pane::{grid_of_extent, no_scans, poses_for, LogPane};
-use super::settings::{CheckedSettings, LogCellModel, LogPoses};
+use super::pane::{grid_of_extent, no_scans, source_settings, LogPane};
+use super::settings::{CheckedSettings, LogCellModel};
 use crate::error::{invalid, show, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
 use crate::inverse::HandCrafted;
-use crate::io::carmen::LaserScans;
 use crate::mapping::reach::{tiles_reached, BeamReach, ExtentBox, TileReach};
+use crate::poses::{PoseSource, PoseSourceKind};
 use crate::sensors::odometry::OdometryParams;
-use crate::sensors::Scan;
+use crate::sensors::{Scan, ScanLog};
 use std::sync::Arc;
 
 /// Cells visited that cost about one cell update (a verdict gathered, 15
@@ -37,7 +36,7 @@ const RESOLUTION_STEPS_PER_METRE: f64 = 200.0;
 const TRIES: usize = 8;
 
 /// Scan `k` of `scans` at `pose`.
-pub(super) fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> {
+pub(super) fn at_pose(scans: &ScanLog, k: usize, pose: Pose) -> Option<Scan> {
     let scan = scans.scan(k)?;
     if scan.pose() == pose {
         return Some(scan);
@@ -48,7 +47,7 @@ pub(super) fn at_pose(scans: &LaserScans, k: usize, pose: Pose) -> Option<Scan> 
 /// The tiles the beams of every scan at `poses` reach on `extent`: what
 /// the whole log would allocate in a tiled map.
 pub(super) fn tiles_needed(
-    scans: &LaserScans,
+    scans: &ScanLog,
     poses: &[Pose],
     extent: &GridGeometry,
     c: &CheckedSettings,
@@ -76,7 +75,7 @@ fn beam_reach(c: &CheckedSettings) -> BeamReach<'_> {
 /// near them, where dead reckoning wanders off); `plan` gives the map's
 /// extent at other settings, to find the finest resolution that fits.
 pub(super) fn check_tile_budget(
-    scans: &LaserScans,
+    scans: &ScanLog,
     poses: &[Pose],
     extent: &GridGeometry,
     c: &CheckedSettings,
@@ -115,7 +114,7 @@ fn budget_tiles(budget_cells: usize) -> usize {
 /// ones: the refusal alone pays for those walks).
 pub(super) fn refuse_past_budget(
     needed: usize,
-    (scans, poses): (&LaserScans, &[Pose]),
+    (scans, poses): (&ScanLog, &[Pose]),
     c: &CheckedSettings,
     budget_cells: usize,
     bytes_per_cell: usize,
@@ -205,23 +204,9 @@ fn budget_refusal(
     )
 }
 
-/// The poses a budget check walks for `source`: the pane's own, except a
-/// scan-matched pane's (its odometry, before matching), for which the
-/// log's own poses stand in.
-pub(super) fn estimate_poses<'a>(
-    scans: &'a LaserScans,
-    source: LogPoses,
-    poses: &'a [Pose],
-) -> &'a [Pose] {
-    match source {
-        LogPoses::ScanMatched => scans.poses(),
-        _ => poses,
-    }
-}
-
 /// The model of scan `k`'s laser: the settings' own, or one at the laser's
 /// shorter maximum range.
-pub(super) fn scan_model(c: &CheckedSettings, scans: &LaserScans, k: usize) -> HandCrafted {
+pub(super) fn scan_model(c: &CheckedSettings, scans: &ScanLog, k: usize) -> HandCrafted {
     let laser_max = scans.max_range(k).unwrap_or(f64::INFINITY);
     c.model_for_laser(laser_max).unwrap_or(*c.model())
 }
@@ -262,28 +247,13 @@ struct CandidateWalk {
     scans: usize,
 }
 
-/// One pane of a plan: its pose source and cell model, its poses, and its
-/// phase.
+/// One pane of a plan: its pose source (`None` when it could not start:
+/// the phase then says why) and cell model, and its phase.
 struct PlannedPane {
-    plan: (LogPoses, LogCellModel),
-    poses: Vec<Pose>,
+    kind: PoseSourceKind,
+    source: Option<Box<dyn PoseSource>>,
+    model: LogCellModel,
     phase: Phase,
-}
-
-/// The grid of a pane of `source` over the box `bounds` of the scans at
-/// the poses its plan walks: a scan-matched pane's holds
-/// [`MATCH_DRIFT_MARGIN`] more around the log's own poses, as
-/// `matched::matched_grid` makes it.
-fn grid_of_bounds(
-    source: LogPoses,
-    bounds: Option<[f64; 4]>,
-    c: &CheckedSettings,
-) -> Result<GridGeometry> {
-    let m = match source {
-        LogPoses::ScanMatched => MATCH_DRIFT_MARGIN,
-        _ => 0.0,
-    };
-    grid_of_extent(bounds.map(|a| [a[0] - m, a[1] - m, a[2] + m, a[3] + m]), c)
 }
 
 /// The panes of a log just read, planned in calls of bounded work (scans
@@ -295,7 +265,7 @@ fn grid_of_bounds(
 /// source share one walk. The panes it makes, and its refusals, are the
 /// ones [`LogPane::plan`] makes, cell for cell and word for word.
 pub(super) struct PanePlanning {
-    scans: Arc<LaserScans>,
+    scans: Arc<ScanLog>,
     settings: CheckedSettings,
     odometry: OdometryParams,
     budget_cells: usize,
@@ -307,7 +277,7 @@ impl PanePlanning {
     /// every scan at its own poses when it was grown under these settings
     /// as the lines were read.
     pub(super) fn new(
-        scans: Arc<LaserScans>,
+        scans: Arc<ScanLog>,
         settings: &CheckedSettings,
         odometry: OdometryParams,
         budget_cells: usize,
@@ -318,19 +288,22 @@ impl PanePlanning {
         let panes = s
             .pane_plan()
             .into_iter()
-            .map(|(source, model)| {
-                let poses = poses_for(&scans, source, s.seed, &odometry);
-                // A scan-matched pane's box is the one of the log's own
-                // poses too (with room for drift).
-                let phase = match (source, &read_extent) {
-                    (LogPoses::Corrected | LogPoses::ScanMatched, Some(e)) => {
+            .map(|(kind, model)| {
+                let source = kind.start(&scans, &source_settings(settings, odometry));
+                // A pane whose plan walks the log's own poses (a
+                // scan-matched one too, with room for drift) takes the box
+                // grown as the log was read.
+                let phase = match (&source, &read_extent) {
+                    (Err(e), _) => Phase::Failed(e.clone()),
+                    (Ok(source), Some(e)) if source.plan_poses(&scans).0 == scans.poses() => {
                         Phase::Extent(e.clone())
                     }
                     _ => Phase::Extent(ExtentBox::new(s.no_return_reach)),
                 };
                 PlannedPane {
-                    plan: (source, model),
-                    poses,
+                    kind,
+                    source: source.ok(),
+                    model,
                     phase,
                 }
             })
@@ -354,7 +327,7 @@ impl PanePlanning {
             let (before, rest) = self.panes.split_at_mut(i);
             let pane = &mut rest[0];
             if !pane.phase.is_done() {
-                let twin = before.iter().find(|p| p.plan.0 == pane.plan.0);
+                let twin = before.iter().find(|p| p.kind == pane.kind);
                 match twin.map(|p| &p.phase) {
                     Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
                     Some(Phase::Refused(g, n, r)) => pane.phase = Phase::Refused(*g, *n, *r),
@@ -375,10 +348,13 @@ impl PanePlanning {
     fn advance(&mut self, i: usize, may_walk: bool) -> bool {
         let (scans, c, budget) = (&self.scans, &self.settings, self.budget_cells);
         let pane = &mut self.panes[i];
-        let source = pane.plan.0;
         // The poses the walks put the scans at (a scan-matched pane's are
-        // the log's own: the matched path stays near them).
-        let poses = estimate_poses(scans, source, &pane.poses);
+        // the log's own: the matched path stays near them), and the room
+        // its grid leaves for drift around them.
+        let Some(source) = &pane.source else {
+            return false;
+        };
+        let (poses, drift) = source.plan_poses(scans);
         loop {
             match &mut pane.phase {
                 Phase::Extent(e) if e.scans() < scans.len() => {
@@ -396,7 +372,7 @@ impl PanePlanning {
                 }
                 Phase::Extent(e) => {
                     let bounds = e.bounds();
-                    pane.phase = match (grid_of_bounds(source, bounds, c), bounds) {
+                    pane.phase = match (grid_of_extent(bounds, drift, c), bounds) {
                         (Ok(g), _) if every_tile_fits(&g, budget) => Phase::Ready(g, None),
                         (Ok(g), Some(b)) => Phase::Tiles(b, g, TileReach::new(&g), 0),
                         (Ok(_), None) => Phase::Failed(no_scans()),
@@ -437,7 +413,7 @@ impl PanePlanning {
                 } => match walk {
                     None => {
                         let next = search.next(c).and_then(|(r, checked)| {
-                            let g = grid_of_bounds(source, Some(*bounds), &checked).ok()?;
+                            let g = grid_of_extent(Some(*bounds), drift, &checked).ok()?;
                             Some(CandidateWalk {
                                 resolution: r,
                                 settings: checked,
@@ -477,7 +453,7 @@ impl PanePlanning {
     }
 
     /// The scans the log has.
-    pub(super) fn scans(&self) -> &Arc<LaserScans> {
+    pub(super) fn scans(&self) -> &Arc<ScanLog> {
         &self.scans
     }
 
@@ -502,20 +478,24 @@ impl PanePlanning {
                     Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
                         return LogPane::plan(
                             Arc::clone(&scans),
-                            p.plan,
+                            (p.kind, p.model),
                             &c,
                             odometry,
                             budget_cells,
                         )
                     }
                 };
+                let source = match p.source {
+                    Some(source) => source,
+                    None => p.kind.start(&scans, &source_settings(&c, odometry))?,
+                };
                 let pane = LogPane::planned(
                     Arc::clone(&scans),
-                    p.plan,
+                    (source, p.model),
                     &c,
                     odometry,
                     budget_cells,
-                    (p.poses, grid),
+                    grid,
                 )?;
                 match refused {
                     // The refusal names the bytes of this pane's cells.

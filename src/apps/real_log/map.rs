@@ -1,43 +1,145 @@
 //! A real log's map of whichever cell model the reader chose
-//! ([`LogCellModel`]): one map pane type per model ([`LogMap`]) and its
-//! grid ([`LogGrid`]), each consumer generic over the model
-//! (docs/ARCHITECTURE.md, "Real logs").
+//! ([`LogCellModel`]): a map pane of that model behind one interface
+//! ([`LogMap`]), and its grid behind another ([`LogGrid`]), each
+//! implemented once for every cell model's tiled map (docs/ARCHITECTURE.md,
+//! "Real logs").
 
 use super::settings::LogCellModel;
 use crate::apps::pane::{MapPane, PaneWork, ScreenView};
 use crate::error::Result;
-use crate::geometry::GridGeometry;
+use crate::geometry::{GridGeometry, Pose};
+use crate::grid::readout::{readout_at_pixel, CellReadout};
+use crate::grid::stats::{StateCounts, TileTally};
 use crate::grid::{
-    CellModel, FilterSettings, Grid, HitCount, HitCounting, HitMissOdds, LogOdds, LogOddsGrid,
-    Store, Tiled, TiledGrid,
+    CellModel, FilterSettings, Grid, HitCount, HitCounting, HitMissOdds, LogOddsGrid, Store, Tiled,
+    TiledGrid,
 };
-use crate::mapping::traversal::{BeamBand, RayMapper};
+use crate::io::map_server::{export_counts, ExportCounts, MapServerPair};
+use crate::mapping::insertion::ScanInserter;
+use crate::mapping::scan_match::MatchMap;
+use crate::render::overlay::RobotMark;
 use crate::sensors::Scan;
 
-/// A real log's map: tiled, seen through a screen-sized view, of one of
-/// the cell models a reader chooses from. One map pane type per model; the
-/// pane dispatches to it ([`each_map`]).
-#[derive(Debug, Clone)]
-pub(super) enum LogMap {
-    LogOdds(MapPane<LogOdds, Tiled<f32>, ScreenView>),
-    HitCounting(MapPane<HitCounting, Tiled<HitCount>, ScreenView>),
-    HitMissOdds(MapPane<HitMissOdds, Tiled<u16>, ScreenView>),
+/// A real log's grid, of whichever cell model its pane holds: what a pane
+/// and its tests read of it.
+pub trait LogGrid {
+    /// The map's limits.
+    fn geometry(&self) -> &GridGeometry;
+    /// Cells with storage.
+    fn cells_allocated(&self) -> usize;
+    /// Bytes a cell takes.
+    fn bytes_per_cell(&self) -> usize;
+    /// Bytes the allocated cells hold.
+    fn bytes_allocated(&self) -> usize;
+    /// True once a cell's evidence was dropped for want of storage.
+    fn refused(&self) -> bool;
+    /// The probability of occupancy of cell `(ix, iy)`, `None` outside.
+    fn probability_at(&self, ix: usize, iy: usize) -> Option<f64>;
+    /// The map in one array as log odds, each cell's update count kept:
+    /// the log-odds map itself, or another model's cells read as log odds
+    /// (the clamp then the largest magnitude among them, at least 1).
+    fn to_dense(&self) -> Result<LogOddsGrid>;
+    /// Every cell counted with the export's thresholds (a walk of the
+    /// whole map: what the counts kept per tile must equal).
+    fn export_counts(&self) -> ExportCounts;
+    /// The grid as a scan matcher reads it.
+    fn as_match_map(&self) -> &dyn MatchMap;
 }
 
-/// Runs `$body` with `$m` bound to the map pane inside `$map`, whatever its
-/// cell model: every consumer of a map is generic over the model.
-macro_rules! each_map {
-    ($map:expr, $m:ident => $body:expr) => {
-        match $map {
-            LogMap::LogOdds($m) => $body,
-            LogMap::HitCounting($m) => $body,
-            LogMap::HitMissOdds($m) => $body,
-        }
-    };
+/// A grid read as a dense log-odds map ([`LogGrid::to_dense`]): the
+/// log-odds map as it is, another model's cells through
+/// [`CellModel::log_odds`].
+pub trait DenseLogOdds {
+    fn dense_log_odds(&self) -> Result<LogOddsGrid>;
 }
-pub(super) use each_map;
 
-impl LogMap {
+impl DenseLogOdds for TiledGrid {
+    fn dense_log_odds(&self) -> Result<LogOddsGrid> {
+        self.to_dense()
+    }
+}
+
+impl DenseLogOdds for Grid<HitCounting, Tiled<HitCount>> {
+    fn dense_log_odds(&self) -> Result<LogOddsGrid> {
+        as_log_odds(self)
+    }
+}
+
+impl DenseLogOdds for Grid<HitMissOdds, Tiled<u16>> {
+    fn dense_log_odds(&self) -> Result<LogOddsGrid> {
+        as_log_odds(self)
+    }
+}
+
+impl<M: CellModel> LogGrid for Grid<M, Tiled<M::Cell>>
+where
+    Self: DenseLogOdds,
+{
+    fn geometry(&self) -> &GridGeometry {
+        Grid::geometry(self)
+    }
+    fn cells_allocated(&self) -> usize {
+        Grid::cells_allocated(self)
+    }
+    fn bytes_per_cell(&self) -> usize {
+        Grid::bytes_per_cell(self)
+    }
+    fn bytes_allocated(&self) -> usize {
+        Grid::bytes_allocated(self)
+    }
+    fn refused(&self) -> bool {
+        Grid::refused(self)
+    }
+    fn probability_at(&self, ix: usize, iy: usize) -> Option<f64> {
+        Some(self.model().probability(self.cell_at(ix, iy)?))
+    }
+    fn to_dense(&self) -> Result<LogOddsGrid> {
+        self.dense_log_odds()
+    }
+    fn export_counts(&self) -> ExportCounts {
+        export_counts(self)
+    }
+    fn as_match_map(&self) -> &dyn MatchMap {
+        self
+    }
+}
+
+/// A real log's map pane: tiled, seen through a screen-sized view, of one
+/// of the cell models a reader chooses from ([`LogMap::new`]). Every
+/// method is one generic implementation for every model.
+pub(super) trait LogMap: std::fmt::Debug {
+    fn grid(&self) -> &dyn LogGrid;
+    fn view(&self) -> &ScreenView;
+    fn view_mut(&mut self) -> &mut ScreenView;
+    fn work(&self) -> PaneWork;
+    /// Every cell back to unknown, the work to zero, the view redrawn.
+    fn reset(&mut self);
+    /// Inserts `scan` (at its pose) with `inserter`, and counts its work.
+    fn insert(&mut self, inserter: &mut ScanInserter, scan: &Scan, laser_max: f64);
+    /// The counts kept per tile in `tally`, with the tiles written since
+    /// its last refresh counted afresh.
+    fn counts(&self, tally: &TileTally) -> StateCounts;
+    /// Brings `tally` up to date; returns the cells recounted.
+    fn refresh(&mut self, tally: &mut TileTally) -> usize;
+    /// Tiles written since the tally's last refresh.
+    fn tiles_touched(&self) -> usize;
+    fn path_pixels(&self, poses: &[Pose]) -> Vec<f32>;
+    fn robot_at(&self, pose: &Pose) -> RobotMark;
+    fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout>;
+    fn readout_at_view(&self, x: f64, y: f64) -> Option<CellReadout>;
+    fn pixels(&mut self) -> &[u8];
+    fn pixels_within(&mut self, max_samples: usize, quick: bool) -> bool;
+    fn export(&self, image_name: &str) -> MapServerPair;
+    fn boxed_clone(&self) -> Box<dyn LogMap>;
+}
+
+impl Clone for Box<dyn LogMap> {
+    fn clone(&self) -> Self {
+        self.boxed_clone()
+    }
+}
+
+impl dyn LogMap {
     /// A fresh map of `model`'s cells over `extent`, seen through `view`.
     pub(super) fn new(
         model: LogCellModel,
@@ -45,82 +147,93 @@ impl LogMap {
         filter: FilterSettings,
         budget_cells: usize,
         view: ScreenView,
-    ) -> Result<Self> {
+    ) -> Result<Box<dyn LogMap>> {
         Ok(match model {
-            LogCellModel::LogOdds => Self::LogOdds(MapPane::new(
+            LogCellModel::LogOdds => Box::new(MapPane::new(
                 TiledGrid::new(extent, filter, budget_cells)?,
                 view,
             )),
-            LogCellModel::HitCounting => Self::HitCounting(MapPane::new(
+            LogCellModel::HitCounting => Box::new(MapPane::new(
                 Grid::with_model(extent, LogCellModel::hit_counting(), budget_cells)?,
                 view,
             )),
-            LogCellModel::HitMissOdds => Self::HitMissOdds(MapPane::new(
+            LogCellModel::HitMissOdds => Box::new(MapPane::new(
                 Grid::with_model(extent, LogCellModel::hit_miss_odds(), budget_cells)?,
                 view,
             )),
         })
     }
-
-    pub(super) fn grid(&self) -> LogGrid<'_> {
-        match self {
-            Self::LogOdds(m) => LogGrid::LogOdds(m.grid()),
-            Self::HitCounting(m) => LogGrid::HitCounting(m.grid()),
-            Self::HitMissOdds(m) => LogGrid::HitMissOdds(m.grid()),
-        }
-    }
-
-    pub(super) fn view(&self) -> &ScreenView {
-        each_map!(self, m => m.view())
-    }
-
-    pub(super) fn view_mut(&mut self) -> &mut ScreenView {
-        each_map!(self, m => m.view_mut())
-    }
-
-    pub(super) fn work(&self) -> PaneWork {
-        each_map!(self, m => m.work())
-    }
-
-    /// Integrates one scan whose beams state their evidence as `bands`
-    /// (with the space between beams if `between`), and counts its work.
-    /// In wasm, the allocator is first grown ahead of the map's tiles
-    /// whenever they near `reserved` bytes (returned updated): it otherwise
-    /// grows the module's memory a tile or two at a time, and on the
-    /// Freiburg campus (3,273 tiles) those growths and the collections they
-    /// set off were a quarter of the build under Node.
-    pub(super) fn integrate(
-        &mut self,
-        mapper: &mut RayMapper,
-        scan: &Scan,
-        bands: &[Option<BeamBand>],
-        evidence: (f32, f32),
-        between: bool,
-        reserved: usize,
-    ) -> usize {
-        let reserved = reserve_ahead(self.grid().bytes_allocated(), reserved);
-        each_map!(self, m => {
-            let stats = mapper.integrate_bands_between(m.grid_mut(), scan, bands, evidence, between);
-            m.count(scan, stats);
-        });
-        reserved
-    }
 }
 
-/// The least the allocator is grown by ahead of a map's tiles, bytes, and
-/// the share of the map's bytes so far it is grown by when that is more
-/// (at most a quarter of the memory is held ahead, in a dozen growths for
-/// the campus's 107 MB).
-const RESERVE_MIN_BYTES: usize = 8 << 20;
-const RESERVE_SHARE: usize = 4;
+impl<M: CellModel + 'static> LogMap for MapPane<M, Tiled<M::Cell>, ScreenView>
+where
+    Grid<M, Tiled<M::Cell>>: DenseLogOdds,
+    M::Cell: 'static,
+{
+    fn grid(&self) -> &dyn LogGrid {
+        MapPane::grid(self)
+    }
+    fn view(&self) -> &ScreenView {
+        MapPane::view(self)
+    }
+    fn view_mut(&mut self) -> &mut ScreenView {
+        MapPane::view_mut(self)
+    }
+    fn work(&self) -> PaneWork {
+        MapPane::work(self)
+    }
+    fn reset(&mut self) {
+        MapPane::reset(self)
+    }
+    fn insert(&mut self, inserter: &mut ScanInserter, scan: &Scan, laser_max: f64) {
+        let stats = inserter.insert(self.grid_mut(), scan, laser_max);
+        self.count(scan, stats);
+    }
+    fn counts(&self, tally: &TileTally) -> StateCounts {
+        tally.counts(MapPane::grid(self))
+    }
+    fn refresh(&mut self, tally: &mut TileTally) -> usize {
+        tally.refresh(self.grid_mut())
+    }
+    fn tiles_touched(&self) -> usize {
+        MapPane::grid(self).store().touched().len()
+    }
+    fn path_pixels(&self, poses: &[Pose]) -> Vec<f32> {
+        MapPane::path_pixels(self, poses)
+    }
+    fn robot_at(&self, pose: &Pose) -> RobotMark {
+        MapPane::robot_at(self, pose)
+    }
+    fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
+        readout_at_pixel(MapPane::grid(self), col, row)
+    }
+    fn readout_at_view(&self, x: f64, y: f64) -> Option<CellReadout> {
+        MapPane::readout_at_view(self, x, y)
+    }
+    fn pixels(&mut self) -> &[u8] {
+        MapPane::pixels(self)
+    }
+    fn pixels_within(&mut self, max_samples: usize, quick: bool) -> bool {
+        MapPane::pixels_within(self, max_samples, quick)
+    }
+    fn export(&self, image_name: &str) -> MapServerPair {
+        MapPane::export(self, image_name)
+    }
+    fn boxed_clone(&self) -> Box<dyn LogMap> {
+        Box::new(self.clone())
+    }
+}
 
 /// Grows the allocator ahead of a map holding `allocated` bytes of tiles
 /// when fewer than [`RESERVE_MIN_BYTES`] of the `reserved` are left: a
 /// block of the larger of that and a [`RESERVE_SHARE`]th of `allocated`
 /// is allocated and freed, so that the tiles that follow are carved from
 /// it. Returns the bytes reserved for. (Native allocators map large blocks
-/// of their own: there this does nothing.)
-fn reserve_ahead(allocated: usize, reserved: usize) -> usize {
+/// of their own: there this does nothing.) In wasm the allocator otherwise
+/// grows the module's memory a tile or two at a time, and on the Freiburg
+/// campus (3,273 tiles) those growths and the collections they set off
+/// were a quarter of the build under Node.
+pub(super) fn reserve_ahead(allocated: usize, reserved: usize) -> usize {
     if !cfg!(target_arch = "wasm32") || allocated + RESERVE_MIN_BYTES / 2 <= reserved {
         return reserved;
     }
@@ -130,84 +243,12 @@ fn reserve_ahead(allocated: usize, reserved: usize) -> usize {
     allocated + block
 }
 
-/// A real log's grid, of whichever cell model its pane holds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum LogGrid<'a> {
-    LogOdds(&'a TiledGrid),
-    HitCounting(&'a Grid<HitCounting, Tiled<HitCount>>),
-    HitMissOdds(&'a Grid<HitMissOdds, Tiled<u16>>),
-}
-
-impl<'a> LogGrid<'a> {
-    /// The map's limits.
-    pub fn geometry(self) -> &'a GridGeometry {
-        each_grid(self, |g| g.geometry(), |g| g.geometry(), |g| g.geometry())
-    }
-    /// Cells with storage.
-    pub fn cells_allocated(self) -> usize {
-        each_grid(
-            self,
-            |g| g.cells_allocated(),
-            |g| g.cells_allocated(),
-            |g| g.cells_allocated(),
-        )
-    }
-    /// Bytes a cell takes.
-    pub fn bytes_per_cell(self) -> usize {
-        each_grid(
-            self,
-            |g| g.bytes_per_cell(),
-            |g| g.bytes_per_cell(),
-            |g| g.bytes_per_cell(),
-        )
-    }
-    /// Bytes the allocated cells hold.
-    pub fn bytes_allocated(self) -> usize {
-        each_grid(
-            self,
-            |g| g.bytes_allocated(),
-            |g| g.bytes_allocated(),
-            |g| g.bytes_allocated(),
-        )
-    }
-    /// True once a cell's evidence was dropped for want of storage.
-    pub fn refused(self) -> bool {
-        each_grid(self, |g| g.refused(), |g| g.refused(), |g| g.refused())
-    }
-    /// The probability of occupancy of cell `(ix, iy)`, `None` outside.
-    pub fn probability_at(self, ix: usize, iy: usize) -> Option<f64> {
-        fn p<M: CellModel, S: Store<M::Cell>>(g: &Grid<M, S>, ix: usize, iy: usize) -> Option<f64> {
-            Some(g.model().probability(g.cell_at(ix, iy)?))
-        }
-        each_grid(self, |g| p(g, ix, iy), |g| p(g, ix, iy), |g| p(g, ix, iy))
-    }
-
-    /// The map in one array as log odds, each cell's update count kept:
-    /// the log-odds map itself, or another model's cells read as log odds
-    /// (the clamp then the largest magnitude among them, at least 1).
-    pub fn to_dense(self) -> Result<LogOddsGrid> {
-        match self {
-            LogGrid::LogOdds(g) => g.to_dense(),
-            LogGrid::HitCounting(g) => as_log_odds(g),
-            LogGrid::HitMissOdds(g) => as_log_odds(g),
-        }
-    }
-}
-
-/// One closure per model (closures rather than a macro: each is checked
-/// against its own grid type).
-fn each_grid<'a, T>(
-    g: LogGrid<'a>,
-    log_odds: impl FnOnce(&'a TiledGrid) -> T,
-    counting: impl FnOnce(&'a Grid<HitCounting, Tiled<HitCount>>) -> T,
-    odds: impl FnOnce(&'a Grid<HitMissOdds, Tiled<u16>>) -> T,
-) -> T {
-    match g {
-        LogGrid::LogOdds(g) => log_odds(g),
-        LogGrid::HitCounting(g) => counting(g),
-        LogGrid::HitMissOdds(g) => odds(g),
-    }
-}
+/// The least the allocator is grown by ahead of a map's tiles, bytes, and
+/// the share of the map's bytes so far it is grown by when that is more
+/// (at most a quarter of the memory is held ahead, in a dozen growths for
+/// the campus's 107 MB).
+const RESERVE_MIN_BYTES: usize = 8 << 20;
+const RESERVE_SHARE: usize = 4;
 
 /// A grid of any model as a dense log-odds map (see [`LogGrid::to_dense`]).
 fn as_log_odds<M: CellModel>(grid: &Grid<M, Tiled<M::Cell>>) -> Result<LogOddsGrid> {

@@ -1,21 +1,23 @@
-//! The real-log session behind Map Weaver's real-log mode: a CARMEN log
-//! read a few lines at a time, then mapped a few scans at a time with the
+//! The real-log session behind Map Weaver's real-log mode: a log (of any
+//! format the readers of [`crate::io`] take) read a few records at a time, then mapped a few scans at a time with the
 //! ray traversal (Table 9.1) and the hand-crafted model (Table 9.2), so
 //! that a page shows progress, stays responsive, and can scrub through the
 //! build.
 //!
 //! - `settings`: what a reader chooses ([`LogMapSettings`]), checked once
-//!   into [`CheckedSettings`] with its one model; the pose sources
-//!   ([`LogPoses`]); the limits the controls keep to ([`SettingLimits`]).
-//! - `pane`: one pose source's map ([`LogPane`]): shared scans, its poses,
-//!   a tiled grid and the mapper, built towards a target scan count.
+//!   into [`CheckedSettings`] with its one model; the limits the controls
+//!   keep to ([`SettingLimits`]).
+//! - `pane`: one pose source's map ([`LogPane`]): shared scans, its pose
+//!   source ([`crate::poses`]), a map and the one scan insertion, built
+//!   towards a target scan count.
+//! - `map`: the map of whichever cell model, behind one interface
+//!   ([`LogGrid`] for its grid).
 //! - `view`: what a pane shows: its view, cursor, readouts, scale legend,
 //!   counts (kept per tile as the build writes them) and export.
 //! - `budget`: what a map will allocate, and the panes planned in calls of
 //!   bounded work, after a read and after new settings.
-//! - `matched`: the scan-matched pose source inside a pane
-//!   ([`MatchView`] what the page draws of its last match), and every
-//!   pane's poses as a `poses.tsv` text.
+//! - `matched`: what the page draws of a scan-matched pane's last match
+//!   ([`MatchView`]), and every pane's poses as a `poses.tsv` text.
 //! - `session`: [`RealLogSession`], the read, the panes (the corrected map,
 //!   and the dead-reckoned one beside it when asked for: a further pose
 //!   source is one more pane); beside the state's types here, the one
@@ -31,14 +33,16 @@ mod view;
 
 pub use budget::VISITS_PER_UNIT;
 pub use map::LogGrid;
-pub use matched::{match_settings, match_work, MatchView, MATCH_DRIFT_MARGIN};
+pub use matched::MatchView;
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
 pub use session::{PlanReport, ReadReport, RealLogSession, CONFIGURE_SCANS, READ_SHARE};
 pub use settings::{
-    CheckedSettings, LogCellModel, LogMapSettings, LogPoses, SettingLimits, HIT_RATIO, MAX_SEED,
+    CheckedSettings, LogCellModel, LogMapSettings, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
 };
 pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
+
+use crate::poses::PoseSourceKind;
 
 // The session's state, as a panel renders it (`RealLogSession::state`).
 
@@ -83,7 +87,7 @@ pub enum FailedStep {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct PaneState {
-    pub poses: LogPoses,
+    pub poses: PoseSourceKind,
     pub model: LogCellModel,
     pub caption: String,
     #[serde(flatten)]

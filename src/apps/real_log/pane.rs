@@ -1,30 +1,28 @@
 //! One pose source's map of a log ([`LogPane`]): the log's scans (shared
-//! with the session's other panes), the poses this source puts them at, a
-//! tiled grid of the chosen cell model ([`LogCellModel`]), the ray
-//! traversal of Table 9.1 with the bands of Table 9.2, and the build's
-//! progress towards a target scan count. What it shows (its view, cursor,
-//! readouts and export) is in `view.rs`.
+//! with the session's other panes), the pose source that puts them on the
+//! map ([`crate::poses`]), a tiled grid of the chosen cell model
+//! ([`LogCellModel`]), the one scan insertion of a log
+//! ([`crate::mapping::insertion`]: the ray traversal of Table 9.1 with the
+//! bands of Table 9.2), and the build's progress towards a target scan
+//! count. What it shows (its view, cursor, readouts and export) is in
+//! `view.rs`.
 
 use super::budget::{
-    at_pose, check_tile_budget, estimate_poses, scan_model, tiles_needed, UNITS_PER_NEW_CELL,
-    VISITS_PER_UNIT,
+    at_pose, check_tile_budget, scan_model, tiles_needed, UNITS_PER_NEW_CELL, VISITS_PER_UNIT,
 };
-use super::map::{each_map, LogGrid, LogMap};
-use super::matched::{matched_grid, PoseMatching};
-use super::settings::{CheckedSettings, LogCellModel, LogMapSettings, LogPoses};
+use super::map::{reserve_ahead, LogGrid, LogMap};
+use super::settings::{CheckedSettings, LogCellModel, LogMapSettings};
 use crate::apps::pane::ScreenView;
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::stats::TileTally;
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
-use crate::inverse::HandCrafted;
-use crate::io::carmen::LaserScans;
 use crate::io::map_server::{FREE_THRESH, OCCUPIED_THRESH};
+use crate::mapping::insertion::ScanInserter;
 use crate::mapping::reach::{covering_grid, scan_extent};
-use crate::mapping::traversal::{BeamBand, RayMapper};
-use crate::mapping::walls::beam_bands;
+use crate::poses::{match_settings, PoseSource, PoseSourceKind, SourceSettings};
 use crate::sensors::odometry::OdometryParams;
-use crate::sensors::Scan;
+use crate::sensors::{Scan, ScanLog};
 use std::sync::Arc;
 
 /// The output size a pane's view starts at, pixels, until a page sets its
@@ -63,33 +61,25 @@ pub struct BuildProgress {
 /// the map and rebuilds from the first scan (snapshots of a large map
 /// would cost more memory than the whole log).
 pub struct LogPane {
-    /// The log's scans at its own (corrected) poses, shared by the panes.
-    scans: Arc<LaserScans>,
-    source: LogPoses,
+    /// The log's scans at its own poses, shared by the panes.
+    scans: Arc<ScanLog>,
+    /// Where this pane puts each scan.
+    pub(super) source: Box<dyn PoseSource>,
     /// What this pane's cells believe.
     model: LogCellModel,
-    /// One laser pose per scan: where this source puts the scans.
-    poses: Vec<Pose>,
-    /// The odometry noise dead reckoning adds.
-    odometry: OdometryParams,
+    /// The odometry noise dead reckoning adds (and a scan matcher's
+    /// predictions allow for).
+    noise: OdometryParams,
     settings: CheckedSettings,
-    /// The grid, its mapper, its view and the work done.
-    pub(super) map: LogMap,
-    /// The model of the last laser whose own maximum range is shorter than
-    /// the cap, with that range: built once per such laser, not per scan.
-    short_model: Option<(f64, HandCrafted)>,
+    /// The grid, its view and the work done.
+    pub(super) map: Box<dyn LogMap>,
     /// Most cells the map's tiles may hold.
     budget_cells: usize,
     /// Why the build stopped short (the tile budget), once it has.
     failure: Option<OccError>,
-    /// The scan matching that finds each pose before its scan is
-    /// integrated (the scan-matched source only).
-    pub(super) matching: Option<PoseMatching>,
-    /// Scratch: the current scan's beam bands.
-    bands: Vec<Option<BeamBand>>,
-    /// The ray traversal (and its scratch), with the space between beams;
-    /// the bytes of tiles the allocator was grown for ([`LogMap::integrate`]).
-    mapper: RayMapper,
+    /// How each scan is written into the map (and its scratch).
+    inserter: ScanInserter,
+    /// The bytes of tiles the allocator was grown for ([`reserve_ahead`]).
     reserved: usize,
     done: usize,
     target: usize,
@@ -99,17 +89,28 @@ pub struct LogPane {
     pub(super) tally: TileTally,
 }
 
+/// What a pose source of a pane is started with under `settings`.
+pub(super) fn source_settings(settings: &CheckedSettings, noise: OdometryParams) -> SourceSettings {
+    let s = settings.settings();
+    SourceSettings {
+        seed: s.seed,
+        noise,
+        matching: match_settings(s.range_cap),
+        resolution: s.resolution,
+    }
+}
+
 impl LogPane {
     /// A fresh map of `scans` at the poses `settings` choose, heading for
     /// all scans.
-    pub fn new(scans: LaserScans, settings: LogMapSettings) -> Result<Self> {
+    pub fn new(scans: ScanLog, settings: LogMapSettings) -> Result<Self> {
         Self::with_tile_budget(scans, settings, DEFAULT_TILE_BUDGET_CELLS)
     }
 
     /// [`Self::new`] with at most `budget_cells` cells allocated in tiles
     /// (the default is [`DEFAULT_TILE_BUDGET_CELLS`]).
     pub fn with_tile_budget(
-        scans: LaserScans,
+        scans: ScanLog,
         settings: LogMapSettings,
         budget_cells: usize,
     ) -> Result<Self> {
@@ -127,7 +128,7 @@ impl LogPane {
     /// ([`OdometryParams::EXACT`] maps the corrected poses again, through
     /// the integration).
     pub fn with_odometry(
-        scans: LaserScans,
+        scans: ScanLog,
         settings: LogMapSettings,
         odometry: OdometryParams,
     ) -> Result<Self> {
@@ -142,78 +143,69 @@ impl LogPane {
         )
     }
 
-    /// A pane of `source` with cells of `model` over shared scans, heading
-    /// for all of them, its view fitted at [`DEFAULT_VIEW_SIZE`].
+    /// A pane of pose source `kind` with cells of `model` over shared
+    /// scans, heading for all of them, its view fitted at
+    /// [`DEFAULT_VIEW_SIZE`].
     pub(super) fn plan(
-        scans: Arc<LaserScans>,
-        (source, model): (LogPoses, LogCellModel),
+        scans: Arc<ScanLog>,
+        (kind, model): (PoseSourceKind, LogCellModel),
         settings: &CheckedSettings,
-        odometry: OdometryParams,
+        noise: OdometryParams,
         budget_cells: usize,
     ) -> Result<Self> {
-        let seed = settings.settings().seed;
-        let poses = poses_for(&scans, source, seed, &odometry);
-        let extent = plan_grid(&scans, &poses, source, settings)?;
+        let source = kind.start(&scans, &source_settings(settings, noise))?;
+        let extent = plan_grid(&scans, source.as_ref(), settings)?;
         let pane = Self::planned(
             Arc::clone(&scans),
             (source, model),
             settings,
-            odometry,
+            noise,
             budget_cells,
-            (poses, extent),
+            extent,
         )?;
         // Refused now, with the resolution that fits, rather than part way
         // through the build (the map above has allocated no tile yet).
+        let (poses, _) = pane.source.plan_poses(&scans);
         check_tile_budget(
             &scans,
-            estimate_poses(&scans, source, &pane.poses),
+            poses,
             pane.grid().geometry(),
             settings,
             budget_cells,
             pane.grid().bytes_per_cell(),
-            |c| plan_grid(&scans, &pane.poses, source, c),
+            |c| plan_grid(&scans, pane.source.as_ref(), c),
         )?;
         Ok(pane)
     }
 
-    /// A pane of `source` with cells of `model` over shared scans at
-    /// `poses`, on the grid `extent` its plan found (the tile budget
-    /// checked by the caller), heading for all of them, its view fitted at
+    /// A pane of `source` with cells of `model` over shared scans, on the
+    /// grid `extent` its plan found (the tile budget checked by the
+    /// caller), heading for all of them, its view fitted at
     /// [`DEFAULT_VIEW_SIZE`].
     pub(super) fn planned(
-        scans: Arc<LaserScans>,
-        (source, model): (LogPoses, LogCellModel),
+        scans: Arc<ScanLog>,
+        (source, model): (Box<dyn PoseSource>, LogCellModel),
         settings: &CheckedSettings,
-        odometry: OdometryParams,
+        noise: OdometryParams,
         budget_cells: usize,
-        (poses, extent): (Vec<Pose>, GridGeometry),
+        extent: GridGeometry,
     ) -> Result<Self> {
-        let matching = match source {
-            LogPoses::ScanMatched => Some(PoseMatching::new(
-                poses.clone(),
-                odometry,
-                settings.settings(),
-            )?),
-            _ => None,
-        };
         let (w, h) = DEFAULT_VIEW_SIZE;
         let view = ScreenView::new(&extent, w, h)?;
-        let map = LogMap::new(model, extent, settings.filter(), budget_cells, view)?;
+        let map = <dyn LogMap>::new(model, extent, settings.filter(), budget_cells, view)?;
+        let inserter =
+            ScanInserter::with_model(settings.settings().scan_insertion(), *settings.model());
         let target = scans.len();
         Ok(Self {
             scans,
             source,
             model,
-            poses,
-            odometry,
+            noise,
             settings: *settings,
             map,
-            short_model: None,
             budget_cells,
             failure: None,
-            matching,
-            bands: Vec::new(),
-            mapper: RayMapper::new(),
+            inserter,
             reserved: 0,
             done: 0,
             target,
@@ -230,13 +222,13 @@ impl LogPane {
     pub(super) fn replanned(
         &self,
         settings: &CheckedSettings,
-        plan: (LogPoses, LogCellModel),
+        plan: (PoseSourceKind, LogCellModel),
     ) -> Result<Self> {
         let mut pane = Self::plan(
             Arc::clone(&self.scans),
             plan,
             settings,
-            self.odometry,
+            self.noise,
             self.budget_cells,
         )?;
         pane.target = self.target;
@@ -264,15 +256,12 @@ impl LogPane {
     /// error if the settings are invalid, the log has no laser scans, or
     /// the grid would be too large. A caller can check before handing its
     /// scans over to [`Self::new`].
-    pub fn check(scans: &LaserScans, settings: &LogMapSettings) -> Result<GridGeometry> {
+    pub fn check(scans: &ScanLog, settings: &LogMapSettings) -> Result<GridGeometry> {
         let checked = settings.validate()?;
-        let poses = poses_for(
-            scans,
-            settings.poses,
-            settings.seed,
-            &OdometryParams::WHEELS,
-        );
-        plan_grid(scans, &poses, settings.poses, &checked)
+        let source = settings
+            .poses
+            .start(scans, &source_settings(&checked, OdometryParams::WHEELS))?;
+        plan_grid(scans, source.as_ref(), &checked)
     }
 
     /// New settings: a new grid (the extent depends on the range cap, the
@@ -286,10 +275,8 @@ impl LogPane {
     }
 
     fn restart(&mut self) {
-        each_map!(&mut self.map, m => m.reset());
-        if let Some(m) = &mut self.matching {
-            m.reset();
-        }
+        self.map.reset();
+        self.source.reset();
         self.failure = None;
         self.done = 0;
     }
@@ -338,33 +325,23 @@ impl LogPane {
         self.progress()
     }
 
-    /// Integrates scan `done` (at this pane's pose for it) and moves on.
+    /// Integrates scan `done` at the pose its source finds for it, and
+    /// moves on.
     pub(super) fn integrate_next(&mut self) {
         let k = self.done;
-        if let Err(e) = self.match_next(k) {
-            self.failure = Some(e);
-            return;
+        let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+        if let Some(scan) = self.scans.scan(k) {
+            let located = self
+                .source
+                .locate(k, &scan, laser_max, self.map.grid().as_match_map());
+            if let Err(e) = located {
+                self.failure = Some(e);
+                return;
+            }
         }
         if let Some(scan) = self.scan_at_pose(k) {
-            let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
-            let model = self.model_for(laser_max);
-            let s = self.settings.settings();
-            let res = self.grid().geometry().resolution();
-            beam_bands(
-                &scan,
-                &model,
-                s.no_return_reach,
-                s.walls,
-                res,
-                &mut self.bands,
-            );
-            let l0 = model.params().l0;
-            let evidence = ((s.l_free - l0) as f32, (s.l_occ - l0) as f32);
-            let (bands, between) = (&self.bands, s.between_beams);
-            let (mapper, reserved) = (&mut self.mapper, self.reserved);
-            self.reserved = self
-                .map
-                .integrate(mapper, &scan, bands, evidence, between, reserved);
+            self.reserved = reserve_ahead(self.grid().bytes_allocated(), self.reserved);
+            self.map.insert(&mut self.inserter, &scan, laser_max);
             if self.grid().refused() {
                 let needed = self.tiles_reached();
                 let grid = self.grid();
@@ -380,42 +357,9 @@ impl LogPane {
         self.done += 1;
     }
 
-    /// A scan-matched pane's pose of scan `k`: the scan matched against
-    /// the map of the scans before it (nothing to do for other sources).
-    fn match_next(&mut self, k: usize) -> Result<()> {
-        let Some(matching) = self.matching.as_mut() else {
-            return Ok(());
-        };
-        let Some(scan) = self.scans.scan(k) else {
-            return Ok(());
-        };
-        let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
-        let poses = &self.poses;
-        let pose =
-            each_map!(&self.map, m => matching.pose_of(k, poses, m.grid(), &scan, laser_max))?;
-        self.poses[k] = pose;
-        Ok(())
-    }
-
-    /// The model for a scan whose laser reaches `laser_max` metres.
-    fn model_for(&mut self, laser_max: f64) -> HandCrafted {
-        if let Some((max, model)) = self.short_model {
-            if max == laser_max {
-                return model;
-            }
-        }
-        match self.settings.model_for_laser(laser_max) {
-            Some(model) => {
-                self.short_model = Some((laser_max, model));
-                model
-            }
-            None => *self.settings.model(),
-        }
-    }
-
     /// Scan `k` at this pane's pose for it.
     pub fn scan_at_pose(&self, k: usize) -> Option<Scan> {
-        at_pose(&self.scans, k, *self.poses.get(k)?)
+        at_pose(&self.scans, k, *self.poses().get(k)?)
     }
 
     /// The tiles the beams of every scan reach: what the whole log would
@@ -423,24 +367,25 @@ impl LogPane {
     fn tiles_reached(&self) -> usize {
         tiles_needed(
             &self.scans,
-            &self.poses,
+            self.poses(),
             self.grid().geometry(),
             &self.settings,
         )
     }
 
     pub fn progress(&self) -> BuildProgress {
+        let work = self.map.work();
         BuildProgress {
             scans_done: self.done,
             scans_target: self.target,
             scans_total: self.scans.len(),
-            cell_updates: self.map.work().cell_updates,
-            cells_visited: self.map.work().cells_visited,
-            work: self.map.work().cell_updates
-                + self.map.work().cells_visited / VISITS_PER_UNIT
+            cell_updates: work.cell_updates,
+            cells_visited: work.cells_visited,
+            work: work.cell_updates
+                + work.cells_visited / VISITS_PER_UNIT
                 + self.grid().cells_allocated() as u64 * UNITS_PER_NEW_CELL
-                + self.matching.as_ref().map_or(0, |m| m.work()),
-            beams: self.map.work().beams,
+                + self.source.work(),
+            beams: work.beams,
             finished: self.done == self.target,
             cells_allocated: self.grid().cells_allocated(),
             bytes_allocated: self.grid().bytes_allocated(),
@@ -454,7 +399,7 @@ impl LogPane {
     }
 
     /// The map's grid, of this pane's cell model.
-    pub fn grid(&self) -> LogGrid<'_> {
+    pub fn grid(&self) -> &dyn LogGrid {
         self.map.grid()
     }
 
@@ -463,23 +408,24 @@ impl LogPane {
         self.model
     }
 
-    /// The log's scans at its own (corrected) poses.
-    pub fn scans(&self) -> &LaserScans {
+    /// The log's scans at its own poses.
+    pub fn scans(&self) -> &ScanLog {
         &self.scans
     }
 
     /// Where this pane puts each scan.
     pub fn poses(&self) -> &[Pose] {
-        &self.poses
+        self.source.poses()
     }
 
     /// The scans as the session's panes share them.
-    pub(super) fn shared_scans(&self) -> &Arc<LaserScans> {
+    pub(super) fn shared_scans(&self) -> &Arc<ScanLog> {
         &self.scans
     }
 
-    pub fn source(&self) -> LogPoses {
-        self.source
+    /// This pane's pose source.
+    pub fn source(&self) -> PoseSourceKind {
+        self.source.kind()
     }
 
     /// The settings the map is built with (their `poses` field is the
@@ -489,53 +435,36 @@ impl LogPane {
     }
 }
 
-/// The laser poses `source` puts the scans at (for scan matching, the
-/// odometry it starts from: each pose is replaced by the one found as its
-/// scan is matched).
-pub(super) fn poses_for(
-    scans: &LaserScans,
-    source: LogPoses,
-    seed: u64,
-    odometry: &OdometryParams,
-) -> Vec<Pose> {
-    match source {
-        LogPoses::Corrected => scans.poses().to_vec(),
-        LogPoses::DeadReckoning => odometry.dead_reckon_path(scans.poses(), seed),
-        LogPoses::ScanMatched => PoseMatching::odometry_of(scans, seed, odometry),
-    }
-}
-
-/// The grid for `scans` at `poses` under valid settings: the extent of
-/// their poses and of every cell their beams carve or mark (each source's
-/// path wanders its own way), covered on whole cells, and a range cap whose
-/// reach fits the traversal.
+/// The grid for `scans` placed by `source` under valid settings: the
+/// extent of the poses its plan walks ([`PoseSource::plan_poses`]) and of
+/// every cell their beams carve or mark, the room it leaves for drift
+/// around them, covered on whole cells, and a range cap whose reach fits
+/// the traversal.
 pub(super) fn plan_grid(
-    scans: &LaserScans,
-    poses: &[Pose],
-    source: LogPoses,
+    scans: &ScanLog,
+    source: &dyn PoseSource,
     c: &CheckedSettings,
 ) -> Result<GridGeometry> {
-    if source == LogPoses::ScanMatched {
-        let grid = matched_grid(scans, c).ok_or_else(no_scans)??;
-        c.settings().check_reach()?;
-        return Ok(grid);
-    }
+    let (poses, margin) = source.plan_poses(scans);
     let placed = (0..scans.len()).filter_map(|k| {
         let scan = at_pose(scans, k, *poses.get(k)?)?;
         Some((scan, scan_model(c, scans, k)))
     });
-    grid_of_extent(scan_extent(placed, c.settings().no_return_reach), c)
+    grid_of_extent(scan_extent(placed, c.settings().no_return_reach), margin, c)
 }
 
 /// The grid over the box `extent` of a log's poses and beams
-/// ([`scan_extent`]; `None` for a log without a scan), covered on whole
-/// cells, under settings whose range cap's reach fits the traversal.
+/// ([`scan_extent`]; `None` for a log without a scan) and `drift` metres
+/// more around it, covered on whole cells, under settings whose range
+/// cap's reach fits the traversal.
 pub(super) fn grid_of_extent(
     extent: Option<[f64; 4]>,
+    drift: f64,
     c: &CheckedSettings,
 ) -> Result<GridGeometry> {
     let s = c.settings();
-    let extent = extent.ok_or_else(no_scans)?;
+    let a = extent.ok_or_else(no_scans)?;
+    let extent = [a[0] - drift, a[1] - drift, a[2] + drift, a[3] + drift];
     let grid = covering_grid(extent, s.resolution, s.margin)?;
     // A scan is gathered in a window as wide as its longest beam: that
     // window's scratch is what bounds the reach in cells.
@@ -544,11 +473,7 @@ pub(super) fn grid_of_extent(
 }
 
 pub(super) fn no_scans() -> OccError {
-    invalid(
-        "log",
-        "no FLASER or ROBOTLASER1 lines",
-        "at least one laser scan",
-    )
+    invalid("log", "no laser scans", "at least one laser scan")
 }
 
 #[cfg(test)]
@@ -564,7 +489,7 @@ mod tests {
                 k as f64 * 0.2
             ));
         }
-        let scans = LaserScans::read(text.as_bytes()).unwrap();
+        let scans = crate::io::carmen::read_scans(text.as_bytes()).unwrap();
         let settings = LogMapSettings {
             resolution: 0.1,
             ..Default::default()
@@ -588,7 +513,9 @@ mod tests {
     #[test]
     fn the_default_settings_check_and_carry_table_9_2_s_model() {
         let checked = CheckedSettings::default();
-        let model = HandCrafted::new(crate::inverse::HandCraftedParams::laser(30.0)).unwrap();
+        let model =
+            crate::inverse::HandCrafted::new(crate::inverse::HandCraftedParams::laser(30.0))
+                .unwrap();
         assert_eq!(checked.model(), &model);
         assert!(checked.model_for_laser(40.0).is_none());
         assert_eq!(checked.model_for_laser(8.0).unwrap().params().z_max, 8.0);

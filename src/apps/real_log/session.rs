@@ -1,5 +1,6 @@
-//! The session a real-log panel drives ([`RealLogSession`]): a CARMEN log
-//! read a few lines at a time, then mapped a few scans at a time into one
+//! The session a real-log panel drives ([`RealLogSession`]): a log (of any
+//! format [`crate::io::open_log`] reads) read a few records at a time, then
+//! mapped a few scans at a time into one
 //! pane per pose source (the corrected map, and beside it the
 //! dead-reckoned and scan-matched ones when the reader asks for them),
 //! with the one state
@@ -13,10 +14,10 @@ use super::SessionState;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use crate::inverse::HandCrafted;
-use crate::io::carmen::{LaserScans, LoadProgress, LogBudget, LogLoader};
+use crate::io::{open_log, LoadProgress, LogBudget, LogSource};
 use crate::mapping::reach::ExtentBox;
 use crate::sensors::odometry::OdometryParams;
-use std::io::Cursor;
+use crate::sensors::ScanLog;
 use std::sync::Arc;
 
 /// The share of a load's progress given to reading the file; the rest is
@@ -55,7 +56,7 @@ pub const CONFIGURE_SCANS: usize = 256;
 
 /// A finished planning: its scans, its panes (or why the settings make
 /// none) and what it was for.
-type Planned = (Arc<LaserScans>, Result<Vec<LogPane>>, PlanFor);
+type Planned = (Arc<ScanLog>, Result<Vec<LogPane>>, PlanFor);
 
 /// What a planning under way is for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,9 +89,9 @@ pub(super) enum PlanFor {
 ///
 /// [`Self::state`] says where it stands; the panes answer for their maps.
 pub struct RealLogSession {
-    /// The reader over the file's bytes, dropped (with the bytes) once the
-    /// whole log is read.
-    pub(super) loader: Option<LogLoader<Cursor<Vec<u8>>>>,
+    /// The reader over the file's bytes (of the format its first bytes
+    /// name), dropped (with the bytes) once the whole log is read.
+    pub(super) loader: Option<Box<dyn LogSource>>,
     pub(super) budget: LogBudget,
     /// The box of the scans read so far at their own poses, grown as they
     /// are read, under the model and no-return reach it is keyed by (the
@@ -102,7 +103,7 @@ pub struct RealLogSession {
     pub(super) planning: Option<(PanePlanning, PlanFor)>,
     /// Scans read whose map the current settings cannot make (a grid too
     /// large), and why: kept until `configure` brings settings that fit.
-    pub(super) pending: Option<(Arc<LaserScans>, OccError)>,
+    pub(super) pending: Option<(Arc<ScanLog>, OccError)>,
     /// The read under way, or how the last one ended.
     pub(super) read_report: Option<ReadReport>,
     /// Why the read was refused, once it has been (the file is freed).
@@ -144,7 +145,8 @@ impl RealLogSession {
         }
     }
 
-    /// A session about to read `bytes` (gzip or plain text).
+    /// A session about to read `bytes` (a log of any format
+    /// [`open_log`] reads).
     pub fn new(bytes: Vec<u8>) -> Self {
         Self::with_budget(bytes, LogBudget::default())
     }
@@ -173,13 +175,21 @@ impl RealLogSession {
     pub fn open(&mut self, bytes: Vec<u8>, name: &str) {
         self.log = Some(name.to_string());
         self.bytes_total = bytes.len();
-        self.loader = Some(LogLoader::with_budget(Cursor::new(bytes), self.budget));
-        let (model, reach) = self.extent_key();
-        self.read_extent = Some((model, reach, ExtentBox::new(reach)));
         self.planning = None;
         self.pending = None;
         self.read_failure = None;
         self.read_report = None;
+        let (model, reach) = self.extent_key();
+        self.read_extent = Some((model, reach, ExtentBox::new(reach)));
+        match open_log(bytes, self.budget) {
+            Ok(loader) => self.loader = Some(loader),
+            Err(e) => {
+                // A format the core knows but does not read: refused as a
+                // malformed file is, at the first read.
+                self.loader = None;
+                self.read_failure = Some(e);
+            }
+        }
     }
 
     /// Reads up to `max_scans` more laser lines (and at most the reader's
@@ -227,18 +237,12 @@ impl RealLogSession {
         let Some(loader) = self.loader.take() else {
             return Ok(report);
         };
-        let scans = loader.into_scans();
-        if scans.is_empty() {
+        if loader.scans().is_empty() {
             self.read_report = Some(report.clone());
-            let lines = match report.progress.lines {
-                1 => "1 line read".to_string(),
-                n => format!("{n} lines read"),
-            };
-            let e = OccError::State(format!(
-                "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
-            ));
+            let e = loader.no_scans();
             return Err(self.read_failed(e));
         }
+        let scans = loader.into_scans();
         let extent = self.read_extent.take().map(|(_, _, e)| e);
         self.planning = Some((
             PanePlanning::new(

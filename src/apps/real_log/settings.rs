@@ -1,89 +1,15 @@
 //! What the reader of a real log chooses for its map ([`LogMapSettings`]),
 //! checked once into [`CheckedSettings`] (which carries the one Table 9.2
-//! model built from them), the pose sources a map can be built at
-//! ([`LogPoses`]), and the limits a page's controls keep to
+//! model built from them), and the limits a page's controls keep to
 //! ([`SettingLimits`]).
 
 use crate::error::{self, invalid, OccError, Result};
 use crate::grid::{FilterSettings, HitCounting, HitMissOdds};
 use crate::inverse::{HandCrafted, HandCraftedParams};
+use crate::mapping::insertion::ScanInsertion;
 use crate::mapping::traversal::MAX_REACH_CELLS;
 use crate::mapping::walls::WallModel;
-
-/// Where the scans are put on the map: each source is one pane of the
-/// session ([`super::LogPane`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-pub enum LogPoses {
-    /// The log's own (corrected) laser poses: the pose oracle.
-    #[default]
-    #[serde(rename = "corrected")]
-    Corrected,
-    /// Dead reckoning: the log's motion increments between consecutive
-    /// laser poses, each corrupted with the odometry noise of Table 5.6
-    /// ([`crate::sensors::odometry::OdometryParams::WHEELS`], drawn from
-    /// the seed) and integrated from the first pose. The corrected logs
-    /// carry no raw odometry (their odometry fields repeat the corrected
-    /// poses), so the noise is made here: the chapter's "pose oracle off"
-    /// on a real building.
-    #[serde(rename = "dead-reckoning")]
-    DeadReckoning,
-    /// Scan matching: dead reckoning (or the log's own odometry, where its
-    /// odometry fields differ from its corrected poses) corrected scan by
-    /// scan by matching each scan against the map built so far, before
-    /// integrating it ([`crate::mapping::scan_match`]).
-    #[serde(rename = "scan-matched")]
-    ScanMatched,
-}
-
-impl LogPoses {
-    /// The names a page and the CLI use.
-    pub const NAMES: [&'static str; 3] = ["corrected", "dead-reckoning", "scan-matched"];
-
-    /// The name a page uses (one of [`Self::NAMES`]).
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Corrected => Self::NAMES[0],
-            Self::DeadReckoning => Self::NAMES[1],
-            Self::ScanMatched => Self::NAMES[2],
-        }
-    }
-
-    /// The caption of a pane mapped at these poses.
-    pub fn caption(self, seed: u64) -> String {
-        match self {
-            Self::Corrected => "Corrected poses (the log\u{2019}s own)".into(),
-            Self::DeadReckoning => format!("Dead reckoning (seed {seed})"),
-            Self::ScanMatched => format!("Scan-matched (from dead reckoning, seed {seed})"),
-        }
-    }
-
-    /// What a map exported at these poses says of them (a comment line of
-    /// its YAML), or `None` for the log's own.
-    pub fn described(self, seed: u64) -> Option<String> {
-        match self {
-            Self::Corrected => None,
-            Self::DeadReckoning => Some(format!(
-                "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses"
-            )),
-            Self::ScanMatched => Some(format!(
-                "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses"
-            )),
-        }
-    }
-
-    /// The panes a session shows when the reader maps at `chosen`: that
-    /// pose source's map first (the one operated: hover, zoom, export),
-    /// then the corrected map beside it for comparison, unless it is the
-    /// corrected map itself; a scan-matched map has the dead-reckoned one
-    /// it started from beside it too (the same seed).
-    pub fn panes(chosen: LogPoses) -> Vec<LogPoses> {
-        match chosen {
-            Self::Corrected => vec![chosen],
-            Self::DeadReckoning => vec![chosen, Self::Corrected],
-            Self::ScanMatched => vec![chosen, Self::Corrected, Self::DeadReckoning],
-        }
-    }
-}
+use crate::poses::PoseSourceKind;
 
 /// What a cell of a real log's map believes (docs/ARCHITECTURE.md, "Real
 /// logs"): the chapter's filter, or one of the models the tools of the
@@ -171,7 +97,7 @@ pub const HIT_RATIO: f32 = 0.25;
 /// What the reader of a log chooses for its map: the grid's resolution,
 /// the inverse model of Table 9.2, how far a no-return clears, how free
 /// evidence ends near a wall ([`WallModel`]), the filter's clamp and where
-/// the scans are put ([`LogPoses`], with the seed of its noise). The
+/// the scans are put ([`PoseSourceKind`], with the seed of its noise). The
 /// defaults keep walls and the outside of a building gray
 /// ([`crate::mapping::walls`]); [`Self::chapter`] is Table 9.2 with the
 /// chapter's clamp, exactly workload W1 (BENCHMARKS.md).
@@ -200,7 +126,7 @@ pub struct LogMapSettings {
     /// How a beam's free evidence ends before its reading.
     pub walls: WallModel,
     /// The poses the scans are mapped at.
-    pub poses: LogPoses,
+    pub poses: PoseSourceKind,
     /// The seed of dead reckoning's noise (one seed, one path, and one
     /// scan-matched path from it; unused for the corrected poses).
     pub seed: u64,
@@ -237,7 +163,7 @@ impl Default for LogMapSettings {
             margin: 1.0,
             no_return_reach: NO_RETURN_REACH,
             walls: WallModel::Incidence,
-            poses: LogPoses::Corrected,
+            poses: PoseSourceKind::Corrected,
             seed: 1,
             model: LogCellModel::default(),
             compare_model: None,
@@ -308,11 +234,11 @@ impl LogMapSettings {
     }
 
     /// The maps a session shows under these settings, the one the reader
-    /// operates first: one per pose source ([`LogPoses::panes`]) with
+    /// operates first: one per pose source ([`PoseSourceKind::panes`]) with
     /// [`Self::model`], then the first pose source's map again with
     /// [`Self::compare_model`] when one is chosen.
-    pub fn pane_plan(&self) -> Vec<(LogPoses, LogCellModel)> {
-        let mut plan: Vec<_> = LogPoses::panes(self.poses)
+    pub fn pane_plan(&self) -> Vec<(PoseSourceKind, LogCellModel)> {
+        let mut plan: Vec<_> = PoseSourceKind::panes(self.poses)
             .into_iter()
             .map(|source| (source, self.model))
             .collect();
@@ -322,13 +248,13 @@ impl LogMapSettings {
         plan
     }
 
-    /// How these settings put one scan into a map, for a pose source that
-    /// builds its own (scan matching).
-    pub fn scan_insertion(&self) -> crate::mapping::scan_match::ScanInsertion {
-        crate::mapping::scan_match::ScanInsertion {
+    /// How these settings put one scan into a map.
+    pub fn scan_insertion(&self) -> ScanInsertion {
+        ScanInsertion {
             model: self.model_params(),
             no_return_reach: self.no_return_reach,
             walls: self.walls,
+            between_beams: self.between_beams,
         }
     }
 

@@ -4,11 +4,9 @@
 //! the `map_server` export. Every number a panel prints about a pane is
 //! computed here; the page forwards pointer and key input and draws.
 
-use super::map::{each_map, LogMap};
 use super::pane::LogPane;
-use super::settings::LogPoses;
 use crate::error::{invalid, Result};
-use crate::grid::readout::{readout_at_pixel, CellReadout};
+use crate::grid::readout::CellReadout;
 use crate::grid::storage::TILE_CELLS;
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
 use crate::render::overlay::RobotMark;
@@ -94,40 +92,39 @@ impl LogPane {
     /// recounted once per call of the build that wrote it, so that the
     /// counts of a finished map walk no cell.
     pub fn counts(&self) -> ExportCounts {
-        ExportCounts::from_states(each_map!(&self.map, m => self.tally.counts(m.grid())))
+        ExportCounts::from_states(self.map.counts(&self.tally))
     }
 
     /// Brings the counts kept per tile up to date with the tiles written
     /// since the last call; returns the cells recounted.
     pub(super) fn refresh_counts(&mut self) -> usize {
-        let tally = &mut self.tally;
-        each_map!(&mut self.map, m => tally.refresh(m.grid_mut()))
+        self.map.refresh(&mut self.tally)
     }
 
     /// The cells [`Self::refresh_counts`] would recount now: the tiles
     /// written since it last ran.
     pub fn counts_pending(&self) -> usize {
-        each_map!(&self.map, m => m.grid().store().touched().len()) * TILE_CELLS
+        self.map.tiles_touched() * TILE_CELLS
     }
 
     /// The laser positions of all scans in image units (x to the right, y
     /// down, pixel `(c, r)` spanning `[c, c+1) x [r, r+1)`), as
     /// `[x0, y0, x1, y1, ...]`: a page draws the robot's path from it.
     pub fn path_in_pixels(&self) -> Vec<f32> {
-        each_map!(&self.map, m => m.path_pixels(self.poses()))
+        self.map.path_pixels(self.poses())
     }
 
     /// The robot at scan `k` in image units, heading as an image angle
     /// (see [`crate::render::overlay`]), or `None` past the last scan.
     pub fn robot_at(&self, k: usize) -> Option<RobotMark> {
         let pose = self.poses().get(k)?;
-        Some(each_map!(&self.map, m => m.robot_at(pose)))
+        Some(self.map.robot_at(pose))
     }
 
     /// The cell under image pixel `(col, row)` (row 0 at the top, north
     /// up), or `None` outside the map.
     pub fn readout_at_pixel(&self, col: usize, row: usize) -> Option<CellReadout> {
-        each_map!(&self.map, m => readout_at_pixel(m.grid(), col, row))
+        self.map.readout_at_pixel(col, row)
     }
 
     pub fn view(&self) -> &MapViewport {
@@ -161,7 +158,7 @@ impl LogPane {
 
     /// Draws the view into `out` (its `width * height * 4` RGBA bytes).
     pub fn render_view(&mut self) -> &[u8] {
-        each_map!(&mut self.map, m => m.pixels())
+        self.map.pixels()
     }
 
     /// Draws the view a band of rows at a time, at most `max_samples` map
@@ -171,13 +168,13 @@ impl LogPane {
     /// picture is whole, when [`Self::view_pixels`] holds it. The last
     /// whole picture stays until then.
     pub fn render_view_within(&mut self, max_samples: usize, quick: bool) -> bool {
-        each_map!(&mut self.map, m => m.pixels_within(max_samples, quick))
+        self.map.pixels_within(max_samples, quick)
     }
 
     /// The last view drawn whole (RGBA, `width * height * 4` bytes of the
     /// view it was drawn at; empty before the first).
     pub fn view_pixels(&self) -> &[u8] {
-        each_map!(&self.map, m => m.view().pixels())
+        self.map.view().pixels()
     }
 
     /// The cell under output position `(x, y)` (pixels, finite), or `None`
@@ -190,7 +187,7 @@ impl LogPane {
                 "finite pixels",
             ));
         }
-        Ok(each_map!(&self.map, m => m.readout_at_view(x, y)))
+        Ok(self.map.readout_at_view(x, y))
     }
 
     /// The view's scale in words and numbers, for an output of
@@ -328,9 +325,9 @@ impl LogPane {
             }
         }
         let stem = if stem.is_empty() { "log" } else { stem };
-        match self.source() {
-            LogPoses::Corrected => format!("{stem}-map"),
-            other => format!("{stem}-{}-map", other.name()),
+        match self.source().info().export_suffix {
+            None => format!("{stem}-map"),
+            Some(suffix) => format!("{stem}-{suffix}-map"),
         }
     }
 
@@ -340,7 +337,7 @@ impl LogPane {
     /// then tells a dead-reckoned map from the corrected one.
     pub fn export_map(&self, name: Option<&str>) -> MapServerPair {
         let stem = map_server::file_stem(name.unwrap_or(""));
-        let mut pair = each_map!(&self.map, m => m.export(&format!("{stem}.pgm")));
+        let mut pair = self.map.export(&format!("{stem}.pgm"));
         if let Some(poses) = self.source().described(self.settings().seed) {
             pair.yaml.push_str(&format!("# poses: {poses}\n"));
         }

@@ -112,7 +112,7 @@ impl StepLimits {
 
 /// A streaming reader of a CARMEN log (gzip or plain, detected from the
 /// first bytes): an iterator over its laser records, which
-/// [`super::LogLoader`] keeps in [`super::LaserScans`]. It stops at the
+/// [`super::LogLoader`] keeps in [`crate::sensors::ScanLog`]. It stops at the
 /// first error, which names the line: the iterator yields it once and ends,
 /// and [`LogReader::next_record`] keeps returning it (a reader that failed
 /// never reports a clean end over a half-read log). A log cut short ends
@@ -327,7 +327,7 @@ impl<R: Read> Iterator for LogReader<R> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{LaserScans, LogLoader};
+    use super::super::{read_scans, LogLoader};
     use super::*;
 
     const FLASER3: &str = "FLASER 3 1.0 2.0 3.0 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
@@ -336,7 +336,7 @@ mod tests {
     fn a_line_longer_than_the_limit_is_an_error_not_a_buffer() {
         let mut text = b"ODOM 1 2 3\nCOMMENT ".to_vec();
         text.resize(text.len() + MAX_LINE_BYTES + 10, b'x');
-        let e = LaserScans::read(&text[..]).unwrap_err();
+        let e = read_scans(&text[..]).unwrap_err();
         assert!(
             matches!(&e, OccError::Parse { line: 2, reason } if reason.contains("longer")),
             "{e}"
@@ -346,7 +346,7 @@ mod tests {
         ok.resize(MAX_LINE_BYTES - 1, b'X');
         ok.push(b'\n');
         let (_, progress) = LogLoader::new(&ok[..]).read_to_end().unwrap();
-        assert_eq!(progress.lines, 1);
+        assert_eq!(progress.records, 1);
     }
 
     #[test]

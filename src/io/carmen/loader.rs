@@ -1,71 +1,55 @@
-//! The one way a log is read into scans: [`LogLoader`] runs the
-//! [`LogReader`] a bounded step at a time and keeps what it finds in
-//! [`LaserScans`], so that the page can show progress and stay responsive
-//! whatever the file holds. [`LaserScans::read`] and
-//! [`LogLoader::read_to_end`] run it to the end in the same steps.
+//! The one way a CARMEN log is read into scans: [`LogLoader`] runs the
+//! [`LogReader`] a bounded step at a time and keeps what it finds in a
+//! [`ScanLog`], so that the page can show progress and stay responsive
+//! whatever the file holds; it is the CARMEN format's [`LogSource`].
+//! [`super::read_scans`] and [`LogLoader::read_to_end`] run it to the end
+//! in the same steps.
 
 use super::lines::{LogReader, Step, StepLimits};
-use super::scans::LaserScans;
-use crate::error::Result;
+use super::parse::LaserRecord;
+use crate::error::{OccError, Result};
+use crate::geometry::Pose;
+use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource};
+use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
 use std::io::Read;
 
-/// What a log may cost, checked as it is read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LogBudget {
-    /// Bytes the kept scans ([`LaserScans`]) may take.
-    pub kept_bytes: usize,
-    /// Lines one [`LogLoader::read`] call reads at most.
-    pub lines_per_read: usize,
-    /// Bytes of (decompressed) text one [`LogLoader::read`] call reads at
-    /// most (the line that crosses it is finished).
-    pub bytes_per_read: u64,
-    /// Bytes of a gzip file, as given, one [`LogLoader::read`] call takes
-    /// at most, never past, even inside a line or a header: compressed
-    /// data, member headers, names, comments, empty members and padding
-    /// alike. The text alone does not bound a call's work: 40 MB of empty
-    /// gzip members inflate to no text at all. (A plain file's bytes are
-    /// its text, bounded by [`Self::bytes_per_read`].)
-    pub gzip_bytes_per_read: u64,
-}
+/// What a CARMEN file calls the records [`ScanRecord::origin`] counts.
+const UNIT: &str = "line";
 
-/// The default [`LogBudget::kept_bytes`]: 256 MiB.
-pub const MAX_KEPT_BYTES: usize = 256 << 20;
-
-impl Default for LogBudget {
-    fn default() -> Self {
-        Self {
-            kept_bytes: MAX_KEPT_BYTES,
-            lines_per_read: 1 << 16,
-            bytes_per_read: 1 << 20,
-            // The costliest input per byte is a deflate stream of blocks
-            // that hold nothing: each one rebuilds its Huffman tables, some
-            // 13,000 of them in 16 kB, tens of milliseconds. A real log's
-            // 16 kB inflate to some 80 kB of text: a few milliseconds.
-            gzip_bytes_per_read: 16 << 10,
-        }
-    }
-}
-
-/// Reads a log into [`LaserScans`] a few records at a time, so that a page
-/// can show progress and stay responsive on a long log.
+/// Reads a CARMEN log into a [`ScanLog`] a few records at a time, so that
+/// a page can show progress and stay responsive on a long log.
 pub struct LogLoader<R: Read> {
     reader: LogReader<R>,
-    scans: LaserScans,
+    scans: ScanLog,
     budget: LogBudget,
 }
 
-/// How far a [`LogLoader`] has got.
-#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct LoadProgress {
-    pub lines: usize,
-    pub scans: usize,
-    pub beams: usize,
-    /// Bytes taken from the (possibly compressed) input.
-    pub bytes_read: u64,
-    pub finished: bool,
-    /// How a log cut short ended ([`LogReader::warning`]), or `None`.
-    pub warning: Option<String>,
+/// A laser line as the format-neutral store takes it. A FLASER line's
+/// laser pose is its robot's (CARMEN's convention: the mount is the
+/// identity), and its odometry fields give the laser's odometry pose; a
+/// ROBOTLASER1 line gives the laser pose itself, and no odometry.
+fn scan_record(record: &LaserRecord) -> ScanRecord<'_> {
+    ScanRecord {
+        origin: record.line,
+        stamp: record.timestamp,
+        pose: record.pose,
+        odometry: record.odometry,
+        ranges: &record.ranges,
+        first_bearing: record.first_bearing,
+        bearing_step: record.bearing_step,
+        max_range: record.max_range,
+    }
+}
+
+/// What a read CARMEN log's poses are: its laser poses are reference
+/// poses (the public logs' corrected paths); its odometry is its own when
+/// the odometry fields differ from them (a corrected log's copy its
+/// corrected poses, and ROBOTLASER1 lines carry none).
+fn pose_kinds(scans: &ScanLog) -> LogPoseKinds {
+    LogPoseKinds {
+        reference: true,
+        odometry: scans.kept_odometry() != scans.poses(),
+    }
 }
 
 impl<R: Read> LogLoader<R> {
@@ -78,13 +62,8 @@ impl<R: Read> LogLoader<R> {
     pub fn with_budget(reader: R, budget: LogBudget) -> Self {
         Self {
             reader: LogReader::new(reader),
-            scans: LaserScans::new(),
-            budget: LogBudget {
-                lines_per_read: budget.lines_per_read.max(1),
-                bytes_per_read: budget.bytes_per_read.max(1),
-                gzip_bytes_per_read: budget.gzip_bytes_per_read.max(1),
-                ..budget
-            },
+            scans: ScanLog::new(UNIT),
+            budget: budget.at_least_one(),
         }
     }
 
@@ -100,12 +79,12 @@ impl<R: Read> LogLoader<R> {
         let gzip_up_to = self
             .reader
             .bytes_read()
-            .saturating_add(self.budget.gzip_bytes_per_read);
+            .saturating_add(self.budget.compressed_bytes_per_read);
         for _ in 0..max_scans.max(1) {
             let limits = StepLimits {
                 lines: self
                     .budget
-                    .lines_per_read
+                    .records_per_read
                     .saturating_sub(self.reader.lines_read() - lines0),
                 text_bytes: self
                     .budget
@@ -118,7 +97,13 @@ impl<R: Read> LogLoader<R> {
                 break;
             }
             let pushed = match self.reader.step(limits) {
-                Ok(Step::Record(record)) => self.scans.push(&record, self.budget.kept_bytes),
+                Ok(Step::Record(record)) => self
+                    .scans
+                    .push(&scan_record(&record), self.budget.kept_bytes)
+                    .map_err(|reason| OccError::Parse {
+                        line: record.line,
+                        reason,
+                    }),
                 Ok(Step::Paused | Step::End) => break,
                 Err(e) => Err(e),
             };
@@ -127,16 +112,21 @@ impl<R: Read> LogLoader<R> {
                     self.reader.close();
                     self.reader.failure = Some(e.clone());
                 }
-                self.scans = LaserScans::new();
+                self.scans = ScanLog::new(UNIT);
                 return Err(e);
             }
+        }
+        if self.reader.is_finished() {
+            let kinds = pose_kinds(&self.scans);
+            self.scans.set_pose_kinds(kinds);
+            self.scans.set_mount(Pose::default());
         }
         Ok(self.progress())
     }
 
     /// Reads to the end, in the same bounded calls as [`Self::read`]: the
     /// scans and the last progress (lines read, a cut short's warning).
-    pub fn read_to_end(mut self) -> Result<(LaserScans, LoadProgress)> {
+    pub fn read_to_end(mut self) -> Result<(ScanLog, LoadProgress)> {
         loop {
             let progress = self.read(usize::MAX)?;
             if progress.finished {
@@ -147,7 +137,8 @@ impl<R: Read> LogLoader<R> {
 
     pub fn progress(&self) -> LoadProgress {
         LoadProgress {
-            lines: self.reader.lines_read(),
+            records: self.reader.lines_read(),
+            record_name: "lines",
             scans: self.scans.len(),
             beams: self.scans.beams(),
             bytes_read: self.reader.bytes_read(),
@@ -161,12 +152,44 @@ impl<R: Read> LogLoader<R> {
     }
 
     /// The scans read so far, kept by the loader.
-    pub fn scans(&self) -> &LaserScans {
+    pub fn scans(&self) -> &ScanLog {
         &self.scans
     }
 
     /// The scans read so far.
-    pub fn into_scans(self) -> LaserScans {
+    pub fn into_scans(self) -> ScanLog {
         self.scans
+    }
+}
+
+impl<R: Read> LogSource for LogLoader<R> {
+    fn format(&self) -> LogFormat {
+        LogFormat::Carmen
+    }
+
+    fn read(&mut self, max_scans: usize) -> Result<LoadProgress> {
+        LogLoader::read(self, max_scans)
+    }
+
+    fn progress(&self) -> LoadProgress {
+        LogLoader::progress(self)
+    }
+
+    fn scans(&self) -> &ScanLog {
+        &self.scans
+    }
+
+    fn into_scans(self: Box<Self>) -> ScanLog {
+        self.scans
+    }
+
+    fn no_scans(&self) -> OccError {
+        let lines = match self.reader.lines_read() {
+            1 => "1 line read".to_string(),
+            n => format!("{n} lines read"),
+        };
+        OccError::State(format!(
+            "the file has no FLASER or ROBOTLASER1 lines ({lines}): no laser scans to map"
+        ))
     }
 }

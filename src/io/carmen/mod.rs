@@ -1,13 +1,14 @@
 //! Reading CARMEN laser logs.
 //!
-//! This is where real data enters the project: a log file, read as a
-//! stream, becomes [`LaserRecord`]s (one per laser line, with its corrected
-//! pose), and the records are kept compactly in [`LaserScans`]. Every map
-//! of a log is built from that store, read by one [`LogLoader`]: the
-//! real-log session ([`crate::apps::real_log`]) and the command-line export
-//! read it a budgeted step at a time, workload W1 and the tests through
-//! [`LaserScans::read`], which runs the same loader to the end. The map
-//! then leaves through [`super::map_server`].
+//! One of the log formats behind [`super::LogSource`]: a log file, read as
+//! a stream, becomes [`LaserRecord`]s (one per laser line, with its
+//! corrected pose), and the records are kept compactly in the
+//! format-neutral [`ScanLog`]. Every map of a log is built from that store,
+//! read by one [`LogLoader`]: the real-log session
+//! ([`crate::apps::real_log`]) and the command-line export read it a
+//! budgeted step at a time (through [`super::open_log`]), workload W1 and
+//! the tests through [`read_scans`], which runs the same loader to the
+//! end. The map then leaves through [`super::map_server`].
 //!
 //! One file per job, in the order the bytes flow:
 //!
@@ -15,8 +16,8 @@
 //!   handed over up to a limit;
 //! * `lines`: [`LogReader`], one bounded line at a time, to records;
 //! * `parse`: one line to a [`LaserRecord`], or the reason it is malformed;
-//! * `scans`: [`LaserScans`], the compact store a map build reads;
-//! * `loader`: [`LogLoader`] and its [`LogBudget`].
+//! * `loader`: [`LogLoader`], within a [`super::LogBudget`], keeping each
+//!   laser line as a scan of a [`ScanLog`].
 //!
 //! # The format
 //!
@@ -50,7 +51,7 @@
 //! number, counts whole, and:
 //!
 //! * ranges (and `maximum_range`) not negative and within `f32`, the type
-//!   [`LaserScans`] keeps them in (up to 3.4e38 m: a reading of 1e39 would
+//!   [`ScanLog`] keeps them in (up to 3.4e38 m: a reading of 1e39 would
 //!   become infinite there and its scan could not be mapped);
 //! * every `x` and `y` of the line's poses within [`MAX_POSE_COORDINATE`]
 //!   (1,000 km) of the log's origin: the logs of buildings and campuses
@@ -77,16 +78,16 @@
 //!
 //! [`LogReader`] holds one line at a time (at most [`MAX_LINE_BYTES`]; a
 //! longer "line" is an error, so a binary file without newlines cannot fill
-//! memory). [`LaserScans`] keeps ranges as `f32` (CARMEN writes centimetres;
+//! memory). [`ScanLog`] keeps ranges as `f32` (CARMEN writes centimetres;
 //! `f32` rounds an 80 m reading by at most 4 µm) and one pose and angle pair
 //! per scan: about 0.8 kB per 180-beam scan, less than the line's text.
-//! What it keeps has a budget ([`LogBudget::kept_bytes`], 256 MiB by
+//! What it keeps has a budget ([`super::LogBudget::kept_bytes`], 256 MiB by
 //! default: some 300,000 scans of 180 beams, sixty times the longest log of
 //! the public corpus), checked before anything is allocated
 //! (`try_reserve`): a log past it (a gzip bomb of valid lines) is refused
 //! with the budget and what it would need, and what was kept is freed.
 //! Each [`LogLoader::read`] call is bounded by scans, lines, bytes of text
-//! and, for gzip, bytes of the compressed file ([`LogBudget`]), the last
+//! and, for gzip, bytes of the compressed file ([`super::LogBudget`]), the last
 //! even inside a line or a member's header: a file of blank lines, a gzip
 //! file of millions of empty members, with a 40 MB header name or with
 //! zero padding, is read in bounded steps like any other.
@@ -94,13 +95,21 @@
 mod lines;
 mod loader;
 mod parse;
-mod scans;
 mod source;
 
 pub use lines::LogReader;
-pub use loader::{LoadProgress, LogBudget, LogLoader, MAX_KEPT_BYTES};
+pub use loader::LogLoader;
 pub use parse::{flaser_angle_increment, LaserMessage, LaserRecord};
-pub use scans::LaserScans;
+
+use crate::error::Result;
+use crate::sensors::ScanLog;
+use std::io::Read;
+
+/// Reads every laser record of a CARMEN log (gzip or plain) through
+/// [`LogLoader`], within the default budget.
+pub fn read_scans<R: Read>(reader: R) -> Result<ScanLog> {
+    LogLoader::new(reader).read_to_end().map(|(scans, _)| scans)
+}
 
 /// The longest line the reader accepts, in bytes (a 10,000-beam
 /// `ROBOTLASER1` line with remissions is about 200 kB).

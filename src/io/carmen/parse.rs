@@ -33,7 +33,7 @@ pub struct LaserRecord {
     /// The laser's corrected pose.
     pub pose: Pose,
     /// Ranges, metres: finite, not negative, each within `f32` (what
-    /// [`super::LaserScans`] keeps). Beam `i` lies at bearing
+    /// [`crate::sensors::ScanLog`] keeps). Beam `i` lies at bearing
     /// `first_bearing + i * bearing_step` from the pose's heading.
     pub ranges: Vec<f64>,
     /// Bearing of the first beam, radians.
@@ -53,7 +53,7 @@ pub struct LaserRecord {
 
 impl LaserRecord {
     /// The record as the mappers take it, at the text's own precision
-    /// (the map is built from [`super::LaserScans::scan`], which holds the
+    /// (the map is built from [`crate::sensors::ScanLog::scan`], which holds the
     /// ranges in `f32`).
     pub fn to_scan(&self) -> Result<Scan> {
         Scan::uniform(
@@ -182,7 +182,7 @@ impl<'a, I: Iterator<Item = &'a [u8]>> Fields<'a, I> {
         }
     }
 
-    /// A distance that [`super::LaserScans`] keeps in `f32`: one past
+    /// A distance that [`crate::sensors::ScanLog`] keeps in `f32`: one past
     /// `f32::MAX` would become infinite there, and a scan with an infinite
     /// reading cannot be mapped, so it is refused here by name rather than
     /// dropped later without a word.
@@ -333,21 +333,21 @@ fn parse_robot_laser<'a>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::{LaserScans, LogLoader, LogReader};
+    use super::super::{read_scans, LogLoader, LogReader};
     use crate::error::OccError;
     use crate::geometry::Pose;
 
     const FLASER3: &str = "FLASER 3 1.0 2.0 3.0 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
 
     fn parse_error(text: &[u8]) -> OccError {
-        LaserScans::read(text).unwrap_err()
+        read_scans(text).unwrap_err()
     }
 
     #[test]
     fn reads_flaser_and_skips_other_messages() {
         let text = format!("# comment\nODOM 1 2 3\n{FLASER3}");
         let (scans, progress) = LogLoader::new(text.as_bytes()).read_to_end().unwrap();
-        assert_eq!((scans.len(), progress.lines), (1, 3));
+        assert_eq!((scans.len(), progress.records), (1, 3));
         let s = scans.scan(0).unwrap();
         assert_eq!(s.ranges(), &[1.0, 2.0, 3.0]);
         assert_eq!(
@@ -388,7 +388,7 @@ mod tests {
     fn a_byte_order_mark_and_crlf_line_ends_are_accepted() {
         let text = format!("\u{feff}# log\r\n{}", FLASER3.replace('\n', "\r\n"));
         let (scans, progress) = LogLoader::new(text.as_bytes()).read_to_end().unwrap();
-        assert_eq!((scans.len(), progress.lines), (1, 2));
+        assert_eq!((scans.len(), progress.records), (1, 2));
     }
 
     #[test]

@@ -98,6 +98,10 @@ impl MatchReport {
 #[derive(Debug, Clone)]
 pub struct ScanMatcher {
     settings: MatchSettings,
+    /// The resolution the search's size was last checked at
+    /// ([`MatchSettings::check_resolution`]): each map's resolution is
+    /// checked once, not on every scan.
+    checked_resolution: Option<f64>,
     points: ScanPoints,
     pyramid: Pyramid,
     placed: Vec<PlacedPoint>,
@@ -112,12 +116,31 @@ impl ScanMatcher {
         settings.validate()?;
         Ok(Self {
             settings,
+            checked_resolution: None,
             points: ScanPoints::default(),
             pyramid: Pyramid::default(),
             placed: Vec::new(),
             found: SearchOutcome::default(),
             thinned: Vec::new(),
         })
+    }
+
+    /// A matcher with `settings`, checked field by field and for maps of
+    /// `resolution` metres per cell ([`MatchSettings::validate_for`]).
+    pub fn for_resolution(settings: MatchSettings, resolution: f64) -> Result<Self> {
+        let mut matcher = Self::new(settings)?;
+        matcher.check_resolution(resolution)?;
+        Ok(matcher)
+    }
+
+    /// Checks the search's size on a map of `resolution`, once per
+    /// resolution.
+    fn check_resolution(&mut self, resolution: f64) -> Result<()> {
+        if self.checked_resolution != Some(resolution) {
+            self.settings.check_resolution(resolution)?;
+            self.checked_resolution = Some(resolution);
+        }
+        Ok(())
     }
 
     pub fn settings(&self) -> &MatchSettings {
@@ -136,7 +159,7 @@ impl ScanMatcher {
         laser_max: f64,
         prediction: &Prediction,
     ) -> Result<MatchReport> {
-        self.settings.validate_for(grid.geometry().resolution())?;
+        self.check_resolution(grid.geometry().resolution())?;
         self.points.fill(scan, laser_max, &self.settings);
         Ok(self.match_points(grid, prediction))
     }
@@ -362,4 +385,29 @@ fn overlap<M: CellModel, S: Store<M::Cell>>(
         })
         .count();
     known as f64 / points.len().max(1) as f64
+}
+
+/// A map a scan can be matched against, whatever its cells hold: what a
+/// pose source reads of the map built so far.
+pub trait MatchMap {
+    /// [`ScanMatcher::match_scan`] of `scan` against this map.
+    fn match_scan_with(
+        &self,
+        matcher: &mut ScanMatcher,
+        scan: &Scan,
+        laser_max: f64,
+        prediction: &Prediction,
+    ) -> Result<MatchReport>;
+}
+
+impl<M: CellModel, S: Store<M::Cell>> MatchMap for Grid<M, S> {
+    fn match_scan_with(
+        &self,
+        matcher: &mut ScanMatcher,
+        scan: &Scan,
+        laser_max: f64,
+        prediction: &Prediction,
+    ) -> Result<MatchReport> {
+        matcher.match_scan(self, scan, laser_max, prediction)
+    }
 }

@@ -1,5 +1,6 @@
-//! Scan matching: the third pose source of a real log. The chapter assumes
-//! an oracle hands it the poses; without one, dead reckoning wrecks the map
+//! Scan matching: what the scan-matched pose source ([`crate::poses`])
+//! corrects its predictions with. The chapter assumes an oracle hands it
+//! the poses; without one, dead reckoning wrecks the map
 //! (docs/ARCHITECTURE.md, "Real logs"). A scan matcher corrects each
 //! predicted pose by fitting the scan to the map built so far, before the
 //! scan is integrated at the corrected pose.
@@ -29,14 +30,14 @@
 //! weak fit does not overrule good odometry, and strong evidence corrects
 //! bad odometry.
 //!
-//! [`ScanMatcher`] matches one scan against any grid; [`MatchedPath`] is
-//! the pose source that advances scan by scan, keeping its own map.
+//! [`ScanMatcher`] matches one scan against any grid ([`MatchMap`]: a grid
+//! of any cell model); the pose source that advances scan by scan is
+//! [`crate::poses::ScanMatching`].
 //!
 //! Everything is sequential `f64` arithmetic in a fixed order, so the same
 //! inputs give the same poses bit for bit on every run and runtime.
 
 mod matcher;
-mod path;
 mod points;
 mod prediction;
 pub mod refine;
@@ -44,8 +45,7 @@ pub mod search;
 mod settings;
 pub mod window;
 
-pub use matcher::{MatchReport, ScanMatcher};
-pub use path::{MatchedPath, ScanInserter, ScanInsertion, StepReport};
+pub use matcher::{MatchMap, MatchReport, ScanMatcher};
 pub use points::ScanPoints;
 pub use prediction::Prediction;
 pub use settings::MatchSettings;

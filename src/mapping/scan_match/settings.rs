@@ -285,6 +285,12 @@ impl MatchSettings {
     /// would never end).
     pub fn validate_for(&self, resolution: f64) -> Result<()> {
         self.validate()?;
+        self.check_resolution(resolution)
+    }
+
+    /// The part of [`Self::validate_for`] that depends on the map's
+    /// resolution, for settings already validated.
+    pub fn check_resolution(&self, resolution: f64) -> Result<()> {
         let resolution = error::positive("resolution", resolution)?;
         // The coarse copy of the map covers the scan's points: as wide as
         // the traversal's window for a beam of the same reach.

@@ -1,21 +1,59 @@
-//! The compact store of a log's laser scans, [`LaserScans`]: what a map
-//! build reads, whoever drives it (the page's session, the command-line
-//! export, workload W1 of [`crate::bench::intel`]).
+//! A log's laser scans in one format-neutral store, [`ScanLog`]: what a
+//! map build and every pose source read, whichever file format the scans
+//! came from (a reader under `crate::io` hands each scan over as a
+//! [`ScanRecord`]). Per scan: the laser pose the log puts it at, the
+//! ranges and the beams' geometry, the laser's own maximum range, the
+//! stamp, where in the file it came from; per log: the laser's mount on
+//! the robot, and whether its poses are reference poses (a corrected log's)
+//! and whether it carries odometry of its own.
 
-use super::loader::LogLoader;
-use super::parse::LaserRecord;
-use crate::error::{OccError, Result};
+use crate::error::{invalid, Result};
 use crate::geometry::Pose;
 use crate::sensors::Scan;
-use std::io::Read;
 
 /// Mebibytes, for messages.
 fn mib(bytes: usize) -> String {
     format!("{:.1} MiB", bytes as f64 / (1u64 << 20) as f64)
 }
 
+/// One scan as a log's reader hands it over, in the log's own terms
+/// turned into the store's: metres, radians, seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScanRecord<'a> {
+    /// Where in the file the scan came from (a CARMEN log's line, a bag's
+    /// message), counted from 1 in the format's own unit.
+    pub origin: usize,
+    /// When the scan was taken, seconds, when the log says.
+    pub stamp: Option<f64>,
+    /// The laser pose the log puts the scan at: its reference pose when it
+    /// has one (a corrected log's), else where its odometry puts the laser.
+    pub pose: Pose,
+    /// The laser pose by the log's own odometry, when the record has one.
+    pub odometry: Option<Pose>,
+    /// Ranges, metres; beam `i` lies at `first_bearing + i * bearing_step`
+    /// from the pose's heading.
+    pub ranges: &'a [f64],
+    pub first_bearing: f64,
+    pub bearing_step: f64,
+    /// The laser's own maximum range, metres, when the log says: a reading
+    /// at or beyond it is a no-return.
+    pub max_range: Option<f64>,
+}
+
+/// What a log's poses are, as its reader found them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LogPoseKinds {
+    /// True when [`ScanLog::poses`] are reference poses (another estimator's
+    /// corrected path, the "pose oracle" of the chapter), not odometry.
+    pub reference: bool,
+    /// True when the log's odometry is its own raw odometry, independent
+    /// of its reference poses ([`ScanLog::odometry`]).
+    pub odometry: bool,
+}
+
 /// The laser scans of a log, kept compactly for a map build: all ranges in
-/// one `f32` buffer, one pose, angle pair and maximum range per scan.
+/// one `f32` buffer, one pose, angle pair, maximum range, stamp and origin
+/// per scan.
 ///
 /// Ranges are kept in `f32` (4 bytes a beam; CARMEN writes centimetres,
 /// and `f32` rounds an 80 m reading by at most 4 µm). Every reader of the
@@ -24,39 +62,48 @@ fn mib(bytes: usize) -> String {
 /// same readings. (W1's counts are the same as when it mapped the text's
 /// `f64` readings: 8,181,340 cell updates, bit-identical cells.)
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct LaserScans {
+pub struct ScanLog {
     poses: Vec<Pose>,
-    /// The odometry pose of each scan (FLASER's `odom_*` fields; the laser
-    /// pose where the line has none).
+    /// The odometry's laser pose of each scan (the scan's pose where the
+    /// record has none).
     odometry: Vec<Pose>,
     /// `[first_bearing, bearing_step]`, radians.
     angles: Vec<[f64; 2]>,
     /// The laser's own maximum range, metres; infinite when the log does
-    /// not say (FLASER). Kept in `f32` like the ranges, so that "at or
-    /// beyond the maximum" is decided the same way after rounding.
+    /// not say. Kept in `f32` like the ranges, so that "at or beyond the
+    /// maximum" is decided the same way after rounding.
     max_range: Vec<f32>,
     /// Scan `k`'s ranges are `ranges[offsets[k]..offsets[k + 1]]`.
     offsets: Vec<usize>,
     ranges: Vec<f32>,
-    lines: Vec<usize>,
+    /// Seconds, where the log gives a stamp.
+    stamps: Vec<Option<f64>>,
+    origins: Vec<usize>,
+    kinds: LogPoseKinds,
+    /// The laser's pose in the robot's frame (identity where the log gives
+    /// laser poses directly).
+    mount: Pose,
+    /// What the format calls the unit [`ScanRecord::origin`] counts
+    /// (`"line"`, `"message"`), for messages.
+    unit: &'static str,
 }
 
-impl LaserScans {
-    pub fn new() -> Self {
-        Self::default()
+impl ScanLog {
+    /// An empty log whose records are counted in `unit`s of the file
+    /// (`"line"` for a text log).
+    pub fn new(unit: &'static str) -> Self {
+        Self {
+            unit,
+            ..Self::default()
+        }
     }
 
-    /// Reads every laser record of a log (gzip or plain) through
-    /// [`LogLoader`], within the default budget.
-    pub fn read<R: Read>(reader: R) -> Result<Self> {
-        LogLoader::new(reader).read_to_end().map(|(scans, _)| scans)
-    }
-
-    /// Bytes kept per scan besides its ranges: pose, odometry, angles, maximum range,
-    /// offset and line number.
+    /// Bytes kept per scan besides its ranges: pose, odometry, angles,
+    /// maximum range, offset, stamp and origin.
     pub const SCAN_BYTES: usize = 2 * std::mem::size_of::<Pose>()
         + std::mem::size_of::<[f64; 2]>()
         + std::mem::size_of::<f32>()
+        + std::mem::size_of::<Option<f64>>()
         + 2 * std::mem::size_of::<usize>();
 
     /// Bytes the scans take (by the same reckoning as the budget).
@@ -76,32 +123,33 @@ impl LaserScans {
     }
 
     /// Keeps `record`, unless the scans would then take more than `budget`
-    /// bytes: then an error naming the line, the budget and what keeping
-    /// the log so far would need, and nothing is added. Room is reserved
-    /// before anything is written (`try_reserve`), so an allocation that
-    /// fails is the same clear error, not an abort. A record the store
-    /// could not give back as a [`Scan`] (a reading past `f32`, a pose or
-    /// angle that is not finite: the reader refuses these already) is
-    /// refused too, so that every scan kept is mapped.
-    pub fn push(&mut self, record: &LaserRecord, budget: usize) -> Result<()> {
+    /// bytes: then the reason (the budget and what keeping the log so far
+    /// would need), for the reader to name the record by, and nothing is
+    /// added. Room is reserved before anything is written (`try_reserve`),
+    /// so an allocation that fails is the same clear refusal, not an
+    /// abort. A record the store could not give back as a [`Scan`] (a
+    /// reading past `f32`, a pose or angle that is not finite) is refused
+    /// too, so that every scan kept is mapped.
+    pub fn push(
+        &mut self,
+        record: &ScanRecord<'_>,
+        budget: usize,
+    ) -> std::result::Result<(), String> {
         let beams = record.ranges.len();
         let need = self.kept_bytes() + beams * std::mem::size_of::<f32>() + Self::SCAN_BYTES;
-        let refuse = |what: String| OccError::Parse {
-            line: record.line,
-            reason: what,
-        };
         if let Some(why) = Self::unmappable(record) {
-            return Err(refuse(why));
+            return Err(why);
         }
         if need > budget {
-            return Err(refuse(format!(
-                "the log is too large to keep: its scans up to this line need {} ({} scans, {} beams), \
+            return Err(format!(
+                "the log is too large to keep: its scans up to this {} need {} ({} scans, {} beams), \
                  over the budget of {} for a log's scans",
+                self.unit,
                 mib(need),
                 self.len() + 1,
                 self.beams() + beams,
                 mib(budget)
-            )));
+            ));
         }
         let scans_most = budget / Self::SCAN_BYTES + 1;
         let beams_most = budget / std::mem::size_of::<f32>();
@@ -116,14 +164,15 @@ impl LaserScans {
                 scans_most + 1,
             )
             .is_ok()
-            && Self::grow(&mut self.lines, 1, scans_most).is_ok()
+            && Self::grow(&mut self.stamps, 1, scans_most).is_ok()
+            && Self::grow(&mut self.origins, 1, scans_most).is_ok()
             && Self::grow(&mut self.ranges, beams, beams_most).is_ok();
         if !ok {
-            return Err(refuse(format!(
+            return Err(format!(
                 "out of memory keeping the log's scans: {} needed ({} scans so far)",
                 mib(need),
                 n + 1
-            )));
+            ));
         }
         if self.offsets.is_empty() {
             self.offsets.push(0);
@@ -136,12 +185,13 @@ impl LaserScans {
             .push(record.max_range.map_or(f32::INFINITY, |m| m as f32));
         self.ranges.extend(record.ranges.iter().map(|&r| r as f32));
         self.offsets.push(self.ranges.len());
-        self.lines.push(record.line);
+        self.stamps.push(record.stamp);
+        self.origins.push(record.origin);
         Ok(())
     }
 
     /// Why `record` would not give back a [`Scan`], if it would not.
-    fn unmappable(record: &LaserRecord) -> Option<String> {
+    fn unmappable(record: &ScanRecord<'_>) -> Option<String> {
         if let Some(i) = record
             .ranges
             .iter()
@@ -168,6 +218,26 @@ impl LaserScans {
         }
     }
 
+    /// Says what the log's poses are (its reader decides, once the log is
+    /// read).
+    pub fn set_pose_kinds(&mut self, kinds: LogPoseKinds) {
+        self.kinds = kinds;
+    }
+
+    pub fn pose_kinds(&self) -> LogPoseKinds {
+        self.kinds
+    }
+
+    /// Sets the laser's pose in the robot's frame.
+    pub fn set_mount(&mut self, mount: Pose) {
+        self.mount = mount;
+    }
+
+    /// The laser's pose in the robot's frame.
+    pub fn mount(&self) -> Pose {
+        self.mount
+    }
+
     /// Number of scans.
     pub fn len(&self) -> usize {
         self.poses.len()
@@ -192,11 +262,23 @@ impl LaserScans {
         &self.poses
     }
 
-    /// The log's own odometry, one pose per scan, when it is raw: `None`
-    /// when it repeats the laser poses (a corrected log's odometry fields
-    /// copy its corrected poses; ROBOTLASER1 lines carry none).
-    pub fn raw_odometry(&self) -> Option<&[Pose]> {
-        (self.odometry != self.poses).then_some(&self.odometry[..])
+    /// The log's reference poses (a corrected path), one laser pose per
+    /// scan, when it has them.
+    pub fn reference_poses(&self) -> Option<&[Pose]> {
+        self.kinds.reference.then_some(&self.poses[..])
+    }
+
+    /// The log's own odometry, one laser pose per scan, when it has odometry
+    /// independent of its reference poses ([`LogPoseKinds::odometry`]).
+    pub fn odometry(&self) -> Option<&[Pose]> {
+        self.kinds.odometry.then_some(&self.odometry[..])
+    }
+
+    /// Every scan's odometry pose as kept, raw or not: the scan's own pose
+    /// where its record had none (what a reader compares to decide
+    /// [`LogPoseKinds::odometry`]).
+    pub fn kept_odometry(&self) -> &[Pose] {
+        &self.odometry
     }
 
     /// Puts the scans at other poses (a dead-reckoned path), one per scan:
@@ -204,15 +286,25 @@ impl LaserScans {
     pub fn set_poses(&mut self, poses: &[Pose]) -> Result<()> {
         if poses.len() != self.poses.len() {
             let given = format!("{} poses for {} scans", poses.len(), self.poses.len());
-            return Err(crate::error::invalid("poses", given, "one pose per scan"));
+            return Err(invalid("poses", given, "one pose per scan"));
         }
         self.poses.copy_from_slice(poses);
         Ok(())
     }
 
-    /// The line of the file scan `k` came from.
-    pub fn line(&self, k: usize) -> Option<usize> {
-        self.lines.get(k).copied()
+    /// Where in the file scan `k` came from ([`ScanRecord::origin`]).
+    pub fn origin(&self, k: usize) -> Option<usize> {
+        self.origins.get(k).copied()
+    }
+
+    /// What the file's records are called (`"line"`), for messages.
+    pub fn unit(&self) -> &'static str {
+        self.unit
+    }
+
+    /// When scan `k` was taken, seconds, when the log says.
+    pub fn stamp(&self, k: usize) -> Option<f64> {
+        self.stamps.get(k).copied().flatten()
     }
 
     /// The laser's own maximum range for scan `k` (infinite when unknown).

@@ -1,0 +1,128 @@
+//! Every log format behind one reader interface, [`LogSource`]: a reader
+//! takes a file's bytes a bounded step at a time and keeps its scans in
+//! the format-neutral [`ScanLog`], so that the sessions above never see a
+//! file format. [`super::open_log`] picks the reader from the file's first
+//! bytes ([`LogFormat::sniff`]); a second format is one more room beside
+//! `carmen/`, one more variant of [`LogFormat`] and one more arm of the
+//! sniffer and of `open_log`.
+
+use crate::error::{OccError, Result};
+use crate::sensors::ScanLog;
+
+/// What a log may cost, checked as it is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LogBudget {
+    /// Bytes the kept scans ([`ScanLog`]) may take.
+    pub kept_bytes: usize,
+    /// Records (a text log's lines) one read call reads at most.
+    pub records_per_read: usize,
+    /// Bytes of (decompressed) data one read call reads at most (the
+    /// record that crosses it is finished).
+    pub bytes_per_read: u64,
+    /// Bytes of a compressed file, as given, one read call takes at most,
+    /// never past, even inside a record or a header: compressed data,
+    /// headers, names, comments, empty members and padding alike. The
+    /// decompressed data alone does not bound a call's work: 40 MB of
+    /// empty gzip members inflate to nothing at all. (A plain file's bytes
+    /// are its data, bounded by [`Self::bytes_per_read`].)
+    pub compressed_bytes_per_read: u64,
+}
+
+/// The default [`LogBudget::kept_bytes`]: 256 MiB.
+pub const MAX_KEPT_BYTES: usize = 256 << 20;
+
+impl Default for LogBudget {
+    fn default() -> Self {
+        Self {
+            kept_bytes: MAX_KEPT_BYTES,
+            records_per_read: 1 << 16,
+            bytes_per_read: 1 << 20,
+            // The costliest input per byte is a deflate stream of blocks
+            // that hold nothing: each one rebuilds its Huffman tables, some
+            // 13,000 of them in 16 kB, tens of milliseconds. A real log's
+            // 16 kB inflate to some 80 kB of text: a few milliseconds.
+            compressed_bytes_per_read: 16 << 10,
+        }
+    }
+}
+
+impl LogBudget {
+    /// The budget with every per-call bound at least 1, so that every call
+    /// moves on.
+    pub fn at_least_one(self) -> Self {
+        Self {
+            records_per_read: self.records_per_read.max(1),
+            bytes_per_read: self.bytes_per_read.max(1),
+            compressed_bytes_per_read: self.compressed_bytes_per_read.max(1),
+            ..self
+        }
+    }
+}
+
+/// How far a read has got.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LoadProgress {
+    /// Records of the file read (a text log's lines, including those that
+    /// hold no scan).
+    pub records: usize,
+    /// What the format calls a record, plural (`"lines"`), for a page to
+    /// say.
+    pub record_name: &'static str,
+    pub scans: usize,
+    pub beams: usize,
+    /// Bytes taken from the (possibly compressed) input.
+    pub bytes_read: u64,
+    pub finished: bool,
+    /// How a log cut short ended, naming where, or `None`.
+    pub warning: Option<String>,
+}
+
+/// The log formats the core reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum LogFormat {
+    /// A CARMEN text log, plain or gzip ([`super::carmen`]).
+    #[serde(rename = "carmen")]
+    Carmen,
+}
+
+impl LogFormat {
+    /// The format of a file that starts with `head` (its first bytes, at
+    /// least 8 where the file has them). A file of no known format is
+    /// handed to the text reader, whose refusal of foreign bytes names
+    /// them in words.
+    pub fn sniff(head: &[u8]) -> Result<Self> {
+        if head.starts_with(MCAP_MAGIC) {
+            return Err(OccError::State(
+                "the file is an MCAP bag (ROS 2): this version reads CARMEN logs (.log, .log.gz)"
+                    .into(),
+            ));
+        }
+        Ok(Self::Carmen)
+    }
+}
+
+/// The first bytes of an MCAP file (a ROS 2 bag), recognised so that one
+/// is named rather than refused as foreign bytes.
+const MCAP_MAGIC: &[u8] = b"\x89MCAP";
+
+/// A log being read into a [`ScanLog`], a bounded step at a time, so that
+/// a page can show progress and stay responsive whatever the file holds.
+pub trait LogSource {
+    /// The file's format.
+    fn format(&self) -> LogFormat;
+    /// Reads up to `max_scans` more scans (at least one call's worth of
+    /// progress when `max_scans` is 0) within the budget's bounds per
+    /// call. On an error (a malformed record, a log past the budget) the
+    /// scans kept so far are freed: the log is refused whole, and every
+    /// later call gives the same error.
+    fn read(&mut self, max_scans: usize) -> Result<LoadProgress>;
+    fn progress(&self) -> LoadProgress;
+    /// The scans read so far.
+    fn scans(&self) -> &ScanLog;
+    /// The scans read, the reader dropped.
+    fn into_scans(self: Box<Self>) -> ScanLog;
+    /// Why a file read to its end without a scan cannot be mapped, in the
+    /// format's words.
+    fn no_scans(&self) -> OccError;
+}

@@ -1,0 +1,52 @@
+//! Dead reckoning on a real log: the log's motion between consecutive
+//! laser poses, each increment split into rotate, translate, rotate and
+//! given the odometry noise of Table 5.6 drawn from a seed, the noisy
+//! motions added up from the first pose
+//! ([`crate::sensors::odometry::OdometryParams::dead_reckon_path`]). The
+//! chapter's "pose oracle off" on a real building.
+
+use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
+use crate::geometry::Pose;
+use crate::sensors::ScanLog;
+
+pub(super) const INFO: SourceInfo = SourceInfo {
+    kind: PoseSourceKind::DeadReckoning,
+    name: "dead-reckoning",
+    caption: |seed| format!("Dead reckoning (seed {seed})"),
+    described: |seed| {
+        Some(format!(
+            "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses"
+        ))
+    },
+    export_suffix: Some("dead-reckoning"),
+    beside: &[PoseSourceKind::Corrected],
+    start: |log, settings| Ok(Box::new(DeadReckoning::new(log, settings))),
+};
+
+/// The dead-reckoned path of one seed.
+#[derive(Debug, Clone)]
+pub struct DeadReckoning {
+    poses: Vec<Pose>,
+}
+
+impl DeadReckoning {
+    fn new(log: &ScanLog, settings: &SourceSettings) -> Self {
+        Self {
+            poses: settings.noise.dead_reckon_path(log.poses(), settings.seed),
+        }
+    }
+}
+
+impl PoseSource for DeadReckoning {
+    fn kind(&self) -> PoseSourceKind {
+        PoseSourceKind::DeadReckoning
+    }
+
+    fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    fn boxed_clone(&self) -> Box<dyn PoseSource> {
+        Box::new(self.clone())
+    }
+}

@@ -1,0 +1,203 @@
+//! Pose sources: where each scan of a log is put on the map. The chapter
+//! maps with known poses (an oracle hands them over); a real robot has its
+//! odometry, and what an estimator makes of it. Every source is one
+//! [`PoseSource`] (the pose of scan `k`, the work found poses cost, a
+//! reset), each in a file of its own:
+//!
+//! - `corrected`: the log's reference poses (a corrected path: the oracle);
+//! - `dead_reckoning`: the log's motion with the odometry noise of Table
+//!   5.6, drawn from a seed, integrated from the first pose;
+//! - `scan_matched`: the log's odometry (or dead reckoning) corrected scan
+//!   by scan by matching each scan against the map of the scans before it
+//!   ([`crate::mapping::scan_match`]);
+//! - `matched_path`: that source with a map of its own, for a caller
+//!   without one.
+//!
+//! [`PoseSourceKind`] names them as the settings and the page do; the
+//! registry ([`PoseSourceKind::info`]) is the one place that knows every
+//! source: a new source is one more file here, one more variant and one
+//! more entry of the registry. A map holder (a real-log pane) holds a
+//! `Box<dyn PoseSource>` and asks it for each scan's pose before inserting
+//! the scan with the one insertion recipe ([`crate::mapping::insertion`]).
+
+mod corrected;
+mod dead_reckoning;
+mod matched_path;
+mod scan_matched;
+
+pub use matched_path::{MatchedPath, StepReport};
+pub use scan_matched::{match_settings, match_work, ScanMatching, MATCH_DRIFT_MARGIN};
+
+use crate::error::{invalid, Result};
+use crate::geometry::Pose;
+use crate::mapping::scan_match::{MatchMap, MatchSettings};
+use crate::sensors::odometry::OdometryParams;
+use crate::sensors::{Scan, ScanLog};
+
+/// A source of one laser pose per scan of a log.
+pub trait PoseSource: std::fmt::Debug {
+    /// Which source this is.
+    fn kind(&self) -> PoseSourceKind;
+
+    /// One laser pose per scan: the poses found for the scans located so
+    /// far, and the source's first guess for the others (a scan-matched
+    /// path's odometry).
+    fn poses(&self) -> &[Pose];
+
+    /// The pose of scan `k` (`scan` at its pose in the log, `laser_max`
+    /// the laser's own maximum range, infinite when unknown), found before
+    /// the scan is inserted into `map`, the map of scans `0..k` at the
+    /// poses found for them. Sources that know every pose in advance read
+    /// nothing.
+    fn locate(
+        &mut self,
+        k: usize,
+        scan: &Scan,
+        laser_max: f64,
+        map: &dyn MatchMap,
+    ) -> Result<Pose> {
+        let _ = (scan, laser_max, map);
+        Ok(self.poses().get(k).copied().unwrap_or_else(|| scan.pose()))
+    }
+
+    /// The poses a plan of the map walks (its extent, the tiles its beams
+    /// reach) and the metres of drift it leaves room for around them: the
+    /// source's own poses, known in advance, by default.
+    fn plan_poses<'a>(&'a self, log: &'a ScanLog) -> (&'a [Pose], f64) {
+        let _ = log;
+        (self.poses(), 0.0)
+    }
+
+    /// Work spent finding poses since the last reset, in the units of a
+    /// cell update (so that one budget bounds a build's call).
+    fn work(&self) -> u64 {
+        0
+    }
+
+    /// Back to before the first scan.
+    fn reset(&mut self) {}
+
+    /// The scan matching of a source that matches scans (its last match,
+    /// the odometry it corrects).
+    fn matching(&self) -> Option<&ScanMatching> {
+        None
+    }
+
+    fn boxed_clone(&self) -> Box<dyn PoseSource>;
+}
+
+impl Clone for Box<dyn PoseSource> {
+    fn clone(&self) -> Self {
+        self.boxed_clone()
+    }
+}
+
+/// What a source is started with besides the log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourceSettings {
+    /// The seed of dead reckoning's noise (one seed, one path).
+    pub seed: u64,
+    /// The odometry's noise (Table 5.6): what dead reckoning adds, and how
+    /// far a scan matcher's predictions may be off.
+    pub noise: OdometryParams,
+    /// The scan matcher's settings, for the sources that match.
+    pub matching: MatchSettings,
+    /// The map's resolution, metres per cell.
+    pub resolution: f64,
+}
+
+/// The pose sources, as settings, pages and the command line name them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum PoseSourceKind {
+    /// The log's own reference (corrected) laser poses: the pose oracle.
+    #[default]
+    #[serde(rename = "corrected")]
+    Corrected,
+    /// Dead reckoning: the log's motion increments between consecutive
+    /// laser poses, each corrupted with the odometry noise of Table 5.6
+    /// (drawn from the seed) and integrated from the first pose. The
+    /// corrected logs carry no raw odometry (their odometry fields repeat
+    /// the corrected poses), so the noise is made here: the chapter's
+    /// "pose oracle off" on a real building.
+    #[serde(rename = "dead-reckoning")]
+    DeadReckoning,
+    /// Scan matching: dead reckoning (or the log's own odometry) corrected
+    /// scan by scan by matching each scan against the map built so far,
+    /// before integrating it ([`crate::mapping::scan_match`]).
+    #[serde(rename = "scan-matched")]
+    ScanMatched,
+}
+
+/// What the registry knows of one pose source.
+pub struct SourceInfo {
+    pub kind: PoseSourceKind,
+    /// The name a page and the CLI use.
+    pub name: &'static str,
+    /// The caption of a pane mapped at these poses, for a seed.
+    pub caption: fn(u64) -> String,
+    /// What a map exported at these poses says of them (a comment line of
+    /// its YAML), for a seed, or `None` for the log's own.
+    pub described: fn(u64) -> Option<String>,
+    /// What an exported map's file name adds for these poses
+    /// (`intel-dead-reckoning-map`), or `None` for the log's own.
+    pub export_suffix: Option<&'static str>,
+    /// The sources whose maps a session shows beside this one's, for
+    /// comparison.
+    pub beside: &'static [PoseSourceKind],
+    /// The source over `log` (one pose per scan).
+    pub start: fn(&ScanLog, &SourceSettings) -> Result<Box<dyn PoseSource>>,
+}
+
+impl PoseSourceKind {
+    /// Every source, in the order a page lists them.
+    pub const ALL: [PoseSourceKind; 3] = [Self::Corrected, Self::DeadReckoning, Self::ScanMatched];
+    /// The names a page and the CLI use, in the order of [`Self::ALL`].
+    pub const NAMES: [&'static str; 3] = ["corrected", "dead-reckoning", "scan-matched"];
+
+    /// The registry entry of this source.
+    pub fn info(self) -> &'static SourceInfo {
+        match self {
+            Self::Corrected => &corrected::INFO,
+            Self::DeadReckoning => &dead_reckoning::INFO,
+            Self::ScanMatched => &scan_matched::INFO,
+        }
+    }
+
+    /// The name a page uses (one of [`Self::NAMES`]).
+    pub fn name(self) -> &'static str {
+        self.info().name
+    }
+
+    /// The source named `name`, or an error naming `field` and the text.
+    pub fn from_name(field: &str, name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| invalid(field, format!("\"{name}\""), Self::NAMES.join(", ")))
+    }
+
+    /// The caption of a pane mapped at these poses.
+    pub fn caption(self, seed: u64) -> String {
+        (self.info().caption)(seed)
+    }
+
+    /// What a map exported at these poses says of them, or `None` for the
+    /// log's own.
+    pub fn described(self, seed: u64) -> Option<String> {
+        (self.info().described)(seed)
+    }
+
+    /// The panes a session shows when the reader maps at `chosen`: that
+    /// source's map first (the one operated: hover, zoom, export), then
+    /// the maps of the sources it is compared with.
+    pub fn panes(chosen: PoseSourceKind) -> Vec<PoseSourceKind> {
+        std::iter::once(chosen)
+            .chain(chosen.info().beside.iter().copied())
+            .collect()
+    }
+
+    /// This source over `log`.
+    pub fn start(self, log: &ScanLog, settings: &SourceSettings) -> Result<Box<dyn PoseSource>> {
+        (self.info().start)(log, settings)
+    }
+}

@@ -1,0 +1,210 @@
+//! The scan-matched pose source ([`ScanMatching`]): each scan's pose is
+//! predicted from the pose found for the scan before and the odometry's
+//! increment between them (the log's own odometry, or seeded dead
+//! reckoning where it has none), corrected by matching the scan against
+//! the map of the scans before it ([`crate::mapping::scan_match`]), and
+//! only then integrated there. The first scan is put at the first
+//! odometry pose: the path starts where the log does.
+
+use super::{PoseSource, PoseSourceKind, SourceInfo};
+use crate::error::Result;
+use crate::geometry::Pose;
+use crate::mapping::scan_match::{MatchMap, MatchReport, MatchSettings, Prediction, ScanMatcher};
+use crate::sensors::odometry::OdometryParams;
+use crate::sensors::{Scan, ScanLog};
+
+pub(super) const INFO: SourceInfo = SourceInfo {
+    kind: PoseSourceKind::ScanMatched,
+    name: "scan-matched",
+    caption: |seed| format!("Scan-matched (from dead reckoning, seed {seed})"),
+    described: |seed| {
+        Some(format!(
+            "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses"
+        ))
+    },
+    // The corrected map for comparison, and the dead-reckoned one it
+    // started from (the same seed).
+    export_suffix: Some("scan-matched"),
+    beside: &[PoseSourceKind::Corrected, PoseSourceKind::DeadReckoning],
+    start: |log, settings| {
+        let odometry = ScanMatching::odometry_of(log, settings.seed, &settings.noise);
+        Ok(Box::new(ScanMatching::new(
+            odometry,
+            settings.noise,
+            settings.matching,
+            settings.resolution,
+        )?))
+    },
+};
+
+/// Metres of drift the map holds beyond the extent of the scans at the
+/// log's own poses: a matched path that strays further has its beams
+/// clipped at the map's edge (and its pane shows the path leaving it). Not
+/// the odometry's extent: the map of a matched path should look like the
+/// building, at the scale of the maps beside it, not like the space dead
+/// reckoning wandered through.
+pub const MATCH_DRIFT_MARGIN: f64 = 5.0;
+
+/// The matching work one step costs, in the units of a cell update: so
+/// that a page's time slice, a budget of cell updates, holds the matching
+/// too. Fitted to each scan's time on the Intel and Freiburg 101 logs at
+/// 5 cm (a cell update taken as 12 ns): a search candidate's point costs
+/// about 1.5 ns (an eighth of an update), a Gauss–Newton iteration's point
+/// 48 ns (four: each reads the 3 x 3 cells of the smooth field) and a map
+/// cell pooled into the coarse levels 2.5 ns (a fifth); a scan's time is
+/// within 8 to 16 ns per unit of its estimate for eight scans in ten.
+pub fn match_work(report: &MatchReport) -> u64 {
+    let points = report.points as u64;
+    let search = report.candidates as u64 * points / 8;
+    let refine = report.iterations as u64 * points * 4;
+    let pooled = report.cells_read as u64 / 5;
+    search + refine + pooled
+}
+
+/// The matcher's settings for a map whose range cap is `range_cap`
+/// metres: the defaults, with points matched out to the cap at most (a
+/// return past it marks nothing on the map, so it has nothing to fit).
+pub fn match_settings(range_cap: f64) -> MatchSettings {
+    let defaults = MatchSettings::default();
+    MatchSettings {
+        max_range: defaults.max_range.min(range_cap),
+        ..defaults
+    }
+}
+
+/// Scan matching as a pose source: the odometry it corrects, the poses
+/// found, the matcher and its last report.
+#[derive(Debug, Clone)]
+pub struct ScanMatching {
+    /// One odometry pose per scan: only their increments are used, and
+    /// the first pose, where the path starts.
+    odometry: Vec<Pose>,
+    /// The poses found for the scans located so far; the odometry's for
+    /// the others.
+    poses: Vec<Pose>,
+    /// The odometry's noise (Table 5.6): how far each prediction may be off.
+    noise: OdometryParams,
+    matcher: ScanMatcher,
+    last: Option<(usize, MatchReport)>,
+    /// The matching work since the last reset ([`match_work`]).
+    work: u64,
+}
+
+impl ScanMatching {
+    /// Matching from `odometry` (one pose per scan) with `noise`, on maps
+    /// of `resolution` metres per cell: `settings` are checked once, here.
+    pub fn new(
+        odometry: Vec<Pose>,
+        noise: OdometryParams,
+        settings: MatchSettings,
+        resolution: f64,
+    ) -> Result<Self> {
+        Ok(Self {
+            matcher: ScanMatcher::for_resolution(settings, resolution)?,
+            poses: odometry.clone(),
+            odometry,
+            noise,
+            last: None,
+            work: 0,
+        })
+    }
+
+    /// The odometry a path over `log` corrects: the log's own when it has
+    /// some, else seeded dead reckoning of its poses.
+    pub fn odometry_of(log: &ScanLog, seed: u64, noise: &OdometryParams) -> Vec<Pose> {
+        match log.odometry() {
+            Some(own) => own.to_vec(),
+            None => noise.dead_reckon_path(log.poses(), seed),
+        }
+    }
+
+    /// The odometry this path corrects.
+    pub fn odometry(&self) -> &[Pose] {
+        &self.odometry
+    }
+
+    /// The matcher (its settings, the points of the last scan matched).
+    pub fn matcher(&self) -> &ScanMatcher {
+        &self.matcher
+    }
+
+    /// The last scan matched and what the match found.
+    pub fn last(&self) -> Option<(usize, &MatchReport)> {
+        self.last.as_ref().map(|(k, r)| (*k, r))
+    }
+
+    /// Where scan `k` is predicted: the pose found for scan `k - 1`, moved
+    /// by the odometry's increment, with that increment's spread; the
+    /// first scan where the odometry starts.
+    pub fn prediction(&self, k: usize) -> Option<Prediction> {
+        let s = self.matcher.settings();
+        match k {
+            0 => Some(Prediction::at(*self.odometry.first()?, s)),
+            _ => Some(Prediction::from_odometry(
+                self.poses.get(k - 1)?,
+                self.odometry.get(k - 1)?,
+                self.odometry.get(k)?,
+                &self.noise,
+                s,
+            )),
+        }
+    }
+}
+
+impl PoseSource for ScanMatching {
+    fn kind(&self) -> PoseSourceKind {
+        PoseSourceKind::ScanMatched
+    }
+
+    fn poses(&self) -> &[Pose] {
+        &self.poses
+    }
+
+    /// Scan `k` (its own pose ignored) matched against `map`, the map of
+    /// scans `0..k` at the poses found for them. The first scan is put
+    /// where the odometry starts: nothing to match against yet.
+    fn locate(
+        &mut self,
+        k: usize,
+        scan: &Scan,
+        laser_max: f64,
+        map: &dyn MatchMap,
+    ) -> Result<Pose> {
+        let Some(prediction) = self.prediction(k) else {
+            return Ok(scan.pose());
+        };
+        let report = if k == 0 {
+            MatchReport::unmatched(prediction.pose)
+        } else {
+            map.match_scan_with(&mut self.matcher, scan, laser_max, &prediction)?
+        };
+        self.work += match_work(&report);
+        self.last = Some((k, report));
+        self.poses[k] = report.pose;
+        Ok(report.pose)
+    }
+
+    /// The log's own poses, and room for drift around them: the matched
+    /// path stays near them, where the odometry it starts from wanders
+    /// off.
+    fn plan_poses<'a>(&'a self, log: &'a ScanLog) -> (&'a [Pose], f64) {
+        (log.poses(), MATCH_DRIFT_MARGIN)
+    }
+
+    fn work(&self) -> u64 {
+        self.work
+    }
+
+    fn reset(&mut self) {
+        self.last = None;
+        self.work = 0;
+    }
+
+    fn matching(&self) -> Option<&ScanMatching> {
+        Some(self)
+    }
+
+    fn boxed_clone(&self) -> Box<dyn PoseSource> {
+        Box::new(self.clone())
+    }
+}
