@@ -231,7 +231,7 @@ fn learn_inverse() {
 
 fn main() {
     let only = std::env::args().skip(1).find(|a| !a.starts_with('-'));
-    let run = |name: &str| only.as_deref().map_or(true, |o| name.contains(o));
+    let run = |name: &str| only.as_deref().is_none_or(|o| name.contains(o));
     if run("intel-full") {
         intel_full();
     }

@@ -179,6 +179,7 @@ impl InverseModel for HandCrafted {
     fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
         let p = &self.params;
         let reach = self.reach(z);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN range is a no-return
         if !(z < p.z_max) {
             // A no-return (line 2 never fires): free out to the reach,
             // which is z_max <= z.

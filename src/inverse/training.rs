@@ -167,6 +167,7 @@ impl TrainingConfig {
             ));
         }
         let cells = (self.map_side() / self.resolution).ceil();
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(cells * cells <= MAX_MAP_CELLS as f64) {
             return Err(invalid(
                 "resolution",

@@ -74,6 +74,7 @@ impl CellFilterParams {
         error::open_probability("p_free", self.p_free)?;
         error::open_probability("prior", self.prior)?;
         // NaN compares false: refused with zero and the negatives.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(self.clamp > 0.0) {
             return Err(invalid(
                 "clamp",

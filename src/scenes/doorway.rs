@@ -8,7 +8,7 @@
 //! range occupied — across the doorway. The same readings drive both halves
 //! of the doorway-trap widget: the literal Table 9.1 sweep
 //! ([`crate::mapping::sweep::sweep_scan`]) and the MAP search of Table 9.3
-//! ([`crate::map_search`]).
+//! ([`crate::mapping::map_search`]).
 //!
 //! The scene is data (serde): walls, poses, sonar bearings, noise and seed.
 //! Readings are the sonar's ([`Sonar::read`]: the exact cone cast of
@@ -197,6 +197,7 @@ impl DoorwayScene {
             self.sonar.z_max,
             self.resolution,
         );
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(work <= MAX_RASTER_WORK) {
             return Err(invalid(
                 "poses x bearings_deg x sonar.sub_rays",

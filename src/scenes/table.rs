@@ -12,7 +12,8 @@
 //! poses along its path, and one sonar scan and one LiDAR scan per pose,
 //! with Gaussian range noise. [`TableScene::start`] leaves the scans to be
 //! simulated as the run reaches them, so that a page's first frame waits
-//! for no scan of the lap's end. [`crate::fusion`] integrates those scans into
+//! for no scan of the lap's end.
+//! [`crate::apps::sensor_fusion::TableFusion`] integrates those scans into
 //! one grid per modality and compares the fusion rules.
 //!
 //! The two sensors draw their noise from two separate seeded streams, so
