@@ -28,7 +28,7 @@ use rand::SeedableRng;
 
 /// The most readings a scene may ask for (poses x sonars): the widget sweeps
 /// and climbs on them interactively.
-pub const MAX_READINGS: usize = 4096;
+pub const MAX_SCENE_READINGS: usize = 4096;
 
 /// The most cells a scene's map may hold: 125 times the chapter's 2,000
 /// (the chapter's room at 1 cm is 200,000). Every sweep step visits each
@@ -158,7 +158,7 @@ impl DoorwayScene {
             error::finite(&format!("bearings_deg[{i}]"), b)?;
         }
         let readings = self.poses.len().saturating_mul(self.bearings_deg.len());
-        if readings > MAX_READINGS {
+        if readings > MAX_SCENE_READINGS {
             return Err(invalid(
                 "poses x bearings_deg",
                 readings,
