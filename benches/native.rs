@@ -1,4 +1,4 @@
-//! Native figures for the workloads of BENCHMARKS.md, one JSON object per
+//! Native figures for the workloads of docs/BENCHMARKS.md, one JSON object per
 //! line (the wasm figures come from scripts/bench.mjs). Run with
 //! `cargo bench --bench native`; the datasets folder defaults to
 //! `../shared/datasets` and can be set with OCCGRID_DATASETS.
@@ -89,7 +89,7 @@ fn table_fusion() {
 
 /// W2 `apartment-frame`: one Map Weaver frame (a scan into the hand-crafted
 /// and the learned map, both views redrawn and rescored) and one
-/// `integrate_scan` call, medians over `runs()` laps (src/sim/weaver_workloads.rs).
+/// `integrate_scan` call, medians over `runs()` laps (src/bench/apartment.rs).
 fn apartment_frame() {
     use occgrid::bench::apartment::ApartmentFrame;
     use occgrid::inverse::training::{train, TrainingConfig};
@@ -232,7 +232,7 @@ fn learn_inverse() {
 
 fn main() {
     let only = std::env::args().skip(1).find(|a| !a.starts_with('-'));
-    let run = |name: &str| only.as_deref().map_or(true, |o| name.contains(o));
+    let run = |name: &str| only.as_deref().is_none_or(|o| name.contains(o));
     if run("intel-full") {
         intel_full();
     }

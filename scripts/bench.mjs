@@ -1,4 +1,4 @@
-// Prints one JSON object per line for every workload of BENCHMARKS.md:
+// Prints one JSON object per line for every workload of docs/BENCHMARKS.md:
 // first the native figures (cargo bench --bench native), then the same work
 // on the wasm build under Node (scripts/bench/*.mjs). An argument filters the
 // workloads by name; a name that is a module of scripts/bench/ (e.g.

@@ -6,6 +6,13 @@ cd "$(dirname "$0")/.."
 source scripts/env.sh
 bash scripts/setup.sh --browser
 
+# Any warning fails the run: clippy on every target, natively and for the
+# wasm build with the benchmark entry points, and rustdoc's links.
+echo "== lints: cargo clippy, cargo doc"
+cargo clippy --quiet --all-targets -- -D warnings
+cargo clippy --quiet --target wasm32-unknown-unknown --all-targets --features bench -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --quiet --no-deps
+
 echo "== native: cargo test"
 cargo test --quiet
 # The benchmark runner is no test target: make sure it still compiles.

@@ -16,7 +16,7 @@
 //! * [`render`] — the gray ramp and the incremental map view.
 //! * [`io`] — logs in (one reader per format behind one interface, CARMEN's first), ROS `map_server` maps out.
 //! * [`apps`] — one session per widget: what each widget shows, in image units.
-//! * [`bench`] — the workloads of BENCHMARKS.md.
+//! * [`mod@bench`] — the workloads of docs/BENCHMARKS.md.
 //!
 //! `bindings` (wasm only) wraps the sessions for JavaScript and holds no algorithm.
 

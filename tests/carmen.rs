@@ -66,7 +66,7 @@ fn parse_error(bytes: &[u8]) -> (usize, String) {
     }
 }
 
-/// What the README and BENCHMARKS.md say about each log.
+/// What the README and docs/BENCHMARKS.md say about each log.
 struct Expected {
     name: &'static str,
     scans: usize,
@@ -662,7 +662,7 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
     );
     assert_eq!(chunked.progress().cell_updates, p.cell_updates);
     // Every occupied cell of W1 lies inside the log's extent, so the count
-    // agrees with BENCHMARKS.md's reference (20,483 for a JavaScript port).
+    // agrees with docs/BENCHMARKS.md's reference (20,483 for a JavaScript port).
     let c = whole.counts();
     assert!(
         (c.occupied as f64 - 20_483.0).abs() < 0.01 * 20_483.0,

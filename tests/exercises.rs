@@ -43,12 +43,14 @@ struct Comparison {
 }
 
 fn compare(sensor: SensorKind, resolution: f64) -> Comparison {
-    let mut s = WeaverSettings::default();
-    s.laps = 1;
-    s.panes = [
-        hand(MapperKind::Traversal, sensor, resolution),
-        hand(MapperKind::Sweep, sensor, resolution),
-    ];
+    let s = WeaverSettings {
+        laps: 1,
+        panes: [
+            hand(MapperKind::Traversal, sensor, resolution),
+            hand(MapperKind::Sweep, sensor, resolution),
+        ],
+        ..Default::default()
+    };
     let mut w = weaver(s);
     let n = w.scans_per_lap();
     assert_eq!(w.advance(n).unwrap(), n);
@@ -194,8 +196,10 @@ fn the_ghost_fade_readout_matches_a_count_by_hand() {
 /// the Brier score and the entropy curve.
 #[test]
 fn forgetting_l0_drifts_each_cell_by_l0_per_update() {
-    let mut s = WeaverSettings::default();
-    s.laps = 1;
+    let mut s = WeaverSettings {
+        laps: 1,
+        ..Default::default()
+    };
     for p in &mut s.panes {
         p.model = ModelKind::Learned;
         p.mapper = MapperKind::Sweep;
@@ -392,12 +396,14 @@ fn changing_resolution_mapper_or_beams_rebuilds_the_pane_as_if_set_from_the_star
 #[test]
 fn the_readout_counts_the_cells_where_the_two_exported_maps_differ() {
     let counts = |sensor: SensorKind| {
-        let mut s = WeaverSettings::default();
-        s.panes = [
-            hand(MapperKind::Traversal, sensor, 0.10),
-            hand(MapperKind::Sweep, sensor, 0.10),
-        ];
-        s.person = false;
+        let s = WeaverSettings {
+            panes: [
+                hand(MapperKind::Traversal, sensor, 0.10),
+                hand(MapperKind::Sweep, sensor, 0.10),
+            ],
+            person: false,
+            ..Default::default()
+        };
         let mut w = weaver(s);
         w.advance(653).unwrap();
         let r = w.readout();

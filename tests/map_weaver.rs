@@ -24,9 +24,11 @@ fn weaver(settings: WeaverSettings) -> Weaver {
 
 /// A run with both panes on the hand-crafted model and the oracle.
 fn settings(seed: u64, person: bool) -> WeaverSettings {
-    let mut s = WeaverSettings::default();
-    s.seed = seed;
-    s.person = person;
+    let mut s = WeaverSettings {
+        seed,
+        person,
+        ..Default::default()
+    };
     for p in &mut s.panes {
         p.model = occgrid::apps::map_weaver::ModelKind::HandCrafted;
         p.pose = PoseSource::Oracle;
@@ -341,8 +343,10 @@ fn the_walking_person_leaves_ghosts_only_when_present() {
 #[test]
 fn same_seed_gives_a_bit_identical_map() {
     let run = |seed: u64| {
-        let mut s = WeaverSettings::default();
-        s.seed = seed;
+        let mut s = WeaverSettings {
+            seed,
+            ..Default::default()
+        };
         s.panes[1].pose = PoseSource::DeadReckoning;
         let mut w = weaver(s);
         w.advance(300).unwrap();

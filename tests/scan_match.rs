@@ -728,7 +728,7 @@ fn a_session_s_scan_matched_pane_is_the_matched_path_built_in_slices() {
     // The last match is there to draw: its scan's points at its pose.
     let view = pane.match_view().unwrap();
     assert_eq!(view.scan, n - 1);
-    assert!(view.points.len() > 100 && view.points.len() % 2 == 0);
+    assert!(view.points.len() > 100 && view.points.len().is_multiple_of(2));
     assert!(session.panes()[1].match_view().is_none());
 }
 

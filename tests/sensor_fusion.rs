@@ -88,13 +88,9 @@ fn assert_max_dominates(f: &TableFusion) {
     let p = f.fused_probabilities();
     assert_eq!(p.len(), s.geometry().len());
     let fused = f.fused();
-    for i in 0..p.len() {
+    for (i, &pi) in p.iter().enumerate() {
         let (ps, pl) = (s.probability_at(i), l.probability_at(i));
-        assert!(
-            p[i] >= ps && p[i] >= pl,
-            "cell {i}: {} < {ps} or {pl}",
-            p[i]
-        );
+        assert!(pi >= ps && pi >= pl, "cell {i}: {} < {ps} or {pl}", p[i]);
         assert!(p[i] == ps || p[i] == pl, "cell {i}");
         // The drawn map says the same thing.
         let lf = fused.log_odds()[i];
@@ -126,8 +122,8 @@ fn max_fusion_never_reports_a_cell_less_occupied_than_either_modality() {
         b.apply(i, ((i * 104_729) % 19) as f32 - 9.0);
     }
     let p = max_fused_probabilities(&[&a, &b]).unwrap();
-    for i in 0..g.len() {
-        assert!(p[i] >= a.probability_at(i) && p[i] >= b.probability_at(i));
+    for (i, &pi) in p.iter().enumerate() {
+        assert!(pi >= a.probability_at(i) && pi >= b.probability_at(i));
     }
 }
 

@@ -39,6 +39,7 @@ fn the_cell_filter_refuses_every_bad_number_by_name() {
         refused(run_cell_filter(0.7, v, 0.5, 12.0, &[1], true), &["p_free"]);
         refused(run_cell_filter(0.7, 0.3, v, 12.0, &[1], true), &["prior"]);
         // Infinity is the cell filter's "no clamp".
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is refused too
         if !(v > 0.0) {
             refused(run_cell_filter(0.7, 0.3, 0.5, v, &[1], true), &["clamp"]);
         }
@@ -59,7 +60,7 @@ fn the_cell_filter_refuses_every_bad_number_by_name() {
     // An empty run is a table with no rows, not an error.
     let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &[], true).unwrap();
     assert_eq!(Array::from(&get(&t, "steps")).length(), 0);
-    let long = vec![1u8; occgrid::mapping::cell_filter::MAX_READINGS];
+    let long = vec![1u8; occgrid::mapping::cell_filter::MAX_FILTER_READINGS];
     let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &long, true).unwrap();
     let steps = Array::from(&get(&t, "steps"));
     let last = steps.get(steps.length() - 1);

@@ -1,4 +1,4 @@
-// W6 `logs-browser` (BENCHMARKS.md): a real log, file to finished map, in
+// W6 `logs-browser` (docs/BENCHMARKS.md): a real log, file to finished map, in
 // the chapter page. Debian's headless Chromium opens the page served by the
 // project's server, switches Map Weaver to its real-log mode and gives the
 // log through the panel's file input, as a reader would, at the real-log

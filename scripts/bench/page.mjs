@@ -1,4 +1,4 @@
-// W7 `page` (BENCHMARKS.md): the chapter page as a reader opens it, in
+// W7 `page` (docs/BENCHMARKS.md): the chapter page as a reader opens it, in
 // Debian's headless Chromium against the project's own server. Two
 // viewports: a 1280×800 desktop, and a 390×844 phone (device scale 3, touch)
 // with the CPU throttled 4× through the DevTools protocol (Lighthouse's

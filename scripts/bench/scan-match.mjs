@@ -1,4 +1,4 @@
-// W8 `scan-match` (BENCHMARKS.md) under Node and in the page: each log of
+// W8 `scan-match` (docs/BENCHMARKS.md) under Node and in the page: each log of
 // ../shared/datasets/ (or `--log PATH ...`) at the real-log defaults, 5 cm,
 // poses `scan-matched` from seeded dead reckoning (seed 1). Run only when
 // named: `npm run bench -- scan-match [--log PATH ...]` (the native rows

@@ -1,5 +1,5 @@
 // W1 `intel-full` on the wasm build: parse the Intel log, then build the
-// whole 1000 x 900 map at 5 cm (the workload is defined in src/workloads.rs).
+// whole 1000 x 900 map at 5 cm (the workload is defined in src/bench/intel.rs).
 import fs from 'node:fs';
 import path from 'node:path';
 import { root } from '../lib/load-core.mjs';

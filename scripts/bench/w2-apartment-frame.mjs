@@ -2,7 +2,7 @@
 // the apartment lap integrated into the hand-crafted and the learned map,
 // both maps' pixels and scores brought up to date), and one
 // `integrate_scan` call on its own. The work is defined in
-// src/sim/weaver_workloads.rs; this script only holds the clock.
+// src/bench/apartment.rs; this script only holds the clock.
 import { median, round } from '../lib/stats.mjs';
 
 const LAPS = 5;

@@ -1,6 +1,6 @@
 // W3 `all-cells-vs-traversal` on the wasm build: the W2 lap integrated by
 // the ray traversal and by the literal Table 9.1 sweep over every cell, at
-// 0.10 m and 0.05 m. The work is defined in src/sim/weaver_workloads.rs;
+// 0.10 m and 0.05 m. The work is defined in src/bench/apartment.rs;
 // this script only holds the clock.
 import { median, round } from '../lib/stats.mjs';
 

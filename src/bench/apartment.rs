@@ -1,5 +1,5 @@
 //! Benchmark workloads W2 `apartment-frame` and W3 `all-cells-vs-traversal`
-//! of BENCHMARKS.md, defined once so that the native benchmark
+//! of docs/BENCHMARKS.md, defined once so that the native benchmark
 //! (benches/native.rs) and the wasm run under Node (scripts/bench/) do
 //! exactly the same work. The callers hold the clock; these types only do
 //! the work of one call.

@@ -1,4 +1,4 @@
-//! W1 `intel-full` (BENCHMARKS.md): the whole Intel Research Lab map, the
+//! W1 `intel-full` (docs/BENCHMARKS.md): the whole Intel Research Lab map, the
 //! same work natively and as wasm under Node.
 
 use crate::geometry::GridGeometry;

@@ -1,4 +1,4 @@
-//! The benchmark workloads of BENCHMARKS.md, defined once so that the native
+//! The benchmark workloads of docs/BENCHMARKS.md, defined once so that the native
 //! benchmark and the wasm build under Node do exactly the same work.
 
 pub mod apartment;

@@ -23,7 +23,7 @@ pub struct HandCraftedParams {
 }
 
 impl HandCraftedParams {
-    /// Table 9.2 for a laser range finder, the values of BENCHMARKS.md W1
+    /// Table 9.2 for a laser range finder, the values of docs/BENCHMARKS.md W1
     /// (and the real-log defaults): `alpha` = 10 cm, `l_occ = +0.85`,
     /// `l_free = -0.40`, `l0 = 0`, out to `z_max` metres. A laser beam is
     /// thin: the ray mapper passes `phi = 0`, and only the literal sweep
@@ -179,6 +179,7 @@ impl InverseModel for HandCrafted {
     fn axis_profile(&self, z: f64) -> Option<AxisProfile> {
         let p = &self.params;
         let reach = self.reach(z);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN range is a no-return
         if !(z < p.z_max) {
             // A no-return (line 2 never fires): free out to the reach,
             // which is z_max <= z.

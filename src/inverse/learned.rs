@@ -64,7 +64,7 @@
 //! every cell gets exactly nothing, so a traversal need not visit it. (With
 //! a prior other than its own the cells past the band do get something,
 //! the prior's error, and the field then runs [`BEHIND_BAND`] further:
-//! [`prior_drift`].) A model trained on thin walls stops a few decimetres
+//! [`prior_drift`](crate::mapping::drift::prior_drift).) A model trained on thin walls stops a few decimetres
 //! past the reading; one trained on deep blocks paints to the end of the
 //! span. The reach is what a ray traversal walks, so it is also what a
 //! scan costs.
@@ -128,7 +128,7 @@ pub const FIELD: f64 = 1.5;
 /// Depth past the end of the model's band ([`LearnedInverse::band_end`])
 /// that still belongs to a real return's perceptual field when the model
 /// removes a prior other than its own, metres: cells the model knows
-/// nothing about, which then drift ([`prior_drift`]). With its own prior
+/// nothing about, which then drift ([`prior_drift`](crate::mapping::drift::prior_drift)). With its own prior
 /// they would get exactly 0, and the field ends with the band.
 pub const BEHIND_BAND: f64 = 0.1;
 /// Evidence a reading may leave out past the end of its band, log odds:
@@ -356,6 +356,7 @@ impl LearnedInverse {
     pub fn new(frame: FeatureFrame, weights: [f64; FEATURES]) -> Result<Self> {
         frame.validate()?;
         for (i, &w) in weights.iter().enumerate() {
+            #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
             if !(w.abs() <= MAX_LOG_ODDS) {
                 return Err(invalid(
                     &format!("weights[{i}]"),
@@ -435,7 +436,7 @@ impl LearnedInverse {
     }
 
     /// The same model removing `l0` instead of its own prior from every
-    /// score (`with_l0(0.0)` is the mistake [`prior_drift`] shows). A NaN
+    /// score (`with_l0(0.0)` is the mistake [`prior_drift`](crate::mapping::drift::prior_drift) shows). A NaN
     /// keeps the model's own; anything else is held within
     /// `±MAX_LOG_ODDS`, so that every evidence stays a finite `f32`.
     pub fn with_l0(&self, l0: f64) -> Self {
@@ -507,6 +508,7 @@ impl LearnedInverse {
         // Comparisons rather than f64::max/min, which are library calls in
         // wasm (this runs once per cell per beam).
         let mut t = (d - SPLINE_START) * (1.0 / TABLE_STEP);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: clamped to 0
         if !(t > 0.0) {
             t = 0.0;
         }
@@ -549,6 +551,7 @@ impl LearnedInverse {
             let zt = z * self.inv_z_max;
             let behind = self.field_end;
             if phi == 0.0 {
+                #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN r gives no evidence
                 if !(r > -1.0) {
                     return 0.0;
                 }

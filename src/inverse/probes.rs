@@ -25,6 +25,7 @@ impl BeamLattice {
     pub fn validate(&self) -> Result<()> {
         error::non_negative("min_range", self.min_range)?;
         error::finite("max_range", self.max_range)?;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(self.max_range > self.min_range) {
             return Err(invalid(
                 "max_range",
@@ -133,6 +134,7 @@ pub fn mean_free_evidence<M: InverseModel + ?Sized>(model: &M, z: f64, margin: f
     error::non_negative("z", z)?;
     error::non_negative("margin", margin)?;
     let end = z.min(model.z_max()) - margin;
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
     if !(end > 0.0) {
         return Err(invalid(
             "z",

@@ -82,7 +82,7 @@ mod tests {
     fn scaled_evidence_is_the_model_with_its_log_odds_scaled() {
         let base = table_9_2();
         for s in [0.0, 0.25, 1.0, 3.0] {
-            let scaled = Scaled::new(base.clone(), s).unwrap();
+            let scaled = Scaled::new(base, s).unwrap();
             let direct = HandCrafted::with_strength(HandCraftedParams::laser(8.0), s).unwrap();
             for z in [0.5, 2.0, 7.9, 8.0] {
                 for i in 0..100 {

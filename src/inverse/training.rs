@@ -27,7 +27,7 @@
 //! the flat; trained on buildings, it ends some 0.4 m past the reading. Everything is seeded: the same configuration gives the same
 //! weights, bit for bit.
 //!
-//! Speed (BENCHMARKS.md W5, under 150 ms as wasm): ray casts stop at the
+//! Speed (docs/BENCHMARKS.md W5, under 150 ms as wasm): ray casts stop at the
 //! first occupied cell, beam directions are drawn as unit vectors (no angle,
 //! so no sine or cosine), features are polynomials computed once per
 //! triplet, and each SGD update costs one exponential.
@@ -167,6 +167,7 @@ impl TrainingConfig {
             ));
         }
         let cells = (self.map_side() / self.resolution).ceil();
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(cells * cells <= MAX_MAP_CELLS as f64) {
             return Err(invalid(
                 "resolution",
@@ -195,7 +196,7 @@ impl TrainingConfig {
     /// Table 9.2 for the same sensor, for the widgets' side-by-side
     /// comparison: obstacles two cells thick (`alpha = 2 * resolution`),
     /// `beta` the cone's full angle, `l_occ = +0.85`, `l_free = -0.40`,
-    /// `l0 = 0` (the values of BENCHMARKS.md W1).
+    /// `l0 = 0` (the values of docs/BENCHMARKS.md W1).
     pub fn hand_crafted_counterpart(&self) -> Result<HandCraftedParams> {
         self.validate()?;
         let p = HandCraftedParams {

@@ -13,13 +13,13 @@ use crate::grid::{logit, probability};
 /// read row by row: a few dozen readings tell it, and ten thousand is far
 /// past what anyone clicks. Every reading becomes a row of 32 bytes in the
 /// answer, so without a bound a page could ask for gigabytes.
-pub const MAX_READINGS: usize = 10_000;
+pub const MAX_FILTER_READINGS: usize = 10_000;
 
 /// Refuses a run of `len` readings before anything is allocated for them:
 /// callers holding readings in another form (a JavaScript array) check the
 /// length before copying.
 pub fn check_readings(len: usize) -> Result<()> {
-    if len > MAX_READINGS {
+    if len > MAX_FILTER_READINGS {
         return Err(invalid(
             "readings",
             format!("{len} readings"),
@@ -74,6 +74,7 @@ impl CellFilterParams {
         error::open_probability("p_free", self.p_free)?;
         error::open_probability("prior", self.prior)?;
         // NaN compares false: refused with zero and the negatives.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(self.clamp > 0.0) {
             return Err(invalid(
                 "clamp",
@@ -195,10 +196,12 @@ mod tests {
     fn refuses_more_readings_than_the_budget_naming_the_count() {
         let p = CellFilterParams::WORKED_EXAMPLE;
         assert_eq!(
-            run(&p, &vec![true; MAX_READINGS], true).unwrap().len(),
-            MAX_READINGS
+            run(&p, &vec![true; MAX_FILTER_READINGS], true)
+                .unwrap()
+                .len(),
+            MAX_FILTER_READINGS
         );
-        let e = run(&p, &vec![false; MAX_READINGS + 1], true)
+        let e = run(&p, &vec![false; MAX_FILTER_READINGS + 1], true)
             .unwrap_err()
             .to_string();
         assert!(

@@ -21,10 +21,10 @@ use crate::grid::binary_entropy_bits;
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 
 /// The most cells a query may enumerate: `2^16 = 65,536` configurations.
-pub const MAX_CELLS: usize = 16;
+pub const MAX_QUERY_CELLS: usize = 16;
 
 /// The most readings a query may hold (all from the same cone and pose).
-pub const MAX_READINGS: usize = 4096;
+pub const MAX_QUERY_READINGS: usize = 4096;
 
 /// One chosen cell, as a point in the sensor's frame: range from the sensor
 /// (metres) and bearing from the cone's axis (degrees, counter-clockwise).
@@ -88,7 +88,7 @@ impl JointQuery {
                 "an opening angle of at most 360 degrees",
             ));
         }
-        if self.cells.is_empty() || self.cells.len() > MAX_CELLS {
+        if self.cells.is_empty() || self.cells.len() > MAX_QUERY_CELLS {
             return Err(invalid(
                 "cells",
                 format!("{} cells", self.cells.len()),
@@ -110,7 +110,7 @@ impl JointQuery {
                 ));
             }
         }
-        if self.readings.is_empty() || self.readings.len() > MAX_READINGS {
+        if self.readings.is_empty() || self.readings.len() > MAX_QUERY_READINGS {
             return Err(invalid(
                 "readings",
                 format!("{} readings", self.readings.len()),

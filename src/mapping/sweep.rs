@@ -3,7 +3,7 @@
 //!
 //! Its cost is the map, not the beams: what a wide cone sensor (a sonar whose
 //! cone covers cells no beam's raster passes through) needs, and what the
-//! ray traversal of [`super::traversal`] avoids for thin beams (BENCHMARKS.md
+//! ray traversal of [`super::traversal`] avoids for thin beams (docs/BENCHMARKS.md
 //! W3 compares the two).
 
 use super::traversal::ScanStats;

@@ -104,6 +104,7 @@ pub fn beam_bands(
             out.push(None);
             continue;
         };
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN range is a no-return
         if !(z < z_max) {
             let r = reach.min(no_return_reach);
             out.push(Some(BeamBand {

@@ -316,6 +316,7 @@ impl ApartmentScene {
         self.odometry.validate()?;
         self.person.validate()?;
         let scans = self.path.lap_seconds() * self.scan_rate;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(scans <= MAX_SCANS_PER_LAP as f64) {
             return Err(invalid(
                 "path",
@@ -347,6 +348,7 @@ impl ApartmentScene {
             (self.width as f64 * scale).round(),
             (self.height as f64 * scale).round(),
         );
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(width * height <= MAX_SCENE_CELLS as f64) {
             return Err(invalid(
                 "resolution",
@@ -758,8 +760,10 @@ mod tests {
 
     #[test]
     fn bad_scene_fields_are_named() {
-        let mut scene = ApartmentScene::default();
-        scene.scan_rate = 0.0;
+        let scene = ApartmentScene {
+            scan_rate: 0.0,
+            ..Default::default()
+        };
         assert!(scene
             .validate()
             .unwrap_err()
@@ -779,12 +783,16 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("tracked[2]"));
-        let mut scene = ApartmentScene::default();
-        scene.resolution = -0.1;
+        let scene = ApartmentScene {
+            resolution: -0.1,
+            ..Default::default()
+        };
         assert!(ApartmentSim::new(scene, 0, false).is_err());
-        let mut scene = ApartmentScene::default();
-        scene.width = 2000;
-        scene.height = 1000;
+        let scene = ApartmentScene {
+            width: 2000,
+            height: 1000,
+            ..Default::default()
+        };
         assert!(scene
             .validate()
             .unwrap_err()

@@ -8,7 +8,7 @@
 //! range occupied — across the doorway. The same readings drive both halves
 //! of the doorway-trap widget: the literal Table 9.1 sweep
 //! ([`crate::mapping::sweep::sweep_scan`]) and the MAP search of Table 9.3
-//! ([`crate::map_search`]).
+//! ([`crate::mapping::map_search`]).
 //!
 //! The scene is data (serde): walls, poses, sonar bearings, noise and seed.
 //! Readings are the sonar's ([`Sonar::read`]: the exact cone cast of
@@ -28,7 +28,7 @@ use rand::SeedableRng;
 
 /// The most readings a scene may ask for (poses x sonars): the widget sweeps
 /// and climbs on them interactively.
-pub const MAX_READINGS: usize = 4096;
+pub const MAX_SCENE_READINGS: usize = 4096;
 
 /// The most cells a scene's map may hold: 125 times the chapter's 2,000
 /// (the chapter's room at 1 cm is 200,000). Every sweep step visits each
@@ -158,7 +158,7 @@ impl DoorwayScene {
             error::finite(&format!("bearings_deg[{i}]"), b)?;
         }
         let readings = self.poses.len().saturating_mul(self.bearings_deg.len());
-        if readings > MAX_READINGS {
+        if readings > MAX_SCENE_READINGS {
             return Err(invalid(
                 "poses x bearings_deg",
                 readings,
@@ -197,6 +197,7 @@ impl DoorwayScene {
             self.sonar.z_max,
             self.resolution,
         );
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(work <= MAX_RASTER_WORK) {
             return Err(invalid(
                 "poses x bearings_deg x sonar.sub_rays",

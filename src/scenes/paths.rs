@@ -210,6 +210,7 @@ impl WalkerParams {
         let length = (self.to[0] - self.from[0]).hypot(self.to[1] - self.from[1]);
         let walk = length / self.speed;
         let cycle = 2.0 * (walk + self.pause);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN cycle stays at the start
         if !(cycle > 0.0) {
             return self.from;
         }

@@ -12,7 +12,8 @@
 //! poses along its path, and one sonar scan and one LiDAR scan per pose,
 //! with Gaussian range noise. [`TableScene::start`] leaves the scans to be
 //! simulated as the run reaches them, so that a page's first frame waits
-//! for no scan of the lap's end. [`crate::fusion`] integrates those scans into
+//! for no scan of the lap's end.
+//! [`crate::apps::sensor_fusion::TableFusion`] integrates those scans into
 //! one grid per modality and compares the fusion rules.
 //!
 //! The two sensors draw their noise from two separate seeded streams, so
@@ -40,7 +41,7 @@ pub const LEG_SIZE: f64 = 0.06;
 pub const MAX_STEPS: usize = 20_000;
 pub const MAX_LIDAR_BEAMS: usize = 2_048;
 pub const MAX_SONARS: usize = 256;
-pub const MAX_SUB_RAYS: usize = 256;
+pub const MAX_SONAR_SUB_RAYS: usize = 256;
 
 /// Each bound above is harmless alone; together they are not (20,000 steps
 /// of 256 sonars of 256 sub-rays is minutes of casting). The products are
@@ -312,7 +313,7 @@ impl TableScene {
         if s.count == 0 || s.count > MAX_SONARS {
             return Err(invalid("sonar.count", s.count, "1 to 256 transducers"));
         }
-        if s.sub_rays == 0 || s.sub_rays > MAX_SUB_RAYS {
+        if s.sub_rays == 0 || s.sub_rays > MAX_SONAR_SUB_RAYS {
             return Err(invalid("sonar.sub_rays", s.sub_rays, "1 to 256 rays"));
         }
         s.validate()?;
@@ -844,7 +845,7 @@ mod tests {
             ..d()
         };
         s.sonar.count = MAX_SONARS;
-        s.sonar.sub_rays = MAX_SUB_RAYS;
+        s.sonar.sub_rays = MAX_SONAR_SUB_RAYS;
         s.lidar.beams = MAX_LIDAR_BEAMS;
         let text = e(s);
         assert!(

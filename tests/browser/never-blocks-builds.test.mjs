@@ -1,4 +1,4 @@
-// A page that never blocks (BENCHMARKS.md W7) while a widget makes a large
+// A page that never blocks (docs/BENCHMARKS.md W7) while a widget makes a large
 // run: Map Weaver's 1024 x 1024 scene is drawn in calls of the core bounded
 // by a budget of cells (`MapWeaverStart.build`), and its run is made only
 // once every map is drawn; the doorway trap's MAP search at 1 cm is set up

@@ -1,4 +1,4 @@
-// A page that never blocks (BENCHMARKS.md W7), sensor fusion's part: its run
+// A page that never blocks (docs/BENCHMARKS.md W7), sensor fusion's part: its run
 // simulates each scan when a step first needs it, so the lap's first frame
 // is drawn before the rest of the lap is simulated; a link's scans are
 // integrated in budgeted calls, never with the unbudgeted `step`; and a

@@ -1,4 +1,4 @@
-// A page that never blocks (BENCHMARKS.md W7) while a reader turns a knob:
+// A page that never blocks (docs/BENCHMARKS.md W7) while a reader turns a knob:
 // a retraining of the inverse workbench starts from a first call's budget,
 // not from the one its last fit ended with (a triplet drawn costs far more
 // than an SGD update); and the doorway trap starts its two-cell table after

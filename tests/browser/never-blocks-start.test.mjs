@@ -1,5 +1,5 @@
 // A page that never blocks, as it opens and while a widget plays on a
-// phone (BENCHMARKS.md W7): a widget far from the screen does no work and
+// phone (docs/BENCHMARKS.md W7): a widget far from the screen does no work and
 // makes no chart; the sensor-fusion lap is played in budgeted calls of the
 // core, at most one an animation frame, never with the unbudgeted `step`;
 // and no map pane's canvas on a 3× screen holds more pixels than the budget

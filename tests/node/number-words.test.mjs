@@ -2,7 +2,7 @@
 // en-US number formatting writes (thousands separators, the shortest
 // decimal form rounded half away from zero, the sign of -0) without making
 // a formatter, whose first construction on a page is a long task on a
-// throttled phone while the widgets build (BENCHMARKS.md W7). And the
+// throttled phone while the widgets build (docs/BENCHMARKS.md W7). And the
 // canvases' pixel budget: `canvasScale` never goes past twice the CSS size
 // nor, given a budget, past its pixels, and never below one device pixel
 // per CSS pixel.

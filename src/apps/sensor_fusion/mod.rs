@@ -208,7 +208,7 @@ pub struct FusionWork {
     /// map per sweep): the raster of each LiDAR beam, the scans it
     /// simulated (each ray cast counted as the cells along its range) and
     /// the fused map's refresh count in the same unit, a fraction of a
-    /// visit per cell by their cost ([`pieces`]).
+    /// visit per cell by their cost (`pieces.rs`).
     pub cell_visits: u64,
     /// Steps integrated so far, this call's included.
     pub step: usize,
@@ -295,7 +295,7 @@ impl TableFusion {
     /// way (see [`TableFusion::stage_lidar_beams`]) goes first, and new
     /// steps follow only once it is done. A step goes in pieces (its
     /// scans' simulation, bands of rows of the sonar's sweeps, the LiDAR's
-    /// rasters: [`pieces`]), and a call stops as soon as it has spent its
+    /// rasters: `pieces.rs`), and a call stops as soon as it has spent its
     /// budget (a budget of 0 counts as 1), past it by at most one piece, at
     /// least one piece done while there is work: a step left under way is
     /// finished by the next calls (it counts as one of their `steps`), and

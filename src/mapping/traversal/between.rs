@@ -7,6 +7,10 @@
 //! them do not already hold their cells. Where both beams end on one
 //! surface, the wall between their readings is drawn too.
 
+// A test written `!(a < b)` is also true when either is not a number: a
+// wedge or a wall with such a bound fills nothing.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::{trace, BandCodes, BeamBand, BeamFrame, Code, Gathered};
 
 /// The widest spacing of two neighbouring beams whose between is filled

@@ -118,6 +118,7 @@ impl RayMapper {
         let mut evidence: Option<ScanEvidence> = None;
         for &z in ranges {
             let reach = model.reach(z);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN reach is no beam
             if !(reach > 0.0) {
                 self.profiles.push(None);
                 continue;
@@ -191,6 +192,7 @@ impl RayMapper {
         let mut visits = 0;
         for (&z, &trig) in scan.ranges().iter().zip(&self.bearing_trig) {
             let reach = model.reach(z);
+            #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN reach is no beam
             if !(reach > 0.0) {
                 continue;
             }
