@@ -60,6 +60,7 @@ impl MatchedPath {
         noise.validate()?;
         let inserter = ScanInserter::new(insertion)?;
         let z_max = insertion.model.z_max;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(z_max / res <= MAX_REACH_CELLS) {
             return Err(invalid(
                 "z_max",

@@ -109,6 +109,7 @@ impl BeamModel {
     pub fn density(&self, z: f64, z_star: f64) -> f64 {
         let p = &self.params;
         let z_star = z_star.clamp(0.0, p.z_max);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: density 0
         if !(z >= 0.0) {
             return 0.0;
         }
@@ -143,6 +144,7 @@ impl BeamModel {
         }
         let s = p.sigma_hit;
         let eta = normal_cdf((p.z_max - z_star) / s) - normal_cdf(-z_star / s);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(eta > 1e-6) {
             // A Gaussian hundreds of thousands of times wider than
             // [0, z_max] is flat on it. Its normaliser is then below the

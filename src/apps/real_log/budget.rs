@@ -2,20 +2,16 @@
 //! beams reach, walked on the grid of tiles (docs/ARCHITECTURE.md, "Real
 //! logs"). A resolution too fine for the tile budget is refused when the
 //! settings are chosen, naming the finest resolution that fits, instead of
-//! a build that stops part way through the log. After a read, the panes
-//! are planned in calls of bounded work ([`PanePlanning`]).
+//! a build that stops part way through the log. (After a read, the panes
+//! are planned in calls of bounded work: `planning.rs`.)
 
-use super::pane::{grid_of_extent, no_scans, source_settings, LogPane};
-use super::settings::{CheckedSettings, LogCellModel};
+use super::settings::CheckedSettings;
 use crate::error::{invalid, show, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
 use crate::inverse::HandCrafted;
-use crate::mapping::reach::{tiles_reached, BeamReach, ExtentBox, TileReach};
-use crate::poses::{PoseSource, PoseSourceKind};
-use crate::sensors::odometry::OdometryParams;
+use crate::mapping::reach::{covering_grid, tiles_reached, BeamReach};
 use crate::sensors::{Scan, ScanLog};
-use std::sync::Arc;
 
 /// Cells visited that cost about one cell update (a verdict gathered, 15
 /// instructions natively, against a tile's cell updated, 35): visits per
@@ -60,7 +56,7 @@ pub(super) fn tiles_needed(
 }
 
 /// How the beams under `c` reach: what a walk of the tiles follows.
-fn beam_reach(c: &CheckedSettings) -> BeamReach<'_> {
+pub(super) fn beam_reach(c: &CheckedSettings) -> BeamReach<'_> {
     let s = c.settings();
     BeamReach {
         model: c.model(),
@@ -105,7 +101,7 @@ pub(super) fn every_tile_fits(extent: &GridGeometry, budget_cells: usize) -> boo
     tx.saturating_mul(ty) <= budget_tiles(budget_cells)
 }
 
-fn budget_tiles(budget_cells: usize) -> usize {
+pub(super) fn budget_tiles(budget_cells: usize) -> usize {
     (budget_cells / TILE_CELLS).max(1)
 }
 
@@ -145,14 +141,14 @@ pub(super) fn refuse_past_budget(
 /// candidate at a time: each candidate costs a walk of the scans, which
 /// the planning spreads over calls ([`PanePlanning`]).
 #[derive(Debug, Clone, Copy)]
-struct FitSearch {
+pub(super) struct FitSearch {
     /// The next candidate, in whole steps of [`RESOLUTION_STEPS_PER_METRE`].
     steps: u64,
     tried: usize,
 }
 
 impl FitSearch {
-    fn new(needed: usize, c: &CheckedSettings, budget_cells: usize) -> Self {
+    pub(super) fn new(needed: usize, c: &CheckedSettings, budget_cells: usize) -> Self {
         // Tiles grow as the area the beams sweep, with the square of 1 /
         // resolution: start from there and step up until one fits.
         let scale = (needed as f64 / budget_tiles(budget_cells) as f64).sqrt();
@@ -164,7 +160,7 @@ impl FitSearch {
 
     /// The next resolution to try and the settings at it; `None` once
     /// [`TRIES`] are spent or the settings at it are refused.
-    fn next(&mut self, c: &CheckedSettings) -> Option<(f64, CheckedSettings)> {
+    pub(super) fn next(&mut self, c: &CheckedSettings) -> Option<(f64, CheckedSettings)> {
         if self.tried == TRIES {
             return None;
         }
@@ -179,7 +175,7 @@ impl FitSearch {
 
 /// The refusal of settings whose beams reach `needed` tiles, naming the
 /// resolution that fits (`fits`), if one was found.
-fn budget_refusal(
+pub(super) fn budget_refusal(
     needed: usize,
     c: &CheckedSettings,
     budget_cells: usize,
@@ -211,314 +207,25 @@ pub(super) fn scan_model(c: &CheckedSettings, scans: &ScanLog, k: usize) -> Hand
     c.model_for_laser(laser_max).unwrap_or(*c.model())
 }
 
-/// Where one pane's plan stands.
-enum Phase {
-    /// Growing the box of its poses and beams, a scan at a time.
-    Extent(ExtentBox),
-    /// Its bounding box passes the tile budget: counting the tiles its
-    /// beams reach, a scan at a time (the box of the scans kept for the
-    /// search that may follow).
-    Tiles([f64; 4], GridGeometry, TileReach, usize),
-    /// Its beams pass the tile budget (`needed` tiles): searching for the
-    /// finest resolution that fits over the box `bounds`, a candidate at a
-    /// time and a scan of its walk at a time.
-    Search {
-        bounds: [f64; 4],
-        grid: GridGeometry,
-        needed: usize,
-        search: FitSearch,
-        walk: Option<CandidateWalk>,
-    },
-    /// Its grid, and the tiles its beams reach when they were counted.
-    Ready(GridGeometry, Option<usize>),
-    /// Its beams reach `needed` tiles of its grid, past the budget; the
-    /// resolution that fits, if the search found one.
-    Refused(GridGeometry, usize, Option<f64>),
-    /// The settings make no map of this log (a grid too large).
-    Failed(OccError),
+/// The grid over the box `extent` of a log's poses and beams
+/// ([`scan_extent`]; `None` for a log without a scan) and `drift` metres
+/// more around it, covered on whole cells, under settings whose range
+/// cap's reach fits the traversal.
+pub(super) fn grid_of_extent(
+    extent: Option<[f64; 4]>,
+    drift: f64,
+    c: &CheckedSettings,
+) -> Result<GridGeometry> {
+    let s = c.settings();
+    let a = extent.ok_or_else(no_scans)?;
+    let extent = [a[0] - drift, a[1] - drift, a[2] + drift, a[3] + drift];
+    let grid = covering_grid(extent, s.resolution, s.margin)?;
+    // A scan is gathered in a window as wide as its longest beam: that
+    // window's scratch is what bounds the reach in cells.
+    s.check_reach()?;
+    Ok(grid)
 }
 
-/// One candidate of a search: its resolution and settings, its grid, and
-/// the tiles the scans walked so far reach on it.
-struct CandidateWalk {
-    resolution: f64,
-    settings: CheckedSettings,
-    tiles: TileReach,
-    scans: usize,
-}
-
-/// One pane of a plan: its pose source (`None` when it could not start:
-/// the phase then says why) and cell model, and its phase.
-struct PlannedPane {
-    kind: PoseSourceKind,
-    source: Option<Box<dyn PoseSource>>,
-    model: LogCellModel,
-    phase: Phase,
-}
-
-/// The panes of a log just read, planned in calls of bounded work (scans
-/// walked), so that no call of the page's read walks every scan
-/// (docs/ARCHITECTURE.md, "Real logs"): each pane's extent (already grown
-/// as the lines were read, for the log's own poses), then, when its
-/// bounding box passes the tile budget, the tiles its beams reach, and
-/// when those pass it, the finest resolution that fits. Panes of one pose
-/// source share one walk. The panes it makes, and its refusals, are the
-/// ones [`LogPane::plan`] makes, cell for cell and word for word.
-pub(super) struct PanePlanning {
-    scans: Arc<ScanLog>,
-    settings: CheckedSettings,
-    odometry: OdometryParams,
-    budget_cells: usize,
-    panes: Vec<PlannedPane>,
-}
-
-impl PanePlanning {
-    /// The plan of `settings`' panes over `scans`; `read_extent` the box of
-    /// every scan at its own poses when it was grown under these settings
-    /// as the lines were read.
-    pub(super) fn new(
-        scans: Arc<ScanLog>,
-        settings: &CheckedSettings,
-        odometry: OdometryParams,
-        budget_cells: usize,
-        read_extent: Option<ExtentBox>,
-    ) -> Self {
-        let s = settings.settings();
-        let read_extent = read_extent.filter(|e| e.scans() == scans.len());
-        let panes = s
-            .pane_plan()
-            .into_iter()
-            .map(|(kind, model)| {
-                let source = kind.start(&scans, &source_settings(settings, odometry));
-                // A pane whose plan walks the log's own poses (a
-                // scan-matched one too, with room for drift) takes the box
-                // grown as the log was read.
-                let phase = match (&source, &read_extent) {
-                    (Err(e), _) => Phase::Failed(e.clone()),
-                    (Ok(source), Some(e)) if source.plan_poses(&scans).0 == scans.poses() => {
-                        Phase::Extent(e.clone())
-                    }
-                    _ => Phase::Extent(ExtentBox::new(s.no_return_reach)),
-                };
-                PlannedPane {
-                    kind,
-                    source: source.ok(),
-                    model,
-                    phase,
-                }
-            })
-            .collect();
-        Self {
-            scans,
-            settings: *settings,
-            odometry,
-            budget_cells,
-            panes,
-        }
-    }
-
-    /// Walks at most `max_scans` scans of the plan (a pane whose walk is
-    /// done moves on to its next phase without one); returns the scans
-    /// walked.
-    pub(super) fn step(&mut self, max_scans: usize) -> usize {
-        let mut walked = 0;
-        for i in 0..self.panes.len() {
-            // A pane of a source planned before it takes that plan.
-            let (before, rest) = self.panes.split_at_mut(i);
-            let pane = &mut rest[0];
-            if !pane.phase.is_done() {
-                let twin = before.iter().find(|p| p.kind == pane.kind);
-                match twin.map(|p| &p.phase) {
-                    Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
-                    Some(Phase::Refused(g, n, r)) => pane.phase = Phase::Refused(*g, *n, *r),
-                    Some(Phase::Failed(e)) => pane.phase = Phase::Failed(e.clone()),
-                    _ => {}
-                }
-            }
-            while self.advance(i, walked < max_scans) {
-                walked += 1;
-            }
-        }
-        walked
-    }
-
-    /// Moves pane `i`'s plan on: through the phases whose walk is done,
-    /// then, if `may_walk`, one scan of its walk. True when a scan was
-    /// walked.
-    fn advance(&mut self, i: usize, may_walk: bool) -> bool {
-        let (scans, c, budget) = (&self.scans, &self.settings, self.budget_cells);
-        let pane = &mut self.panes[i];
-        // The poses the walks put the scans at (a scan-matched pane's are
-        // the log's own: the matched path stays near them), and the room
-        // its grid leaves for drift around them.
-        let Some(source) = &pane.source else {
-            return false;
-        };
-        let (poses, drift) = source.plan_poses(scans);
-        loop {
-            match &mut pane.phase {
-                Phase::Extent(e) if e.scans() < scans.len() => {
-                    if !may_walk {
-                        return false;
-                    }
-                    let k = e.scans();
-                    // (A scan at a pose that is not finite is left out, as
-                    // the whole-log extent leaves it out.)
-                    match poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
-                        Some(scan) => e.add(&scan, &scan_model(c, scans, k)),
-                        None => e.skip(),
-                    }
-                    return true;
-                }
-                Phase::Extent(e) => {
-                    let bounds = e.bounds();
-                    pane.phase = match (grid_of_extent(bounds, drift, c), bounds) {
-                        (Ok(g), _) if every_tile_fits(&g, budget) => Phase::Ready(g, None),
-                        (Ok(g), Some(b)) => Phase::Tiles(b, g, TileReach::new(&g), 0),
-                        (Ok(_), None) => Phase::Failed(no_scans()),
-                        (Err(e), _) => Phase::Failed(e),
-                    };
-                }
-                Phase::Tiles(_, _, tiles, k) if *k < scans.len() => {
-                    if !may_walk {
-                        return false;
-                    }
-                    if let Some(scan) = poses.get(*k).and_then(|&p| at_pose(scans, *k, p)) {
-                        tiles.add(&scan, beam_reach(c));
-                    }
-                    *k += 1;
-                    return true;
-                }
-                Phase::Tiles(_, g, tiles, _) if tiles.count() <= budget_tiles(budget) => {
-                    pane.phase = Phase::Ready(*g, Some(tiles.count()))
-                }
-                Phase::Tiles(bounds, g, tiles, _) => {
-                    // The box of the scans is the same at any resolution:
-                    // each candidate's grid is found without a walk.
-                    let needed = tiles.count();
-                    pane.phase = Phase::Search {
-                        bounds: *bounds,
-                        grid: *g,
-                        needed,
-                        search: FitSearch::new(needed, c, budget),
-                        walk: None,
-                    };
-                }
-                Phase::Search {
-                    bounds,
-                    grid,
-                    needed,
-                    search,
-                    walk,
-                } => match walk {
-                    None => {
-                        let next = search.next(c).and_then(|(r, checked)| {
-                            let g = grid_of_extent(Some(*bounds), drift, &checked).ok()?;
-                            Some(CandidateWalk {
-                                resolution: r,
-                                settings: checked,
-                                tiles: TileReach::new(&g),
-                                scans: 0,
-                            })
-                        });
-                        match next {
-                            Some(w) => *walk = Some(w),
-                            None => pane.phase = Phase::Refused(*grid, *needed, None),
-                        }
-                    }
-                    Some(w) if w.scans < scans.len() => {
-                        if !may_walk {
-                            return false;
-                        }
-                        let k = w.scans;
-                        if let Some(scan) = poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
-                            w.tiles.add(&scan, beam_reach(&w.settings));
-                        }
-                        w.scans += 1;
-                        return true;
-                    }
-                    Some(w) if w.tiles.count() <= budget_tiles(budget) => {
-                        pane.phase = Phase::Refused(*grid, *needed, Some(w.resolution))
-                    }
-                    Some(_) => *walk = None,
-                },
-                Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_) => return false,
-            }
-        }
-    }
-
-    /// True once every pane's plan is walked.
-    pub(super) fn finished(&self) -> bool {
-        self.panes.iter().all(|p| p.phase.is_done())
-    }
-
-    /// The scans the log has.
-    pub(super) fn scans(&self) -> &Arc<ScanLog> {
-        &self.scans
-    }
-
-    /// The panes, once [`Self::finished`]: an error when the settings make
-    /// no map of this log (a grid too large, beams past the tile budget).
-    pub(super) fn into_panes(self) -> Result<Vec<LogPane>> {
-        let Self {
-            scans,
-            settings: c,
-            odometry,
-            budget_cells,
-            panes,
-        } = self;
-        panes
-            .into_iter()
-            .map(|p| {
-                let (grid, refused) = match p.phase {
-                    Phase::Failed(e) => return Err(e),
-                    Phase::Ready(grid, _) => (grid, None),
-                    Phase::Refused(grid, needed, fits) => (grid, Some((needed, fits))),
-                    // (Not reached once the plan is finished.)
-                    Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
-                        return LogPane::plan(
-                            Arc::clone(&scans),
-                            (p.kind, p.model),
-                            &c,
-                            odometry,
-                            budget_cells,
-                        )
-                    }
-                };
-                let source = match p.source {
-                    Some(source) => source,
-                    None => p.kind.start(&scans, &source_settings(&c, odometry))?,
-                };
-                let pane = LogPane::planned(
-                    Arc::clone(&scans),
-                    (source, p.model),
-                    &c,
-                    odometry,
-                    budget_cells,
-                    grid,
-                )?;
-                match refused {
-                    // The refusal names the bytes of this pane's cells.
-                    Some((needed, fits)) => Err(budget_refusal(
-                        needed,
-                        &c,
-                        budget_cells,
-                        pane.grid().bytes_per_cell(),
-                        fits,
-                    )),
-                    None => Ok(pane),
-                }
-            })
-            .collect()
-    }
-}
-
-impl Phase {
-    /// True once the pane's plan needs no more walking.
-    fn is_done(&self) -> bool {
-        matches!(
-            self,
-            Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_)
-        )
-    }
+pub(super) fn no_scans() -> OccError {
+    invalid("log", "no laser scans", "at least one laser scan")
 }

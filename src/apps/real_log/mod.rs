@@ -14,8 +14,9 @@
 //!   ([`LogGrid`] for its grid).
 //! - `view`: what a pane shows: its view, cursor, readouts, scale legend,
 //!   counts (kept per tile as the build writes them) and export.
-//! - `budget`: what a map will allocate, and the panes planned in calls of
-//!   bounded work, after a read and after new settings.
+//! - `budget`: what a map will allocate, known before a cell is.
+//! - `planning`: the panes planned in calls of bounded work, after a read
+//!   and after new settings.
 //! - `matched`: what the page draws of a scan-matched pane's last match
 //!   ([`MatchView`]), and every pane's poses as a `poses.tsv` text.
 //! - `session`: [`RealLogSession`], the read, the panes (the corrected map,
@@ -27,6 +28,7 @@ mod budget;
 mod map;
 mod matched;
 mod pane;
+mod planning;
 mod session;
 mod settings;
 mod view;

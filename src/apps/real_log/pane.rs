@@ -8,7 +8,8 @@
 //! `view.rs`.
 
 use super::budget::{
-    at_pose, check_tile_budget, scan_model, tiles_needed, UNITS_PER_NEW_CELL, VISITS_PER_UNIT,
+    at_pose, check_tile_budget, grid_of_extent, scan_model, tiles_needed, UNITS_PER_NEW_CELL,
+    VISITS_PER_UNIT,
 };
 use super::map::{reserve_ahead, LogGrid, LogMap};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings};
@@ -19,7 +20,7 @@ use crate::grid::stats::TileTally;
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
 use crate::io::map_server::{FREE_THRESH, OCCUPIED_THRESH};
 use crate::mapping::insertion::ScanInserter;
-use crate::mapping::reach::{covering_grid, scan_extent};
+use crate::mapping::reach::scan_extent;
 use crate::poses::{match_settings, PoseSource, PoseSourceKind, SourceSettings};
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::{Scan, ScanLog};
@@ -44,7 +45,8 @@ pub struct BuildProgress {
     /// Cells the mapper looked at since then.
     pub cells_visited: u64,
     /// The build's work in cell updates: the updates, visits ([`VISITS_PER_UNIT`]), tiles' cells
-    /// ([`UNITS_PER_NEW_CELL`]), matching ([`super::matched::match_work`]): what a budget counts.
+    /// (two units each), finding poses ([`crate::poses::PoseSource::work`], for scan matching
+    /// [`crate::poses::match_work`]): what a budget counts.
     pub work: u64,
     /// Beams traced since the map was last reset.
     pub beams: u64,
@@ -451,29 +453,6 @@ pub(super) fn plan_grid(
         Some((scan, scan_model(c, scans, k)))
     });
     grid_of_extent(scan_extent(placed, c.settings().no_return_reach), margin, c)
-}
-
-/// The grid over the box `extent` of a log's poses and beams
-/// ([`scan_extent`]; `None` for a log without a scan) and `drift` metres
-/// more around it, covered on whole cells, under settings whose range
-/// cap's reach fits the traversal.
-pub(super) fn grid_of_extent(
-    extent: Option<[f64; 4]>,
-    drift: f64,
-    c: &CheckedSettings,
-) -> Result<GridGeometry> {
-    let s = c.settings();
-    let a = extent.ok_or_else(no_scans)?;
-    let extent = [a[0] - drift, a[1] - drift, a[2] + drift, a[3] + drift];
-    let grid = covering_grid(extent, s.resolution, s.margin)?;
-    // A scan is gathered in a window as wide as its longest beam: that
-    // window's scratch is what bounds the reach in cells.
-    s.check_reach()?;
-    Ok(grid)
-}
-
-pub(super) fn no_scans() -> OccError {
-    invalid("log", "no laser scans", "at least one laser scan")
 }
 
 #[cfg(test)]

@@ -6,8 +6,9 @@
 //! with the one state
 //! ([`SessionState`]) the panel renders.
 
-use super::budget::{scan_model, PanePlanning};
+use super::budget::scan_model;
 use super::pane::LogPane;
+use super::planning::PanePlanning;
 use super::settings::{CheckedSettings, LogMapSettings};
 use super::view::GeometryReport;
 use super::SessionState;
@@ -79,7 +80,7 @@ pub(super) enum PlanFor {
 /// 1. [`Self::new`] takes the file's bytes (gzip or plain), or
 ///    [`Self::idle`] none until [`Self::open`];
 /// 2. [`Self::read`] reads up to `n` more laser lines per call, then plans
-///    one pane per pose source ([`super::LogPoses::panes`]) in calls of at
+///    one pane per pose source ([`crate::poses::PoseSourceKind::panes`]) in calls of at
 ///    most `n` scans of work, until finished;
 /// 3. [`Self::build_slice`] advances every pane within one budget of cell
 ///    updates per call;
@@ -465,7 +466,7 @@ impl RealLogSession {
 
     /// Advances every pane towards its target within one budget of
     /// `max_cells` units of work for the whole call (cell updates, visits
-    /// and scan matching: [`BuildProgress::work`]), the pane furthest
+    /// and scan matching: [`super::BuildProgress::work`]), the pane furthest
     /// behind first, one scan at a time; the call stops after the scan that
     /// reaches the budget. At least one scan is integrated while any is
     /// left, whatever the budget. An error once a pane's beams reach past

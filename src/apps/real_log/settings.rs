@@ -299,6 +299,7 @@ impl LogMapSettings {
         // Free evidence lowers a cell and occupied evidence raises it: the
         // traversal gathers them as two flags.
         // (Compared as the f32 the map stores: 1e-50 is 0 there.)
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !((self.l_occ as f32) > 0.0) {
             return Err(invalid(
                 "lOcc",
@@ -306,6 +307,7 @@ impl LogMapSettings {
                 "log odds above 0 (at least 1e-38)",
             ));
         }
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !((self.l_free as f32) < 0.0) {
             return Err(invalid(
                 "lFree",
@@ -358,6 +360,7 @@ impl LogMapSettings {
     /// Refuses a range cap whose beams would reach past the traversal's
     /// window at this resolution ([`SettingLimits::range_cap_max`]).
     pub(crate) fn check_reach(&self) -> Result<()> {
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(self.range_cap / self.resolution <= MAX_REACH_CELLS) {
             return Err(invalid(
                 "rangeCap",

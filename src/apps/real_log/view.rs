@@ -101,7 +101,7 @@ impl LogPane {
         self.map.refresh(&mut self.tally)
     }
 
-    /// The cells [`Self::refresh_counts`] would recount now: the tiles
+    /// The cells a refresh of the counts would recount now: the tiles
     /// written since it last ran.
     pub fn counts_pending(&self) -> usize {
         self.map.tiles_touched() * TILE_CELLS
@@ -313,7 +313,7 @@ impl LogPane {
     /// for dead reckoning.
     pub fn export_stem(&self, file_name: &str) -> String {
         let lower = file_name.to_ascii_lowercase();
-        let mut stem = &file_name[..];
+        let mut stem = file_name;
         if lower.ends_with(".gz") {
             stem = &stem[..stem.len() - 3];
         }

@@ -168,7 +168,7 @@ impl<R: Read> LogReader<R> {
     }
 
     /// Bytes taken from the underlying reader so far (compressed bytes for
-    /// a gzip file, never past a step's [`StepLimits::gzip_up_to`]; read
+    /// a gzip file, never past a step's limit of compressed bytes; read
     /// ahead of the text by up to one buffer).
     pub fn bytes_read(&self) -> u64 {
         self.source.bytes_read().unwrap_or(self.bytes_at_close)

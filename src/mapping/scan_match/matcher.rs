@@ -245,7 +245,7 @@ impl ScanMatcher {
             let (pose, evidence, iterations) = self.refine_coarse(start);
             report.iterations += iterations;
             let weighted = evidence + prediction.log_prior(&pose);
-            if best.map_or(true, |b| weighted > b.0) {
+            if best.is_none_or(|b| weighted > b.0) {
                 best = Some((weighted, pose));
             }
         }
@@ -274,7 +274,7 @@ impl ScanMatcher {
             );
             report.iterations += r.iterations;
             let weighted = evidence(&r.pose) + prediction.log_prior(&r.pose);
-            if refined.map_or(true, |(w, _)| weighted > w) {
+            if refined.is_none_or(|(w, _)| weighted > w) {
                 refined = Some((weighted, r));
             }
         }

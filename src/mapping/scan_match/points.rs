@@ -68,9 +68,9 @@ impl ScanPoints {
         out.clear();
         let s2 = spacing * spacing;
         for &p in &self.points {
-            let far = out.last().map_or(true, |q: &[f64; 2]| {
-                (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) >= s2
-            });
+            let far = out
+                .last()
+                .is_none_or(|q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) >= s2);
             if far {
                 out.push(p);
             }

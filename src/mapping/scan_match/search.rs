@@ -174,7 +174,7 @@ pub fn correlative_search(
                 out.candidates += 1;
                 // Strictly better only: among equals the one tried first,
                 // the nearest the prediction, stays.
-                if best.map_or(true, |b| weighted > b.weighted) {
+                if best.as_ref().is_none_or(|b| weighted > b.weighted) {
                     best = Some(Candidate {
                         pose: Pose {
                             x: predicted.x + dx,

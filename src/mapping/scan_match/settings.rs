@@ -295,6 +295,7 @@ impl MatchSettings {
         // The coarse copy of the map covers the scan's points: as wide as
         // the traversal's window for a beam of the same reach.
         let reach = (self.max_range + self.max_linear_window) / resolution;
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(reach <= MAX_REACH_CELLS) {
             return Err(invalid(
                 "maxRange",
@@ -312,6 +313,7 @@ impl MatchSettings {
             ..*self
         };
         let candidates = widest.candidates_at(resolution * self.coarse_factor as f64);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(candidates <= MAX_CANDIDATES as f64) {
             return Err(invalid(
                 "angularStep",
