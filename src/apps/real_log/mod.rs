@@ -42,7 +42,7 @@ pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
 };
-pub use view::{GeometryReport, ImageCell, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
+pub use view::{GeometryReport, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
 
 use crate::poses::PoseSourceKind;
 

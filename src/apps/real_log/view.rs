@@ -9,7 +9,7 @@ use crate::error::{invalid, Result};
 use crate::grid::readout::CellReadout;
 use crate::grid::storage::TILE_CELLS;
 use crate::io::map_server::{self, ExportCounts, MapServerPair};
-use crate::render::overlay::RobotMark;
+use crate::render::overlay::{ImageCell, RobotMark};
 use crate::render::viewport::MapViewport;
 
 /// Output pixels one arrow-key press moves the cursor at any zoom (at
@@ -50,13 +50,6 @@ pub struct ViewLegend {
     /// `"2.8 cells per screen pixel, 58.1 m × 58.4 m shown"`, or `"4.0
     /// screen pixels per cell, ..."` when a cell spans a pixel or more.
     pub text: String,
-}
-
-/// An image cell `(col, row)`, row 0 at the top (north up).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub struct ImageCell {
-    pub col: usize,
-    pub row: usize,
 }
 
 impl LogPane {
