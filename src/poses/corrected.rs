@@ -37,8 +37,4 @@ impl PoseSource for Corrected {
     fn poses(&self) -> &[Pose] {
         &self.poses
     }
-
-    fn boxed_clone(&self) -> Box<dyn PoseSource> {
-        Box::new(self.clone())
-    }
 }

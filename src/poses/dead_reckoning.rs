@@ -45,8 +45,4 @@ impl PoseSource for DeadReckoning {
     fn poses(&self) -> &[Pose] {
         &self.poses
     }
-
-    fn boxed_clone(&self) -> Box<dyn PoseSource> {
-        Box::new(self.clone())
-    }
 }

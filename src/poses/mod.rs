@@ -35,7 +35,7 @@ use crate::sensors::odometry::OdometryParams;
 use crate::sensors::{Scan, ScanLog};
 
 /// A source of one laser pose per scan of a log.
-pub trait PoseSource: std::fmt::Debug {
+pub trait PoseSource {
     /// Which source this is.
     fn kind(&self) -> PoseSourceKind;
 
@@ -81,14 +81,6 @@ pub trait PoseSource: std::fmt::Debug {
     /// the odometry it corrects).
     fn matching(&self) -> Option<&ScanMatching> {
         None
-    }
-
-    fn boxed_clone(&self) -> Box<dyn PoseSource>;
-}
-
-impl Clone for Box<dyn PoseSource> {
-    fn clone(&self) -> Self {
-        self.boxed_clone()
     }
 }
 

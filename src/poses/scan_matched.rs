@@ -203,8 +203,4 @@ impl PoseSource for ScanMatching {
     fn matching(&self) -> Option<&ScanMatching> {
         Some(self)
     }
-
-    fn boxed_clone(&self) -> Box<dyn PoseSource> {
-        Box::new(self.clone())
-    }
 }

@@ -14,7 +14,9 @@ use crate::grid::{
     CellModel, FilterSettings, Grid, HitCount, HitCounting, HitMissOdds, LogOddsGrid, Store, Tiled,
     TiledGrid,
 };
-use crate::io::map_server::{export_counts, ExportCounts, MapServerPair};
+use crate::io::map_server::MapServerPair;
+#[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
+use crate::io::map_server::{export_counts, ExportCounts};
 use crate::mapping::insertion::ScanInserter;
 use crate::mapping::scan_match::MatchMap;
 use crate::render::overlay::RobotMark;
@@ -34,13 +36,18 @@ pub trait LogGrid {
     /// True once a cell's evidence was dropped for want of storage.
     fn refused(&self) -> bool;
     /// The probability of occupancy of cell `(ix, iy)`, `None` outside.
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn probability_at(&self, ix: usize, iy: usize) -> Option<f64>;
     /// The map in one array as log odds, each cell's update count kept:
     /// the log-odds map itself, or another model's cells read as log odds
     /// (the clamp then the largest magnitude among them, at least 1).
+    /// (For tests and the benchmarks: the page never needs it, and a
+    /// method of an interface is shipped whether it is called or not.)
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn to_dense(&self) -> Result<LogOddsGrid>;
     /// Every cell counted with the export's thresholds (a walk of the
     /// whole map: what the counts kept per tile must equal).
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn export_counts(&self) -> ExportCounts;
     /// The grid as a scan matcher reads it.
     fn as_match_map(&self) -> &dyn MatchMap;
@@ -90,12 +97,15 @@ where
     fn refused(&self) -> bool {
         Grid::refused(self)
     }
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn probability_at(&self, ix: usize, iy: usize) -> Option<f64> {
         Some(self.model().probability(self.cell_at(ix, iy)?))
     }
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn to_dense(&self) -> Result<LogOddsGrid> {
         self.dense_log_odds()
     }
+    #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
     fn export_counts(&self) -> ExportCounts {
         export_counts(self)
     }
@@ -107,7 +117,7 @@ where
 /// A real log's map pane: tiled, seen through a screen-sized view, of one
 /// of the cell models a reader chooses from ([`LogMap::new`]). Every
 /// method is one generic implementation for every model.
-pub(super) trait LogMap: std::fmt::Debug {
+pub(super) trait LogMap {
     fn grid(&self) -> &dyn LogGrid;
     fn view(&self) -> &ScreenView;
     fn view_mut(&mut self) -> &mut ScreenView;
@@ -130,13 +140,6 @@ pub(super) trait LogMap: std::fmt::Debug {
     fn pixels(&mut self) -> &[u8];
     fn pixels_within(&mut self, max_samples: usize, quick: bool) -> bool;
     fn export(&self, image_name: &str) -> MapServerPair;
-    fn boxed_clone(&self) -> Box<dyn LogMap>;
-}
-
-impl Clone for Box<dyn LogMap> {
-    fn clone(&self) -> Self {
-        self.boxed_clone()
-    }
 }
 
 impl dyn LogMap {
@@ -218,9 +221,6 @@ where
     }
     fn export(&self, image_name: &str) -> MapServerPair {
         MapPane::export(self, image_name)
-    }
-    fn boxed_clone(&self) -> Box<dyn LogMap> {
-        Box::new(self.clone())
     }
 }
 
