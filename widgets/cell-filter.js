@@ -8,11 +8,11 @@
 // p-occ, p-free, prior (probabilities on the sliders' steps), clamp (a
 // number of log odds, or "off"), readings (a string of o/f letters, e.g.
 // "oof"), forget-l0 ("on"/"off"), controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, fixed, grouped, whenVisible, startTurn } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, fixed, grouped } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, invalidValue, number, probability } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
+import { copyLinkControl } from './lib/state.js';
 import { CELL_FILTER_DEFAULTS as DEFAULTS } from './lib/defaults.js';
 
 // The two presets (the chapter's worked example, the l0 lesson) and the
@@ -115,38 +115,27 @@ class CellFilterElement extends HTMLElement {
     this.ready = false;
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, CellFilterElement.attributeSpec)) return;
-    this.applyAttributes(Object.keys(FIELDS));
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.presets = constants.cellFilter;
-      // The clamp's default is the core's.
-      this.values = this.attrs.resolve(constants);
-      this.state = { ...this.state, clamp: this.values.clamp };
-      this.syncControls();
-      this.describeLesson();
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // The table and its chart are made when the widget is first seen: a
     // reader opening the chapter waits for no widget below the screen.
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.ready = true;
-      this.render();
+    return startWidget(this, CellFilterElement.attributeSpec, {
+      build: () => {
+        this.applyAttributes(Object.keys(FIELDS));
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.presets = constants.cellFilter;
+        // The clamp's default is the core's.
+        this.values = this.attrs.resolve(constants);
+        this.state = { ...this.state, clamp: this.values.clamp };
+        this.syncControls();
+        this.describeLesson();
+      },
+      whenSeen: () => {
+        this.ready = true;
+        this.render();
+      },
     });
   }
 

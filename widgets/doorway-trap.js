@@ -20,17 +20,17 @@
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, scene, autoplay, scans, flips, arrangement, cells, reading, prior,
 // map-width, controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { workBudget, workInSlices } from './lib/work-budget.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import {
   el, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
+  frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
+import { copyLinkControl } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { followCellPointer } from './lib/cell-pointer.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
@@ -99,42 +99,31 @@ class DoorwayTrapElement extends HTMLElement {
     this.pace = { sweep: pacer(SCANS_PER_SECOND, 1), map: pacer(FLIPS_PER_SECOND, 1) };
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, DoorwayTrapElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      // The two cells and the reading checked against the core's cone.
-      this.values = this.attrs.resolve(this.core.constants());
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // The runs are made when the widget first nears the screen: a reader
     // opening the chapter waits for no widget further down.
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.started = true;
-      await this.create();
-      if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
-        this.play('sweep');
-        this.play('map');
-      }
-      // The two-cell table in a turn of its own: with the scene's run and
-      // first drawing, one task would hold both halves' work.
-      await startTurn();
-      this.twoCell.start(this.core, this.values);
-    }, { ahead: true });
+    return startWidget(this, DoorwayTrapElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      // The two cells and the reading checked against the core's cone.
+      withCore: (constants) => { this.values = this.attrs.resolve(constants); },
+      whenSeen: async () => {
+        this.started = true;
+        await this.create();
+        if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
+          this.play('sweep');
+          this.play('map');
+        }
+        // The two-cell table in a turn of its own: with the scene's run and
+        // first drawing, one task would hold both halves' work.
+        await startTurn();
+        this.twoCell.start(this.core, this.values);
+      },
+      ahead: true,
+    });
   }
 
   disconnectedCallback() {

@@ -15,12 +15,12 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // reading, seed, density, zoom, controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped, startTurn, nextTask } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, nextId, fixed, grouped, nextTask } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
-import { workBudget } from './lib/work-budget.js';
+import { copyLinkControl } from './lib/state.js';
+import { FIRST_TRAIN_UNITS, TRAIN_SLICE_MS, workBudget } from './lib/work-budget.js';
 
 // The reading's and the density's upper bounds are the core's
 // (`constants().inverseWorkbench`: the training sensor's z_max, the densest
@@ -34,10 +34,6 @@ const PAST_MAX = 1.2;
 const ZOOM = 1.5;
 /** Size of each image, CSS pixels. */
 const IMAGE_HEIGHT = 150;
-/** The time of one training call, ms: the page paints and takes input between calls. */
-const TRAIN_SLICE_MS = 20;
-/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
-const FIRST_TRAIN_UNITS = 2_000;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
@@ -76,41 +72,32 @@ class InverseWorkbenchElement extends HTMLElement {
     this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, InverseWorkbenchElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    this.z = this.values.reading;
-    this.seed = this.values.seed;
-    this.density = this.values.density;
-    this.zoom = this.values.zoom;
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.zMax = constants.inverseWorkbench.zMax;
-      this.readingSlider.input.max = String(this.zMax);
-      this.densitySlider.input.max = String(constants.inverseWorkbench.maxDensity);
-      // The reading and density checked against the core's bounds.
-      this.values = this.attrs.resolve(constants);
-      this.density = this.values.density;
-      this.densitySlider.set(this.density);
-      this.setReading(this.values.reading);
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // Training takes a few hundred milliseconds of work: it starts when the
     // reader scrolls here, after the status has been painted, and goes in
     // slices that leave the page its frames.
-    whenVisible(this, () => startTurn().then(() => this.later(() => this.train(this.seed))));
+    return startWidget(this, InverseWorkbenchElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        this.z = this.values.reading;
+        this.seed = this.values.seed;
+        this.density = this.values.density;
+        this.zoom = this.values.zoom;
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.zMax = constants.inverseWorkbench.zMax;
+        this.readingSlider.input.max = String(this.zMax);
+        this.densitySlider.input.max = String(constants.inverseWorkbench.maxDensity);
+        // The reading and density checked against the core's bounds.
+        this.values = this.attrs.resolve(constants);
+        this.density = this.values.density;
+        this.densitySlider.set(this.density);
+        this.setReading(this.values.reading);
+      },
+      whenSeen: () => this.later(() => this.train(this.seed)),
+    });
   }
 
   disconnectedCallback() {

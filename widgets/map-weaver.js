@@ -22,18 +22,21 @@
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed, log-model, log-compare-model.
-import { loadCore, loadLogCore } from './lib/core.js';
+import { loadLogCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { COLORS } from './lib/chart.js';
 import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
-import { fastForward, startInSlices, workBudget, workOnce } from './lib/work-budget.js';
+import {
+  FIRST_TRAIN_UNITS, FRAME_WORK_MS, TRAIN_SLICE_MS, fastForward, startInSlices, workBudget, workOnce,
+} from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying, startTurn,
+  frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
 } from './lib/ui.js';
 import {
   applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
+import { copyLinkControl } from './lib/state.js';
 import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
 import { LOG_MODEL_ATTRIBUTES } from './lib/log-models.js';
 import {
@@ -52,12 +55,10 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
  * first frame (the core bounds the total: `checkFastForward`). The budget
  * is in cell visits learned from the last slice's time, and a scan's
  * simulation and readouts cost time no visit counts: 12 ms keeps a slice
- * well under a 50 ms task. A training call gets 20 ms, its first call
- * 2,000 units (triplets drawn or SGD updates), which its time corrects.
+ * well under a 50 ms task. A training call gets `TRAIN_SLICE_MS`
+ * (widgets/lib/work-budget.js).
  */
 const SLICE_MS = 12;
-const TRAIN_SLICE_MS = 20;
-const FIRST_TRAIN_UNITS = 2_000;
 /**
  * A run's maps are drawn in calls of `SLICE_MS`, the first of this many
  * cells (a cell of a view synced; the scene's largest size has two views of
@@ -66,13 +67,6 @@ const FIRST_TRAIN_UNITS = 2_000;
 const FIRST_BUILD_CELLS = 50_000;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
-/**
- * The core's share of an animation frame while playing or rebuilding, ms:
- * its calls get a budget of cell visits sized from the last call's time,
- * so that a fine grid or the every-cell sweep slows the lap down instead
- * of freezing the page.
- */
-const FRAME_WORK_MS = 8;
 /**
  * The least budget of a call made at once on Step or a knob, cell visits:
  * a scan of the chapter's apartment in both panes (9,600) fits, so there
@@ -178,40 +172,29 @@ class MapWeaverElement extends HTMLElement {
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, MapWeaverElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    // The person and the panes' settings wait for the core's defaults.
-    this.options = { speed: this.values.speed, person: null, panes: null };
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.limits = constants.mapWeaver;
-      this.values = this.attrs.resolve(constants);
-      this.options.person = this.values.person;
-      this.options.panes = SIDES.map((side) => this.paneOptions(side));
-      this.applyLimits();
-      this.syncControls();
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
-    if (this.values.mode === 'log') this.setMode('log');
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.started = true;
-      await this.create();
-      if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
+  connectedCallback() {
+    return startWidget(this, MapWeaverElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        // The person and the panes' settings wait for the core's defaults.
+        this.options = { speed: this.values.speed, person: null, panes: null };
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.limits = constants.mapWeaver;
+        this.values = this.attrs.resolve(constants);
+        this.options.person = this.values.person;
+        this.options.panes = SIDES.map((side) => this.paneOptions(side));
+        this.applyLimits();
+        this.syncControls();
+        if (this.values.mode === 'log') this.setMode('log');
+      },
+      whenSeen: async () => {
+        this.started = true;
+        await this.create();
+        if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
+      },
     });
   }
 
