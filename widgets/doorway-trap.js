@@ -28,13 +28,13 @@ import {
   frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
 } from './lib/ui.js';
 import {
-  applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
+  ANY_NUMBER, applyControls, controlGroups, flag, formatControls, jsonObject, oneOf, steps, whole,
 } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { followCellPointer } from './lib/cell-pointer.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
-import { MIN_RANGE, TwoCellTable, cellsType } from './lib/two-cell-table.js';
+import { TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
 /** Sweep scans and MAP flips per second while playing. */
 /**
@@ -68,20 +68,24 @@ class DoorwayTrapElement extends HTMLElement {
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), doc: 'seed of the sonar readings’ noise; absent: the chapter’s' },
     scene: { type: jsonObject('{"prior": 0.3}'), doc: 'fields of the doorway scene to override (the core checks each); absent: the chapter’s room and door' },
     autoplay: { type: flag(), default: 'on', doc: 'play both halves when first scrolled into view (never under prefers-reduced-motion)' },
-    scans: { type: whole(0, 4096), default: '0', doc: 'sweep scans done before the first frame' },
+    // The most scans, the table's ranges and the cone's reach and
+    // half-width are the core's (`constants().limits` and
+    // `constants().twoCellTable`), taken once it has loaded.
+    scans: {
+      type: whole(0, Number.MAX_SAFE_INTEGER), default: '0', doc: 'sweep scans done before the first frame',
+      core: (k) => ({ type: whole(0, k.limits.doorwayTrap.maxScans) }),
+    },
     flips: { type: whole(0, 100_000), default: '0', doc: 'MAP flips done before the first frame (the climb stops at its local maximum)' },
     arrangement: { type: oneOf(['side', 'collinear', 'apart']), default: 'side', doc: 'the two cells of the two-cell table: side by side, one behind the other, or apart' },
-    // The cone's reach and half-width are the core's
-    // (`constants().twoCellTable`), taken once it has loaded.
     cells: {
-      type: cellsType({ maxRange: Infinity, halfConeDeg: 180 }), doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement',
-      core: (k) => ({ type: cellsType(k.twoCellTable) }),
+      type: cellsType({ minRange: 0, maxRange: Infinity, halfConeDeg: 180 }), doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement',
+      core: (k) => ({ type: cellsType({ minRange: k.limits.twoCellTable.reading.min, ...k.twoCellTable }) }),
     },
     reading: {
-      type: number(MIN_RANGE, Infinity, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (at the sonar’s z_max: no echo)',
-      core: (k) => ({ type: number(MIN_RANGE, k.twoCellTable.maxRange, { step: 0.01, unit: 'm' }) }),
+      type: ANY_NUMBER, default: '2.00', doc: 'the two-cell table’s reading z, metres (at the sonar’s z_max: no echo)',
+      core: (k) => ({ type: steps(k.limits.twoCellTable.reading, 'm') }),
     },
-    prior: { type: number(0.05, 0.95, { step: 0.05 }), default: '0.50', doc: 'the two-cell table’s prior occupancy p₀' },
+    prior: { type: ANY_NUMBER, default: '0.50', doc: 'the two-cell table’s prior occupancy p₀', core: (k) => ({ type: steps(k.limits.twoCellTable.prior) }) },
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (step, play, reset of both halves), arrangements, sliders (reading, prior), export, link' },
   };

@@ -18,7 +18,7 @@
 import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, nextId, fixed, grouped, nextTask } from './lib/ui.js';
-import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
+import { ANY_NUMBER, applyControls, controlGroups, flag, formatControls, steps, whole } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
 import { FIRST_TRAIN_UNITS, TRAIN_SLICE_MS, workBudget } from './lib/work-budget.js';
 
@@ -50,13 +50,16 @@ const deg = (rad) => (rad * 180) / Math.PI;
 
 class InverseWorkbenchElement extends HTMLElement {
   static attributeSpec = {
+    // The sliders' ranges (up to the sensor's z_max and the densest
+    // training maps) are the core's (`constants().limits.inverseWorkbench`),
+    // taken once it has loaded.
     reading: {
-      type: number(0.2, Infinity, { step: 0.05, unit: 'm' }), default: '2.00', doc: 'the reading z, metres (at the sensor’s z_max: a no-return)',
-      core: (k) => ({ type: number(0.2, k.inverseWorkbench.zMax, { step: 0.05, unit: 'm' }) }),
+      type: ANY_NUMBER, default: '2.00', doc: 'the reading z, metres (at the sensor’s z_max: a no-return)',
+      core: (k) => ({ type: steps(k.limits.inverseWorkbench.reading, 'm') }),
     },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
     density: {
-      type: number(0, 1, { step: 0.05 }), core: (k) => ({ type: number(0, k.inverseWorkbench.maxDensity, { step: 0.05 }) }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)',
+      type: ANY_NUMBER, core: (k) => ({ type: steps(k.limits.inverseWorkbench.density) }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)',
     },
     zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
@@ -88,8 +91,8 @@ class InverseWorkbenchElement extends HTMLElement {
       },
       withCore: (constants) => {
         this.zMax = constants.inverseWorkbench.zMax;
-        this.readingSlider.input.max = String(this.zMax);
-        this.densitySlider.input.max = String(constants.inverseWorkbench.maxDensity);
+        this.readingSlider.setRange(constants.limits.inverseWorkbench.reading);
+        this.densitySlider.setRange(constants.limits.inverseWorkbench.density);
         // The reading and density checked against the core's bounds.
         this.values = this.attrs.resolve(constants);
         this.density = this.values.density;
@@ -144,8 +147,8 @@ class InverseWorkbenchElement extends HTMLElement {
 
   build() {
     this.readingSlider = slider({
-      // The maximum is the core's z_max, set once the core has loaded.
-      label: 'Reading z', min: 0.2, step: 0.05, value: this.z,
+      // The core's range (up to its z_max), set once the core has loaded.
+      label: 'Reading z', min: 0, step: 'any', value: this.z,
       format: (v) => `${v.toFixed(2)} m`,
       onInput: (v) => { this.z = v; this.requestDraw(); },
       name: 'reading',
@@ -163,7 +166,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.refusal = el('p', { class: 'inverse-workbench-refusal', role: 'alert', hidden: true });
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
     this.densitySlider = slider({
-      label: 'Training-map density', min: 0, step: 0.05, value: this.density,
+      label: 'Training-map density', min: 0, max: 1, step: 'any', value: this.density,
       format: densityText, name: 'density',
     });
     // Retraining takes a tenth of a second: on release (or each key press),

@@ -23,8 +23,6 @@ import { applyControls, controlGroups, flag, formatControls, jsonObject, whole }
 import { copyLinkControl } from './lib/state.js';
 import { FRAME_WORK_MS, workBudget } from './lib/work-budget.js';
 
-/** Beam counts the slider offers (an attribute may add another). */
-const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
 /** Scans per second while playing. */
 const STEPS_PER_SECOND = 12;
 /** Never more steps per animation frame than this (a slow frame catches up later). */
@@ -100,6 +98,9 @@ class SensorFusionElement extends HTMLElement {
       },
       withCore: (constants) => {
         this.defaultBeams = constants.sensorFusion.defaultLidarBeams;
+        this.beamSteps = constants.limits.sensorFusion.beamSteps;
+        this.steps = [...this.beamSteps];
+        this.beamSlider.input.max = String(this.steps.length - 1);
         this.values = this.attrs.resolve(constants);
         this.beams = this.values['lidar-beams'];
         this.syncSlider();
@@ -145,7 +146,10 @@ class SensorFusionElement extends HTMLElement {
   }
 
   build() {
-    this.steps = [...BEAM_STEPS];
+    // The beam counts the slider offers, the core's once it has loaded
+    // (`constants().limits.sensorFusion.beamSteps`; an attribute may add another).
+    this.beamSteps = [];
+    this.steps = [];
     this.playButton = button('Play', () => (this.playing ? this.pause() : this.play()), { name: 'play', pressed: false });
     this.beamSlider = slider({
       label: 'LiDAR beams',
@@ -289,7 +293,7 @@ class SensorFusionElement extends HTMLElement {
 
   syncSlider() {
     if (!this.steps.includes(this.beams)) {
-      this.steps = [...BEAM_STEPS, this.beams].sort((a, b) => a - b);
+      this.steps = [...this.beamSteps, this.beams].sort((a, b) => a - b);
       this.beamSlider.input.max = String(this.steps.length - 1);
     }
     this.beamSlider.set(this.steps.indexOf(this.beams));
