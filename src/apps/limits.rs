@@ -10,10 +10,10 @@
 //! clamp), the table's range is the one the page offers, written here
 //! once; the tests check that the core accepts every end of it.
 
+use super::inverse_workbench::WorkbenchLimits;
 use super::map_weaver::Steps;
 use super::real_log::{LogCellModel, LogMapSettings, LogPoses, SettingLimits, MAX_SEED};
 use super::two_cell_table::TwoCellLimits;
-use crate::inverse::TrainingConfig;
 use crate::mapping::walls::WallModel;
 
 /// A probability of an inverse model, as the cell filter offers it: in
@@ -155,17 +155,25 @@ pub struct FusionControls {
 }
 
 /// A menu's choice: the name a page and a link use, and the words shown.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Choice {
+    pub value: &'static str,
+    pub caption: &'static str,
+}
+
+/// A cell size a menu offers, metres, and the words shown.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Choice<T> {
-    pub value: T,
+pub struct CellSize {
+    pub value: f64,
     pub caption: String,
 }
 
-/// Map Weaver's real-log panel: its sliders, its menus and its defaults.
+/// Map Weaver's real-log panel: its sliders and its menus (its defaults are
+/// the real-log module's, `RealLogSession.defaultSettings()`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct RealLogControls {
-    pub resolutions: Vec<Choice<f64>>,
+    pub resolutions: Vec<CellSize>,
     /// At the default resolution; the panel's slider goes as far as the
     /// chosen resolution lets the core reach (`RealLogSession.limits`).
     pub range_cap: Steps,
@@ -176,18 +184,17 @@ pub struct RealLogControls {
     pub no_return_reach: Steps,
     pub max_seed: u64,
     /// How free evidence ends near a wall, the default first.
-    pub walls: Vec<Choice<&'static str>>,
+    pub walls: Vec<Choice>,
     /// The pose sources, in the order the menu lists them.
-    pub poses: Vec<Choice<&'static str>>,
+    pub poses: Vec<Choice>,
     /// The cell models, the default first.
-    pub models: Vec<Choice<&'static str>>,
-    /// The panel's starting settings.
-    pub defaults: LogMapSettings,
+    pub models: Vec<Choice>,
 }
 
 impl Limits {
-    pub fn chapter() -> Self {
-        let cone = TwoCellLimits::chapter();
+    /// The table, its ends at the sonar's and the trained sensor's reach
+    /// as `Constants` computes them (`cone`, `bench`).
+    pub fn chapter(cone: &TwoCellLimits, bench: &WorkbenchLimits) -> Self {
         Self {
             cell_filter: CellFilterControls {
                 p_occ: INVERSE_PROBABILITY,
@@ -209,12 +216,12 @@ impl Limits {
             inverse_workbench: WorkbenchControls {
                 reading: Steps {
                     min: WORKBENCH_MIN_READING,
-                    max: TrainingConfig::default().sensor.z_max,
+                    max: bench.z_max,
                     step: WORKBENCH_STEP,
                 },
                 density: Steps {
                     min: 0.0,
-                    max: crate::scenes::floor_plans::MAX_DENSITY,
+                    max: bench.max_density,
                     step: WORKBENCH_STEP,
                 },
             },
@@ -233,20 +240,29 @@ impl RealLogControls {
             .expect("the default resolution is positive")
             .range_cap_max;
         let whole_steps = ((reach - LOG_RANGE_CAP_MIN) / LOG_RANGE_CAP_STEP).floor();
-        let default_model = LogCellModel::default();
-        let models = std::iter::once(default_model).chain(
-            LogCellModel::ALL
-                .into_iter()
-                .filter(|&m| m != default_model),
-        );
+        let mut resolutions = Vec::new();
+        for value in LOG_RESOLUTIONS {
+            let caption = format!("{} cm", value * 100.0);
+            resolutions.push(CellSize { value, caption });
+        }
+        let mut walls = Vec::new();
+        for w in [defaults.walls, WallModel::Table92, WallModel::Incidence] {
+            push_new(&mut walls, wall_name(w), wall_words(w));
+        }
+        let mut poses = Vec::new();
+        for p in [
+            LogPoses::Corrected,
+            LogPoses::DeadReckoning,
+            LogPoses::ScanMatched,
+        ] {
+            push_new(&mut poses, p.name(), pose_words(p));
+        }
+        let mut models = Vec::new();
+        for m in std::iter::once(defaults.model).chain(LogCellModel::ALL) {
+            push_new(&mut models, m.name(), m.caption());
+        }
         Self {
-            resolutions: LOG_RESOLUTIONS
-                .iter()
-                .map(|&r| Choice {
-                    value: r,
-                    caption: format!("{} cm", r * 100.0),
-                })
-                .collect(),
+            resolutions,
             range_cap: Steps {
                 min: LOG_RANGE_CAP_MIN,
                 max: LOG_RANGE_CAP_MIN + whole_steps * LOG_RANGE_CAP_STEP,
@@ -258,32 +274,18 @@ impl RealLogControls {
             clamp: LOG_CLAMP,
             no_return_reach: LOG_NO_RETURN_REACH,
             max_seed: MAX_SEED,
-            walls: [WallModel::default(), WallModel::Table92]
-                .into_iter()
-                .map(|w| Choice {
-                    value: wall_name(w),
-                    caption: wall_words(w).into(),
-                })
-                .collect(),
-            poses: [
-                LogPoses::Corrected,
-                LogPoses::DeadReckoning,
-                LogPoses::ScanMatched,
-            ]
-            .into_iter()
-            .map(|p| Choice {
-                value: p.name(),
-                caption: pose_words(p).into(),
-            })
-            .collect(),
-            models: models
-                .map(|m| Choice {
-                    value: m.name(),
-                    caption: m.caption().into(),
-                })
-                .collect(),
-            defaults,
+            walls,
+            poses,
+            models,
         }
+    }
+}
+
+/// Adds the choice `value` to a menu that does not list it yet (a menu
+/// lists its default first, then the others in the core's order).
+fn push_new(menu: &mut Vec<Choice>, value: &'static str, caption: &'static str) {
+    if menu.iter().all(|c| c.value != value) {
+        menu.push(Choice { value, caption });
     }
 }
 
@@ -316,7 +318,14 @@ fn pose_words(p: LogPoses) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::inverse::TrainingConfig;
     use crate::mapping::cell_filter::CellFilterParams;
+
+    impl Limits {
+        fn of_the_chapter() -> Self {
+            Self::chapter(&TwoCellLimits::chapter(), &WorkbenchLimits::chapter())
+        }
+    }
     use crate::mapping::joint::JointQuery;
     use crate::scenes::table::TableScene;
 
@@ -332,7 +341,7 @@ mod tests {
 
     #[test]
     fn the_cell_filters_sliders_are_inside_what_the_filter_takes_and_past_them_it_refuses() {
-        let k = Limits::chapter().cell_filter;
+        let k = Limits::of_the_chapter().cell_filter;
         let with = |f: fn(&mut CellFilterParams, f64), v: f64| {
             let mut p = CellFilterParams::WORKED_EXAMPLE;
             f(&mut p, v);
@@ -361,7 +370,7 @@ mod tests {
 
     #[test]
     fn the_two_cell_tables_reading_stops_at_the_sonars_z_max() {
-        let t = Limits::chapter().two_cell_table;
+        let t = Limits::of_the_chapter().two_cell_table;
         let q = JointQuery::chapter_two_cells();
         assert_eq!(t.reading.max, q.model.z_max);
         let reading = |z| JointQuery {
@@ -390,7 +399,7 @@ mod tests {
 
     #[test]
     fn the_workbench_reads_up_to_its_sensors_z_max_and_trains_up_to_the_densest_maps() {
-        let w = Limits::chapter().inverse_workbench;
+        let w = Limits::of_the_chapter().inverse_workbench;
         assert_eq!(w.reading.max, TrainingConfig::default().sensor.z_max);
         let at = |density| TrainingConfig {
             density,
@@ -406,7 +415,7 @@ mod tests {
 
     #[test]
     fn every_beam_count_the_fusion_slider_offers_is_one_the_scene_takes() {
-        let f = Limits::chapter().sensor_fusion;
+        let f = Limits::of_the_chapter().sensor_fusion;
         let scene = TableScene::default();
         for &beams in &f.beam_steps {
             scene.with_lidar_beams(beams).unwrap();
@@ -416,7 +425,7 @@ mod tests {
 
     #[test]
     fn the_doorway_trap_offers_as_many_scans_as_a_scene_may_have_readings() {
-        let d = Limits::chapter().doorway_trap;
+        let d = Limits::of_the_chapter().doorway_trap;
         assert_eq!(d.max_scans, crate::scenes::doorway::MAX_READINGS);
     }
 
@@ -426,9 +435,8 @@ mod tests {
     /// or l_free's largest is refused (evidence of the wrong sign).
     #[test]
     fn the_real_log_panels_controls_are_the_cores() {
-        let r = Limits::chapter().real_log;
+        let r = Limits::of_the_chapter().real_log;
         let d = LogMapSettings::default();
-        assert_eq!(r.defaults, d);
         let at = |f: &dyn Fn(&mut LogMapSettings)| {
             let mut s = LogMapSettings::default();
             f(&mut s);
@@ -464,7 +472,7 @@ mod tests {
         assert_eq!(captions, ["2.5 cm", "5 cm", "10 cm", "20 cm"]);
 
         // The menus' names are the core's, each once, the defaults first.
-        let names = |c: &[Choice<&'static str>]| c.iter().map(|c| c.value).collect::<Vec<_>>();
+        let names = |c: &[Choice]| c.iter().map(|c| c.value).collect::<Vec<_>>();
         assert_eq!(names(&r.poses), LogPoses::NAMES);
         assert_eq!(r.poses[0].value, d.poses.name());
         assert_eq!(r.models[0].value, d.model.name());

@@ -38,16 +38,18 @@ pub struct CellFilterPresets {
 
 impl Constants {
     pub fn chapter() -> Self {
+        let inverse_workbench = inverse_workbench::WorkbenchLimits::chapter();
+        let two_cell_table = two_cell_table::TwoCellLimits::chapter();
         Self {
             cell_filter: CellFilterPresets {
                 worked_example: CellFilterPreset::WORKED_EXAMPLE,
                 l0_lesson: CellFilterPreset::L0_LESSON,
             },
-            inverse_workbench: inverse_workbench::WorkbenchLimits::chapter(),
+            inverse_workbench,
             map_weaver: map_weaver::WeaverLimits::chapter(),
             sensor_fusion: sensor_fusion::FusionLimits::chapter(),
-            two_cell_table: two_cell_table::TwoCellLimits::chapter(),
-            limits: limits::Limits::chapter(),
+            two_cell_table,
+            limits: limits::Limits::chapter(&two_cell_table, &inverse_workbench),
         }
     }
 }
