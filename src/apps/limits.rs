@@ -185,7 +185,7 @@ pub struct RealLogControls {
     pub max_seed: u64,
     /// How free evidence ends near a wall, the default first.
     pub walls: Vec<Choice>,
-    /// The pose sources, in the order the menu lists them.
+    /// The pose sources, the default first.
     pub poses: Vec<Choice>,
     /// The cell models, the default first.
     pub models: Vec<Choice>,
@@ -251,6 +251,7 @@ impl RealLogControls {
         }
         let mut poses = Vec::new();
         for p in [
+            defaults.poses,
             LogPoses::Corrected,
             LogPoses::DeadReckoning,
             LogPoses::ScanMatched,
