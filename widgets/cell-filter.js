@@ -8,11 +8,11 @@
 // p-occ, p-free, prior (probabilities on the sliders' steps), clamp (a
 // number of log odds, or "off"), readings (a string of o/f letters, e.g.
 // "oof"), forget-l0 ("on"/"off"), controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, fixed, grouped, whenVisible, startTurn } from './lib/ui.js';
+import { el, slider, button, toggle, showError, clearError, fixed, grouped } from './lib/ui.js';
 import { applyControls, controlGroups, flag, formatControls, invalidValue, number, probability } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
+import { copyLinkControl } from './lib/state.js';
 import { CELL_FILTER_DEFAULTS as DEFAULTS } from './lib/defaults.js';
 
 // The two presets (the chapter's worked example, the l0 lesson) and the
@@ -52,25 +52,25 @@ const readingsType = {
 const lettersOf = (readings) => readings.map((r) => (r ? 'o' : 'f')).join('');
 
 /**
- * The clamp l_max's control, log odds: from about 1 (a cell that a reading
- * or two can always move) to well past the 15.25 of the chapter's first
- * exercise, and then "off", where the update saturates nowhere (the core
- * takes Infinity for that). The default is the core's
+ * The clamp l_max's control, log odds: the core's range
+ * (`constants().limits.cellFilter.clamp`), and then "off", where the update
+ * saturates nowhere (the core takes Infinity for that). Until the core has
+ * loaded, any number. The default is the core's
  * (`constants().cellFilter.workedExample.clamp`).
  */
-const CLAMP = { min: 1, max: 30, step: 0.5 };
-/** The slider's last notch, past `CLAMP.max`: no clamp. */
-const CLAMP_OFF = CLAMP.max + CLAMP.step;
-const clampType = {
-  describe: `a number from ${CLAMP.min} to ${CLAMP.max} in steps of ${CLAMP.step} (log odds), or "off" for no clamp`,
-  parse(text, name) {
-    if (text.trim().toLowerCase() === 'off') return Infinity;
-    try {
-      return number(CLAMP.min, CLAMP.max, { step: CLAMP.step }).parse(text, name);
-    } catch {
-      throw invalidValue(name, text, this.describe);
-    }
-  },
+const clampType = (range) => {
+  const within = range ? number(range.min, range.max, { step: range.step }) : number(-Number.MAX_VALUE, Number.MAX_VALUE);
+  return {
+    describe: `${within.describe} (log odds), or "off" for no clamp`,
+    parse(text, name) {
+      if (text.trim().toLowerCase() === 'off') return Infinity;
+      try {
+        return within.parse(text, name);
+      } catch {
+        throw invalidValue(name, text, this.describe);
+      }
+    },
+  };
 };
 const clampText = (clamp) => (clamp === Infinity ? 'off' : String(clamp));
 
@@ -89,17 +89,28 @@ function probabilityText(p) {
   return p < 0.5 ? power : `1 − ${power}`;
 }
 
+/**
+ * A slider's range until the core's has loaded: the sliders show the
+ * attributes' values at once, and the clamp's waits at "off" (its top).
+ */
+const UNTIL_CORE = { min: 0, max: 1, step: 'any' };
+
+/** A probability slider's attribute type, on the core's steps (`constants().limits.cellFilter[key]`). */
+const sliderType = (key) => (k) => ({ type: probability(k.limits.cellFilter[key]) });
+
 /** Attribute name → the state field it sets. */
 const FIELDS = { 'p-occ': 'pOcc', 'p-free': 'pFree', prior: 'prior', clamp: 'clamp', readings: 'readings', 'forget-l0': 'forget' };
 
 class CellFilterElement extends HTMLElement {
   static attributeSpec = {
-    'p-occ': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-occ'], doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
-    'p-free': { type: probability({ min: 0.01, max: 0.99, step: 0.01 }), default: DEFAULTS['p-free'], doc: 'p(m | free reading): its answer to a free reading' },
-    prior: { type: probability({ min: 0.05, max: 0.95, step: 0.05 }), default: DEFAULTS.prior, doc: 'the prior p(m), whose log odds is l0' },
+    // The sliders' ranges are the core's (`constants().limits.cellFilter`),
+    // taken once it has loaded.
+    'p-occ': { type: probability(), core: sliderType('pOcc'), default: DEFAULTS['p-occ'], doc: 'p(m | occupied reading): the inverse model’s answer to an occupied reading' },
+    'p-free': { type: probability(), core: sliderType('pFree'), default: DEFAULTS['p-free'], doc: 'p(m | free reading): its answer to a free reading' },
+    prior: { type: probability(), core: sliderType('prior'), default: DEFAULTS.prior, doc: 'the prior p(m), whose log odds is l0' },
     clamp: {
-      type: clampType, doc: 'the clamp l_max: the update keeps |l| <= l_max (off: no clamp)',
-      core: (k) => ({ default: clampText(k.cellFilter.workedExample.clamp) }),
+      type: clampType(null), doc: 'the clamp l_max: the update keeps |l| <= l_max (off: no clamp)',
+      core: (k) => ({ type: clampType(k.limits.cellFilter.clamp), default: clampText(k.cellFilter.workedExample.clamp) }),
     },
     readings: { type: readingsType, default: DEFAULTS.readings, doc: 'the readings so far, in order' },
     'forget-l0': { type: flag(), default: DEFAULTS['forget-l0'], doc: 'start with the update that forgets to subtract l0' },
@@ -113,40 +124,34 @@ class CellFilterElement extends HTMLElement {
     // Filled from the attributes (their defaults: the worked example).
     this.state = {};
     this.ready = false;
+    // The clamp slider's "off" notch and its step, the core's once loaded.
+    this.clampOff = UNTIL_CORE.max;
+    this.clampStep = 0;
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, CellFilterElement.attributeSpec)) return;
-    this.applyAttributes(Object.keys(FIELDS));
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.presets = constants.cellFilter;
-      // The clamp's default is the core's.
-      this.values = this.attrs.resolve(constants);
-      this.state = { ...this.state, clamp: this.values.clamp };
-      this.syncControls();
-      this.describeLesson();
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // The table and its chart are made when the widget is first seen: a
     // reader opening the chapter waits for no widget below the screen.
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.ready = true;
-      this.render();
+    return startWidget(this, CellFilterElement.attributeSpec, {
+      build: () => {
+        this.applyAttributes(Object.keys(FIELDS));
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.presets = constants.cellFilter;
+        this.takeRanges(constants.limits.cellFilter);
+        // The sliders' values checked against the core's ranges, and the
+        // clamp's default, the core's.
+        this.values = this.attrs.resolve(constants);
+        this.applyAttributes(['p-occ', 'p-free', 'prior', 'clamp']);
+        this.syncControls();
+        this.describeLesson();
+      },
+      whenSeen: () => {
+        this.ready = true;
+        this.render();
+      },
     });
   }
 
@@ -164,6 +169,18 @@ class CellFilterElement extends HTMLElement {
    * Reads the attributes (a bad value is reported in the widget and the
    * last good one kept) and copies those named in `names` into the state.
    */
+  /**
+   * The sliders' ranges, the core's; the clamp's slider has one notch more
+   * past its range: "off".
+   */
+  takeRanges(ranges) {
+    for (const key of ['pOcc', 'pFree', 'prior']) this.sliders[key].setRange(ranges[key]);
+    const { min, max, step } = ranges.clamp;
+    this.clampStep = step;
+    this.clampOff = max + step;
+    this.sliders.clamp.setRange({ min, max: this.clampOff, step });
+  }
+
   applyAttributes(names) {
     this.values = this.attrs.read();
     const next = { ...this.state };
@@ -189,13 +206,14 @@ class CellFilterElement extends HTMLElement {
   build() {
     const s = this.state;
     this.sliders = {
-      pOcc: slider({ label: 'p(m | occupied reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pOcc, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pOcc: v }) }),
-      pFree: slider({ label: 'p(m | free reading)', min: 0.01, max: 0.99, step: 0.01, value: s.pFree, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pFree: v }) }),
-      prior: slider({ label: 'prior p(m)', min: 0.05, max: 0.95, step: 0.05, value: s.prior, format: (v) => v.toFixed(2), onInput: (v) => this.set({ prior: v }) }),
-      // Until the core has given its default, the slider waits at "off".
+      pOcc: slider({ label: 'p(m | occupied reading)', ...UNTIL_CORE, value: s.pOcc, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pOcc: v }) }),
+      pFree: slider({ label: 'p(m | free reading)', ...UNTIL_CORE, value: s.pFree, format: (v) => v.toFixed(2), onInput: (v) => this.setModel({ pFree: v }) }),
+      prior: slider({ label: 'prior p(m)', ...UNTIL_CORE, value: s.prior, format: (v) => v.toFixed(2), onInput: (v) => this.set({ prior: v }) }),
+      // Until the core has given its default and range, the slider waits at "off".
       clamp: slider({
-        label: 'clamp l_max', min: CLAMP.min, max: CLAMP_OFF, step: CLAMP.step, value: s.clamp === undefined || s.clamp === Infinity ? CLAMP_OFF : s.clamp,
-        format: (v) => (v > CLAMP.max ? 'off (no clamp)' : `±${v.toFixed(1)}`), onInput: (v) => this.set({ clamp: v > CLAMP.max ? Infinity : v }),
+        label: 'clamp l_max', ...UNTIL_CORE, value: UNTIL_CORE.max,
+        format: (v) => (v >= this.clampOff - this.clampStep / 2 ? 'off (no clamp)' : `±${v.toFixed(1)}`),
+        onInput: (v) => this.set({ clamp: v >= this.clampOff - this.clampStep / 2 ? Infinity : v }),
         name: 'clamp',
       }),
     };
@@ -284,7 +302,7 @@ class CellFilterElement extends HTMLElement {
     this.sliders.pOcc.set(s.pOcc);
     this.sliders.pFree.set(s.pFree);
     this.sliders.prior.set(s.prior);
-    if (s.clamp !== undefined) this.sliders.clamp.set(s.clamp === Infinity ? CLAMP_OFF : s.clamp);
+    if (s.clamp !== undefined) this.sliders.clamp.set(s.clamp === Infinity ? this.clampOff : s.clamp);
     this.forgetToggle.input.checked = s.forget;
   }
 

@@ -20,21 +20,21 @@
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // seed, scene, autoplay, scans, flips, arrangement, cells, reading, prior,
 // map-width, controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { workBudget, workInSlices } from './lib/work-budget.js';
 import { COLORS, barChart, lineChart } from './lib/chart.js';
 import {
   el, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
+  frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn,
 } from './lib/ui.js';
 import {
-  applyControls, controlGroups, flag, formatControls, jsonObject, number, oneOf, whole,
+  ANY_NUMBER, applyControls, controlGroups, flag, formatControls, jsonObject, oneOf, steps, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
+import { copyLinkControl } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { followCellPointer } from './lib/cell-pointer.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
-import { MIN_RANGE, TwoCellTable, cellsType } from './lib/two-cell-table.js';
+import { TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
 /** Sweep scans and MAP flips per second while playing. */
 /**
@@ -68,20 +68,24 @@ class DoorwayTrapElement extends HTMLElement {
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), doc: 'seed of the sonar readings’ noise; absent: the chapter’s' },
     scene: { type: jsonObject('{"prior": 0.3}'), doc: 'fields of the doorway scene to override (the core checks each); absent: the chapter’s room and door' },
     autoplay: { type: flag(), default: 'on', doc: 'play both halves when first scrolled into view (never under prefers-reduced-motion)' },
-    scans: { type: whole(0, 4096), default: '0', doc: 'sweep scans done before the first frame' },
+    // The most scans, the table's ranges and the cone's reach and
+    // half-width are the core's (`constants().limits` and
+    // `constants().twoCellTable`), taken once it has loaded.
+    scans: {
+      type: whole(0, Number.MAX_SAFE_INTEGER), default: '0', doc: 'sweep scans done before the first frame',
+      core: (k) => ({ type: whole(0, k.limits.doorwayTrap.maxScans) }),
+    },
     flips: { type: whole(0, 100_000), default: '0', doc: 'MAP flips done before the first frame (the climb stops at its local maximum)' },
     arrangement: { type: oneOf(['side', 'collinear', 'apart']), default: 'side', doc: 'the two cells of the two-cell table: side by side, one behind the other, or apart' },
-    // The cone's reach and half-width are the core's
-    // (`constants().twoCellTable`), taken once it has loaded.
     cells: {
-      type: cellsType({ maxRange: Infinity, halfConeDeg: 180 }), doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement',
-      core: (k) => ({ type: cellsType(k.twoCellTable) }),
+      type: cellsType({ minRange: 0, maxRange: Infinity, halfConeDeg: 180 }), doc: 'the two cells placed by hand, "rangeA, bearingA, rangeB, bearingB" (metres, degrees); overrides arrangement',
+      core: (k) => ({ type: cellsType({ minRange: k.limits.twoCellTable.reading.min, ...k.twoCellTable }) }),
     },
     reading: {
-      type: number(MIN_RANGE, Infinity, { step: 0.01, unit: 'm' }), default: '2.00', doc: 'the two-cell table’s reading z, metres (at the sonar’s z_max: no echo)',
-      core: (k) => ({ type: number(MIN_RANGE, k.twoCellTable.maxRange, { step: 0.01, unit: 'm' }) }),
+      type: ANY_NUMBER, default: '2.00', doc: 'the two-cell table’s reading z, metres (at the sonar’s z_max: no echo)',
+      core: (k) => ({ type: steps(k.limits.twoCellTable.reading, 'm') }),
     },
-    prior: { type: number(0.05, 0.95, { step: 0.05 }), default: '0.50', doc: 'the two-cell table’s prior occupancy p₀' },
+    prior: { type: ANY_NUMBER, default: '0.50', doc: 'the two-cell table’s prior occupancy p₀', core: (k) => ({ type: steps(k.limits.twoCellTable.prior) }) },
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels' },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: playback (step, play, reset of both halves), arrangements, sliders (reading, prior), export, link' },
   };
@@ -99,42 +103,31 @@ class DoorwayTrapElement extends HTMLElement {
     this.pace = { sweep: pacer(SCANS_PER_SECOND, 1), map: pacer(FLIPS_PER_SECOND, 1) };
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, DoorwayTrapElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      // The two cells and the reading checked against the core's cone.
-      this.values = this.attrs.resolve(this.core.constants());
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // The runs are made when the widget first nears the screen: a reader
     // opening the chapter waits for no widget further down.
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.started = true;
-      await this.create();
-      if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
-        this.play('sweep');
-        this.play('map');
-      }
-      // The two-cell table in a turn of its own: with the scene's run and
-      // first drawing, one task would hold both halves' work.
-      await startTurn();
-      this.twoCell.start(this.core, this.values);
-    }, { ahead: true });
+    return startWidget(this, DoorwayTrapElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      // The two cells and the reading checked against the core's cone.
+      withCore: (constants) => { this.values = this.attrs.resolve(constants); },
+      whenSeen: async () => {
+        this.started = true;
+        await this.create();
+        if (this.values.autoplay && !prefersReducedMotion() && this.trap) {
+          this.play('sweep');
+          this.play('map');
+        }
+        // The two-cell table in a turn of its own: with the scene's run and
+        // first drawing, one task would hold both halves' work.
+        await startTurn();
+        this.twoCell.start(this.core, this.values);
+      },
+      ahead: true,
+    });
   }
 
   disconnectedCallback() {

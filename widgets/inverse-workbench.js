@@ -15,12 +15,12 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // reading, seed, density, zoom, controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
-import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, whenVisible, nextId, fixed, grouped, startTurn, nextTask } from './lib/ui.js';
-import { applyControls, controlGroups, flag, formatControls, number, whole } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
-import { workBudget } from './lib/work-budget.js';
+import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, nextId, fixed, grouped, nextTask } from './lib/ui.js';
+import { ANY_NUMBER, applyControls, controlGroups, flag, formatControls, steps, whole } from './lib/attributes.js';
+import { copyLinkControl } from './lib/state.js';
+import { FIRST_TRAIN_UNITS, TRAIN_SLICE_MS, workBudget } from './lib/work-budget.js';
 
 // The reading's and the density's upper bounds are the core's
 // (`constants().inverseWorkbench`: the training sensor's z_max, the densest
@@ -34,10 +34,6 @@ const PAST_MAX = 1.2;
 const ZOOM = 1.5;
 /** Size of each image, CSS pixels. */
 const IMAGE_HEIGHT = 150;
-/** The time of one training call, ms: the page paints and takes input between calls. */
-const TRAIN_SLICE_MS = 20;
-/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
-const FIRST_TRAIN_UNITS = 2_000;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
@@ -54,13 +50,16 @@ const deg = (rad) => (rad * 180) / Math.PI;
 
 class InverseWorkbenchElement extends HTMLElement {
   static attributeSpec = {
+    // The sliders' ranges (up to the sensor's z_max and the densest
+    // training maps) are the core's (`constants().limits.inverseWorkbench`),
+    // taken once it has loaded.
     reading: {
-      type: number(0.2, Infinity, { step: 0.05, unit: 'm' }), default: '2.00', doc: 'the reading z, metres (at the sensor’s z_max: a no-return)',
-      core: (k) => ({ type: number(0.2, k.inverseWorkbench.zMax, { step: 0.05, unit: 'm' }) }),
+      type: ANY_NUMBER, default: '2.00', doc: 'the reading z, metres (at the sensor’s z_max: a no-return)',
+      core: (k) => ({ type: steps(k.limits.inverseWorkbench.reading, 'm') }),
     },
     seed: { type: whole(0, Number.MAX_SAFE_INTEGER), default: '9', doc: 'seed of the learned model’s training data' },
     density: {
-      type: number(0, 1, { step: 0.05 }), core: (k) => ({ type: number(0, k.inverseWorkbench.maxDensity, { step: 0.05 }) }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)',
+      type: ANY_NUMBER, core: (k) => ({ type: steps(k.limits.inverseWorkbench.density) }), default: '0', doc: 'occupied fraction the training maps are filled to with boxes (0: the thin-walled buildings as drawn; 0.45: the chapter’s dense prior)',
     },
     zoom: { type: flag(), default: 'off', doc: `zoom the images to ±${ZOOM} m around the reading` },
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: reading (slider, max-range button), zoom, retrain (seed, Retrain), link' },
@@ -76,41 +75,32 @@ class InverseWorkbenchElement extends HTMLElement {
     this.trainBudget = workBudget(TRAIN_SLICE_MS, FIRST_TRAIN_UNITS);
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, InverseWorkbenchElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    this.z = this.values.reading;
-    this.seed = this.values.seed;
-    this.density = this.values.density;
-    this.zoom = this.values.zoom;
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.zMax = constants.inverseWorkbench.zMax;
-      this.readingSlider.input.max = String(this.zMax);
-      this.densitySlider.input.max = String(constants.inverseWorkbench.maxDensity);
-      // The reading and density checked against the core's bounds.
-      this.values = this.attrs.resolve(constants);
-      this.density = this.values.density;
-      this.densitySlider.set(this.density);
-      this.setReading(this.values.reading);
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // Training takes a few hundred milliseconds of work: it starts when the
     // reader scrolls here, after the status has been painted, and goes in
     // slices that leave the page its frames.
-    whenVisible(this, () => startTurn().then(() => this.later(() => this.train(this.seed))));
+    return startWidget(this, InverseWorkbenchElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        this.z = this.values.reading;
+        this.seed = this.values.seed;
+        this.density = this.values.density;
+        this.zoom = this.values.zoom;
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.zMax = constants.inverseWorkbench.zMax;
+        this.readingSlider.setRange(constants.limits.inverseWorkbench.reading);
+        this.densitySlider.setRange(constants.limits.inverseWorkbench.density);
+        // The reading and density checked against the core's bounds.
+        this.values = this.attrs.resolve(constants);
+        this.density = this.values.density;
+        this.densitySlider.set(this.density);
+        this.setReading(this.values.reading);
+      },
+      whenSeen: () => this.later(() => this.train(this.seed)),
+    });
   }
 
   disconnectedCallback() {
@@ -157,8 +147,8 @@ class InverseWorkbenchElement extends HTMLElement {
 
   build() {
     this.readingSlider = slider({
-      // The maximum is the core's z_max, set once the core has loaded.
-      label: 'Reading z', min: 0.2, step: 0.05, value: this.z,
+      // The core's range (up to its z_max), set once the core has loaded.
+      label: 'Reading z', min: 0, step: 'any', value: this.z,
       format: (v) => `${v.toFixed(2)} m`,
       onInput: (v) => { this.z = v; this.requestDraw(); },
       name: 'reading',
@@ -176,7 +166,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.refusal = el('p', { class: 'inverse-workbench-refusal', role: 'alert', hidden: true });
     this.l0Out = el('output', { class: 'inverse-workbench-l0' }, '–');
     this.densitySlider = slider({
-      label: 'Training-map density', min: 0, step: 0.05, value: this.density,
+      label: 'Training-map density', min: 0, max: 1, step: 'any', value: this.density,
       format: densityText, name: 'density',
     });
     // Retraining takes a tenth of a second: on release (or each key press),

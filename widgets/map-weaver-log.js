@@ -15,17 +15,18 @@
 // a slice per task and draws. The one figure measured here is the wall time
 // from choosing a file to the finished map, file reading included.
 //
-// Usage: `new RealLogPanel(container, await loadLogCore(), { settings, log })`
-// (both optional: starting settings, and a log of /datasets/ to load once
-// the panel is first on screen); `linkState()` gives them back as they are
+// Usage: `new RealLogPanel(container, await loadLogCore(), { settings, log,
+// limits })` (starting settings and a log of /datasets/ to load once the
+// panel is first on screen, both optional, and the controls' ranges and
+// menus, the chapter core's `constants().limits.realLog`); `linkState()` gives them back as they are
 // now; `dispose()` frees the panel. Its control groups are marked
 // `data-controls`: log-source (file picker, dataset menu), log-settings
 // (resolution, the model's sliders, the pose source and its seed) and export.
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
 import { listedLogs } from './lib/dataset-listing.js';
-import { POSE_OPTIONS } from './lib/log-match.js';
-import { modelControls, modelNote } from './lib/log-models.js';
+import { modelNote } from './lib/log-models.js';
+import { settingsControls } from './lib/log-controls.js';
 import { drawViews, dpr, paintPane } from './lib/log-view.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
@@ -103,8 +104,6 @@ function pick(settings) {
 
 /** The settings a page may choose, as the core names them (the grid's margin stays the core's). */
 export const SETTING_FIELDS = ['resolution', 'rangeCap', 'alpha', 'lOcc', 'lFree', 'clamp', 'noReturnReach', 'walls', 'poses', 'seed', 'model', 'compareModel'];
-/** What the seed field accepts (the core's MAX_SEED: a JavaScript number's whole range). */
-const SEED_TEXT = /^\d{1,16}$/;
 
 /**
  * Gives `canvas` `w × h` device pixels with its picture stretched onto
@@ -128,24 +127,17 @@ function resizeKeepingPicture(canvas, w, h) {
   }
 }
 
-/** The longest range cap `core` takes at `resolution`, whole metres (80 if it refuses the resolution: it says why at the load). */
-function rangeCapMax(core, resolution) {
-  try {
-    return Math.floor(core.RealLogSession.limits(resolution).rangeCapMax);
-  } catch {
-    return 80;
-  }
-}
-
 export class RealLogPanel {
   /**
    * `settings`: any of SETTING_FIELDS (the core checks them when a log is
    * mapped); `log`: the file name of a log in /datasets/ to load when the
-   * panel first comes into view.
+   * panel first comes into view; `limits`: the controls' ranges, names and
+   * words, the chapter core's `constants().limits.realLog`.
    */
-  constructor(container, { core, memory }, { settings = {}, log = null } = {}) {
+  constructor(container, { core, memory }, { settings = {}, log = null, limits }) {
     ensureStyles();
     this.core = core;
+    this.limits = limits;
     this.memory = memory;
     this.session = null; // the one core session, made with the first log
     this.state = null; // the core's last state: what the panel shows
@@ -217,21 +209,7 @@ export class RealLogPanel {
     this.datasetMenu = select('Log on this server', [['', 'choose a log…']], '', (v) => v && this.loadUrl(v), { name: 'dataset' });
     this.datasetMenu.root.hidden = true;
 
-    const s = this.settings;
-    const m = (v) => `${fixed(v, 2)} m`;
-    this.controls = {
-      resolution: select('Resolution', [['0.025', '2.5 cm'], ['0.05', '5 cm'], ['0.1', '10 cm'], ['0.2', '20 cm']], String(s.resolution), (v) => this.change({ resolution: Number(v) }), { name: 'resolution' }),
-      rangeCap: slider({ label: 'z_max (range cap)', min: 2, max: rangeCapMax(this.core, s.resolution), step: 1, value: s.rangeCap, format: (v) => `${v} m`, onInput: (v) => this.change({ rangeCap: v }), name: 'range-cap' }),
-      alpha: slider({ label: 'α (obstacle depth)', min: 0.02, max: 0.5, step: 0.01, value: s.alpha, format: m, onInput: (v) => this.change({ alpha: v }), name: 'alpha' }),
-      lOcc: slider({ label: 'l_occ', min: 0.05, max: 3, step: 0.05, value: s.lOcc, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lOcc: v }), name: 'l-occ' }),
-      lFree: slider({ label: 'l_free', min: -3, max: -0.05, step: 0.05, value: s.lFree, format: (v) => fixed(v, 2), onInput: (v) => this.change({ lFree: v }), name: 'l-free' }),
-      clamp: slider({ label: 'clamp l_max', min: 0.5, max: 12, step: 0.5, value: s.clamp, format: (v) => fixed(v, 1), onInput: (v) => this.change({ clamp: v }), name: 'clamp' }),
-      noReturnReach: slider({ label: 'no-return reach', min: 1, max: 80, step: 1, value: s.noReturnReach, format: (v) => `${v} m`, onInput: (v) => this.change({ noReturnReach: v }), name: 'no-return-reach' }),
-      walls: select('Free evidence near walls', [['incidence', 'stops at the wall a beam grazes'], ['table-9.2', 'Table 9.2 (walls wear away)']], s.walls, (v) => this.change({ walls: v }), { name: 'walls' }),
-      poses: select('Poses', POSE_OPTIONS, s.poses, (v) => this.change({ poses: v }), { name: 'poses' }),
-      seed: this.seedControl(s.seed),
-      ...modelControls(s, (patch) => this.change(patch)),
-    };
+    this.controls = settingsControls(this);
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
     this.status = el('p', { class: 'map-weaver-log-status occgrid-readout', 'aria-live': 'polite' }, 'No log loaded yet.');
@@ -553,24 +531,6 @@ export class RealLogPanel {
     const input = this.datasetMenu.input;
     const listed = [...input.options].some((o) => o.value === this.dataset);
     input.value = listed ? this.dataset : '';
-  }
-
-  /** The seed of dead reckoning's noise, typed in: a text that is no whole number is refused by name. */
-  seedControl(seed) {
-    const id = nextId('real-log-seed');
-    const input = el('input', { type: 'number', id, name: 'seed', min: 0, max: Number.MAX_SAFE_INTEGER, step: 1, value: String(seed), inputmode: 'numeric' });
-    input.addEventListener('change', () => {
-      const text = input.value.trim();
-      const v = Number(text);
-      if (!SEED_TEXT.test(text) || !Number.isSafeInteger(v)) {
-        showError(this.root, new Error(`seed ${JSON.stringify(input.value)} is not a whole number from 0 to ${Number.MAX_SAFE_INTEGER}`), 'settings: ');
-        input.value = String(this.settings.seed);
-        return;
-      }
-      this.change({ seed: v });
-    });
-    const root = el('div', { class: 'occgrid-control' }, el('label', { for: id }, 'Seed of the odometry noise'), input);
-    return { root, input };
   }
 
   /** Canvas device pixels of a pointer event (inside the canvas's border). */

@@ -15,33 +15,36 @@
 // beam counts and cell sizes a pane offers are the run's (its readout's
 // `choices`: a scene may have another LiDAR or resolution).
 //
-// Attributes (see `attributeSpec` below and the README's "Embedding"):
+// Attributes (see `attributeSpec` below, widgets/lib/map-weaver-attributes.js
+// for those the core bounds, and the README's "Embedding"):
 // seed, laps, scene, person, speed, autoplay, scans, mode, left-/right-
 // model, pose, clamp, strength, mapper, sensor, beta, beams, resolution and
 // forget-l0, map-width, controls; for the real-log
 // panel (widgets/map-weaver-log.js): log, log-resolution, log-range-cap,
 // log-alpha, log-l-occ, log-l-free, log-clamp, log-no-return-reach, log-walls,
 // log-poses, log-seed, log-model, log-compare-model.
-import { loadCore, loadLogCore } from './lib/core.js';
+import { loadLogCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { COLORS } from './lib/chart.js';
 import { TRACK_COLORS, drawCharts, makeCharts } from './lib/map-weaver-charts.js';
-import { fastForward, startInSlices, workBudget, workOnce } from './lib/work-budget.js';
+import {
+  FIRST_TRAIN_UNITS, FRAME_WORK_MS, TRAIN_SLICE_MS, fastForward, startInSlices, workBudget, workOnce,
+} from './lib/work-budget.js';
 import {
   el, slider, button, toggle, select, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying, startTurn,
+  frameLoop, prefersReducedMotion, fixed, nextId, pacer, showPlaying,
 } from './lib/ui.js';
 import {
-  applyControls, controlGroups, flag, formatControls, invalidValue, jsonObject, number, oneOf, whole,
+  applyControls, controlGroups, flag, formatControls, jsonObject, oneOf, whole,
 } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
-import { MAP_WEAVER_LOG_DEFAULTS as LOG_DEFAULTS } from './lib/defaults.js';
-import { LOG_MODEL_ATTRIBUTES } from './lib/log-models.js';
+import { copyLinkControl } from './lib/state.js';
+import { LOG_SPEC, paneSpec } from './lib/map-weaver-attributes.js';
 import {
   arrowCell, exportButton, exportMap, followPaneVisibility, followResize, pointerCell, resetPaneSizes, sizePanes,
 } from './lib/pane.js';
 import { drawBeams, drawHits, drawMapImage, drawRobot, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import {
-  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, SIDES, inAttributeTerms, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, logName, count, ghostText, linkKeeps, bits, signed, metres,
+  MODEL_NAMES, POSE_NAMES, SPOKEN_MODELS, SPOKEN_POSES, CURSOR_HINT, HOVER_HINT, GROUPS, PANE_FIELDS, SIDES, inAttributeTerms, REBUILD_FIELDS, orAbsent, PANE_FORMATS, formatPane, MAPPER_NAMES, LEANINGS, LOG_FIELDS, count, ghostText, linkKeeps, bits, signed, metres,
 } from './lib/map-weaver-words.js';
 import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
 import { showComparison, showPaneReadout } from './lib/map-weaver-readouts.js';
@@ -52,12 +55,10 @@ const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
  * first frame (the core bounds the total: `checkFastForward`). The budget
  * is in cell visits learned from the last slice's time, and a scan's
  * simulation and readouts cost time no visit counts: 12 ms keeps a slice
- * well under a 50 ms task. A training call gets 20 ms, its first call
- * 2,000 units (triplets drawn or SGD updates), which its time corrects.
+ * well under a 50 ms task. A training call gets `TRAIN_SLICE_MS`
+ * (widgets/lib/work-budget.js).
  */
 const SLICE_MS = 12;
-const TRAIN_SLICE_MS = 20;
-const FIRST_TRAIN_UNITS = 2_000;
 /**
  * A run's maps are drawn in calls of `SLICE_MS`, the first of this many
  * cells (a cell of a view synced; the scene's largest size has two views of
@@ -66,13 +67,6 @@ const FIRST_TRAIN_UNITS = 2_000;
 const FIRST_BUILD_CELLS = 50_000;
 /** Never more scans per animation frame than this (a slow frame catches up later). */
 const MAX_SCANS_PER_FRAME = 16;
-/**
- * The core's share of an animation frame while playing or rebuilding, ms:
- * its calls get a budget of cell visits sized from the last call's time,
- * so that a fine grid or the every-cell sweep slows the lap down instead
- * of freezing the page.
- */
-const FRAME_WORK_MS = 8;
 /**
  * The least budget of a call made at once on Step or a knob, cell visits:
  * a scan of the chapter's apartment in both panes (9,600) fits, so there
@@ -85,43 +79,6 @@ const MAX_CSS_WIDTH = 480;
 
 const ROBOT_COLOR = COLORS.series[1];
 const PERSON_COLOR = '#d01c8b';
-
-/** Any number: an attribute's type until the core's bounds are known. */
-const ANY_NUMBER = number(-Number.MAX_VALUE, Number.MAX_VALUE);
-/** A knob's range from the core (`constants().mapWeaver[key]`: `{ min, max, step }`). */
-const coreSteps = (c, key, unit) => {
-  const r = c.mapWeaver[key];
-  return number(r.min, r.max, { step: r.step, unit });
-};
-
-/**
- * Pane `k`'s attributes. Their defaults are the core's chapter run
- * (`constants().mapWeaver.defaults.panes[k]`), written as a link writes
- * the setting, and the numbers' ranges the core's limits: both taken once
- * the core has loaded.
- */
-const paneSpec = (side, k) => {
-  const byDefault = (field) => (c) => ({ default: formatPane(field, c.mapWeaver.defaults.panes[k][field]) });
-  const withRange = (field, key, unit) => (c) => ({ ...byDefault(field)(c), type: coreSteps(c, key, unit) });
-  return {
-    [`${side}-model`]: { type: oneOf(['hand-crafted', 'learned']), core: byDefault('model'), doc: `the ${side} map’s inverse model: Table 9.2 or the learned one of §9.3` },
-    [`${side}-pose`]: { type: oneOf(['oracle', 'dead-reckoning']), core: byDefault('pose'), doc: `where the ${side} map takes the robot’s pose from: the true pose or the odometry` },
-    [`${side}-clamp`]: { type: ANY_NUMBER, core: withRange('clamp', 'clamp'), doc: `the ${side} map’s clamp l_max, log odds` },
-    [`${side}-strength`]: { type: ANY_NUMBER, core: withRange('strength', 'strength'), doc: `factor on the ${side} map’s evidence` },
-    [`${side}-mapper`]: { type: oneOf(['traversal', 'sweep']), core: byDefault('mapper'), doc: `how the ${side} map applies Table 9.1: along each beam’s cells (traversal) or over every cell of the map (sweep)` },
-    [`${side}-sensor`]: { type: oneOf(['lidar', 'cone']), core: byDefault('sensor'), doc: `how the ${side} map reads each range: a thin LiDAR beam, or a cone of opening ${side}-beta (Table 9.2’s β)` },
-    [`${side}-beta`]: { type: ANY_NUMBER, core: withRange('betaDeg', 'betaDeg', '°'), doc: `the ${side} map’s cone opening β, degrees (with ${side}-sensor="cone")` },
-    [`${side}-beams`]: {
-      type: whole(1, Number.MAX_SAFE_INTEGER), core: (c) => ({ type: whole(1, c.mapWeaver.maxLidarBeams) }),
-      doc: `beams of each scan the ${side} map uses, evenly spaced: a divisor of the LiDAR’s beam count (the core checks it against the scene); absent: all of them`,
-    },
-    [`${side}-resolution`]: {
-      type: ANY_NUMBER, core: (c) => ({ type: oneOf(c.mapWeaver.paneResolutions.map(String), Number) }),
-      doc: `the ${side} map’s cell size, metres; absent: the scene’s own`,
-    },
-    [`${side}-forget-l0`]: { type: flag(), core: byDefault('forgetL0'), doc: `the ${side} map adds the learned model’s scores without removing its l0 (exercise 8’s mistake)` },
-  };
-};
 
 class MapWeaverElement extends HTMLElement {
   static attributeSpec = {
@@ -145,18 +102,7 @@ class MapWeaverElement extends HTMLElement {
     ...paneSpec('left', 0),
     ...paneSpec('right', 1),
     'map-width': { type: whole(120, 1200), default: String(MAX_CSS_WIDTH), doc: 'largest width of each map, CSS pixels (a narrow column shrinks them)' },
-    log: { type: logName, doc: 'real-log mode: the log of the server’s /datasets/ to load when the panel first comes into view; absent: the reader picks one' },
-    'log-resolution': { type: oneOf(['0.025', '0.05', '0.1', '0.2'], Number), default: LOG_DEFAULTS['log-resolution'], doc: 'real-log mode: metres per cell' },
-    'log-range-cap': { type: number(2, 80, { step: 1, unit: 'm' }), default: LOG_DEFAULTS['log-range-cap'], doc: 'real-log mode: z_max, metres; a reading at or beyond it is a no-return' },
-    'log-alpha': { type: number(0.02, 0.5, { step: 0.01, unit: 'm' }), default: LOG_DEFAULTS['log-alpha'], doc: 'real-log mode: obstacle depth α of Table 9.2, metres' },
-    'log-l-occ': { type: number(0.05, 3, { step: 0.05 }), default: LOG_DEFAULTS['log-l-occ'], doc: 'real-log mode: l_occ, log odds added at the reading' },
-    'log-l-free': { type: number(-3, -0.05, { step: 0.05 }), default: LOG_DEFAULTS['log-l-free'], doc: 'real-log mode: l_free, log odds added in front of the reading' },
-    'log-clamp': { type: number(0.5, 12, { step: 0.5 }), default: LOG_DEFAULTS['log-clamp'], doc: 'real-log mode: the clamp l_max, log odds' },
-    'log-no-return-reach': { type: number(1, 80, { step: 1, unit: 'm' }), default: LOG_DEFAULTS['log-no-return-reach'], doc: 'real-log mode: how far a no-return clears free space, metres (at most z_max)' },
-    'log-walls': { type: oneOf(['incidence', 'table-9.2']), default: LOG_DEFAULTS['log-walls'], doc: 'real-log mode: incidence (free evidence stops at the band of the wall a beam grazes) or table-9.2 (the chapter’s model: walls wear away on long logs)' },
-    'log-poses': { type: oneOf(['corrected', 'dead-reckoning', 'scan-matched']), default: LOG_DEFAULTS['log-poses'], doc: 'real-log mode: the poses the scans are mapped at: corrected (the log’s own), dead-reckoning (the log’s motion increments with Table 5.6’s odometry noise, integrated; shown beside the corrected map) or scan-matched (that dead reckoning corrected by matching each scan against the map built so far; shown beside the corrected and dead-reckoned maps)' },
-    'log-seed': { type: whole(0, Number.MAX_SAFE_INTEGER), default: LOG_DEFAULTS['log-seed'], doc: 'real-log mode: seed of dead reckoning’s odometry noise (one seed, one map)' },
-    ...LOG_MODEL_ATTRIBUTES,
+    ...LOG_SPEC,
     controls: { type: controlGroups(GROUPS), default: 'all', doc: 'control groups shown: data (simulation / real log), playback (play, step, reset, speed), toggles (person, the robot’s lap or ghost watch, each map’s model, pose source, mapper, sensor, beams, resolution and forget-l0 switch), sliders (clamp, strength, cone opening), log-source (real-log file picker and menu), log-settings (real-log resolution and model sliders), export, link' },
   };
 
@@ -178,40 +124,30 @@ class MapWeaverElement extends HTMLElement {
     this.cursor = null; // { pane, col, row } under the pointer or keyboard
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, MapWeaverElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    // The person and the panes' settings wait for the core's defaults.
-    this.options = { speed: this.values.speed, person: null, panes: null };
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.limits = constants.mapWeaver;
-      this.values = this.attrs.resolve(constants);
-      this.options.person = this.values.person;
-      this.options.panes = SIDES.map((side) => this.paneOptions(side));
-      this.applyLimits();
-      this.syncControls();
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
-    if (this.values.mode === 'log') this.setMode('log');
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.started = true;
-      await this.create();
-      if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
+  connectedCallback() {
+    return startWidget(this, MapWeaverElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        // The person and the panes' settings wait for the core's defaults.
+        this.options = { speed: this.values.speed, person: null, panes: null };
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.limits = constants.mapWeaver;
+        this.logLimits = constants.limits.realLog;
+        this.values = this.attrs.resolve(constants);
+        this.options.person = this.values.person;
+        this.options.panes = SIDES.map((side) => this.paneOptions(side));
+        this.applyLimits();
+        this.syncControls();
+        if (this.values.mode === 'log') this.setMode('log');
+      },
+      whenSeen: async () => {
+        this.started = true;
+        await this.create();
+        if (this.weaver && this.values.autoplay && !prefersReducedMotion() && this.mode === 'sim') this.play();
+      },
     });
   }
 
@@ -299,7 +235,7 @@ class MapWeaverElement extends HTMLElement {
   logOptions() {
     const settings = {};
     for (const [attr, { field }] of Object.entries(LOG_FIELDS)) settings[field] = this.values[attr];
-    return { settings, log: this.values.log ?? null };
+    return { settings, log: this.values.log ?? null, limits: this.logLimits };
   }
 
   // ---- layout ------------------------------------------------------------

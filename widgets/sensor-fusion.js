@@ -11,31 +11,22 @@
 //
 // Attributes (see `attributeSpec` below and the README's "Embedding"):
 // lidar-beams, seed, scene, autoplay, scans, map-width, controls.
-import { loadCore } from './lib/core.js';
+import { startWidget } from './lib/start.js';
 import { COLORS } from './lib/chart.js';
 import {
   el, slider, button, showError, clearError,
-  whenVisible, frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, startTurn, setText, nextTask,
+  frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, setText, nextTask,
 } from './lib/ui.js';
 import { exportButton, exportMap, followPaneVisibility, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
 import { applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
-import { copyLinkControl, firstConnection } from './lib/state.js';
-import { workBudget } from './lib/work-budget.js';
+import { copyLinkControl } from './lib/state.js';
+import { FRAME_WORK_MS, workBudget } from './lib/work-budget.js';
 
-/** Beam counts the slider offers (an attribute may add another). */
-const BEAM_STEPS = [4, 6, 8, 12, 16, 24, 36, 45, 60, 90, 120, 180, 360, 720];
 /** Scans per second while playing. */
 const STEPS_PER_SECOND = 12;
 /** Never more steps per animation frame than this (a slow frame catches up later). */
 const MAX_STEPS_PER_FRAME = 4;
-/**
- * The core's work per animation frame, milliseconds: a throttled phone has
- * about 33 ms a frame at 30 frames a second, and drawing the four maps
- * takes most of the rest. The budget (cell visits) is learned from each
- * call's time (widgets/lib/work-budget.js).
- */
-const FRAME_WORK_MS = 8;
 /** The first frame's budget, cell visits: about one step of the chapter's scene (173,000, its scans' simulation included), which the first call corrects. */
 const FIRST_FRAME_VISITS = 180_000;
 /**
@@ -95,38 +86,31 @@ class SensorFusionElement extends HTMLElement {
     this.rebuilding = 0;
   }
 
-  async connectedCallback() {
-    // Built in a turn of its own (widgets/lib/ui.js, startTurn): the page's
-    // widgets build one per task rather than all in the task that loads
-    // their modules. Until then the element is not built and ignores its
-    // attributes' changes; the build reads them all.
-    await startTurn();
-    if (!this.isConnected || !firstConnection(this, SensorFusionElement.attributeSpec)) return;
-    this.values = this.attrs.read();
-    this.beams = this.values['lidar-beams'];
-    this.build();
-    applyControls(this, this.values.controls);
-    try {
-      ({ core: this.core, memory: this.memory } = await loadCore());
-      // What follows the core's arrival, in a turn of its own as well.
-      await startTurn();
-      const constants = this.core.constants();
-      this.defaultBeams = constants.sensorFusion.defaultLidarBeams;
-      this.values = this.attrs.resolve(constants);
-      this.beams = this.values['lidar-beams'];
-      this.syncSlider();
-    } catch (e) {
-      showError(this, e, 'could not load the core: ');
-      return;
-    }
+  connectedCallback() {
     // The run is made when the widget first nears the screen: a reader
     // opening the chapter waits for no widget further down.
-    // In a turn of its own: the widgets of a page start one step per task.
-    whenVisible(this, async () => {
-      await startTurn();
-      this.started = true;
-      if ((await this.create()) && this.values.autoplay && !prefersReducedMotion()) this.play();
-    }, { ahead: true });
+    return startWidget(this, SensorFusionElement.attributeSpec, {
+      build: () => {
+        this.values = this.attrs.read();
+        this.beams = this.values['lidar-beams'];
+        this.build();
+        applyControls(this, this.values.controls);
+      },
+      withCore: (constants) => {
+        this.defaultBeams = constants.sensorFusion.defaultLidarBeams;
+        this.beamSteps = constants.limits.sensorFusion.beamSteps;
+        this.steps = [...this.beamSteps];
+        this.beamSlider.input.max = String(this.steps.length - 1);
+        this.values = this.attrs.resolve(constants);
+        this.beams = this.values['lidar-beams'];
+        this.syncSlider();
+      },
+      whenSeen: async () => {
+        this.started = true;
+        if ((await this.create()) && this.values.autoplay && !prefersReducedMotion()) this.play();
+      },
+      ahead: true,
+    });
   }
 
   disconnectedCallback() {
@@ -162,7 +146,10 @@ class SensorFusionElement extends HTMLElement {
   }
 
   build() {
-    this.steps = [...BEAM_STEPS];
+    // The beam counts the slider offers, the core's once it has loaded
+    // (`constants().limits.sensorFusion.beamSteps`; an attribute may add another).
+    this.beamSteps = [];
+    this.steps = [];
     this.playButton = button('Play', () => (this.playing ? this.pause() : this.play()), { name: 'play', pressed: false });
     this.beamSlider = slider({
       label: 'LiDAR beams',
@@ -306,7 +293,7 @@ class SensorFusionElement extends HTMLElement {
 
   syncSlider() {
     if (!this.steps.includes(this.beams)) {
-      this.steps = [...BEAM_STEPS, this.beams].sort((a, b) => a - b);
+      this.steps = [...this.beamSteps, this.beams].sort((a, b) => a - b);
       this.beamSlider.input.max = String(this.steps.length - 1);
     }
     this.beamSlider.set(this.steps.indexOf(this.beams));

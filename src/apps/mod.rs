@@ -4,6 +4,7 @@
 
 pub mod doorway_trap;
 pub mod inverse_workbench;
+pub mod limits;
 pub mod map_weaver;
 pub mod pane;
 pub mod real_log;
@@ -14,8 +15,9 @@ pub mod workbench_training;
 use crate::mapping::cell_filter::CellFilterPreset;
 
 /// The model values the widgets' attributes, sliders and presets keep to,
-/// one group per widget, so that no page restates them.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+/// one group per widget, so that no page restates them, and the one table
+/// of every control's range, names and words ([`limits::Limits`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct Constants {
     pub cell_filter: CellFilterPresets,
@@ -23,6 +25,7 @@ pub struct Constants {
     pub map_weaver: map_weaver::WeaverLimits,
     pub sensor_fusion: sensor_fusion::FusionLimits,
     pub two_cell_table: two_cell_table::TwoCellLimits,
+    pub limits: limits::Limits,
 }
 
 /// The cell filter's two presets.
@@ -35,15 +38,18 @@ pub struct CellFilterPresets {
 
 impl Constants {
     pub fn chapter() -> Self {
+        let inverse_workbench = inverse_workbench::WorkbenchLimits::chapter();
+        let two_cell_table = two_cell_table::TwoCellLimits::chapter();
         Self {
             cell_filter: CellFilterPresets {
                 worked_example: CellFilterPreset::WORKED_EXAMPLE,
                 l0_lesson: CellFilterPreset::L0_LESSON,
             },
-            inverse_workbench: inverse_workbench::WorkbenchLimits::chapter(),
+            inverse_workbench,
             map_weaver: map_weaver::WeaverLimits::chapter(),
             sensor_fusion: sensor_fusion::FusionLimits::chapter(),
-            two_cell_table: two_cell_table::TwoCellLimits::chapter(),
+            two_cell_table,
+            limits: limits::Limits::chapter(&two_cell_table, &inverse_workbench),
         }
     }
 }

@@ -57,7 +57,8 @@ test('the l0 lesson forgets the prior, from a prior its two answers sit around',
 test('the README’s ranges are the core’s limits', () => {
   const b = k.inverseWorkbench;
   const reading = row('occgrid-inverse-workbench', 'reading');
-  assert.match(reading[1], new RegExp(`^0\\.2 to ${b.zMax} m `));
+  const shortest = (x) => String(x).replace('.', '\\.');
+  assert.match(reading[1], new RegExp(`^${shortest(k.limits.inverseWorkbench.reading.min)} to ${b.zMax} m `));
   assert.match(reading[3], new RegExp(`${b.zMax} m is the sensor's z_max`));
   assert.match(row('occgrid-inverse-workbench', 'density')[1], new RegExp(`^0 to ${b.maxDensity} `));
 
@@ -67,9 +68,10 @@ test('the README’s ranges are the core’s limits', () => {
   assert.equal(beams[2], `\`${f.defaultLidarBeams}\``);
 
   const c = k.twoCellTable;
-  assert.match(row('occgrid-doorway-trap', 'cells')[1], new RegExp(`ranges 0\\.1 to ${c.maxRange}, bearings ${minus(-c.halfConeDeg)} to ${c.halfConeDeg}\\)`));
+  const near = shortest(k.limits.twoCellTable.reading.min);
+  assert.match(row('occgrid-doorway-trap', 'cells')[1], new RegExp(`ranges ${near} to ${c.maxRange}, bearings ${minus(-c.halfConeDeg)} to ${c.halfConeDeg}\\)`));
   const z = row('occgrid-doorway-trap', 'reading');
-  assert.match(z[1], new RegExp(`^0\\.1 to ${c.maxRange} m `));
+  assert.match(z[1], new RegExp(`^${near} to ${c.maxRange} m `));
   assert.match(z[3], new RegExp(`\\(${c.maxRange} = no echo\\)`));
   // The limits are the chapter's query's own.
   const q = core.chapterTwoCellQuery();

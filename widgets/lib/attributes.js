@@ -94,6 +94,14 @@ export function number(min, max, { step, unit = '' } = {}) {
   };
 }
 
+/** Any number: an attribute's type until the core's bounds are known. */
+export const ANY_NUMBER = number(-Number.MAX_VALUE, Number.MAX_VALUE);
+
+/** A number on a slider's steps `{ min, max, step }` (the core's `constants().limits`). */
+export function steps({ min, max, step }, unit) {
+  return number(min, max, { step, unit });
+}
+
 /** A probability strictly between 0 and 1 (optionally on a slider's steps). */
 export function probability({ min = 0, max = 1, step } = {}) {
   const inner = number(min, max, { step });

@@ -1,20 +1,10 @@
-// The scan-matched pose source in Map Weaver's real-log panel: the poses
-// menu's choices, the matched path as it grows, and the current scan's
-// match drawn over its pane while the map builds (the scan's returns where
+// The scan-matched pose source in Map Weaver's real-log panel: the matched
+// path as it grows, and the current scan's match drawn over its pane while the map builds (the scan's returns where
 // the match put them, and the robot where the odometry predicted it), with
 // a line of figures under the pane. The core computes every number (the
 // session's `matchView`); this module only draws and words them.
 import { el, fixed } from './ui.js';
 import { drawRobot } from './layers.js';
-
-/** The poses menu: the name the core takes, and the words a reader sees. */
-export const POSE_OPTIONS = [
-  ['corrected', 'corrected (the log’s)'],
-  ['dead-reckoning', 'dead reckoning (Table 5.6 noise)'],
-  ['scan-matched', 'scan-matched (dead reckoning corrected by matching each scan)'],
-];
-/** The names the `log-poses` attribute accepts. */
-export const POSE_NAMES = POSE_OPTIONS.map(([name]) => name);
 
 const MATCHED = 'scan-matched';
 const POINT_COLOR = '#d95f02';

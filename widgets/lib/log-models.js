@@ -3,18 +3,9 @@
 // the `log-model` attribute, `npm run export-map -- --model NAME`), and a
 // second map of the same log with another model beside the first, as Map
 // Weaver's two panes are (`log-compare-model`). The core builds and counts
-// every map; this module only names the models, makes their controls and
-// says where each comes from.
+// every map and names the models; this module makes their controls and says
+// where each comes from.
 import { el, select } from './ui.js';
-import { oneOf } from './attributes.js';
-
-/** The models as the core names them, with the words a select shows. */
-export const LOG_MODELS = [
-  ['hit-counting', 'hit counting (GMapping)'],
-  ['log-odds', 'log odds (Table 9.2)'],
-  ['hit-miss-odds', 'hit/miss odds (Cartographer)'],
-];
-const NAMES = LOG_MODELS.map(([name]) => name);
 
 /**
  * The real-log default, as a link writes it: the core's
@@ -29,20 +20,16 @@ export const LOG_MODEL_FIELDS = {
   'log-compare-model': { field: 'compareModel', format: (v) => v ?? 'none' },
 };
 
-/** Map Weaver's two real-log attributes, checked as every attribute is (widgets/lib/attributes.js). */
-export const LOG_MODEL_ATTRIBUTES = {
-  'log-model': { type: oneOf(NAMES), default: LOG_MODEL_DEFAULT, doc: 'real-log mode: what a cell believes: hit-counting (GMapping’s hits and visits), log-odds (Table 9.2 with the chapter’s clamp) or hit-miss-odds (Cartographer’s odds tables)' },
-  'log-compare-model': { type: oneOf(['none', ...NAMES], (w) => (w === 'none' ? null : w)), default: 'none', doc: 'real-log mode: a second map of the same log with another cell model, beside the first; none for one map' },
-};
-
 /**
  * The model's select and the comparison's, as the panel's controls (each
  * with `set(value)` for when the settings change elsewhere); `change` takes
- * a settings patch.
+ * a settings patch, `models` are the core's (`constants().limits.realLog.models`:
+ * `[{ value, caption }]`, the default first).
  */
-export function modelControls(settings, change) {
-  const model = select('Cell model', LOG_MODELS, settings.model, (v) => change({ model: v }), { name: 'model' });
-  const compare = select('Beside it, the same log with', [['', 'no second map'], ...LOG_MODELS], settings.compareModel ?? '',
+export function modelControls(settings, change, models) {
+  const options = models.map(({ value, caption }) => [value, caption]);
+  const model = select('Cell model', options, settings.model, (v) => change({ model: v }), { name: 'model' });
+  const compare = select('Beside it, the same log with', [['', 'no second map'], ...options], settings.compareModel ?? '',
     (v) => change({ compareModel: v || null }), { name: 'compare-model' });
   return {
     model: { ...model, set: (v) => { model.input.value = String(v); } },

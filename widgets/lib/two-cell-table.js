@@ -27,22 +27,20 @@ const DIAGRAM_W = 440;
 const DIAGRAM_H = 200;
 const POSE_COLOR = COLORS.series[1];
 
-/** The nearest a cell may be placed, metres: the diagram's first tick. */
-export const MIN_RANGE = 0.1;
-
 /**
  * The `cells` attribute: "rangeA,bearingA,rangeB,bearingB" (metres,
- * degrees), ranges up to the sonar's z_max and bearings within the cone's
- * half-width: the core's `constants().twoCellTable` ({ maxRange,
- * halfConeDeg }).
+ * degrees), ranges from the nearest the table places a cell
+ * (`constants().limits.twoCellTable.reading.min`) up to the sonar's z_max
+ * and bearings within the cone's half-width: the core's
+ * `constants().twoCellTable` ({ maxRange, halfConeDeg }).
  */
-export function cellsType({ maxRange, halfConeDeg }) {
+export function cellsType({ minRange, maxRange, halfConeDeg }) {
   return {
-    describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${MIN_RANGE} to ${maxRange} m, bearings from -${halfConeDeg} to ${halfConeDeg}°`,
+    describe: `four numbers "rangeA, bearingA, rangeB, bearingB": ranges from ${minRange} to ${maxRange} m, bearings from -${halfConeDeg} to ${halfConeDeg}°`,
     parse(text, name) {
       const v = text.split(/[\s,;]+/).filter(Boolean).map(Number);
       const ok = v.length === 4 && v.every(Number.isFinite) &&
-        [v[0], v[2]].every((r) => r >= MIN_RANGE && r <= maxRange) &&
+        [v[0], v[2]].every((r) => r >= minRange && r <= maxRange) &&
         [v[1], v[3]].every((b) => Math.abs(b) <= halfConeDeg);
       if (!ok) throw invalidValue(name, text, this.describe);
       return [{ range: v[0], bearing_deg: v[1] }, { range: v[2], bearing_deg: v[3] }];
@@ -58,6 +56,7 @@ export class TwoCellTable {
     this.host = host;
     this.core = null;
     this.query = null;
+    this.minRange = 0;
     this.jointReport = null;
     this.arrangement = null;
     this.movingCell = 1; // which point the arrow keys move (0 = A, 1 = B)
@@ -90,14 +89,14 @@ export class TwoCellTable {
       return b;
     });
     this.readingSlider = slider({
-      // Up to the query's z_max, set once the core has given it.
-      label: 'Reading z', min: MIN_RANGE, step: 0.01, value: reading,
+      // The core's range (up to the query's z_max), set once it has loaded.
+      label: 'Reading z', min: 0, step: 'any', value: reading,
       format: (v) => (this.query && v >= this.query.model.z_max ? `${v.toFixed(2)} m (no echo)` : `${v.toFixed(2)} m`),
       onInput: (v) => { if (this.query) { this.query.readings = [v]; this.updateJoint(); } },
       name: 'reading',
     });
     this.priorSlider = slider({
-      label: 'Prior p₀', min: 0.05, max: 0.95, step: 0.05, value: prior,
+      label: 'Prior p₀', min: 0, max: 1, step: 'any', value: prior,
       format: (v) => v.toFixed(2),
       onInput: (v) => { if (this.query) { this.query.prior = v; this.updateJoint(); } },
       name: 'prior',
@@ -162,7 +161,12 @@ export class TwoCellTable {
     }
     this.query.readings = [v.reading];
     this.query.prior = v.prior;
-    this.readingSlider.input.max = String(this.query.model.z_max);
+    // The sliders' ranges and the nearest a cell may be placed: the core's
+    // (`constants().limits.twoCellTable`; the reading's up to the sonar's z_max).
+    const limits = this.core.constants().limits.twoCellTable;
+    this.minRange = limits.reading.min;
+    this.readingSlider.setRange(limits.reading);
+    this.priorSlider.setRange(limits.prior);
     this.readingSlider.set(v.reading);
     this.priorSlider.set(v.prior);
     if (!v.cells) {
@@ -356,7 +360,7 @@ export class TwoCellTable {
     const fwd = (x - ox) / scale;
     const left = (oy - y) / scale;
     const half = this.query.beta_deg / 2;
-    const range = Math.min(this.query.model.z_max, Math.max(MIN_RANGE, Math.hypot(fwd, left)));
+    const range = Math.min(this.query.model.z_max, Math.max(this.minRange, Math.hypot(fwd, left)));
     const bearing = Math.max(-half, Math.min(half, (Math.atan2(left, fwd) * 180) / Math.PI));
     return { x, y, range: Math.round(range * 100) / 100, bearing_deg: Math.round(bearing * 10) / 10 };
   }
@@ -411,7 +415,7 @@ export class TwoCellTable {
     const m = moves[ev.key];
     if (!m) return;
     ev.preventDefault();
-    const range = Math.min(this.query.model.z_max, Math.max(MIN_RANGE, Math.round((b.range + m[0]) * 100) / 100));
+    const range = Math.min(this.query.model.z_max, Math.max(this.minRange, Math.round((b.range + m[0]) * 100) / 100));
     const bearing = Math.max(-half, Math.min(half, Math.round((b.bearing_deg + m[1]) * 10) / 10));
     this.moveCell(j, range, bearing);
   }

@@ -57,6 +57,16 @@ export function slider({ label, min, max, step, value, format = String, onInput,
     input,
     get value() { return Number(input.value); },
     set(v) { input.value = v; update(); },
+    /**
+     * Takes the range `{ min, max, step }` (the core's, once it has
+     * loaded), keeping the value shown where the range allows.
+     */
+    setRange({ min, max, step }) {
+      const v = input.value;
+      Object.assign(input, { min: String(min), max: String(max), step: String(step) });
+      input.value = v;
+      update();
+    },
   };
 }
 

@@ -6,6 +6,19 @@
 // "Sessions and panes").
 
 /**
+ * The core's share of an animation frame while a widget plays or rebuilds,
+ * ms: a throttled phone has about 33 ms a frame at 30 frames a second, and
+ * drawing the maps takes most of the rest. Its calls get a budget of cell
+ * visits sized from the last call's time, so that a fine grid or the
+ * every-cell sweep slows the run down instead of freezing the page.
+ */
+export const FRAME_WORK_MS = 8;
+/** The time of one training call of the learned model, ms: the page paints and takes input between calls. */
+export const TRAIN_SLICE_MS = 20;
+/** The first training call's units (triplets drawn or SGD updates), which its time corrects. */
+export const FIRST_TRAIN_UNITS = 2_000;
+
+/**
  * The pause between two slices of work: a timer, not a posted message. A
  * chain of posted messages runs ahead of every timer of the page (another
  * widget's, a reader's script), which would then wait for the whole work;
