@@ -12,9 +12,10 @@
 
 use super::inverse_workbench::WorkbenchLimits;
 use super::map_weaver::Steps;
-use super::real_log::{LogCellModel, LogMapSettings, LogPoses, SettingLimits, MAX_SEED};
+use super::real_log::{LogCellModel, LogMapSettings, SettingLimits, MAX_SEED};
 use super::two_cell_table::TwoCellLimits;
 use crate::mapping::walls::WallModel;
+use crate::poses::PoseSourceKind;
 
 /// A probability of an inverse model, as the cell filter offers it: in
 /// hundredths, short of 0 and 1 (which the core refuses: eq. 9.5's log
@@ -123,7 +124,7 @@ pub struct CellFilterControls {
 #[serde(rename_all = "camelCase")]
 pub struct DoorwayTrapControls {
     /// The most sweep scans a link may ask for before the first frame: a
-    /// scene has at most [`crate::scenes::doorway::MAX_READINGS`]
+    /// scene has at most [`crate::scenes::doorway::MAX_SCENE_READINGS`]
     /// readings, so at most as many scans.
     pub max_scans: usize,
 }
@@ -203,7 +204,7 @@ impl Limits {
                 clamp: CELL_FILTER_CLAMP,
             },
             doorway_trap: DoorwayTrapControls {
-                max_scans: crate::scenes::doorway::MAX_READINGS,
+                max_scans: crate::scenes::doorway::MAX_SCENE_READINGS,
             },
             two_cell_table: TwoCellControls {
                 reading: Steps {
@@ -250,13 +251,8 @@ impl RealLogControls {
             push_new(&mut walls, wall_name(w), wall_words(w));
         }
         let mut poses = Vec::new();
-        for p in [
-            defaults.poses,
-            LogPoses::Corrected,
-            LogPoses::DeadReckoning,
-            LogPoses::ScanMatched,
-        ] {
-            push_new(&mut poses, p.name(), pose_words(p));
+        for p in std::iter::once(defaults.poses).chain(PoseSourceKind::ALL) {
+            push_new(&mut poses, p.name(), p.info().menu);
         }
         let mut models = Vec::new();
         for m in std::iter::once(defaults.model).chain(LogCellModel::ALL) {
@@ -303,16 +299,6 @@ fn wall_words(w: WallModel) -> &'static str {
     match w {
         WallModel::Incidence => "stops at the wall a beam grazes",
         WallModel::Table92 => "Table 9.2 (walls wear away)",
-    }
-}
-
-/// How the real-log panel's poses menu words a pose source (a pane's own
-/// caption is [`LogPoses::caption`]).
-fn pose_words(p: LogPoses) -> &'static str {
-    match p {
-        LogPoses::Corrected => "corrected (the log\u{2019}s)",
-        LogPoses::DeadReckoning => "dead reckoning (Table 5.6 noise)",
-        LogPoses::ScanMatched => "scan-matched (dead reckoning corrected by matching each scan)",
     }
 }
 
@@ -427,7 +413,7 @@ mod tests {
     #[test]
     fn the_doorway_trap_offers_as_many_scans_as_a_scene_may_have_readings() {
         let d = Limits::of_the_chapter().doorway_trap;
-        assert_eq!(d.max_scans, crate::scenes::doorway::MAX_READINGS);
+        assert_eq!(d.max_scans, crate::scenes::doorway::MAX_SCENE_READINGS);
     }
 
     /// The real-log panel's sliders: every end is accepted, the range
@@ -474,7 +460,7 @@ mod tests {
 
         // The menus' names are the core's, each once, the defaults first.
         let names = |c: &[Choice]| c.iter().map(|c| c.value).collect::<Vec<_>>();
-        assert_eq!(names(&r.poses), LogPoses::NAMES);
+        assert_eq!(names(&r.poses), PoseSourceKind::NAMES);
         assert_eq!(r.poses[0].value, d.poses.name());
         assert_eq!(r.models[0].value, d.model.name());
         let mut models = names(&r.models);

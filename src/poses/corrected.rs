@@ -8,11 +8,11 @@ use crate::sensors::ScanLog;
 pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::Corrected,
     name: "corrected",
-    caption: |_| "Corrected poses (the log\u{2019}s own)".into(),
-    described: |_| None,
+    menu: "corrected (the log\u{2019}s)",
+    caption: "Corrected poses (the log\u{2019}s own)",
+    described: None,
     export_suffix: None,
     beside: &[],
-    start: |log, settings| Ok(Box::new(Corrected::new(log, settings))),
 };
 
 /// The log's poses, as it gives them.
@@ -22,7 +22,7 @@ pub struct Corrected {
 }
 
 impl Corrected {
-    fn new(log: &ScanLog, _: &SourceSettings) -> Self {
+    pub(super) fn new(log: &ScanLog, _: &SourceSettings) -> Self {
         Self {
             poses: log.poses().to_vec(),
         }

@@ -12,15 +12,13 @@ use crate::sensors::ScanLog;
 pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::DeadReckoning,
     name: "dead-reckoning",
-    caption: |seed| format!("Dead reckoning (seed {seed})"),
-    described: |seed| {
-        Some(format!(
-            "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses"
-        ))
-    },
+    menu: "dead reckoning (Table 5.6 noise)",
+    caption: "Dead reckoning (seed {seed})",
+    described: Some(
+        "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses",
+    ),
     export_suffix: Some("dead-reckoning"),
     beside: &[PoseSourceKind::Corrected],
-    start: |log, settings| Ok(Box::new(DeadReckoning::new(log, settings))),
 };
 
 /// The dead-reckoned path of one seed.
@@ -30,7 +28,7 @@ pub struct DeadReckoning {
 }
 
 impl DeadReckoning {
-    fn new(log: &ScanLog, settings: &SourceSettings) -> Self {
+    pub(super) fn new(log: &ScanLog, settings: &SourceSettings) -> Self {
         Self {
             poses: settings.noise.dead_reckon_path(log.poses(), settings.seed),
         }

@@ -15,8 +15,8 @@
 //!
 //! [`PoseSourceKind`] names them as the settings and the page do; the
 //! registry ([`PoseSourceKind::info`]) is the one place that knows every
-//! source: a new source is one more file here, one more variant and one
-//! more entry of the registry. A map holder (a real-log pane) holds a
+//! source: a new source is one more file here, one more variant, one more
+//! entry of the registry and one more arm of [`PoseSourceKind::start`]. A map holder (a real-log pane) holds a
 //! `Box<dyn PoseSource>` and asks it for each scan's pose before inserting
 //! the scan with the one insertion recipe ([`crate::mapping::insertion`]).
 
@@ -125,19 +125,21 @@ pub struct SourceInfo {
     pub kind: PoseSourceKind,
     /// The name a page and the CLI use.
     pub name: &'static str,
-    /// The caption of a pane mapped at these poses, for a seed.
-    pub caption: fn(u64) -> String,
+    /// How a page's menu of pose sources words this one.
+    pub menu: &'static str,
+    /// The caption of a pane mapped at these poses (`{seed}` stands for
+    /// the seed).
+    pub caption: &'static str,
     /// What a map exported at these poses says of them (a comment line of
-    /// its YAML), for a seed, or `None` for the log's own.
-    pub described: fn(u64) -> Option<String>,
+    /// its YAML; `{seed}` stands for the seed), or `None` for the log's
+    /// own.
+    pub described: Option<&'static str>,
     /// What an exported map's file name adds for these poses
     /// (`intel-dead-reckoning-map`), or `None` for the log's own.
     pub export_suffix: Option<&'static str>,
     /// The sources whose maps a session shows beside this one's, for
     /// comparison.
     pub beside: &'static [PoseSourceKind],
-    /// The source over `log` (one pose per scan).
-    pub start: fn(&ScanLog, &SourceSettings) -> Result<Box<dyn PoseSource>>,
 }
 
 impl PoseSourceKind {
@@ -170,13 +172,13 @@ impl PoseSourceKind {
 
     /// The caption of a pane mapped at these poses.
     pub fn caption(self, seed: u64) -> String {
-        (self.info().caption)(seed)
+        with_seed(self.info().caption, seed)
     }
 
     /// What a map exported at these poses says of them, or `None` for the
     /// log's own.
     pub fn described(self, seed: u64) -> Option<String> {
-        (self.info().described)(seed)
+        Some(with_seed(self.info().described?, seed))
     }
 
     /// The panes a session shows when the reader maps at `chosen`: that
@@ -188,8 +190,18 @@ impl PoseSourceKind {
             .collect()
     }
 
-    /// This source over `log`.
+    /// This source over `log` (one pose per scan). (Apart from the
+    /// registry's words, which pages read without the code of a source.)
     pub fn start(self, log: &ScanLog, settings: &SourceSettings) -> Result<Box<dyn PoseSource>> {
-        (self.info().start)(log, settings)
+        Ok(match self {
+            Self::Corrected => Box::new(corrected::Corrected::new(log, settings)),
+            Self::DeadReckoning => Box::new(dead_reckoning::DeadReckoning::new(log, settings)),
+            Self::ScanMatched => Box::new(scan_matched::ScanMatching::start(log, settings)?),
+        })
     }
+}
+
+/// `text` with `{seed}` written as `seed`.
+fn with_seed(text: &str, seed: u64) -> String {
+    text.replace("{seed}", &seed.to_string())
 }

@@ -6,7 +6,7 @@
 //! only then integrated there. The first scan is put at the first
 //! odometry pose: the path starts where the log does.
 
-use super::{PoseSource, PoseSourceKind, SourceInfo};
+use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
 use crate::error::Result;
 use crate::geometry::Pose;
 use crate::mapping::scan_match::{MatchMap, MatchReport, MatchSettings, Prediction, ScanMatcher};
@@ -16,25 +16,15 @@ use crate::sensors::{Scan, ScanLog};
 pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::ScanMatched,
     name: "scan-matched",
-    caption: |seed| format!("Scan-matched (from dead reckoning, seed {seed})"),
-    described: |seed| {
-        Some(format!(
-            "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses"
-        ))
-    },
+    menu: "scan-matched (dead reckoning corrected by matching each scan)",
+    caption: "Scan-matched (from dead reckoning, seed {seed})",
+    described: Some(
+        "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses",
+    ),
     // The corrected map for comparison, and the dead-reckoned one it
     // started from (the same seed).
     export_suffix: Some("scan-matched"),
     beside: &[PoseSourceKind::Corrected, PoseSourceKind::DeadReckoning],
-    start: |log, settings| {
-        let odometry = ScanMatching::odometry_of(log, settings.seed, &settings.noise);
-        Ok(Box::new(ScanMatching::new(
-            odometry,
-            settings.noise,
-            settings.matching,
-            settings.resolution,
-        )?))
-    },
 };
 
 /// Metres of drift the map holds beyond the extent of the scans at the
@@ -107,6 +97,18 @@ impl ScanMatching {
             last: None,
             work: 0,
         })
+    }
+
+    /// The source over `log`: its odometry (or dead reckoning), the
+    /// settings' noise and matcher.
+    pub(super) fn start(log: &ScanLog, settings: &SourceSettings) -> Result<Self> {
+        let odometry = Self::odometry_of(log, settings.seed, &settings.noise);
+        Self::new(
+            odometry,
+            settings.noise,
+            settings.matching,
+            settings.resolution,
+        )
     }
 
     /// The odometry a path over `log` corrects: the log's own when it has
