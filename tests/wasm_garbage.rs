@@ -432,45 +432,45 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
     let mut w = MapWeaver::new(weaver_settings()).unwrap();
     assert_eq!(w.advance(num(5.0)).unwrap(), 5);
     let before = stringify(&w.readout().unwrap());
-    // setPane is the one way to turn a knob: a patch of the pane's settings.
+    // stagePane is the one way to turn a knob: a patch of the pane's settings.
     let patch = |field: &str, v: JsValue| with(&Object::new().into(), field, v);
     for clamp in BAD_NUMBERS {
         refused(
-            w.set_pane(num(0.0), patch("clamp", num(clamp))),
+            w.stage_pane(num(0.0), patch("clamp", num(clamp))),
             &["panes[0].clamp"],
         );
     }
     refused(
-        w.set_pane(num(7.0), patch("clamp", num(3.0))),
+        w.stage_pane(num(7.0), patch("clamp", num(3.0))),
         &["pane", "7"],
     );
     for s in [f64::NAN, -1.0, 11.0, f64::INFINITY] {
         refused(
-            w.set_pane(num(1.0), patch("strength", num(s))),
+            w.stage_pane(num(1.0), patch("strength", num(s))),
             &["panes[1].strength"],
         );
     }
     refused(
-        w.set_pane(num(1e300), patch("strength", num(1.0))),
+        w.stage_pane(num(1e300), patch("strength", num(1.0))),
         &["pane", "1e300"],
     );
     refused(
-        w.set_pane(num(0.0), patch("model", "magic".into())),
+        w.stage_pane(num(0.0), patch("model", "magic".into())),
         &["panes[0].model", "magic"],
     );
     refused(
-        w.set_pane(num(2.0), patch("model", "learned".into())),
+        w.stage_pane(num(2.0), patch("model", "learned".into())),
         &["pane"],
     );
     refused(
-        w.set_pane(num(1.0), patch("pose", "gps".into())),
+        w.stage_pane(num(1.0), patch("pose", "gps".into())),
         &["panes[1].pose", "gps"],
     );
     // A pane index that the glue would once have wrapped or truncated to a
     // valid pane (2^32 to 0, 1.5 to 1, -0.5 to 0) is refused by name.
     for pane in [4_294_967_296.0, 1.5, -0.5, -1.0, f64::NAN, f64::INFINITY] {
         refused(w.pixels(num(pane)), &["pane"]);
-        refused(w.set_pane(num(pane), patch("clamp", num(3.0))), &["pane"]);
+        refused(w.stage_pane(num(pane), patch("clamp", num(3.0))), &["pane"]);
         refused(w.overlay(num(pane)), &["pane"]);
     }
     refused(w.pixels(num(2.0)), &["pane"]);
@@ -493,18 +493,18 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
         JsValue::TRUE,
     ] {
         refused(
-            w.set_pane(num(0.0), patch("model", bad.clone())),
+            w.stage_pane(num(0.0), patch("model", bad.clone())),
             &["panes[0].model", "\"learned\""],
         );
         refused(
-            w.set_pane(num(1.0), patch("pose", bad)),
+            w.stage_pane(num(1.0), patch("pose", bad)),
             &["panes[1].pose", "\"oracle\""],
         );
     }
     // And a patch is an object of named settings.
     for bad in [JsValue::UNDEFINED, JsValue::NULL, num(3.0), json("[]")] {
         refused(
-            w.set_pane(num(0.0), bad),
+            w.stage_pane(num(0.0), bad),
             &["panes[0]", "expected an object of named settings"],
         );
     }
@@ -534,9 +534,9 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
 
     // Still maps, and a huge request stops at the end of the run.
     assert_eq!(w.advance(num(3.0)).unwrap(), 3);
-    w.set_pane(num(1.0), patch("pose", "dead-reckoning".into()))
+    w.stage_pane(num(1.0), patch("pose", "dead-reckoning".into()))
         .unwrap();
-    w.set_pane(num(0.0), patch("model", "learned".into()))
+    w.stage_pane(num(0.0), patch("model", "learned".into()))
         .unwrap();
     let taken = w.advance(num(f64::INFINITY)).unwrap();
     let r = w.readout().unwrap();

@@ -55,11 +55,11 @@ fn a_revoked_proxy_is_an_invalid_settings_object_and_leaves_everything_usable() 
 
     let mut w = small_weaver();
     refused(
-        w.set_pane(num(0.0), revoked()),
+        w.stage_pane(num(0.0), revoked()),
         &["invalid panes[0]", "revoked"],
     );
     refused(
-        w.set_pane(num(1.0), object_with("clamp", &revoked())),
+        w.stage_pane(num(1.0), object_with("clamp", &revoked())),
         &["invalid panes[1].clamp", "revoked"],
     );
     refused(MapWeaver::new(revoked()), &["invalid settings", "revoked"]);
@@ -109,7 +109,7 @@ fn an_own_proto_field_is_refused_by_name_at_any_depth() {
     };
     let before = clamp(&w);
     refused(
-        w.set_pane(num(0.0), json(r#"{"__proto__": {"clamp": 2}}"#)),
+        w.stage_pane(num(0.0), json(r#"{"__proto__": {"clamp": 2}}"#)),
         &["invalid panes[0]", "\"__proto__\""],
     );
     assert_eq!(clamp(&w), before);
