@@ -428,14 +428,3 @@ impl RealLogSession {
         map_pair_to_js(&self.session.pane(pane)?.export_map(name.as_deref()))
     }
 }
-
-/// Rust-side access for tests (the JavaScript surface above converts what
-/// JavaScript sends, then calls the core session).
-impl RealLogSession {
-    /// A session about to read `bytes`.
-    pub fn from_bytes(bytes: Vec<u8>) -> RealLogSession {
-        RealLogSession {
-            session: app::RealLogSession::new(bytes),
-        }
-    }
-}
