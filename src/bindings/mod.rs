@@ -217,7 +217,6 @@ fn json_head(value: &JsValue) -> Option<String> {
 
 /// A true-or-false parameter from JavaScript: `true` or `false` and
 /// nothing else (no truthiness: `"false"` is a string, not false).
-#[cfg(feature = "chapter")]
 pub(crate) fn bool_from_js(field: &str, value: &JsValue) -> Result<bool, JsError> {
     value.as_bool().ok_or_else(|| {
         JsError::new(&format!(

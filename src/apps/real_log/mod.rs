@@ -27,6 +27,7 @@ mod matched;
 mod pane;
 mod session;
 mod settings;
+mod surface;
 mod view;
 
 pub use budget::VISITS_PER_UNIT;
