@@ -86,7 +86,7 @@ impl Pixels {
     pub(crate) fn render(&mut self, grid: &crate::grid::LogOddsGrid) -> *const u8 {
         let n = grid.geometry().len() * 4;
         self.0.resize(n, 0);
-        crate::render::gray::render_grid_rgba(grid, &mut self.0)
+        crate::render::viewport::render_grid_rgba(grid, &mut self.0)
             .expect("the buffer was just sized to the grid");
         self.0.as_ptr()
     }
