@@ -238,7 +238,8 @@ impl Pane {
 #[derive(Debug, Clone)]
 pub struct WeaverBuild {
     settings: WeaverSettings,
-    learned: LearnedInverse,
+    /// Boxed as the panes' copies are ([`PaneModel`]).
+    learned: Box<LearnedInverse>,
     sim_truth: TruthDrawing,
     panes: [PaneBuild; 2],
 }
@@ -260,7 +261,7 @@ impl WeaverBuild {
         Ok(Self {
             sim_truth: TruthDrawing::new(geometry, &settings.scene.obstacles),
             settings,
-            learned,
+            learned: Box::new(learned),
             panes,
         })
     }

@@ -68,8 +68,9 @@ pub struct Weaver {
     sim: ApartmentSim,
     tracked_cells: [usize; 3],
     scans_per_lap: usize,
-    /// The learned model, trained once per run and kept across resets.
-    learned: LearnedInverse,
+    /// The learned model, trained once per run and kept across resets
+    /// (boxed as the panes' copies are).
+    learned: Box<LearnedInverse>,
     history: Vec<SimScan>,
     panes: [Pane; 2],
     frame_ms: RecentTimes,
@@ -105,7 +106,7 @@ impl Weaver {
         settings.person = self.sim.person();
         let clock = self.clock;
         let settings = CheckedWeaverSettings::of_run(settings, self.geometry);
-        *self = WeaverBuild::checked(settings, self.learned.clone())?.finish()?;
+        *self = WeaverBuild::checked(settings, (*self.learned).clone())?.finish()?;
         self.clock = clock;
         Ok(())
     }

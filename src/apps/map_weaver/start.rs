@@ -50,7 +50,9 @@ fn learned_for(config: &TrainingConfig) -> Result<LearnedInverse> {
 pub struct WeaverStart {
     settings: CheckedWeaverSettings,
     trainer: Option<Trainer>,
-    build: Option<WeaverBuild>,
+    /// Boxed: a build holds every map's parts (tens of kilobytes by
+    /// value), and a page's wasm stack is small.
+    build: Option<Box<WeaverBuild>>,
 }
 
 /// The refusal of a build that is not there (none is made twice).
@@ -123,8 +125,11 @@ impl WeaverStart {
                 }
                 None => learned_for(&training)?,
             };
-            self.build = Some(WeaverBuild::checked(self.settings.clone(), learned)?);
+            self.build = Some(Box::new(WeaverBuild::checked(
+                self.settings.clone(),
+                learned,
+            )?));
         }
-        self.build.as_mut().ok_or_else(finished)
+        self.build.as_deref_mut().ok_or_else(finished)
     }
 }
