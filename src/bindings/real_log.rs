@@ -3,7 +3,8 @@
 //! wraps): reading, settings, the build, the robot and the exports here,
 //! the view and the keyboard cursor of a pane in [`view`]. Every method
 //! converts its JavaScript arguments to plain Rust values first, then
-//! makes one call into the core session.
+//! delegates: one call into the core session, or into the pane it picks
+//! by index ([`app::RealLogSession::pane`]).
 
 mod view;
 
@@ -148,7 +149,7 @@ impl RealLogSession {
     /// `p > occupiedThresh`, free `p < freeThresh`, unknown the rest.
     pub fn counts(&self, pane: JsValue) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        to_js(&self.session.counts(pane)?)
+        to_js(&self.session.pane(pane)?.counts())
     }
 
     /// The laser positions of all scans on pane `pane` in image pixels,
@@ -156,7 +157,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = pathPixels)]
     pub fn path_pixels(&self, pane: JsValue) -> Result<Vec<f32>, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        Ok(self.session.path_pixels(pane)?)
+        Ok(self.session.pane(pane)?.path_in_pixels())
     }
 
     /// The robot at scan `k` over pane `pane`: `{ x, y, heading }` in image
@@ -176,7 +177,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = matchView)]
     pub fn match_view(&self, pane: JsValue) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        to_js(&self.session.match_view(pane)?)
+        to_js(&self.session.pane(pane)?.match_view())
     }
 
     /// The poses pane `pane`'s map so far was built with, one line per
@@ -184,7 +185,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = posesTsv)]
     pub fn poses_tsv(&self, pane: JsValue) -> Result<String, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        Ok(self.session.poses_tsv(pane)?)
+        Ok(self.session.pane(pane)?.poses_tsv())
     }
 
     /// The file stem pane `pane`'s export takes for a log file named
@@ -197,7 +198,7 @@ impl RealLogSession {
             index_from_js("pane", &pane)?,
             string_from_js("fileName", &file_name, "a file name")?,
         );
-        Ok(self.session.export_stem(pane, &name)?)
+        Ok(self.session.pane(pane)?.export_stem(&name))
     }
 
     /// Pane `pane`'s map as a ROS `map_server` pair `{ pgm: Uint8Array,
@@ -216,6 +217,6 @@ impl RealLogSession {
                 "a file name, or nothing for map.pgm",
             )?)
         };
-        map_pair_to_js(&self.session.export_map(pane, name.as_deref())?)
+        map_pair_to_js(&self.session.pane(pane)?.export_map(name.as_deref()))
     }
 }

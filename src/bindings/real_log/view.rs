@@ -1,7 +1,7 @@
 //! The view of a real-log pane and its keyboard cursor, for
 //! [`RealLogSession`]: zoom, pan, the output size, the pictures drawn, the
 //! cells under the pointer and the cursor. Every method converts its
-//! JavaScript arguments, then makes one call into the core session.
+//! JavaScript arguments, then calls the pane the index picks.
 
 use super::RealLogSession;
 use crate::bindings::{
@@ -39,7 +39,7 @@ impl RealLogSession {
             index_from_js("width", &width)?,
             index_from_js("height", &height)?,
         );
-        Ok(self.session.set_view_size(pane, w, h)?)
+        Ok(self.session.pane_mut(pane)?.set_view_size(w, h)?)
     }
 
     /// Shows pane `pane`'s whole map, keeping the keyboard cursor (placed
@@ -47,7 +47,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = fitView)]
     pub fn fit_view(&mut self, pane: JsValue) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        to_js(&self.session.fit_view(pane)?)
+        to_js(&self.session.pane_mut(pane)?.fit_at_cursor())
     }
 
     /// Zooms pane `pane` by `factor` (above 1 closer) about output pixel
@@ -66,7 +66,7 @@ impl RealLogSession {
             number_from_js("y", &y)?,
             number_from_js("factor", &factor)?,
         );
-        Ok(self.session.zoom_at(pane, x, y, factor)?)
+        Ok(self.session.pane_mut(pane)?.zoom_view(x, y, factor)?)
     }
 
     /// Moves pane `pane`'s map by `(dx, dy)` output pixels (a drag).
@@ -77,7 +77,7 @@ impl RealLogSession {
             number_from_js("dx", &dx)?,
             number_from_js("dy", &dy)?,
         );
-        Ok(self.session.pan_by(pane, dx, dy)?)
+        Ok(self.session.pane_mut(pane)?.pan_view(dx, dy)?)
     }
 
     /// `{ mapWidth, mapHeight, width, height, u0, v0, scale }` of pane
@@ -85,7 +85,7 @@ impl RealLogSession {
     /// scale, v0 + y / scale)` (image units: one per cell, row 0 at the top).
     pub fn view(&self, pane: JsValue) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        to_js(self.session.view_of(pane)?)
+        to_js(self.session.pane(pane)?.view())
     }
 
     /// Pane `pane`'s scale as the panel states it, for a canvas of
@@ -102,7 +102,7 @@ impl RealLogSession {
             index_from_js("pane", &pane)?,
             number_from_js("devicePixelRatio", &device_pixel_ratio)?,
         );
-        to_js(&self.session.view_legend(pane, dpr)?)
+        to_js(&self.session.pane(pane)?.legend(dpr)?)
     }
 
     /// Draws pane `pane`'s view (north up, white free, black occupied,
@@ -111,7 +111,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = renderView)]
     pub fn render_view(&mut self, pane: JsValue) -> Result<usize, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        Ok(self.session.render_view(pane)?.as_ptr() as usize)
+        Ok(self.session.pane_mut(pane)?.render_view().as_ptr() as usize)
     }
 
     /// Draws a band of pane `pane`'s view, at most `maxSamples` map cells
@@ -130,7 +130,10 @@ impl RealLogSession {
         let pane = index_from_js("pane", &pane)?;
         let max_samples = budget_from_js("maxSamples", &max_samples)?;
         let quick = bool_from_js("quick", &quick)?;
-        Ok(self.session.render_view_within(pane, max_samples, quick)?)
+        Ok(self
+            .session
+            .pane_mut(pane)?
+            .render_view_within(max_samples, quick))
     }
 
     /// The address of pane `pane`'s last whole picture (the view's
@@ -139,7 +142,7 @@ impl RealLogSession {
     #[wasm_bindgen(js_name = viewPixels)]
     pub fn view_pixels(&self, pane: JsValue) -> Result<usize, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        Ok(self.session.view_pixels(pane)?.as_ptr() as usize)
+        Ok(self.session.pane(pane)?.view_pixels().as_ptr() as usize)
     }
 
     /// The cell under output position `(x, y)` of pane `pane`'s view
@@ -152,7 +155,7 @@ impl RealLogSession {
             number_from_js("x", &x)?,
             number_from_js("y", &y)?,
         );
-        to_js(&self.session.cell_at_view(pane, x, y)?)
+        to_js(&self.session.pane(pane)?.readout_at_view(x, y)?)
     }
 
     /// The cell under image pixel `(col, row)` of pane `pane` (row 0 at the
@@ -164,7 +167,7 @@ impl RealLogSession {
             coordinate_from_js("col", &col)?,
             coordinate_from_js("row", &row)?,
         );
-        to_js(&self.session.cell_at(pane, col, row)?)
+        to_js(&self.session.pane(pane)?.readout_at_pixel(col, row))
     }
 
     /// Moves pane `pane`'s keyboard cursor one arrow key's way (`dx`, `dy`
@@ -184,7 +187,7 @@ impl RealLogSession {
             direction_from_js("dy", &dy)?,
             long.is_truthy(),
         );
-        to_js(&self.session.move_cursor(pane, dx, dy, long)?)
+        to_js(&self.session.pane_mut(pane)?.move_cursor(dx, dy, long)?)
     }
 
     /// Zooms pane `pane` by `factor` about its keyboard cursor (placed at
@@ -195,20 +198,21 @@ impl RealLogSession {
             index_from_js("pane", &pane)?,
             number_from_js("factor", &factor)?,
         );
-        to_js(&self.session.zoom_at_cursor(pane, factor)?)
+        to_js(&self.session.pane_mut(pane)?.zoom_at_cursor(factor)?)
     }
 
     /// Pane `pane`'s keyboard cursor `{ col, row }` (an image cell), or
     /// `null`.
     pub fn cursor(&self, pane: JsValue) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        to_js(&self.session.cursor(pane)?)
+        to_js(&self.session.pane(pane)?.cursor())
     }
 
     /// Forgets pane `pane`'s keyboard cursor.
     #[wasm_bindgen(js_name = clearCursor)]
     pub fn clear_cursor(&mut self, pane: JsValue) -> Result<(), JsError> {
         let pane = index_from_js("pane", &pane)?;
-        Ok(self.session.clear_cursor(pane)?)
+        self.session.pane_mut(pane)?.clear_cursor();
+        Ok(())
     }
 }
