@@ -72,10 +72,10 @@ export async function runSoak({ scans = 200_000, laps = 20, every = 1000, core, 
       }
     }
     // A reader turning knobs now and then, and exporting a map.
-    if (frame % 997 === 0) weaver.setPane(frame % 2, { clamp: 2 + (frame % 7) });
-    if (frame % 1499 === 0) weaver.setPane(1, { strength: 0.5 + (frame % 3) * 0.5 });
-    if (frame % 2503 === 0) weaver.setPane(0, { model: (frame / 2503) % 2 ? 'learned' : 'hand-crafted' });
-    if (frame % 3001 === 0) weaver.setPane(1, { pose: (frame / 3001) % 2 ? 'dead-reckoning' : 'oracle' });
+    if (frame % 997 === 0) weaver.stagePane(frame % 2, { clamp: 2 + (frame % 7) });
+    if (frame % 1499 === 0) weaver.stagePane(1, { strength: 0.5 + (frame % 3) * 0.5 });
+    if (frame % 2503 === 0) weaver.stagePane(0, { model: (frame / 2503) % 2 ? 'learned' : 'hand-crafted' });
+    if (frame % 3001 === 0) weaver.stagePane(1, { pose: (frame / 3001) % 2 ? 'dead-reckoning' : 'oracle' });
     if (frame % 4001 === 0) checksum += weaver.exportMap(0).pgm.length;
     if (!Number.isFinite(r.panes[0].entropyBits) || !Number.isFinite(r.panes[1].brier)) {
       throw new Error(`a readout went non-finite at scan ${done}`);

@@ -190,7 +190,7 @@ fn a_rejected_update_leaves_the_map_exactly_as_it_was() {
         &["region", "400"],
     );
     says(
-        occgrid::render::gray::render_grid_rgba(&m, &mut [0u8; 7]),
+        occgrid::render::viewport::render_grid_rgba(&m, &mut [0u8; 7]),
         &["pixel buffer"],
     );
     assert_eq!(m, before, "the map is untouched by every rejected call");

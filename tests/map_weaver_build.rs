@@ -3,7 +3,9 @@
 //! call stops within one piece of its budget of cells, and the run is the
 //! one made in one call, bit for bit.
 
-use occgrid::apps::map_weaver::{MapperKind, ModelKind, Weaver, WeaverBuild, WeaverSettings};
+use occgrid::apps::map_weaver::{
+    MapperKind, ModelKind, Weaver, WeaverBuild, WeaverSettings, WeaverStart,
+};
 use occgrid::geometry::GridGeometry;
 use occgrid::inverse::training::{self, TrainingConfig};
 use occgrid::inverse::LearnedInverse;
@@ -116,6 +118,46 @@ fn a_refused_setting_is_refused_when_the_build_starts() {
     s.scene.width = 4096;
     let e = WeaverBuild::new(s, learned()).unwrap_err().to_string();
     assert!(e.contains("width"), "{e}");
+}
+
+#[test]
+fn a_run_started_in_calls_is_the_run_of_its_model_and_the_model_is_kept() {
+    // A quickly trained model of its own, so that no other test's run
+    // has left it kept.
+    let mut s = settings();
+    s.training = TrainingConfig {
+        triplets: 400,
+        epochs: 1,
+        ..TrainingConfig::default()
+    };
+    let (model, _, _) = training::train(&s.training).unwrap();
+    let mut start = WeaverStart::new(s.clone()).unwrap();
+    assert!(!start.trained());
+    let mut calls = 0;
+    while !start.train(97).unwrap() {
+        calls += 1;
+    }
+    assert!(calls > 1, "the training took {calls} calls");
+    assert!(start.trained());
+    while !start.build(997).unwrap().done {}
+    let one = Weaver::with_learned(s.clone(), model.clone()).unwrap();
+    assert_eq!(state(&start.finish().unwrap()), state(&one));
+
+    // Another run of the same training takes the kept model: nothing to
+    // train, and the run of that model.
+    let other = WeaverSettings {
+        seed: 12,
+        ..s.clone()
+    };
+    assert!(WeaverStart::new(other.clone()).unwrap().trained());
+    let one = Weaver::with_learned(other.clone(), model).unwrap();
+    assert_eq!(state(&WeaverStart::run(other).unwrap()), state(&one));
+
+    // Refused settings are refused before any training, naming the field.
+    let mut bad = s;
+    bad.laps = 0;
+    let e = WeaverStart::new(bad).unwrap_err().to_string();
+    assert!(e.contains("laps"), "{e}");
 }
 
 #[test]

@@ -284,7 +284,7 @@ proptest! {
         let m = LogOddsGrid::new(g, FilterSettings::default()).unwrap();
         let n = (g.len() as isize * 4 + delta).max(0) as usize;
         let mut px = vec![7u8; n];
-        match occgrid::render::gray::render_grid_rgba(&m, &mut px) {
+        match occgrid::render::viewport::render_grid_rgba(&m, &mut px) {
             Ok(()) => prop_assert!(px.chunks_exact(4).all(|p| p == [128, 128, 128, 255])),
             Err(e) => {
                 assert_names(&e, "pixel buffer");

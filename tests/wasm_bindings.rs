@@ -4,13 +4,14 @@
 //! objects whose message names the field and the value.
 
 use js_sys::{Error, Reflect};
-use occgrid::bindings::bench::LaserLog;
-use occgrid::bindings::cell_filter::{run_cell_filter, worked_example};
+use occgrid::bindings::cell_filter::worked_example;
 use occgrid::bindings::doorway_trap::DoorwayTrap;
-use occgrid::bindings::real_log::RealLogSession;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_answer};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
+
+mod wasm_support;
+use wasm_support::{cell_filter, laser_log, log_session};
 
 fn get(v: &JsValue, key: &str) -> JsValue {
     Reflect::get(v, &JsValue::from_str(key)).unwrap()
@@ -41,27 +42,23 @@ fn worked_example_crosses_the_boundary() {
 
 #[wasm_bindgen_test]
 fn bad_probabilities_arrive_as_errors_naming_field_and_value() {
-    let msg = js_error_message(run_cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true).unwrap_err());
+    let msg = js_error_message(cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true).unwrap_err());
     assert!(msg.contains("prior") && msg.contains('1'), "{msg}");
-    let msg = js_error_message(run_cell_filter(f64::NAN, 0.3, 0.5, 12.0, &[1], true).unwrap_err());
+    let msg = js_error_message(cell_filter(f64::NAN, 0.3, 0.5, 12.0, &[1], true).unwrap_err());
     assert!(msg.contains("p_occ") && msg.contains("NaN"), "{msg}");
-    let msg = js_error_message(run_cell_filter(0.7, 0.3, 0.5, 0.0, &[1], true).unwrap_err());
+    let msg = js_error_message(cell_filter(0.7, 0.3, 0.5, 0.0, &[1], true).unwrap_err());
     assert!(msg.contains("clamp"), "{msg}");
-    let msg = js_error_message(run_cell_filter(0.7, 0.3, 0.5, 12.0, &[1, 7], true).unwrap_err());
+    let msg = js_error_message(cell_filter(0.7, 0.3, 0.5, 12.0, &[1, 7], true).unwrap_err());
     assert!(msg.contains("readings[1]") && msg.contains('7'), "{msg}");
 }
 
 #[wasm_bindgen_test]
 fn garbage_logs_arrive_as_line_numbered_errors() {
-    let msg = js_error_message(
-        LaserLog::from_bytes(b"PARAM x\nFLASER 3 1.0 oops\n")
-            .err()
-            .unwrap(),
-    );
+    let msg = js_error_message(laser_log(b"PARAM x\nFLASER 3 1.0 oops\n").err().unwrap());
     assert!(msg.starts_with("line 2:"), "{msg}");
-    let msg = js_error_message(LaserLog::from_bytes(&[0x1f, 0x8b, 0, 0, 0]).err().unwrap());
+    let msg = js_error_message(laser_log(&[0x1f, 0x8b, 0, 0, 0]).err().unwrap());
     assert!(msg.contains("line"), "{msg}");
-    let ok = LaserLog::from_bytes(b"FLASER 2 1.0 2.0 0 0 0 0 0 0 1 h 1\n").unwrap();
+    let ok = laser_log(b"FLASER 2 1.0 2.0 0 0 0 0 0 0 1 h 1\n").unwrap();
     assert_eq!(ok.scan_count(), 1);
 }
 
@@ -89,14 +86,17 @@ fn doorway_climb_reaches_a_local_maximum() {
     assert!(flips > 0 && flips < 10_000, "{flips}");
     assert!(native.map_step().is_none());
     let mut t = DoorwayTrap::new(JsValue::UNDEFINED).unwrap();
-    assert_eq!(t.map_run(10_000) as usize, flips);
+    assert_eq!(
+        t.map_run(JsValue::from_f64(10_000.0)).unwrap() as usize,
+        flips
+    );
     assert!(t.map_step().unwrap().is_null());
 }
 
 #[wasm_bindgen_test]
 fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     let text = b"# log\nFLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 2.0 3.0 0.1 0 0 0 0 0 2 h 2\n";
-    let mut s = RealLogSession::from_bytes(text.to_vec());
+    let mut s = log_session(text.to_vec());
     let p = s.read(JsValue::from_f64(100.0)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
     assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
@@ -117,8 +117,7 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
             .unwrap_err(),
     );
     assert!(msg.contains("resoluton"), "{msg}");
-    let mut broken =
-        RealLogSession::from_bytes(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
+    let mut broken = log_session(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
     let msg = js_error_message(broken.read(JsValue::from_f64(10.0)).unwrap_err());
     assert!(
         msg.starts_with("line 2:") && msg.contains("negative"),
@@ -166,7 +165,7 @@ fn misspelt_scene_and_settings_fields_are_errors_naming_them() {
             .unwrap(),
     );
     assert!(msg.contains("scan_rat") && msg.contains("scene"), "{msg}");
-    let mut session = RealLogSession::from_bytes(Vec::new());
+    let mut session = log_session(Vec::new());
     let msg = js_error_message(
         session
             .configure(parse(r#"{"resolutoin": 0.1}"#))

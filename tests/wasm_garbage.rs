@@ -8,13 +8,10 @@
 //! call it refused.
 
 use js_sys::{Array, Object};
-use occgrid::bindings::bench::LaserLog;
-use occgrid::bindings::cell_filter::run_cell_filter;
 use occgrid::bindings::doorway_trap::DoorwayTrap;
 use occgrid::bindings::inverse_workbench::{forward_density, InverseWorkbench};
 use occgrid::bindings::map_files::zip_map_pair;
 use occgrid::bindings::map_weaver::MapWeaver;
-use occgrid::bindings::real_log::RealLogSession;
 use occgrid::bindings::sensor_fusion::SensorFusion;
 use occgrid::bindings::two_cell_table::{chapter_two_cell_query, joint_posterior};
 use wasm_bindgen::{JsError, JsValue};
@@ -35,33 +32,33 @@ const BAD_NUMBERS: [f64; 6] = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0,
 #[wasm_bindgen_test]
 fn the_cell_filter_refuses_every_bad_number_by_name() {
     for v in BAD_NUMBERS {
-        refused(run_cell_filter(v, 0.3, 0.5, 12.0, &[1], true), &["p_occ"]);
-        refused(run_cell_filter(0.7, v, 0.5, 12.0, &[1], true), &["p_free"]);
-        refused(run_cell_filter(0.7, 0.3, v, 12.0, &[1], true), &["prior"]);
+        refused(cell_filter(v, 0.3, 0.5, 12.0, &[1], true), &["p_occ"]);
+        refused(cell_filter(0.7, v, 0.5, 12.0, &[1], true), &["p_free"]);
+        refused(cell_filter(0.7, 0.3, v, 12.0, &[1], true), &["prior"]);
         // Infinity is the cell filter's "no clamp".
         #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is refused too
         if !(v > 0.0) {
-            refused(run_cell_filter(0.7, 0.3, 0.5, v, &[1], true), &["clamp"]);
+            refused(cell_filter(0.7, 0.3, 0.5, v, &[1], true), &["clamp"]);
         }
     }
-    let unclamped = run_cell_filter(0.7, 0.3, 0.5, f64::INFINITY, &[1; 20], true).unwrap();
+    let unclamped = cell_filter(0.7, 0.3, 0.5, f64::INFINITY, &[1; 20], true).unwrap();
     assert!(
         get(&unclamped, "firstAtClamp").is_null(),
         "never at a clamp"
     );
     refused(
-        run_cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true),
+        cell_filter(0.7, 0.3, 1.0, 12.0, &[1], true),
         &["prior", "1"],
     );
     refused(
-        run_cell_filter(0.7, 0.3, 0.5, 12.0, &[0, 1, 2], false),
+        cell_filter(0.7, 0.3, 0.5, 12.0, &[0, 1, 2], false),
         &["readings[2]", "2"],
     );
     // An empty run is a table with no rows, not an error.
-    let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &[], true).unwrap();
+    let t = cell_filter(0.7, 0.3, 0.5, 12.0, &[], true).unwrap();
     assert_eq!(Array::from(&get(&t, "steps")).length(), 0);
     let long = vec![1u8; occgrid::mapping::cell_filter::MAX_FILTER_READINGS];
-    let t = run_cell_filter(0.7, 0.3, 0.5, 12.0, &long, true).unwrap();
+    let t = cell_filter(0.7, 0.3, 0.5, 12.0, &long, true).unwrap();
     let steps = Array::from(&get(&t, "steps"));
     let last = steps.get(steps.length() - 1);
     assert_eq!(
@@ -237,7 +234,7 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
         refused(t.export_map(bad), &["map", "expected \"sweep\" or \"map\""]);
     }
     for bad in [f64::NAN, -1.0, 2.5, f64::NEG_INFINITY] {
-        refused(t.map_run_js(num(bad)), &["maxFlips"]);
+        refused(t.map_run(num(bad)), &["maxFlips"]);
     }
     assert_eq!(
         stringify(&t.map_state().unwrap()),
@@ -245,7 +242,7 @@ fn the_doorway_trap_refuses_bad_scenes_by_field_and_stays_usable() {
         "refusals changed nothing"
     );
     assert!(!t.sweep_step().unwrap().is_null());
-    assert!(t.map_run_js(num(f64::INFINITY)).unwrap() > 0);
+    assert!(t.map_run(num(f64::INFINITY)).unwrap() > 0);
     assert!(t.map_step().unwrap().is_null(), "converged");
     assert!(t.map_render().unwrap() != 0 && t.sweep_render() != 0);
     let report = t.report().unwrap();
@@ -433,45 +430,45 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
     let mut w = MapWeaver::new(weaver_settings()).unwrap();
     assert_eq!(w.advance(num(5.0)).unwrap(), 5);
     let before = stringify(&w.readout().unwrap());
-    // setPane is the one way to turn a knob: a patch of the pane's settings.
+    // stagePane is the one way to turn a knob: a patch of the pane's settings.
     let patch = |field: &str, v: JsValue| with(&Object::new().into(), field, v);
     for clamp in BAD_NUMBERS {
         refused(
-            w.set_pane(num(0.0), patch("clamp", num(clamp))),
+            w.stage_pane(num(0.0), patch("clamp", num(clamp))),
             &["panes[0].clamp"],
         );
     }
     refused(
-        w.set_pane(num(7.0), patch("clamp", num(3.0))),
+        w.stage_pane(num(7.0), patch("clamp", num(3.0))),
         &["pane", "7"],
     );
     for s in [f64::NAN, -1.0, 11.0, f64::INFINITY] {
         refused(
-            w.set_pane(num(1.0), patch("strength", num(s))),
+            w.stage_pane(num(1.0), patch("strength", num(s))),
             &["panes[1].strength"],
         );
     }
     refused(
-        w.set_pane(num(1e300), patch("strength", num(1.0))),
+        w.stage_pane(num(1e300), patch("strength", num(1.0))),
         &["pane", "1e300"],
     );
     refused(
-        w.set_pane(num(0.0), patch("model", "magic".into())),
+        w.stage_pane(num(0.0), patch("model", "magic".into())),
         &["panes[0].model", "magic"],
     );
     refused(
-        w.set_pane(num(2.0), patch("model", "learned".into())),
+        w.stage_pane(num(2.0), patch("model", "learned".into())),
         &["pane"],
     );
     refused(
-        w.set_pane(num(1.0), patch("pose", "gps".into())),
+        w.stage_pane(num(1.0), patch("pose", "gps".into())),
         &["panes[1].pose", "gps"],
     );
     // A pane index that the glue would once have wrapped or truncated to a
     // valid pane (2^32 to 0, 1.5 to 1, -0.5 to 0) is refused by name.
     for pane in [4_294_967_296.0, 1.5, -0.5, -1.0, f64::NAN, f64::INFINITY] {
         refused(w.pixels(num(pane)), &["pane"]);
-        refused(w.set_pane(num(pane), patch("clamp", num(3.0))), &["pane"]);
+        refused(w.stage_pane(num(pane), patch("clamp", num(3.0))), &["pane"]);
         refused(w.overlay(num(pane)), &["pane"]);
     }
     refused(w.pixels(num(2.0)), &["pane"]);
@@ -494,18 +491,18 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
         JsValue::TRUE,
     ] {
         refused(
-            w.set_pane(num(0.0), patch("model", bad.clone())),
+            w.stage_pane(num(0.0), patch("model", bad.clone())),
             &["panes[0].model", "\"learned\""],
         );
         refused(
-            w.set_pane(num(1.0), patch("pose", bad)),
+            w.stage_pane(num(1.0), patch("pose", bad)),
             &["panes[1].pose", "\"oracle\""],
         );
     }
     // And a patch is an object of named settings.
     for bad in [JsValue::UNDEFINED, JsValue::NULL, num(3.0), json("[]")] {
         refused(
-            w.set_pane(num(0.0), bad),
+            w.stage_pane(num(0.0), bad),
             &["panes[0]", "expected an object of named settings"],
         );
     }
@@ -535,9 +532,9 @@ fn map_weaver_refuses_bad_knobs_and_keeps_mapping() {
 
     // Still maps, and a huge request stops at the end of the run.
     assert_eq!(w.advance(num(3.0)).unwrap(), 3);
-    w.set_pane(num(1.0), patch("pose", "dead-reckoning".into()))
+    w.stage_pane(num(1.0), patch("pose", "dead-reckoning".into()))
         .unwrap();
-    w.set_pane(num(0.0), patch("model", "learned".into()))
+    w.stage_pane(num(0.0), patch("model", "learned".into()))
         .unwrap();
     let taken = w.advance(num(f64::INFINITY)).unwrap();
     let r = w.readout().unwrap();
@@ -561,35 +558,29 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
         x ^= x << 5;
         noise.push(x as u8);
     }
-    refused(LaserLog::from_bytes(&noise), &["line"]);
+    refused(laser_log(&noise), &["line"]);
+    refused(laser_log(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR"), &["line 1"]);
     refused(
-        LaserLog::from_bytes(b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR"),
-        &["line 1"],
-    );
-    refused(
-        LaserLog::from_bytes(&[0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff]),
+        laser_log(&[0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3, 0xff, 0xff]),
         &["line"],
     );
     // A gzip cut short keeps the complete scans before the cut.
-    let cut = LaserLog::from_bytes(&INTEL_GZ[..20_000]).expect("a cut log keeps its scans");
+    let cut = laser_log(&INTEL_GZ[..20_000]).expect("a cut log keeps its scans");
     assert!(
         cut.scan_count() > 0 && cut.scan_count() < 910,
         "{}",
         cut.scan_count()
     );
+    refused(laser_log(b"FLASER 3 1 2\n"), &["line 1", "FLASER"]);
     refused(
-        LaserLog::from_bytes(b"FLASER 3 1 2\n"),
-        &["line 1", "FLASER"],
-    );
-    refused(
-        LaserLog::from_bytes(b"ODOM 0 0 0\nFLASER 2 1 nan 0 0 0 0 0 0\n"),
+        laser_log(b"ODOM 0 0 0\nFLASER 2 1 nan 0 0 0 0 0 0\n"),
         &["line 2", "range 2"],
     );
-    assert_eq!(LaserLog::from_bytes(&[]).unwrap().scan_count(), 0);
+    assert_eq!(laser_log(&[]).unwrap().scan_count(), 0);
 
     // A session over garbage: the read fails by line, every later call
     // fails cleanly too.
-    let mut bad = RealLogSession::from_bytes(noise.clone());
+    let mut bad = log_session(noise.clone());
     refused(bad.read(num(10.0)), &["line"]);
     refused(bad.read(num(10.0)), &["line"]);
     refused(bad.render_view(num(0.0)), &["not been read"]);
@@ -598,7 +589,7 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     refused(bad.geometry(num(0.0)), &["not been read"]);
 
     // A log without laser lines.
-    let mut empty = RealLogSession::from_bytes(b"ODOM 0 0 0\n".to_vec());
+    let mut empty = log_session(b"ODOM 0 0 0\n".to_vec());
     refused(
         empty.read(num(f64::INFINITY)),
         &["no FLASER or ROBOTLASER1 lines"],
@@ -606,7 +597,7 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
 
     // A good session and bad settings.
     let text = FLASER.repeat(6);
-    let mut s = RealLogSession::from_bytes(text.into_bytes());
+    let mut s = log_session(text.into_bytes());
     for bad in [f64::NAN, -1.0, 0.5] {
         refused(s.read(num(bad)), &["maxScans"]);
     }
@@ -817,7 +808,7 @@ fn wrong_typed_fields_and_arrays_are_refused_naming_the_field() {
     let long: Array = (0..500).map(|_| JsValue::from_f64(1.0)).collect();
     let text = refused(DoorwayTrap::new(long.into()), &["scene", "..."]);
     assert!(text.len() < 200, "a long value is cut short: {text}");
-    let mut session = RealLogSession::from_bytes(FLASER.repeat(2).into_bytes());
+    let mut session = log_session(FLASER.repeat(2).into_bytes());
     session.read(num(f64::INFINITY)).unwrap();
     refused(session.configure(json("[]")), &["settings"]);
     refused(session.configure(JsValue::NULL), &["settings", "null"]);

@@ -9,7 +9,7 @@
 
 use js_sys::{Array, Function, Object, Reflect, Uint8Array};
 use occgrid::bindings::bench::LaserLog;
-use occgrid::bindings::cell_filter::{run_cell_filter, run_cell_filter_js};
+use occgrid::bindings::cell_filter::run_cell_filter;
 use occgrid::bindings::doorway_trap::DoorwayTrap;
 use occgrid::bindings::map_files::zip_map_pair;
 use occgrid::bindings::map_weaver::MapWeaver;
@@ -36,7 +36,7 @@ fn small_weaver() -> MapWeaver {
 /// taken: call 1,559 wrote past it ("memory access out of bounds").
 #[wasm_bindgen_test]
 fn a_revoked_proxy_is_an_invalid_settings_object_and_leaves_everything_usable() {
-    let mut s = RealLogSession::from_bytes(FLASER.repeat(4).into_bytes());
+    let mut s = log_session(FLASER.repeat(4).into_bytes());
     s.read(num(2.0)).unwrap();
     refused(s.configure(revoked()), &["invalid settings", "revoked"]);
     refused(
@@ -55,11 +55,11 @@ fn a_revoked_proxy_is_an_invalid_settings_object_and_leaves_everything_usable() 
 
     let mut w = small_weaver();
     refused(
-        w.set_pane(num(0.0), revoked()),
+        w.stage_pane(num(0.0), revoked()),
         &["invalid panes[0]", "revoked"],
     );
     refused(
-        w.set_pane(num(1.0), object_with("clamp", &revoked())),
+        w.stage_pane(num(1.0), object_with("clamp", &revoked())),
         &["invalid panes[1].clamp", "revoked"],
     );
     refused(MapWeaver::new(revoked()), &["invalid settings", "revoked"]);
@@ -109,7 +109,7 @@ fn an_own_proto_field_is_refused_by_name_at_any_depth() {
     };
     let before = clamp(&w);
     refused(
-        w.set_pane(num(0.0), json(r#"{"__proto__": {"clamp": 2}}"#)),
+        w.stage_pane(num(0.0), json(r#"{"__proto__": {"clamp": 2}}"#)),
         &["invalid panes[0]", "\"__proto__\""],
     );
     assert_eq!(clamp(&w), before);
@@ -150,7 +150,7 @@ fn bytes_are_read_by_their_internal_slots_never_by_their_own_code() {
             &["invalid bytes", "Uint8Array"],
         );
         refused(
-            LaserLog::from_bytes_js(fake.clone()),
+            LaserLog::from_bytes(fake.clone()),
             &["invalid bytes", "Uint8Array"],
         );
         refused(
@@ -158,7 +158,7 @@ fn bytes_are_read_by_their_internal_slots_never_by_their_own_code() {
             &["invalid pgm"],
         );
         refused(
-            run_cell_filter_js(num(0.7), num(0.3), num(0.5), num(12.0), fake, JsValue::TRUE),
+            run_cell_filter(num(0.7), num(0.3), num(0.5), num(12.0), fake, JsValue::TRUE),
             &["invalid readings"],
         );
     }
@@ -172,7 +172,7 @@ fn bytes_are_read_by_their_internal_slots_never_by_their_own_code() {
     );
     let readings: JsValue = js_sys::Proxy::new(&json("[1, 0, 1]"), &trap.unchecked_into()).into();
     refused(
-        run_cell_filter_js(
+        run_cell_filter(
             num(0.7),
             num(0.3),
             num(0.5),
@@ -190,7 +190,7 @@ fn bytes_are_read_by_their_internal_slots_never_by_their_own_code() {
         Object::new().into(),
     ] {
         refused(
-            run_cell_filter_js(num(0.7), num(0.3), num(0.5), num(12.0), json("[1]"), bad),
+            run_cell_filter(num(0.7), num(0.3), num(0.5), num(12.0), json("[1]"), bad),
             &["invalid subtract_prior", "expected true or false"],
         );
     }
@@ -202,7 +202,7 @@ fn bytes_are_read_by_their_internal_slots_never_by_their_own_code() {
 #[wasm_bindgen_test]
 fn the_cell_filter_refuses_more_readings_than_its_budget_before_copying_them() {
     let run = |readings: JsValue| {
-        run_cell_filter_js(
+        run_cell_filter(
             num(0.7),
             num(0.3),
             num(0.5),
@@ -224,7 +224,7 @@ fn the_cell_filter_refuses_more_readings_than_its_budget_before_copying_them() {
     many.fill(&num(1.0), 0, 10_001);
     refused(run(many.into()), &["invalid readings", "10001 readings"]);
     refused(
-        run_cell_filter(0.7, 0.3, 0.5, 12.0, &vec![0; 10_001], true),
+        cell_filter(0.7, 0.3, 0.5, 12.0, &vec![0; 10_001], true),
         &["readings", "10001 readings"],
     );
     // At the budget it runs, and the module is alive after the refusals.
@@ -238,7 +238,7 @@ fn the_cell_filter_refuses_more_readings_than_its_budget_before_copying_them() {
 #[wasm_bindgen_test]
 fn byte_parameters_refuse_what_is_not_bytes_by_name() {
     let run = |readings: JsValue| {
-        run_cell_filter_js(
+        run_cell_filter(
             num(0.7),
             num(0.3),
             num(0.5),
@@ -268,13 +268,13 @@ fn byte_parameters_refuse_what_is_not_bytes_by_name() {
     let text = FLASER.as_bytes();
     let buffer = js_sys::Uint8Array::from(text).buffer();
     assert_eq!(
-        LaserLog::from_bytes_js(buffer.clone().into())
+        LaserLog::from_bytes(buffer.clone().into())
             .unwrap()
             .scan_count(),
         1
     );
     assert_eq!(
-        LaserLog::from_bytes_js(js_sys::Uint8Array::from(text).into())
+        LaserLog::from_bytes(js_sys::Uint8Array::from(text).into())
             .unwrap()
             .scan_count(),
         1
@@ -286,7 +286,7 @@ fn byte_parameters_refuse_what_is_not_bytes_by_name() {
         json("[70, 76]"),
     ] {
         refused(
-            LaserLog::from_bytes_js(bad.clone()),
+            LaserLog::from_bytes(bad.clone()),
             &["invalid bytes", "Uint8Array"],
         );
         refused(

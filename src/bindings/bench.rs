@@ -15,20 +15,14 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen]
 pub struct LaserLog(ScanLog);
 
-impl LaserLog {
-    /// [`Self::from_bytes_js`] for Rust callers.
-    pub fn from_bytes(bytes: &[u8]) -> Result<LaserLog, JsError> {
-        Ok(LaserLog(read_scans(bytes)?))
-    }
-}
-
 #[wasm_bindgen]
 impl LaserLog {
     /// Parses a log (a `Uint8Array` or `ArrayBuffer` of gzip or plain
     /// text). Malformed laser lines are errors naming their line number.
     #[wasm_bindgen(js_name = fromBytes)]
-    pub fn from_bytes_js(bytes: JsValue) -> Result<LaserLog, JsError> {
-        Self::from_bytes(&bytes_from_js("bytes", &bytes, LOG_BYTES)?)
+    pub fn from_bytes(bytes: JsValue) -> Result<LaserLog, JsError> {
+        let bytes = bytes_from_js("bytes", &bytes, LOG_BYTES)?;
+        Ok(LaserLog(read_scans(&bytes[..])?))
     }
 
     #[wasm_bindgen(getter, js_name = scanCount)]

@@ -11,7 +11,7 @@ use wasm_bindgen::prelude::*;
 /// `freeIsEvidenceForOccupied` whether `p_free >= p_occ`, so that a "free"
 /// reading raises the cell at least as much as an occupied one.
 #[wasm_bindgen(js_name = runCellFilter)]
-pub fn run_cell_filter_js(
+pub fn run_cell_filter(
     p_occ: JsValue,
     p_free: JsValue,
     prior: JsValue,
@@ -25,7 +25,13 @@ pub fn run_cell_filter_js(
     let clamp = number_from_js("clamp", &clamp)?;
     let subtract_prior = bool_from_js("subtract_prior", &subtract_prior)?;
     let readings = readings_from_js(&readings)?;
-    run_cell_filter(p_occ, p_free, prior, clamp, &readings, subtract_prior)
+    let params = CellFilterParams {
+        p_occ,
+        p_free,
+        prior,
+        clamp,
+    };
+    table_to_js(&params, &readings, subtract_prior)
 }
 
 /// The readings JavaScript sent: an array of 1 and 0 (or a Proxy of one,
@@ -62,29 +68,21 @@ fn readings_from_js(readings: &JsValue) -> Result<Vec<u8>, JsError> {
     guarded::copy_bytes(&source, len).map_err(invalid)
 }
 
-/// [`run_cell_filter_js`] for Rust callers, the readings already bytes.
-pub fn run_cell_filter(
-    p_occ: f64,
-    p_free: f64,
-    prior: f64,
-    clamp: f64,
+/// The filter's table for `readings` (bytes, each 1 or 0) as `runCellFilter`
+/// returns it.
+fn table_to_js(
+    params: &CellFilterParams,
     readings: &[u8],
     subtract_prior: bool,
 ) -> Result<JsValue, JsError> {
-    let params = CellFilterParams {
-        p_occ,
-        p_free,
-        prior,
-        clamp,
-    };
     if let Some((i, &bad)) = readings.iter().enumerate().find(|(_, &r)| r > 1) {
         return Err(JsError::new(&format!(
             "invalid readings[{i}]: {bad} (expected 1 for occupied or 0 for free)"
         )));
     }
     let flags: Vec<bool> = readings.iter().map(|&r| r == 1).collect();
-    let steps = cell_filter::run(&params, &flags, subtract_prior)?;
-    let lo = cell_filter::log_odds_of(&params)?;
+    let steps = cell_filter::run(params, &flags, subtract_prior)?;
+    let lo = cell_filter::log_odds_of(params)?;
     #[derive(serde::Serialize)]
     #[serde(rename_all = "camelCase")]
     struct Table {
@@ -96,13 +94,14 @@ pub fn run_cell_filter(
         first_at_clamp: Option<usize>,
         free_is_evidence_for_occupied: bool,
     }
+    let clamp = params.clamp;
     let first_at_clamp = steps.iter().find(|s| s.l.abs() >= clamp).map(|s| s.step);
     to_js(&Table {
         l_occ: lo.l_occ,
         l_free: lo.l_free,
         l0: lo.l0,
         first_at_clamp,
-        free_is_evidence_for_occupied: p_free >= p_occ,
+        free_is_evidence_for_occupied: params.p_free >= params.p_occ,
         clamp,
         steps,
     })
@@ -113,12 +112,11 @@ pub fn run_cell_filter(
 #[wasm_bindgen(js_name = workedExample)]
 pub fn worked_example() -> Result<JsValue, JsError> {
     let p = CellFilterPreset::WORKED_EXAMPLE;
-    run_cell_filter(
-        p.p_occ,
-        p.p_free,
-        p.prior,
-        p.clamp,
-        p.readings,
-        p.subtract_prior,
-    )
+    let params = CellFilterParams {
+        p_occ: p.p_occ,
+        p_free: p.p_free,
+        prior: p.prior,
+        clamp: p.clamp,
+    };
+    table_to_js(&params, p.readings, p.subtract_prior)
 }

@@ -147,9 +147,10 @@ impl DoorwayTrap {
     /// Runs the climb to its end (at most `maxFlips` more flips, a whole
     /// number; `Infinity` for no limit); returns the number of flips made.
     #[wasm_bindgen(js_name = mapRun)]
-    pub fn map_run_js(&mut self, max_flips: JsValue) -> Result<u32, JsError> {
+    pub fn map_run(&mut self, max_flips: JsValue) -> Result<u32, JsError> {
         let max_flips = budget_from_js("maxFlips", &max_flips)?;
-        Ok(self.map_run(u32::try_from(max_flips).unwrap_or(u32::MAX)))
+        let max_flips = u32::try_from(max_flips).unwrap_or(u32::MAX);
+        Ok(self.session.map_run(max_flips as usize) as u32)
     }
 
     /// Renders the MAP map (black occupied, white free, mid-gray where no
@@ -205,13 +206,5 @@ impl DoorwayTrap {
     pub fn export_map(&self, which: JsValue) -> Result<JsValue, JsError> {
         let which = string_from_js("map", &which, "\"sweep\" or \"map\"")?;
         map_pair_to_js(&self.session.export_map(&which)?)
-    }
-}
-
-/// Typed entry points for Rust callers.
-impl DoorwayTrap {
-    /// [`Self::map_run_js`] for Rust callers.
-    pub fn map_run(&mut self, max_flips: u32) -> u32 {
-        self.session.map_run(max_flips as usize) as u32
     }
 }

@@ -6,11 +6,7 @@ use super::{
     bool_from_js, budget_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
     number_from_js, object_or_default, patch_from_js, to_js,
 };
-use crate::apps::map_weaver::{Weaver, WeaverBuild, WeaverSettings};
-use crate::inverse::training::{self, Trainer};
-use crate::inverse::{LearnedInverse, TrainingConfig};
-use crate::io::map_server as export;
-use std::cell::RefCell;
+use crate::apps::map_weaver::{Weaver, WeaverSettings, WeaverStart};
 use wasm_bindgen::prelude::*;
 
 /// A Map Weaver run held in wasm memory.
@@ -39,12 +35,8 @@ impl MapWeaver {
     /// `{ seed: 3, person: false, laps: 1, panes: [{...}, {...}] }`.
     #[wasm_bindgen(constructor)]
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
-        let settings: WeaverSettings =
-            object_or_default("settings", settings, WeaverSettings::default)?;
-        // Refused settings are refused before any training.
-        settings.validate()?;
-        let learned = learned_for(&settings.training)?;
-        let mut weaver = Weaver::with_learned(settings, learned)?;
+        let settings = object_or_default("settings", settings, WeaverSettings::default)?;
+        let mut weaver = WeaverStart::run(settings)?;
         weaver.set_clock(Some(page_clock));
         Ok(MapWeaver(weaver))
     }
@@ -61,25 +53,14 @@ impl MapWeaver {
     /// patch of its settings `{ model, pose, clamp, strength, mapper,
     /// sensor, betaDeg, beams, resolution, forgetL0 }`, each field given
     /// replacing that knob (`null` for `beams` or `resolution`: the
-    /// default), the others kept. Clamp and strength act at once; any
-    /// other change rebuilds the pane over the scans so far. A refused
-    /// patch changes nothing.
-    #[wasm_bindgen(js_name = setPane)]
-    pub fn set_pane(&mut self, pane: JsValue, patch: JsValue) -> Result<(), JsError> {
-        let pane = pane_from_js(&pane)?;
-        let current = self.0.settings().panes[pane];
-        let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
-        Ok(self.0.set_pane(pane, settings)?)
-    }
-
-    /// Like `setPane`, but the pane is only emptied here: `work` rebuilds
-    /// it over the scans so far in budgeted calls, before any new scan.
-    /// Returns false when the patch changed nothing. A refused patch
+    /// default), the others kept. The pane is emptied here: `work`
+    /// rebuilds it over the scans so far in budgeted calls, before any new
+    /// scan. Returns false when the patch changed nothing. A refused patch
     /// changes nothing.
     #[wasm_bindgen(js_name = stagePane)]
     pub fn stage_pane(&mut self, pane: JsValue, patch: JsValue) -> Result<bool, JsError> {
         let pane = pane_from_js(&pane)?;
-        let current = self.0.settings().panes[pane];
+        let current = self.0.pane_settings(pane)?;
         let settings = patch_from_js(&format!("panes[{pane}]"), &current, patch)?;
         Ok(self.0.stage_pane(pane, settings)?)
     }
@@ -245,26 +226,19 @@ impl MapWeaver {
     /// `apartment-right.pgm`.
     #[wasm_bindgen(js_name = exportMap)]
     pub fn export_map(&self, pane: JsValue) -> Result<JsValue, JsError> {
-        let pane = pane_from_js(&pane)?;
-        let side = if pane == 0 { "left" } else { "right" };
-        let pair = export::map_server_pair(self.0.grid(pane)?, &format!("apartment-{side}.pgm"));
-        map_pair_to_js(&pair)
+        map_pair_to_js(&self.0.export_map(pane_from_js(&pane)?)?)
     }
 }
 
-/// A Map Weaver run being made: the learned model trained in calls of a
-/// bounded amount of work (`work`), then the run's maps drawn in calls of a
-/// bounded number of cells (`build`), then the run (`finish`), so that a
-/// page keeps its frames while the model trains and a large scene is drawn.
-/// The model is the one `new MapWeaver(settings)` trains, bit for bit, and
-/// is kept for the page's later runs as that one is; the run is the one
-/// `new MapWeaver(settings)` makes, bit for bit.
+/// A Map Weaver run being made ([`WeaverStart`]): the learned model
+/// trained in calls of a bounded amount of work (`work`), then the run's
+/// maps drawn in calls of a bounded number of cells (`build`), then the run
+/// (`finish`), so that a page keeps its frames while the model trains and a
+/// large scene is drawn. The model is the one `new MapWeaver(settings)`
+/// trains, bit for bit, and is kept for the page's later runs as that one
+/// is; the run is the one `new MapWeaver(settings)` makes, bit for bit.
 #[wasm_bindgen]
-pub struct MapWeaverStart {
-    settings: WeaverSettings,
-    trainer: Option<Trainer>,
-    build: Option<WeaverBuild>,
-}
+pub struct MapWeaverStart(WeaverStart);
 
 #[wasm_bindgen]
 impl MapWeaverStart {
@@ -272,41 +246,21 @@ impl MapWeaverStart {
     /// names the field), before any training.
     #[wasm_bindgen(constructor)]
     pub fn new(settings: JsValue) -> Result<MapWeaverStart, JsError> {
-        let settings: WeaverSettings =
-            object_or_default("settings", settings, WeaverSettings::default)?;
-        settings.validate()?;
-        let trained =
-            LEARNED.with_borrow(|c| c.as_ref().is_some_and(|(k, _)| k == &settings.training));
-        let trainer = if trained {
-            None
-        } else {
-            Some(Trainer::new(&settings.training)?)
-        };
-        Ok(MapWeaverStart {
-            settings,
-            trainer,
-            build: None,
-        })
+        let settings = object_or_default("settings", settings, WeaverSettings::default)?;
+        Ok(MapWeaverStart(WeaverStart::new(settings)?))
     }
 
     /// True once the model is trained.
     #[wasm_bindgen(getter)]
     pub fn trained(&self) -> bool {
-        self.trainer.as_ref().is_none_or(Trainer::done)
+        self.0.trained()
     }
 
     /// Trains for about `budget` units (a triplet drawn or an SGD update; a
     /// whole number, or `Infinity`); returns true once the model is
     /// trained.
     pub fn work(&mut self, budget: JsValue) -> Result<bool, JsError> {
-        let budget = budget_from_js("budget", &budget)?;
-        match &mut self.trainer {
-            Some(t) => {
-                t.step(budget)?;
-                Ok(t.done())
-            }
-            None => Ok(true),
-        }
+        Ok(self.0.train(budget_from_js("budget", &budget)?)?)
     }
 
     /// Draws the run's maps for about `budget` cells (a whole number, or
@@ -315,60 +269,15 @@ impl MapWeaverStart {
     /// cells, done }`: the cells drawn, and whether every map is.
     pub fn build(&mut self, budget: JsValue) -> Result<JsValue, JsError> {
         let budget = budget_from_js("budget", &budget)? as u64;
-        to_js(&self.started()?.work(budget)?)
+        to_js(&self.0.build(budget)?)
     }
 
     /// The run, what is left of the training and of the maps done first.
     pub fn finish(&mut self) -> Result<MapWeaver, JsError> {
-        self.started()?;
-        let Some(build) = self.build.take() else {
-            return Err(JsError::new("the run was already finished"));
-        };
-        let mut weaver = build.finish()?;
+        let mut weaver = self.0.finish()?;
         weaver.set_clock(Some(page_clock));
         Ok(MapWeaver(weaver))
     }
-
-    /// The run's build, begun (with the model trained to its end) on the
-    /// first call.
-    fn started(&mut self) -> Result<&mut WeaverBuild, JsError> {
-        if self.build.is_none() {
-            let learned = match self.trainer.take() {
-                Some(t) => {
-                    let (model, _, _) = t.finish()?;
-                    LEARNED.set(Some((self.settings.training, model.clone())));
-                    model
-                }
-                None => learned_for(&self.settings.training)?,
-            };
-            self.build = Some(WeaverBuild::new(self.settings.clone(), learned)?);
-        }
-        self.build
-            .as_mut()
-            .ok_or_else(|| JsError::new("the run was already finished"))
-    }
-}
-
-thread_local! {
-    /// The last model trained for a run, with its training settings: a
-    /// page that makes a new run (another seed, scene or number of laps)
-    /// trains only when the training settings change, once per page
-    /// otherwise (training is the longest part of making a run).
-    static LEARNED: RefCell<Option<(TrainingConfig, LearnedInverse)>> = const { RefCell::new(None) };
-}
-
-/// The model `config` trains, trained once per page for the same config.
-fn learned_for(config: &TrainingConfig) -> Result<LearnedInverse, JsError> {
-    if let Some(model) = LEARNED.with_borrow(|c| {
-        c.as_ref()
-            .filter(|(k, _)| k == config)
-            .map(|(_, m)| m.clone())
-    }) {
-        return Ok(model);
-    }
-    let (model, _, _) = training::train(config)?;
-    LEARNED.set(Some((*config, model.clone())));
-    Ok(model)
 }
 
 /// A pane index from JavaScript: 0 (left) or 1 (right), checked here with

@@ -44,7 +44,7 @@ use crate::grid::{logit, FilterSettings, LogOddsGrid};
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 use crate::sensors::scan::ConeBeam;
 
-use super::search_incidence::{Incidence, IncidenceBuild};
+use super::search_incidence::{Cone, Incidence, IncidenceBuild};
 
 /// No entry (a beam with no occupied cell).
 const NONE: u32 = u32::MAX;
@@ -601,11 +601,15 @@ impl MapSearchSetup {
                 "at most 5e7 raster steps",
             ));
         }
+        let cone = Cone {
+            half_width: settings.half_width,
+            sub_rays: settings.sub_rays,
+        };
         Ok(Self {
             geometry,
             settings,
             beams,
-            incidence: Some(IncidenceBuild::new(geometry, settings, model)),
+            incidence: Some(IncidenceBuild::new(geometry, cone, model)),
             search: None,
             next_cell: 0,
         })

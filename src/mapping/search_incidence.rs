@@ -1,5 +1,5 @@
 //! The beam–cell incidence of Table 9.3's MAP search
-//! ([`super::map_search`]), built on the empty map in bounded pieces.
+//! (`map_search`), built on the empty map in bounded pieces.
 //!
 //! Occupancy decides where a ray stops, never where it goes, so the cells a
 //! beam can ever depend on are those its sub-ray rasters cross, each at the
@@ -16,8 +16,6 @@ use crate::geometry::GridGeometry;
 use crate::sensors::beam_model::BeamModel;
 use crate::sensors::scan::ConeBeam;
 
-use super::map_search::MapSearchSettings;
-
 /// A density the model calls (numerically) impossible is floored here before
 /// its logarithm, so that every objective stays finite and comparable.
 const MIN_DENSITY: f64 = 1e-300;
@@ -26,6 +24,15 @@ const MIN_DENSITY: f64 = 1e-300;
 /// than a raster step (the unit of a beam's piece): this many of them count
 /// as one unit.
 const TRANSPOSE_VISITS_PER_UNIT: u64 = 8;
+
+/// The cone each beam covers (the search's settings): half its opening
+/// angle, radians, and the sub-rays spread evenly across it, edges
+/// included (Table 6.1). It reaches the forward model's `z_max`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Cone {
+    pub half_width: f64,
+    pub sub_rays: usize,
+}
 
 /// The beam–cell incidence of Table 9.3's search, in compressed rows.
 #[derive(Debug, Clone)]
@@ -52,7 +59,7 @@ pub(super) struct Incidence {
 #[derive(Debug, Clone)]
 pub(super) struct IncidenceBuild {
     geometry: GridGeometry,
-    settings: MapSearchSettings,
+    cone: Cone,
     model: BeamModel,
     /// Beams rastered so far.
     next_beam: usize,
@@ -64,11 +71,11 @@ pub(super) struct IncidenceBuild {
 }
 
 impl IncidenceBuild {
-    /// Settings, beams and geometry already checked by the search.
-    pub fn new(geometry: GridGeometry, settings: MapSearchSettings, model: BeamModel) -> Self {
+    /// Cone, model, beams and geometry already checked by the search.
+    pub fn new(geometry: GridGeometry, cone: Cone, model: BeamModel) -> Self {
         Self {
             geometry,
-            settings,
+            cone,
             model,
             next_beam: 0,
             inc: Incidence {
@@ -93,8 +100,8 @@ impl IncidenceBuild {
 
     /// The units of rastering one beam (its sub-rays' raster steps).
     pub fn beam_units(&self) -> u64 {
-        let s = &self.settings;
-        raster_work(1, s.sub_rays, s.model.z_max, self.geometry.resolution()).ceil() as u64
+        let z_max = self.model.params().z_max;
+        raster_work(1, self.cone.sub_rays, z_max, self.geometry.resolution()).ceil() as u64
     }
 
     /// One piece: the next beam of `beams` rastered, or, once every beam
@@ -127,8 +134,8 @@ impl IncidenceBuild {
         let geometry = &self.geometry;
         let (w, h) = (geometry.width(), geometry.height());
         let res = geometry.resolution();
-        let z_max = self.settings.model.z_max;
-        let n_rays = self.settings.sub_rays;
+        let z_max = self.model.params().z_max;
+        let n_rays = self.cone.sub_rays;
         let model = &self.model;
         let log_density = |z: f64, z_star: f64| model.density(z, z_star).max(MIN_DENSITY).ln();
         if self.best.is_empty() {
@@ -147,7 +154,7 @@ impl IncidenceBuild {
             } else {
                 -1.0 + 2.0 * k as f64 / (n_rays - 1) as f64
             };
-            let (s, c) = (axis + f * self.settings.half_width).sin_cos();
+            let (s, c) = (axis + f * self.cone.half_width).sin_cos();
             let end = (su + z_max * c / res, sv + z_max * s / res);
             supercover(w, h, (su, sv), end, |ix, iy| {
                 // The same entry as World::cast's, so that a beam's z*

@@ -4,15 +4,14 @@
 //! The drawing convention (docs/ARCHITECTURE.md, "Drawing"): white free,
 //! black occupied, a linear gray ramp on `p` in between, and cells still
 //! unknown mid-gray whatever the prior is, because "unknown" is a state of
-//! its own. A whole map is drawn by the view renderer
-//! ([`super::viewport::render_view`]) at one pixel per cell.
+//! its own. A whole map is drawn by the view renderer (`render_view`, and
+//! `render_grid_rgba` at one pixel per cell, beside the viewport), which
+//! takes its grays from here.
 
 use crate::error::{OccError, Result};
 use crate::geometry::GridGeometry;
-use crate::grid::{probability, CellModel, Grid, Store};
+use crate::grid::{probability, CellModel};
 use std::sync::OnceLock;
-
-use super::viewport::{render_view_into, MapViewport};
 
 /// The gray level of a cell still exactly at the prior: "unknown".
 pub const UNKNOWN_GRAY: u8 = 128;
@@ -88,30 +87,6 @@ pub fn probability_gray(p: f64) -> u8 {
     (255.0 * (1.0 - p) + 0.5) as u8
 }
 
-/// Draws a whole map into RGBA pixels at one pixel per cell, north up (the
-/// top pixel row is the grid's last row), unknown cells mid-gray.
-pub fn render_grid_rgba<M: CellModel, S: Store<M::Cell>>(
-    grid: &Grid<M, S>,
-    out: &mut [u8],
-) -> Result<()> {
-    let g = grid.geometry();
-    check_pixels(g, out)?;
-    render_view_into(grid, &MapViewport::identity(g.width(), g.height()), out);
-    Ok(())
-}
-
-fn check_pixels(g: &GridGeometry, out: &[u8]) -> Result<()> {
-    let n = g.width() * g.height() * 4;
-    if out.len() != n {
-        return Err(OccError::LengthMismatch {
-            field: "pixel buffer".into(),
-            expected: n,
-            found: out.len(),
-        });
-    }
-    Ok(())
-}
-
 /// Draws a binary map (the MAP search's, Table 9.3) into RGBA pixels, north
 /// up: occupied black, free white, and [`UNKNOWN_GRAY`] for the free cells
 /// no reading ever `reached` (the search decided nothing about them: they
@@ -180,29 +155,6 @@ pub fn render_gray_rgba<T: Copy>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::FilterSettings;
-    use crate::grid::LogOddsGrid;
-
-    #[test]
-    fn render_puts_north_up_and_unknown_mid_gray() {
-        let geometry = GridGeometry::new(4, 3, 0.5, -1.0, 2.0).unwrap();
-        let mut m = LogOddsGrid::new(
-            geometry,
-            FilterSettings {
-                prior: 0.2,
-                clamp: 5.0,
-            },
-        )
-        .unwrap();
-        m.apply(0, 10.0); // south-west cell: occupied, clamped at 5
-        let mut px = vec![0u8; 4 * 3 * 4];
-        render_grid_rgba(&m, &mut px).unwrap();
-        let bottom_left = (2 * 4) * 4;
-        assert!(px[bottom_left] <= 2, "occupied is black");
-        assert_eq!(px[0], 128, "unknown is mid-gray even with prior 0.2");
-        assert_eq!(m.update_counts()[0], 1);
-        assert!(render_grid_rgba(&m, &mut [0u8; 3]).is_err());
-    }
 
     #[test]
     fn a_binary_map_draws_cells_no_reading_reached_unknown() {

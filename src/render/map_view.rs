@@ -353,7 +353,7 @@ mod tests {
             view.sync(&grid);
         }
         let mut px = vec![0; g.len() * 4];
-        crate::render::gray::render_grid_rgba(&grid, &mut px).unwrap();
+        crate::render::viewport::render_grid_rgba(&grid, &mut px).unwrap();
         assert_eq!(view.rgba(), &px[..]);
         assert!((view.entropy_bits() - grid.entropy_bits()).abs() < 1e-5);
         let b = grid.brier_score(&truth, Some(&[0, 1, 2])).unwrap();

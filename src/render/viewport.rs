@@ -10,7 +10,8 @@
 //! [`render_view`] draws it, for a map of any storage and cell model
 //! (a whole map at one pixel per cell is the view [`MapViewport::identity`]).
 
-use crate::error::{invalid, Result};
+use crate::error::{invalid, OccError, Result};
+use crate::geometry::GridGeometry;
 use crate::grid::{CellModel, Grid, Store};
 
 use super::gray::UNKNOWN_GRAY;
@@ -237,6 +238,30 @@ pub fn render_view<M: CellModel, S: Store<M::Cell>>(
     render_view_into(grid, view, out);
 }
 
+/// Draws a whole map into RGBA pixels at one pixel per cell, north up (the
+/// top pixel row is the grid's last row), unknown cells mid-gray.
+pub fn render_grid_rgba<M: CellModel, S: Store<M::Cell>>(
+    grid: &Grid<M, S>,
+    out: &mut [u8],
+) -> Result<()> {
+    let g = grid.geometry();
+    check_pixels(g, out)?;
+    render_view_into(grid, &MapViewport::identity(g.width(), g.height()), out);
+    Ok(())
+}
+
+fn check_pixels(g: &GridGeometry, out: &[u8]) -> Result<()> {
+    let n = g.width() * g.height() * 4;
+    if out.len() != n {
+        return Err(OccError::LengthMismatch {
+            field: "pixel buffer".into(),
+            expected: n,
+            found: out.len(),
+        });
+    }
+    Ok(())
+}
+
 /// [`render_view`] into a buffer of exactly `width * height * 4` bytes.
 pub fn render_view_into<M: CellModel, S: Store<M::Cell>>(
     grid: &Grid<M, S>,
@@ -430,9 +455,29 @@ impl<C: Copy> Darkest<C> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::GridGeometry;
-    use crate::grid::{FilterSettings, TiledGrid};
+    use crate::grid::{FilterSettings, LogOddsGrid, TiledGrid};
     use crate::render::gray::gray_level;
+
+    #[test]
+    fn render_puts_north_up_and_unknown_mid_gray() {
+        let geometry = GridGeometry::new(4, 3, 0.5, -1.0, 2.0).unwrap();
+        let mut m = LogOddsGrid::new(
+            geometry,
+            FilterSettings {
+                prior: 0.2,
+                clamp: 5.0,
+            },
+        )
+        .unwrap();
+        m.apply(0, 10.0); // south-west cell: occupied, clamped at 5
+        let mut px = vec![0u8; 4 * 3 * 4];
+        render_grid_rgba(&m, &mut px).unwrap();
+        let bottom_left = (2 * 4) * 4;
+        assert!(px[bottom_left] <= 2, "occupied is black");
+        assert_eq!(px[0], 128, "unknown is mid-gray even with prior 0.2");
+        assert_eq!(m.update_counts()[0], 1);
+        assert!(render_grid_rgba(&m, &mut [0u8; 3]).is_err());
+    }
 
     #[test]
     fn viewport_zoom_keeps_the_point_under_the_pointer_and_stops_at_its_limits() {

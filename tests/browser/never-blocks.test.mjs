@@ -1,7 +1,7 @@
 // docs/ARCHITECTURE.md, "Bad input": a page that never blocks. Map Weaver
 // asks its core for work in calls with a budget of cell visits, at most
-// one call per animation frame, and never with the unbudgeted `advance` or
-// `setPane`: the every-cell sweep over a 1024 x 1024 scene at speed 8, a
+// one call per animation frame, and never with the unbudgeted `advance`:
+// the every-cell sweep over a 1024 x 1024 scene at speed 8, a
 // mapper switched after three laps, and every knob rebuild in such calls.
 // Every knob gives, over the scans so far, the map of a run that had its
 // value all along. The tests check the calls' structure, never their time;
@@ -17,7 +17,7 @@ const SELECTOR = 'occgrid-map-weaver';
 /**
  * Wraps the widget's run so that every call into the core is recorded:
  * `work` with its arguments, report and the animation frame it ran in, and
- * any call of the unbudgeted `advance` and `setPane`. Done again after the
+ * any call of the unbudgeted `advance`. Done again after the
  * widget makes a new run.
  */
 const instrument = (widget) => widget.evaluate((el) => {
@@ -39,7 +39,7 @@ const instrument = (widget) => widget.evaluate((el) => {
     window.__calls.push({ kind: 'work', scans, budget, frame: window.__frame.n, ...r });
     return r;
   };
-  for (const name of ['advance', 'setPane']) {
+  for (const name of ['advance']) {
     const f = w[name].bind(w);
     w[name] = (...args) => {
       window.__calls.push({ kind: name });

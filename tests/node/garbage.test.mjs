@@ -56,27 +56,27 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
   assert.equal(w.advance(3), 3);
   const before = JSON.stringify(w.readout());
-  // setPane is the one way to turn a knob: a patch of the pane's settings.
-  refuses(() => w.setPane(0, { clamp: 'high' }), 'invalid panes[0].clamp', '"high"', 'expected f64');
-  refuses(() => w.setPane(0, { clamp: NaN }), 'panes[0].clamp', 'NaN');
-  refuses(() => w.setPane(0, { clamp: null }), 'panes[0].clamp', 'null');
-  refuses(() => w.setPane(1, { strength: '11' }), 'panes[1].strength', '11');
-  refuses(() => w.setPane(1, { strength: 11 }), 'panes[1].strength', '11');
-  refuses(() => w.setPane(1, { strenght: 2 }), 'panes[1]', 'unknown field "strenght"', 'strength');
+  // stagePane is the one way to turn a knob: a patch of the pane's settings.
+  refuses(() => w.stagePane(0, { clamp: 'high' }), 'invalid panes[0].clamp', '"high"', 'expected f64');
+  refuses(() => w.stagePane(0, { clamp: NaN }), 'panes[0].clamp', 'NaN');
+  refuses(() => w.stagePane(0, { clamp: null }), 'panes[0].clamp', 'null');
+  refuses(() => w.stagePane(1, { strength: '11' }), 'panes[1].strength', '11');
+  refuses(() => w.stagePane(1, { strength: 11 }), 'panes[1].strength', '11');
+  refuses(() => w.stagePane(1, { strenght: 2 }), 'panes[1]', 'unknown field "strenght"', 'strength');
   for (const bad of [undefined, null, 3, 'clamp', [{ clamp: 3 }]]) {
-    refuses(() => w.setPane(0, bad), 'invalid panes[0]', 'expected an object of named settings');
+    refuses(() => w.stagePane(0, bad), 'invalid panes[0]', 'expected an object of named settings');
   }
   // A knob's name that is not a string is refused with the names it may take.
   for (const bad of [42, null, ['x'], true]) {
-    const m = refuses(() => w.setPane(0, { model: bad }), 'invalid panes[0].model', '"hand-crafted", "learned"');
+    const m = refuses(() => w.stagePane(0, { model: bad }), 'invalid panes[0].model', '"hand-crafted", "learned"');
     assert.ok(!m.includes('memory access'), m);
-    refuses(() => w.setPane(1, { pose: bad }), 'invalid panes[1].pose', '"oracle", "dead-reckoning"');
+    refuses(() => w.stagePane(1, { pose: bad }), 'invalid panes[1].pose', '"oracle", "dead-reckoning"');
   }
-  refuses(() => w.setPane(0, { model: 'magic' }), 'panes[0].model', 'magic');
-  refuses(() => w.setPane(1, { pose: '' }), 'panes[1].pose');
-  refuses(() => w.setPane(2, { clamp: 3 }), 'pane');
+  refuses(() => w.stagePane(0, { model: 'magic' }), 'panes[0].model', 'magic');
+  refuses(() => w.stagePane(1, { pose: '' }), 'panes[1].pose');
+  refuses(() => w.stagePane(2, { clamp: 3 }), 'pane');
   // A refused field refuses the whole patch: the clamp beside it is not taken.
-  refuses(() => w.setPane(0, { clamp: 3, beams: 7 }), 'panes[0].beams', '7');
+  refuses(() => w.stagePane(0, { clamp: 3, beams: 7 }), 'panes[0].beams', '7');
   for (const bad of [1, 'on', undefined, null, { valueOf: () => true }]) {
     refuses(() => w.setPerson(bad), 'invalid person', 'expected true or false');
   }
@@ -85,7 +85,7 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   for (const pane of [-1, 1.5, 2 ** 32, 1.5e10, NaN, Infinity, 'left', undefined]) {
     refuses(() => w.pixels(pane), 'pane');
     refuses(() => w.overlay(pane), 'pane');
-    refuses(() => w.setPane(pane, { strength: 1 }), 'pane');
+    refuses(() => w.stagePane(pane, { strength: 1 }), 'pane');
     refuses(() => w.exportMap(pane), 'pane');
   }
   refuses(() => w.cellInfo(0, 0.5, 0), 'col', '0.5');
@@ -100,8 +100,8 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   assert.equal(w.cellInfo(0, 0, 1e12), null);
   assert.equal(w.advance(0), 0);
   assert.equal(w.advance(2), 2, 'still maps');
-  w.setPane(0, { model: 'learned' });
-  w.setPane(1, { pose: 'dead-reckoning', clamp: 4 });
+  w.stagePane(0, { model: 'learned' });
+  w.stagePane(1, { pose: 'dead-reckoning', clamp: 4 });
   const panes = w.readout().panes;
   assert.deepEqual([panes[0].model, panes[1].pose, panes[1].clamp], ['learned', 'dead-reckoning', 4]);
   // The fields a patch leaves out keep their values.

@@ -70,20 +70,20 @@ test('Map Weaver: a valueOf that frees the run is never called; the run keeps ma
     ['cellInfo', [0, HOSTILE, 0], 'col'],
     ['cellInfo', [0, 0, HOSTILE], 'row'],
     ['overlay', [HOSTILE], 'pane'],
-    ['setPane', [HOSTILE, { clamp: 3 }], 'pane'],
+    ['stagePane', [HOSTILE, { clamp: 3 }], 'pane'],
     ['paneSize', [HOSTILE], 'pane'],
     ['recordFrameMs', [HOSTILE], 'ms'],
     ['exportMap', [HOSTILE], 'pane'],
   ], (x, name) => assert.equal(x.advance(1), 1, `advances after ${name}`));
   // Numeric strings are no numbers either: the glue used to coerce them.
   refuses(() => w.advance('3'), 'invalid scans: "3" (expected a number)');
-  refuses(() => w.setPane(0, { clamp: '4' }), 'invalid panes[0].clamp', '"4"');
+  refuses(() => w.stagePane(0, { clamp: '4' }), 'invalid panes[0].clamp', '"4"');
   // Inside a patch the freeing object is read as the plain data it holds
   // (its methods are refused by name), never converted to a number.
   for (const field of ['clamp', 'strength', 'betaDeg', 'beams', 'resolution']) {
     const h = freeing(() => w);
-    refuses(() => w.setPane(1, { [field]: h }), `invalid panes[1].${field}`);
-    assert.equal(h.asked, 0, `setPane ${field}: asked the object for a number`);
+    refuses(() => w.stagePane(1, { [field]: h }), `invalid panes[1].${field}`);
+    assert.equal(h.asked, 0, `stagePane ${field}: asked the object for a number`);
   }
   assert.ok(w.readout().scans > 2);
   w.free();
@@ -133,12 +133,12 @@ test('a revoked Proxy is an invalid settings object: the instance and the core s
   assert.equal(s.buildSlice(Infinity).scansDone, 5);
 
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
-  refuses(() => w.setPane(0, revoked()), 'invalid panes[0]', 'revoked');
-  refuses(() => w.setPane(0, { clamp: revoked() }), 'invalid panes[0].clamp', 'revoked');
+  refuses(() => w.stagePane(0, revoked()), 'invalid panes[0]', 'revoked');
+  refuses(() => w.stagePane(0, { clamp: revoked() }), 'invalid panes[0].clamp', 'revoked');
   refuses(() => new core.MapWeaver(revoked()), 'invalid settings', 'revoked');
   refuses(() => new core.MapWeaver({ scene: revoked() }), 'invalid settings.scene', 'revoked');
   assert.equal(w.advance(1), 1);
-  w.setPane(0, { clamp: 3 });
+  w.stagePane(0, { clamp: 3 });
   assert.equal(w.readout().panes[0].clamp, 3);
   w.free();
   s.free();
@@ -166,7 +166,7 @@ test('a "__proto__" field of a settings or scene object is refused by name, not 
   s.read(Infinity);
   refuses(() => s.configure(JSON.parse('{"__proto__": {"clamp": 1}}')), 'invalid settings', '"__proto__"');
   const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
-  refuses(() => w.setPane(0, JSON.parse('{"__proto__": {"clamp": 1}}')), 'invalid panes[0]', '"__proto__"');
+  refuses(() => w.stagePane(0, JSON.parse('{"__proto__": {"clamp": 1}}')), 'invalid panes[0]', '"__proto__"');
   assert.notEqual(w.readout().panes[0].clamp, 1);
   refuses(() => core.jointPosterior(JSON.parse('{"__proto__": {}}')), 'invalid joint query', '"__proto__"');
   // "constructor" is no setting either.

@@ -4,6 +4,9 @@
 #![allow(dead_code)]
 
 use js_sys::{Error, Function, Object, Reflect, JSON};
+use occgrid::bindings::bench::LaserLog;
+use occgrid::bindings::cell_filter::run_cell_filter;
+use occgrid::bindings::real_log::RealLogSession;
 use wasm_bindgen::{JsCast, JsError, JsValue};
 
 pub const FLASER: &str = "FLASER 4 1.0 2.0 3.0 2.5 0.5 -1.5 0.1 0 0 0 1.0 host 1.0\n";
@@ -34,6 +37,40 @@ pub fn refused<T>(result: Result<T, JsError>, words: &[&str]) -> String {
 /// `JsValue` and reads it without coercion.
 pub fn num(v: f64) -> JsValue {
     JsValue::from_f64(v)
+}
+
+/// A JavaScript `Uint8Array` of `b`: what a page sends as a file's bytes.
+pub fn bytes(b: &[u8]) -> JsValue {
+    js_sys::Uint8Array::from(b).into()
+}
+
+/// `runCellFilter` with numbers, a `Uint8Array` of readings and a bool.
+pub fn cell_filter(
+    p_occ: f64,
+    p_free: f64,
+    prior: f64,
+    clamp: f64,
+    readings: &[u8],
+    subtract_prior: bool,
+) -> Result<JsValue, JsError> {
+    run_cell_filter(
+        num(p_occ),
+        num(p_free),
+        num(prior),
+        num(clamp),
+        bytes(readings),
+        JsValue::from_bool(subtract_prior),
+    )
+}
+
+/// A log parsed through `LaserLog.fromBytes`.
+pub fn laser_log(b: &[u8]) -> Result<LaserLog, JsError> {
+    LaserLog::from_bytes(bytes(b))
+}
+
+/// A real-log session about to read `b`, made as a page makes one.
+pub fn log_session(b: impl AsRef<[u8]>) -> RealLogSession {
+    RealLogSession::new(bytes(b.as_ref()), JsValue::UNDEFINED).expect("bytes are accepted")
 }
 
 pub fn json(text: &str) -> JsValue {

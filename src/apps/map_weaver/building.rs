@@ -4,15 +4,15 @@
 //! the simulation's ground truth and each pane's own (its truth, grid and
 //! view). Drawn in one call, they cost a page a long task (docs/
 //! ARCHITECTURE.md, "Sessions and panes": a page never blocks). A
-//! [`WeaverBuild`] checks everything a run checks when it is made, then
-//! draws the ground truths and first draws the panes' views a band of rows
+//! [`WeaverBuild`] starts from settings checked once
+//! ([`super::CheckedWeaverSettings`]), makes the panes' grids, then draws the ground truths and first draws the panes' views a band of rows
 //! per piece, so that a call stops within one piece of its budget of cells.
 //! The pieces compute what one call computes in the same order, so the run
 //! is the one-call run bit for bit ([`super::Weaver::with_learned`] is a
 //! build with no budget).
 
 use super::pane::{Pane, PaneModel};
-use super::settings::{renamed, PaneSettings, WeaverSettings};
+use super::settings::{renamed, CheckedWeaverSettings, PaneSettings, WeaverSettings};
 use super::timing::RecentTimes;
 use super::{Clock, Weaver};
 use crate::apps::pane::MapPane;
@@ -119,15 +119,15 @@ struct PaneBuild {
 }
 
 impl PaneBuild {
-    /// Pane `k` of `settings` with pane settings `p`, checked: a refusal
-    /// names the pane's field.
+    /// Pane `k` of `settings` with pane settings `p`, already checked
+    /// ([`PaneSettings::validate`]): a resolution the scene cannot be drawn
+    /// at is refused here, naming the pane's field.
     fn new(
         settings: &WeaverSettings,
         learned: &LearnedInverse,
         k: usize,
         p: &PaneSettings,
     ) -> Result<Self> {
-        p.validate(k, &settings.scene)?;
         // A resolution the scene cannot be drawn at is the pane's field.
         let field = format!("panes[{k}].resolution (the scene's width x height at it)");
         let scene = match p.resolution {
@@ -221,8 +221,8 @@ impl PaneBuild {
 }
 
 impl Pane {
-    /// An empty pane `k` of `settings` with pane settings `p`, made in one
-    /// call.
+    /// An empty pane `k` of `settings` with pane settings `p` (checked by
+    /// [`PaneSettings::validate`] first), made in one call.
     pub fn new(
         settings: &WeaverSettings,
         learned: &LearnedInverse,
@@ -238,20 +238,22 @@ impl Pane {
 #[derive(Debug, Clone)]
 pub struct WeaverBuild {
     settings: WeaverSettings,
-    learned: LearnedInverse,
+    /// Boxed as the panes' copies are ([`PaneModel`]).
+    learned: Box<LearnedInverse>,
     sim_truth: TruthDrawing,
     panes: [PaneBuild; 2],
 }
 
 impl WeaverBuild {
-    /// Checks `settings` as [`Weaver::with_learned`] does (a refusal names
-    /// the field) and makes the panes' grids; no map is drawn yet.
-    pub fn new(mut settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
-        // The robot's path and the person's walk are the situation's.
-        settings.scene = settings.situation.apply(&settings.scene);
-        settings.validate()?;
-        let geometry = settings.scene.validate()?;
-        settings.scene.tracked_cells()?;
+    /// Checks `settings` ([`WeaverSettings::check`], a refusal names the
+    /// field) and makes the panes' grids; no map is drawn yet.
+    pub fn new(settings: WeaverSettings, learned: LearnedInverse) -> Result<Self> {
+        Self::checked(settings.check()?, learned)
+    }
+
+    /// [`WeaverBuild::new`] with settings checked already.
+    pub fn checked(settings: CheckedWeaverSettings, learned: LearnedInverse) -> Result<Self> {
+        let (settings, geometry) = settings.into_parts();
         let panes = [
             PaneBuild::new(&settings, &learned, 0, &settings.panes[0])?,
             PaneBuild::new(&settings, &learned, 1, &settings.panes[1])?,
@@ -259,7 +261,7 @@ impl WeaverBuild {
         Ok(Self {
             sim_truth: TruthDrawing::new(geometry, &settings.scene.obstacles),
             settings,
-            learned,
+            learned: Box::new(learned),
             panes,
         })
     }

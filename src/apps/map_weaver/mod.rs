@@ -27,6 +27,7 @@ mod pane;
 mod readout;
 mod settings;
 mod situation;
+mod start;
 mod stepping;
 mod timing;
 
@@ -38,12 +39,13 @@ pub use compare::{L0Drift, MapDifference};
 pub use ghosts::GhostReadout;
 pub use readout::{CellInfo, Leaning, Overlay, PaneReadout, Readout, TrackedCell};
 pub use settings::{
-    beam_divisors, Choice, MapperKind, ModelKind, PaneChoices, PaneSettings, PoseSource,
-    SensorKind, Steps, WeaverDefaults, WeaverLimits, WeaverSettings, CLAMP, CONE_BETA_DEG,
-    MAX_FAST_FORWARD_WORK, MAX_LAPS, MAX_READINGS, MAX_TRAINING_UPDATES, PANE_RESOLUTIONS,
-    STRENGTH,
+    beam_divisors, CheckedWeaverSettings, Choice, MapperKind, ModelKind, PaneChoices, PaneSettings,
+    PoseSource, SensorKind, Steps, WeaverDefaults, WeaverLimits, WeaverSettings, CLAMP,
+    CONE_BETA_DEG, MAX_FAST_FORWARD_WORK, MAX_LAPS, MAX_READINGS, MAX_TRAINING_UPDATES,
+    PANE_RESOLUTIONS, STRENGTH,
 };
 pub use situation::{Situation, WATCH_GHOST_CELL, WATCH_PAUSE, WATCH_POST};
+pub use start::WeaverStart;
 pub use stepping::WorkReport;
 pub use timing::Clock;
 
@@ -52,10 +54,10 @@ use crate::geometry::GridGeometry;
 use crate::grid::LogOddsGrid;
 use crate::inverse::training;
 use crate::inverse::LearnedInverse;
+use crate::io::map_server::{self as export, MapServerPair};
 use crate::render::map_view::MapView;
 use crate::scenes::apartment::{ApartmentSim, SimScan};
 use pane::Pane;
-use settings::{check_clamp, check_strength};
 use timing::RecentTimes;
 
 /// A Map Weaver run.
@@ -66,8 +68,9 @@ pub struct Weaver {
     sim: ApartmentSim,
     tracked_cells: [usize; 3],
     scans_per_lap: usize,
-    /// The learned model, trained once per run and kept across resets.
-    learned: LearnedInverse,
+    /// The learned model, trained once per run and kept across resets
+    /// (boxed as the panes' copies are).
+    learned: Box<LearnedInverse>,
     history: Vec<SimScan>,
     panes: [Pane; 2],
     frame_ms: RecentTimes,
@@ -76,13 +79,13 @@ pub struct Weaver {
 }
 
 impl Weaver {
-    /// Validates `settings`, trains the learned model and starts a run at
+    /// Checks `settings`, trains the learned model and starts a run at
     /// scan 0.
     pub fn new(settings: WeaverSettings) -> Result<Self> {
         // Reject bad settings before spending time on training.
-        settings.validate()?;
-        let (learned, _, _) = training::train(&settings.training)?;
-        Self::with_learned(settings, learned)
+        let settings = settings.check()?;
+        let (learned, _, _) = training::train(&settings.settings().training)?;
+        WeaverBuild::checked(settings, learned)?.finish()
     }
 
     /// Like [`Weaver::new`] with an already trained model (a page that
@@ -102,7 +105,8 @@ impl Weaver {
         let mut settings = self.settings.clone();
         settings.person = self.sim.person();
         let clock = self.clock;
-        *self = Self::with_learned(settings, self.learned.clone())?;
+        let settings = CheckedWeaverSettings::of_run(settings, self.geometry);
+        *self = WeaverBuild::checked(settings, (*self.learned).clone())?.finish()?;
         self.clock = clock;
         Ok(())
     }
@@ -270,33 +274,40 @@ impl Weaver {
         Ok(())
     }
 
+    /// Pane `pane`'s knobs now (a patch of them is what a page sends).
+    pub fn pane_settings(&self, pane: usize) -> Result<PaneSettings> {
+        Ok(self.pane(pane)?.settings)
+    }
+
+    /// Changes one knob of pane `pane` (`change` of its settings now) and
+    /// rebuilds it over the scans so far ([`Weaver::set_pane`]).
+    fn set_knob(&mut self, pane: usize, change: impl FnOnce(&mut PaneSettings)) -> Result<()> {
+        let mut settings = self.pane_settings(pane)?;
+        change(&mut settings);
+        self.set_pane(pane, settings)
+    }
+
     /// Switches a pane's inverse model and rebuilds it over the scans so
     /// far.
     pub fn set_model(&mut self, pane: usize, model: ModelKind) -> Result<()> {
-        let s = self.pane(pane)?.settings;
-        self.set_pane(pane, PaneSettings { model, ..s })
+        self.set_knob(pane, |s| s.model = model)
     }
 
     /// Switches a pane between the pose oracle and dead reckoning and
     /// rebuilds it over the scans so far.
     pub fn set_pose_source(&mut self, pane: usize, pose: PoseSource) -> Result<()> {
-        let s = self.pane(pane)?.settings;
-        self.set_pane(pane, PaneSettings { pose, ..s })
+        self.set_knob(pane, |s| s.pose = pose)
     }
 
     /// Changes a pane's clamp and rebuilds it over the scans so far.
     pub fn set_clamp(&mut self, pane: usize, clamp: f64) -> Result<()> {
-        let s = self.pane(pane)?.settings;
-        check_clamp(pane, clamp)?;
-        self.set_pane(pane, PaneSettings { clamp, ..s })
+        self.set_knob(pane, |s| s.clamp = clamp)
     }
 
     /// Changes a pane's evidence strength and rebuilds it over the scans so
     /// far.
     pub fn set_strength(&mut self, pane: usize, strength: f64) -> Result<()> {
-        let s = self.pane(pane)?.settings;
-        check_strength(pane, strength)?;
-        self.set_pane(pane, PaneSettings { strength, ..s })
+        self.set_knob(pane, |s| s.strength = strength)
     }
 
     /// Puts the person into the corridor or takes them out, from the next
@@ -311,6 +322,14 @@ impl Weaver {
     /// is no finite number of at least 0 is ignored.
     pub fn record_frame_ms(&mut self, ms: f64) {
         self.frame_ms.record(ms);
+    }
+
+    /// Pane `pane`'s map as a ROS `map_server` pair, the YAML naming the
+    /// image `apartment-left.pgm` or `apartment-right.pgm`.
+    pub fn export_map(&self, pane: usize) -> Result<MapServerPair> {
+        let side = if pane == 0 { "left" } else { "right" };
+        let name = format!("apartment-{side}.pgm");
+        Ok(export::map_server_pair(self.grid(pane)?, &name))
     }
 
     /// Median of the recent frame times, milliseconds.

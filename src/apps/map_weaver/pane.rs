@@ -29,11 +29,14 @@ use std::cell::OnceCell;
 pub(super) type WeaverMap = MapPane<LogOdds, Dense<f32>, MapView>;
 
 /// A pane's inverse model, with the strength applied. An enum rather than
-/// a trait object so that the traversal's inner loop is monomorphic.
+/// a trait object so that the traversal's inner loop is monomorphic. The
+/// learned model is boxed: its tables are inline (about 12 KB), and a run
+/// holding them by value would be tens of kilobytes in every stack frame
+/// that moves it (a debug wasm build has a 1 MB stack).
 #[derive(Debug, Clone)]
 pub(super) enum PaneModel {
     HandCrafted(HandCrafted),
-    Learned(Scaled<LearnedInverse>),
+    Learned(Box<Scaled<LearnedInverse>>),
 }
 
 impl PaneModel {
@@ -64,7 +67,7 @@ impl PaneModel {
                 } else {
                     learned.clone()
                 };
-                Self::Learned(Scaled::new(model, p.strength)?)
+                Self::Learned(Box::new(Scaled::new(model, p.strength)?))
             }
         })
     }
@@ -77,14 +80,14 @@ impl PaneModel {
     ) -> ScanStats {
         match (self, kind) {
             (Self::HandCrafted(m), MapperKind::Traversal) => map.integrate(m, scan),
-            (Self::Learned(m), MapperKind::Traversal) => map.integrate(m, scan),
+            (Self::Learned(m), MapperKind::Traversal) => map.integrate(&**m, scan),
             (Self::HandCrafted(m), MapperKind::Sweep) => {
                 let stats = sweep_scan(map.grid_mut(), m, scan);
                 map.count(scan, stats);
                 stats
             }
             (Self::Learned(m), MapperKind::Sweep) => {
-                let stats = sweep_scan(map.grid_mut(), m, scan);
+                let stats = sweep_scan(map.grid_mut(), &**m, scan);
                 map.count(scan, stats);
                 stats
             }

@@ -8,6 +8,7 @@
 
 use super::situation::Situation;
 use crate::error::{self, invalid, OccError, Result};
+use crate::geometry::GridGeometry;
 use crate::grid::FilterSettings;
 use crate::inverse::{HandCraftedParams, TrainingConfig};
 use crate::scenes::apartment::ApartmentScene;
@@ -267,8 +268,52 @@ impl Default for WeaverSettings {
     }
 }
 
+/// A run's settings, checked: made only by [`WeaverSettings::check`], so
+/// that every way to a run (at once, or in bounded calls) checks its
+/// settings exactly once, before any training.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedWeaverSettings {
+    settings: WeaverSettings,
+    geometry: GridGeometry,
+}
+
+impl CheckedWeaverSettings {
+    /// The settings, the situation applied to the scene.
+    pub fn settings(&self) -> &WeaverSettings {
+        &self.settings
+    }
+    /// The scene's grid limits.
+    pub fn geometry(&self) -> &GridGeometry {
+        &self.geometry
+    }
+    pub(super) fn into_parts(self) -> (WeaverSettings, GridGeometry) {
+        (self.settings, self.geometry)
+    }
+    /// A run's own settings, to start it again: they were checked when the
+    /// run was made, and every change since was checked as it was made (a
+    /// pane's knobs by [`PaneSettings::validate`], the person a bool).
+    pub(super) fn of_run(settings: WeaverSettings, geometry: GridGeometry) -> Self {
+        Self { settings, geometry }
+    }
+}
+
 impl WeaverSettings {
-    /// Checks every knob, naming the first one that is wrong.
+    /// The settings as a run uses them (the situation's robot path and
+    /// person over the scene's), every knob checked, the refusal naming the
+    /// first one that is wrong.
+    pub fn check(mut self) -> Result<CheckedWeaverSettings> {
+        self.scene = self.situation.apply(&self.scene);
+        self.validate()?;
+        let geometry = self.scene.geometry()?;
+        self.scene.tracked_cells()?;
+        Ok(CheckedWeaverSettings {
+            settings: self,
+            geometry,
+        })
+    }
+
+    /// Checks every knob, naming the first one that is wrong (the check
+    /// [`WeaverSettings::check`] makes).
     pub fn validate(&self) -> Result<()> {
         if self.laps == 0 || self.laps > MAX_LAPS {
             return Err(invalid("laps", self.laps, format!("1 to {MAX_LAPS} laps")));

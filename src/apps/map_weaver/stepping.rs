@@ -193,7 +193,7 @@ impl PaneModel {
     fn sweep_rows(&self, map: &mut WeaverMap, scan: &Scan, rows: Range<usize>) -> ScanStats {
         match self {
             Self::HandCrafted(m) => sweep_rows(map.grid_mut(), m, scan, rows),
-            Self::Learned(m) => sweep_rows(map.grid_mut(), m, scan, rows),
+            Self::Learned(m) => sweep_rows(map.grid_mut(), &**m, scan, rows),
         }
     }
 }

@@ -21,7 +21,7 @@ fn view_pixels_match_the_grid_renderer_after_scans_and_a_clamp_change() {
     for k in 0..2 {
         let grid = w.grid(k).unwrap();
         let mut px = vec![0u8; grid.geometry().len() * 4];
-        crate::render::gray::render_grid_rgba(grid, &mut px).unwrap();
+        crate::render::viewport::render_grid_rgba(grid, &mut px).unwrap();
         assert_eq!(w.view(k).unwrap().rgba(), &px[..], "pane {k}");
         // The view scores from a table (view.rs): within 1e-6 bits per
         // cell of the exact sum.

@@ -31,6 +31,7 @@ mod pane;
 mod planning;
 mod session;
 mod settings;
+mod surface;
 mod view;
 
 pub use budget::VISITS_PER_UNIT;
