@@ -14,6 +14,8 @@ build() { # OUT_DIR OUT_NAME CARGO_ARGS...
   local out=$1 name=$2
   shift 2
   wasm-pack --log-level warn build --target web --release --out-dir "$out" --out-name "$name" --no-pack -- "$@"
+  # Finds the stack pointer by name, so before the names are stripped.
+  node scripts/lib/guard-stack-pointer.mjs "$out/${name}_bg.wasm" "$out/${name}.js"
   node scripts/lib/strip-wasm-names.mjs "$out/${name}_bg.wasm"
 }
 

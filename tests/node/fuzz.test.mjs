@@ -14,13 +14,20 @@
 // bounds"), or an instance left borrowed ("recursive use of an object")
 // fails. After every call the instance still answers, and at the end every
 // instance and a fresh one of each class do, and no hostile hook was ever
-// asked for a value. Needs pkg/ (npm run build).
+// asked for a value. Then calls that throw by the hundred thousand (on freed
+// instances, through the glue and straight into the core, and on an
+// instance its own call holds borrowed) and a large typed array in every
+// parameter must leave the core computing the chapter's numbers as before,
+// its stack pointer where it was. Needs pkg/ (npm run build).
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { loadCore } from '../../scripts/lib/load-core.mjs';
 
 // One namespace of the two modules' exports (each class keeps its own module's memory).
-const core = { ...(await loadCore()).core, ...(await loadCore({ logs: true })).core };
+const modules = [await loadCore(), await loadCore({ logs: true })];
+const core = Object.assign({}, ...modules.map((m) => m.core));
+/** The module (`{ core, memory }`) that exports `name`. */
+const moduleOf = (name) => modules.find((m) => Object.hasOwn(m.core, name));
 
 /** The random calls after the sweep; with the sweep, a few seconds in all. */
 const RANDOM_CALLS = 2000;
@@ -201,6 +208,23 @@ function build(name) {
   }
 }
 
+/**
+ * Every callable of the core: `{ label, arity, call(args), instance? }`,
+ * methods called on `instances[name]`.
+ */
+function callablesOf(instances) {
+  const callables = [];
+  for (const [name, C] of classes) {
+    callables.push({ label: `new ${name}`, arity: C.length, call: (args) => new C(...args) });
+    for (const m of members(C)) callables.push({ label: `${name}.${m}`, arity: C[m].length, call: (args) => C[m](...args) });
+    for (const m of members(C.prototype)) {
+      callables.push({ label: `${name}#${m}`, arity: C.prototype[m].length, instance: name, call: (args) => instances[name][m](...args) });
+    }
+  }
+  for (const [name, f] of functions) callables.push({ label: name, arity: f.length, call: (args) => f(...args) });
+  return callables;
+}
+
 test('every export of the core takes hostile values with an Error, and every instance keeps answering', () => {
   assert.ok(classes.length >= 5 && functions.length >= 8, `found ${classes.length} classes and ${functions.length} functions`);
   const instances = Object.fromEntries(classes.map(([name]) => [name, build(name)]));
@@ -213,16 +237,7 @@ test('every export of the core takes hostile values with an Error, and every ins
   // are listed on every reading): the sweep gives each to every parameter.
   const randomPool = table.filter(([name]) => name !== '100,001 keys').map(([, v]) => v);
 
-  /** Every callable: `{ label, arity, call(args), instance? }`. */
-  const callables = [];
-  for (const [name, C] of classes) {
-    callables.push({ label: `new ${name}`, arity: C.length, call: (args) => new C(...args) });
-    for (const m of members(C)) callables.push({ label: `${name}.${m}`, arity: C[m].length, call: (args) => C[m](...args) });
-    for (const m of members(C.prototype)) {
-      callables.push({ label: `${name}#${m}`, arity: C.prototype[m].length, instance: name, call: (args) => instances[name][m](...args) });
-    }
-  }
-  for (const [name, f] of functions) callables.push({ label: name, arity: f.length, call: (args) => f(...args) });
+  const callables = callablesOf(instances);
 
   const run = (c, args) => {
     current = c.instance ? () => instances[c.instance] : () => bystander;
@@ -267,4 +282,210 @@ test('every export of the core takes hostile values with an Error, and every ins
   }
   answers('DoorwayTrap', bystander, `${calls} calls`);
   bystander.free();
+});
+
+/**
+ * Calls per method and getter of a freed instance, each of which throws.
+ * The core keeps its stack frames on a shadow stack in wasm memory (1 MiB)
+ * whose pointer an exception thrown inside the core skips restoring;
+ * before scripts/build.sh guarded it, each such call leaked its frame and
+ * 4,672 to 32,768 calls on one module stopped every later call with
+ * "memory access out of bounds".
+ */
+const FREED_CALLS = 20_000;
+/**
+ * Calls per method straight into the core with a freed handle, where the
+ * glue's own check no longer sends them (each three times dearer): their
+ * sum on one module is still more than 30 times what once broke it.
+ */
+const FREED_CORE_CALLS = 5_000;
+/**
+ * Calls that meet their own instance borrowed ("recursive use of an
+ * object"), per class that can be made to: refused from inside wasm, inside
+ * a call of the instance's own that is still running.
+ */
+const BORROWED_CALLS = 20_000;
+/**
+ * The length of the typed arrays given in each parameter of each callable:
+ * large beside any value a parameter takes, while the 130-odd calls stay
+ * near a second (a refusal describes the value it refuses).
+ */
+const LARGE_ARRAY_LENGTH = 100_000;
+
+/** The name of the core's export a glue method or getter calls with the instance's handle. */
+function coreExportOf(C, member) {
+  const d = Object.getOwnPropertyDescriptor(C.prototype, member);
+  const source = Function.prototype.toString.call(d.value ?? d.get);
+  const found = source.match(/\bwasm\.(\w+)\(this\.__wbg_ptr\b/);
+  assert.ok(found, `cannot find the core's export behind ${C.name}#${member}`);
+  return found[1];
+}
+
+/** What must come out the same after the calls that throw: the chapter's numbers and a log's reading. */
+function chapterNumbers() {
+  const session = new core.RealLogSession(LOG, 'fuzz.log');
+  session.read(5);
+  const numbers = { workedExample: core.workedExample(), constants: core.constants(), session: session.state() };
+  session.free();
+  return numbers;
+}
+
+/** Runs `f` with errors built without a stack trace: the phases throw hundreds of thousands. */
+function withoutStackTraces(f) {
+  const limit = Error.stackTraceLimit;
+  Error.stackTraceLimit = 0;
+  try {
+    return f();
+  } finally {
+    Error.stackTraceLimit = limit;
+  }
+}
+
+/** Calls `f` `times` times; each must throw an Error that is not the core stopping. Returns the first message. */
+function throwsEveryTime(label, times, f) {
+  let first;
+  for (let i = 0; i < times; i++) {
+    try {
+      f();
+    } catch (e) {
+      if (!(e instanceof Error) || e instanceof WebAssembly.RuntimeError) assert.fail(`${label}, call ${i + 1}: ${e?.constructor?.name}: ${e?.message}`);
+      first ??= e.message;
+      continue;
+    }
+    assert.fail(`${label}, call ${i + 1}, returned`);
+  }
+  return first;
+}
+
+/** The core's stack pointer of each module, which build.sh exports (undefined if it does not). */
+const stackPointers = () => modules.map((m) => m.core.initSync().__occgrid_stack_pointer?.value);
+
+/** Asserts that the core computes as it did, that every class builds afresh and answers, and that no stack was lost. */
+function coreIntact(numbers, pointers, after) {
+  let now;
+  try {
+    now = chapterNumbers();
+  } catch (e) {
+    assert.fail(`the core no longer computes after ${after}: ${e.message}`);
+  }
+  assert.deepEqual(now, numbers, `the chapter's numbers after ${after}`);
+  for (const [name] of classes) {
+    const fresh = build(name);
+    answers(name, fresh, `${after}, as a fresh instance`);
+    fresh.free();
+  }
+  for (const [i, m] of modules.entries()) {
+    assert.ok(m.core.initSync().__occgrid_stack_pointer instanceof WebAssembly.Global, 'the module exports its stack pointer (scripts/build.sh)');
+    assert.equal(stackPointers()[i], pointers[i], `the stack pointer after ${after}`);
+  }
+}
+
+test('calls on a freed instance, tens of thousands per method, each refuse and leave the core whole', () => {
+  const numbers = chapterNumbers();
+  const pointers = stackPointers();
+  let calls = 0;
+  const messages = [];
+  const started = performance.now();
+  withoutStackTraces(() => {
+    for (const [name, C] of classes) {
+      const x = build(name);
+      x.free();
+      const raw = moduleOf(name).core.initSync();
+      for (const m of [...members(C.prototype), ...getters(C)]) {
+        const isGetter = !members(C.prototype).includes(m);
+        const zeros = isGetter ? [] : new Array(C.prototype[m].length).fill(0);
+        // Through the glue, as a page would call it.
+        const message = throwsEveryTime(`${name}#${m} on a freed instance`, FREED_CALLS, isGetter ? () => x[m] : () => x[m](...zeros));
+        messages.push([`${name}#${m}`, message]);
+        // Straight into the core with the handle of a freed instance: the
+        // core throws from inside wasm.
+        const exported = raw[coreExportOf(C, m)];
+        const args = new Array(exported.length).fill(0);
+        throwsEveryTime(`the core's ${coreExportOf(C, m)} with a freed handle`, FREED_CORE_CALLS, () => exported(...args));
+        calls += FREED_CALLS + FREED_CORE_CALLS;
+      }
+      // free() again: the core refuses the freed handle.
+      throwsEveryTime(`${name}#free a second time`, FREED_CORE_CALLS, () => x.free());
+      calls += FREED_CORE_CALLS;
+    }
+  });
+  const ms = performance.now() - started;
+  coreIntact(numbers, pointers, `${calls} calls on freed instances (${Math.round(ms)} ms)`);
+  for (const [label, message] of messages) {
+    assert.match(message, new RegExp(`^${label.split('#')[0]} was freed `), `${label} on a freed instance says so`);
+  }
+});
+
+test('calls that meet their own instance borrowed refuse and leave the core whole', () => {
+  const numbers = chapterNumbers();
+  const pointers = stackPointers();
+  let borrowed = 0;
+  const started = performance.now();
+  withoutStackTraces(() => {
+    for (const [name, C] of classes) {
+      const x = build(name);
+      const own = getters(C);
+      // Asks the instance while one of its own methods holds it: a getter
+      // or a method of ANSWERS, which the core refuses from inside wasm.
+      const reenter = () => {
+        try {
+          if (own.length) void x[own[0]];
+          else ANSWERS[name](x);
+        } catch (e) {
+          assert.ok(!(e instanceof WebAssembly.RuntimeError), `${name}: ${e.message}`);
+          if (/recursive use/.test(e.message)) borrowed += 1;
+        }
+      };
+      const trap = () => { reenter(); return undefined; };
+      const meddler = new Proxy({}, {
+        get: trap, has: trap,
+        ownKeys() { reenter(); return []; },
+        getOwnPropertyDescriptor: trap,
+      });
+      // The first method and parameter in which the meddler meets the instance borrowed.
+      let found;
+      for (const m of members(C.prototype)) {
+        for (let p = 0; p < C.prototype[m].length && !found; p++) {
+          const args = new Array(C.prototype[m].length).fill(0);
+          args[p] = meddler;
+          const before = borrowed;
+          judge(`${name}#${m} with a meddler`, () => x[m](...args));
+          if (borrowed > before) found = () => x[m](...args);
+        }
+        if (found) break;
+      }
+      if (!found) continue;
+      for (let i = 0; i < BORROWED_CALLS; i++) {
+        try {
+          found();
+        } catch (e) {
+          assert.ok(!(e instanceof WebAssembly.RuntimeError), `${name}, call ${i + 1} with a meddler: ${e.message}`);
+        }
+      }
+      answers(name, x, `${BORROWED_CALLS} calls with a meddler`);
+      x.free();
+    }
+  });
+  assert.ok(borrowed >= 2 * BORROWED_CALLS, `only ${borrowed} calls met a borrowed instance`);
+  coreIntact(numbers, pointers, `${borrowed} calls on a borrowed instance (${Math.round(performance.now() - started)} ms)`);
+});
+
+test('a large typed array in every parameter of every callable is refused or taken, and the core stays whole', () => {
+  const numbers = chapterNumbers();
+  const pointers = stackPointers();
+  const instances = Object.fromEntries(classes.map(([name]) => [name, build(name)]));
+  const arrays = [Uint8Array, Float64Array, Int32Array].map((T) => new T(LARGE_ARRAY_LENGTH));
+  let calls = 0;
+  const started = performance.now();
+  for (const c of callablesOf(instances)) {
+    for (let p = 0; p < c.arity; p++) {
+      const args = new Array(c.arity).fill(0);
+      args[p] = arrays[calls % arrays.length];
+      judge(`${c.label} with a ${args[p].constructor.name}(${LARGE_ARRAY_LENGTH}) as argument ${p + 1}`, () => c.call(args));
+      if (c.instance) answers(c.instance, instances[c.instance], c.label);
+      calls += 1;
+    }
+  }
+  for (const x of Object.values(instances)) x.free();
+  coreIntact(numbers, pointers, `${calls} calls with large typed arrays (${Math.round(performance.now() - started)} ms)`);
 });
