@@ -9,7 +9,7 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::Corrected,
     name: "corrected",
     menu: "corrected (the log\u{2019}s)",
-    caption: "Corrected poses (the log\u{2019}s own)",
+    caption: &["Corrected poses (the log\u{2019}s own)"],
     described: None,
     export_suffix: None,
     beside: &[],

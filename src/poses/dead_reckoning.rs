@@ -13,10 +13,11 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::DeadReckoning,
     name: "dead-reckoning",
     menu: "dead reckoning (Table 5.6 noise)",
-    caption: "Dead reckoning (seed {seed})",
-    described: Some(
-        "dead-reckoning (seed {seed}): the log's motion with the odometry noise of Table 5.6, not its corrected poses",
-    ),
+    caption: &["Dead reckoning (seed ", ")"],
+    described: Some(&[
+        "dead-reckoning (seed ",
+        "): the log's motion with the odometry noise of Table 5.6, not its corrected poses",
+    ]),
     export_suffix: Some("dead-reckoning"),
     beside: &[PoseSourceKind::Corrected],
 };

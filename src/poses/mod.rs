@@ -127,13 +127,13 @@ pub struct SourceInfo {
     pub name: &'static str,
     /// How a page's menu of pose sources words this one.
     pub menu: &'static str,
-    /// The caption of a pane mapped at these poses (`{seed}` stands for
-    /// the seed).
-    pub caption: &'static str,
+    /// The caption of a pane mapped at these poses: its pieces, the seed
+    /// written between them.
+    pub caption: &'static [&'static str],
     /// What a map exported at these poses says of them (a comment line of
-    /// its YAML; `{seed}` stands for the seed), or `None` for the log's
-    /// own.
-    pub described: Option<&'static str>,
+    /// its YAML; the seed written between the pieces), or `None` for the
+    /// log's own.
+    pub described: Option<&'static [&'static str]>,
     /// What an exported map's file name adds for these poses
     /// (`intel-dead-reckoning-map`), or `None` for the log's own.
     pub export_suffix: Option<&'static str>,
@@ -201,7 +201,7 @@ impl PoseSourceKind {
     }
 }
 
-/// `text` with `{seed}` written as `seed`.
-fn with_seed(text: &str, seed: u64) -> String {
-    text.replace("{seed}", &seed.to_string())
+/// The pieces of a text with `seed` written between them.
+fn with_seed(pieces: &[&str], seed: u64) -> String {
+    pieces.join(&seed.to_string())
 }

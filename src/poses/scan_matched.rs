@@ -17,10 +17,11 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::ScanMatched,
     name: "scan-matched",
     menu: "scan-matched (dead reckoning corrected by matching each scan)",
-    caption: "Scan-matched (from dead reckoning, seed {seed})",
-    described: Some(
-        "scan-matched (seed {seed}): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses",
-    ),
+    caption: &["Scan-matched (from dead reckoning, seed ", ")"],
+    described: Some(&[
+        "scan-matched (seed ",
+        "): dead reckoning (or the log's own odometry) corrected by matching each scan against the map built so far, not the log's corrected poses",
+    ]),
     // The corrected map for comparison, and the dead-reckoned one it
     // started from (the same seed).
     export_suffix: Some("scan-matched"),
