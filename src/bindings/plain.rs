@@ -104,6 +104,7 @@ fn copy(
             .map_err(|e| here(thrown(e)))?
             .as_f64()
             .unwrap_or(0.0);
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN length is refused too
         if !(len <= budget.nodes as f64) {
             return Err(here(format!(
                 "an array longer than {} values",

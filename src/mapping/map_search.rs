@@ -14,7 +14,7 @@
 //! smear: a short sonar reading is explained by *one* occupied cell, not by
 //! an arc of them. This is the module behind the right half of the
 //! doorway-trap widget; its input is a set of cone readings (from
-//! [`crate::world::doorway`] or any other scene) and its output a sparse binary
+//! [`crate::scenes::doorway`] or any other scene) and its output a sparse binary
 //! map with the history of how it was found.
 //!
 //! The search starts all-free and flips, one at a time, the cell whose flip
@@ -543,7 +543,7 @@ impl MapSearch {
 /// Table 9.3's search being set up in pieces of bounded work, so that a
 /// page's call on a fine map (the doorway at 1 cm: 200,000 cells) stops
 /// within one piece of its budget (docs/ARCHITECTURE.md, "Sessions and
-/// panes"): each beam's incidence ([`super::search_incidence`]), its
+/// panes"): each beam's incidence (`search_incidence.rs`), its
 /// transpose, the search's arrays, then every cell's gain a band of cells
 /// at a time. The pieces compute what [`MapSearch::new`] computes, in the
 /// same order: the search is the same bit for bit.
@@ -594,6 +594,7 @@ impl MapSearchSetup {
             geometry.resolution(),
         );
         // Written to refuse a NaN too.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails every comparison: refused
         if !(work <= MAX_RASTER_WORK) {
             return Err(invalid(
                 "beams x sub_rays x (z_max / resolution)",

@@ -598,7 +598,9 @@ mod tests {
         let mut g = tiled_map();
         for iy in 0..800 {
             for ix in 0..1000 {
-                if (ix / TILE_SIDE + iy / TILE_SIDE) % 2 == 0 && (ix * 7 + iy * 3) % 5 != 0 {
+                if (ix / TILE_SIDE + iy / TILE_SIDE).is_multiple_of(2)
+                    && !(ix * 7 + iy * 3).is_multiple_of(5)
+                {
                     g.apply_at(ix, iy, ((ix * 13 + iy * 29) % 61) as f32 / 10.0 - 3.0);
                 }
             }

@@ -39,7 +39,7 @@ const VIEW_CELLS_PER_UNIT: u64 = 4;
 #[serde(rename_all = "camelCase")]
 pub struct BuildReport {
     /// The work the call did, in cells of a view synced (the unit of its
-    /// budget; see [`TRUTH_CELLS_PER_UNIT`]).
+    /// budget: a cell of the truth map counts a fraction of one).
     pub cells: u64,
     /// True once every map is drawn: [`WeaverBuild::finish`] is then a
     /// matter of moving the parts into place.

@@ -5,20 +5,20 @@
 //!
 //! 1. [`ApartmentSim`] produces the next [`SimScan`] (true pose,
 //!    dead-reckoned pose, LiDAR ranges).
-//! 2. Each of the two panes ([`pane`]) turns it into a scan at the pose its
+//! 2. Each of the two panes (`pane.rs`) turns it into a scan at the pose its
 //!    settings ask for and integrates it with its own inverse model,
 //!    evidence strength and clamp (Table 9.1), then brings its view, its
-//!    curves and its ghost watch ([`ghosts`]) up to date.
-//! 3. The page reads what to show from [`readout`], in image units.
+//!    curves and its ghost watch (`ghosts.rs`) up to date.
+//! 3. The page reads what to show from `readout.rs`, in image units.
 //!
 //! Every scan is kept, so that any knob of a pane (model, pose source,
 //! clamp, strength, mapper, sensor, cone opening, beams, resolution, `l0`
 //! forgotten) rebuilds that pane over the same scans: the map shows what
 //! that setting gives for the scans so far, and a knob turned and turned
 //! back leaves the map as it was (the two panes stay comparable). The work
-//! goes in bounded calls ([`stepping`]), so that a page plays and rebuilds
+//! goes in bounded calls (`stepping.rs`), so that a page plays and rebuilds
 //! within its frames. What a run may be set to, and the limits the widget
-//! shows, are in [`settings`].
+//! shows, are in `settings.rs`.
 
 mod building;
 mod compare;

@@ -206,7 +206,7 @@ impl PaneSettings {
         }
         let lidar_beams = scene.lidar.beams;
         if let Some(b) = self.beams {
-            if b == 0 || b > lidar_beams || lidar_beams % b != 0 {
+            if b == 0 || b > lidar_beams || !lidar_beams.is_multiple_of(b) {
                 return Err(invalid(
                     &format!("panes[{k}].beams"),
                     b,
@@ -390,7 +390,9 @@ pub(super) fn renamed(field: &str, e: OccError) -> OccError {
 /// The beam counts a pane of a `lidar_beams`-beam LiDAR may use: the
 /// divisors, so that every thinned scan keeps its beams evenly spaced.
 pub fn beam_divisors(lidar_beams: usize) -> Vec<usize> {
-    (1..=lidar_beams).filter(|b| lidar_beams % b == 0).collect()
+    (1..=lidar_beams)
+        .filter(|b| lidar_beams.is_multiple_of(*b))
+        .collect()
 }
 
 /// "a, b or c".

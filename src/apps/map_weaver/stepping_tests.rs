@@ -189,8 +189,10 @@ fn a_refused_staged_knob_leaves_the_run_alone() {
 /// The run done and both panes caught up: a call does nothing and says so.
 #[test]
 fn the_end_of_the_run_is_done_and_work_stops() {
-    let mut s = WeaverSettings::default();
-    s.laps = 1;
+    let s = WeaverSettings {
+        laps: 1,
+        ..WeaverSettings::default()
+    };
     let mut w = weaver(s);
     let total = w.total_scans();
     assert_eq!(w.advance(usize::MAX).unwrap(), total);

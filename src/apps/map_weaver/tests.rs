@@ -72,8 +72,10 @@ fn bad_knobs_are_rejected_naming_the_pane_and_leave_the_map_alone() {
     assert!(w.cell_info(5, 0, 0).is_err());
     assert_eq!(w.cell_info(0, 120, 0).unwrap(), None);
     assert_eq!(w.grid(1).unwrap(), &before);
-    let mut s = WeaverSettings::default();
-    s.laps = 0;
+    let s = WeaverSettings {
+        laps: 0,
+        ..WeaverSettings::default()
+    };
     assert!(Weaver::new(s).unwrap_err().to_string().contains("laps"));
     let mut s = WeaverSettings::default();
     s.panes[0].clamp = -1.0;
@@ -138,8 +140,10 @@ fn fast_forward_is_bounded_by_the_work_budget_and_the_run() {
     let total = 3 * w.scans_per_lap();
     assert_eq!(w.check_fast_forward(10).unwrap(), 10);
     assert_eq!(w.check_fast_forward(1_000_000).unwrap(), total);
-    let mut s = WeaverSettings::default();
-    s.laps = 20;
+    let mut s = WeaverSettings {
+        laps: 20,
+        ..WeaverSettings::default()
+    };
     s.scene.width = 960;
     s.scene.height = 720;
     s.scene.resolution = 0.0125;
