@@ -15,7 +15,7 @@
 //! the same methods. [`LogOddsGrid`] is the dense log-odds map of the
 //! chapter's widgets, [`TiledGrid`] the tiled one of real logs.
 
-use crate::error::{self, invalid, OccError, Result};
+use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 
 pub mod cell;
@@ -221,36 +221,19 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
 
     /// Brier score `mean_i (p_i - m_i)^2` against a ground-truth binary map
     /// (`true` = occupied, row-major like the map), over every cell or over
-    /// the cells listed in `region`.
+    /// the cells listed in `region`: every cell scored once, in index
+    /// order, by the scores a view keeps ([`stats::MapScores`]).
     pub fn brier_score(&self, truth: &[bool], region: Option<&[usize]>) -> Result<f64> {
         let n = self.geometry.len();
-        if truth.len() != n {
-            return Err(OccError::LengthMismatch {
-                field: "truth".into(),
-                expected: n,
-                found: truth.len(),
-            });
-        }
-        let sq = |i: usize| {
+        let mut scores = stats::MapScores::new(n, truth, region)?;
+        for i in 0..n {
             let (ix, iy) = self.geometry.cell_of_index(i);
             let p = self
                 .cell_at(ix, iy)
                 .map_or(0.5, |c| self.model.probability(c));
-            let m = if truth[i] { 1.0 } else { 0.0 };
-            (p - m).powi(2)
-        };
-        match region {
-            None => Ok((0..n).map(sq).sum::<f64>() / n as f64),
-            Some(cells) => {
-                if cells.is_empty() {
-                    return Err(invalid("region", "[]", "at least one cell"));
-                }
-                if let Some(&bad) = cells.iter().find(|&&i| i >= n) {
-                    return Err(invalid("region", bad, "cell indices inside the map"));
-                }
-                Ok(cells.iter().map(|&i| sq(i)).sum::<f64>() / cells.len() as f64)
-            }
+            scores.rescore(i, p, 0.0);
         }
+        Ok(scores.brier_region())
     }
 
     /// The same map in one array (for a map the dense store can hold: at
