@@ -1,10 +1,13 @@
-//! The occupancy grid: one binary Bayes filter per cell, in log odds.
+//! The occupancy grid: one belief per cell, the chapter's being a binary
+//! Bayes filter in log odds.
 //!
 //! This is the state every mapper writes into and every widget draws
-//! (Probabilistic Robotics, §9.2, Table 9.1). A cell holds
+//! (Probabilistic Robotics, §9.2, Table 9.1). The chapter's cell holds
 //! `l = ln(p / (1 - p))`; a measurement adds the inverse sensor model's
 //! evidence *net of the prior* `l0`, because the inverse model returns a
-//! posterior and the prior must be counted once, not once per scan.
+//! posterior and the prior must be counted once, not once per scan. Other
+//! cell models hold their belief otherwise ([`cell`]); every consumer asks
+//! a cell for its probability or its verdict.
 //!
 //! One map type, [`Grid`], for every consumer: the map's limits
 //! ([`GridGeometry`], geometry layer), where its cells live
@@ -201,7 +204,8 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
 
     /// Entropy of the map, `sum_i H_b(p_i)`, in bits. A fresh map with
     /// `p0 = 0.5` holds exactly one bit per cell; a cell no storage holds
-    /// counts as unknown.
+    /// counts as unknown. (One pass over the cells held: a view that keeps
+    /// the sum up to date cell by cell keeps it in [`stats::MapScores`].)
     pub fn entropy_bits(&self) -> f64 {
         let m = &self.model;
         let mut bits = 0.0;

@@ -132,8 +132,11 @@ fn look<M: CellModel>(model: &M, cell: M::Cell) -> (u8, f64, f64) {
 pub struct MapView<C = f32> {
     width: usize,
     height: usize,
-    /// The cell each pixel was last drawn from (`None`: never drawn).
-    shown: Vec<Option<C>>,
+    /// The cell each pixel was last drawn from, in the rows drawn (empty
+    /// before the first sync).
+    shown: Vec<C>,
+    /// Per map row, true once drawn since the view was made or cleared.
+    row_drawn: Vec<bool>,
     rgba: Vec<u8>,
     scores: MapScores,
     /// Scratch: the cells that changed since the last sync, and their
@@ -150,7 +153,8 @@ impl<C: Copy + PartialEq> MapView<C> {
         Ok(Self {
             width: geometry.width(),
             height: geometry.height(),
-            shown: vec![None; n],
+            shown: Vec::new(),
+            row_drawn: vec![false; geometry.height()],
             rgba: vec![0; 4 * n],
             scores,
             dirty: Vec::new(),
@@ -178,25 +182,34 @@ impl<C: Copy + PartialEq> MapView<C> {
         let unknown = model.unknown();
         let w = self.width;
         let rows = rows.start.min(self.height)..rows.end.min(self.height);
+        if self.shown.len() != w * self.height {
+            // The first sync: no row is drawn yet.
+            self.shown = vec![unknown; w * self.height];
+        }
         let mut dirty = std::mem::take(&mut self.dirty);
         dirty.clear();
         for iy in rows.clone() {
+            let drawn = self.row_drawn[iy];
             grid.store().row_runs(iy, |run| {
                 let start = iy * w + run.x0;
                 let Some(shown) = self.shown.get(start..start + run.len) else {
                     return;
                 };
                 match run.cells {
-                    Some((cells, _)) => changed_cells(cells, shown, start, &mut dirty),
+                    Some((cells, _)) if drawn => changed_cells(cells, shown, start, &mut dirty),
+                    Some((cells, _)) => {
+                        dirty.extend((start as u32..).zip(cells.iter().copied()));
+                    }
                     None => {
-                        for (k, s) in shown.iter().enumerate() {
-                            if *s != Some(unknown) {
+                        for (k, &s) in shown.iter().enumerate() {
+                            if !drawn || s != unknown {
                                 dirty.push(((start + k) as u32, unknown));
                             }
                         }
                     }
                 }
             });
+            self.row_drawn[iy] = true;
         }
         for &(i, cell) in &dirty {
             self.redraw(model, i as usize, cell);
@@ -208,7 +221,7 @@ impl<C: Copy + PartialEq> MapView<C> {
     /// Draws and scores cell `i`, which now holds `cell`.
     #[inline]
     fn redraw<M: CellModel<Cell = C>>(&mut self, model: &M, i: usize, cell: C) {
-        self.shown[i] = Some(cell);
+        self.shown[i] = cell;
         let (gray, p, hb) = look(model, cell);
         // Unknown is mid-gray whatever the prior (`super::gray::cell_gray`).
         let g = if model.is_unknown(cell) {
@@ -228,7 +241,7 @@ impl<C: Copy + PartialEq> MapView<C> {
     /// Forgets everything drawn and scored, as if new: the next sync
     /// redraws every cell and sums from zero.
     pub fn clear(&mut self) {
-        self.shown.fill(None);
+        self.row_drawn.fill(false);
         self.scores.clear();
     }
 
@@ -265,14 +278,14 @@ impl<C: Copy + PartialEq> MapView<C> {
 #[inline]
 fn changed_cells<C: Copy + PartialEq>(
     now: &[C],
-    shown: &[Option<C>],
+    shown: &[C],
     start: usize,
     dirty: &mut Vec<(u32, C)>,
 ) {
     const LANES: usize = 8;
-    let mut push_changed = |base: usize, a: &[C], s: &[Option<C>]| {
+    let mut push_changed = |base: usize, a: &[C], s: &[C]| {
         for (j, (&x, &y)) in a.iter().zip(s).enumerate() {
-            if Some(x) != y {
+            if x != y {
                 dirty.push(((start + base + j) as u32, x));
             }
         }
@@ -282,7 +295,7 @@ fn changed_cells<C: Copy + PartialEq>(
         let changed = a
             .iter()
             .zip(s)
-            .fold(false, |acc, (&x, &y)| acc | (Some(x) != y));
+            .fold(false, |acc, (&x, &y)| acc | (x != y));
         if changed {
             push_changed(b * LANES, a, s);
         }
