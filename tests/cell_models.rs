@@ -202,7 +202,12 @@ fn a_model_goes_through_every_consumer<M: CellModel>(model: M) {
     let counts = count_states(grid);
     assert_eq!(
         (counts.unknown, counts.occupied, counts.free, counts.cells),
-        (n[Verdict::Unknown as usize], n[Verdict::Occupied as usize], n[Verdict::Free as usize], g.len())
+        (
+            n[Verdict::Unknown as usize],
+            n[Verdict::Occupied as usize],
+            n[Verdict::Free as usize],
+            g.len()
+        )
     );
     assert_eq!(count_states(tiled.grid()), counts);
     let mut tally = TileTally::new(0.65, 0.35);
@@ -229,8 +234,14 @@ fn a_model_goes_through_every_consumer<M: CellModel>(model: M) {
         assert_eq!(pgm.at(ix, g.height() - 1 - iy), Some(expected));
     }
     let e = export_counts(grid);
-    assert_eq!((e.occupied, e.free), (n[Verdict::Occupied as usize], n[Verdict::Free as usize]));
-    assert_eq!(e.unknown, n[Verdict::Unknown as usize] + n[Verdict::Undecided as usize]);
+    assert_eq!(
+        (e.occupied, e.free),
+        (n[Verdict::Occupied as usize], n[Verdict::Free as usize])
+    );
+    assert_eq!(
+        e.unknown,
+        n[Verdict::Unknown as usize] + n[Verdict::Undecided as usize]
+    );
     assert_eq!(
         count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH),
         count_states_between(tiled.grid(), OCCUPIED_THRESH, FREE_THRESH)

@@ -585,6 +585,56 @@ mod tests {
         assert!((m.probability(u) - 0.49).abs() < 1e-4);
     }
 
+    /// A model that holds log odds is read through them: its log odds are
+    /// the held ones, its probability theirs, and its verdicts are made
+    /// in log odds against the thresholds' `f32` log odds (no cell changes
+    /// state for being read through its probability).
+    #[test]
+    fn held_log_odds_are_what_verdicts_and_log_odds_read() {
+        fn check<M: CellModel>(m: &M, cells: &[M::Cell]) -> usize {
+            let mut states = [0; 4];
+            for t in [Thresholds::new(0.65, 0.35), Thresholds::new(0.65, 0.196)] {
+                let (occ_l, free_l) = t.log_odds();
+                for &c in cells {
+                    let l = m.held_log_odds(c).unwrap();
+                    assert_eq!(m.log_odds(c).to_bits(), l.to_bits());
+                    assert_eq!(m.probability(c).to_bits(), probability(l as f64).to_bits());
+                    let expected = if m.is_unknown(c) {
+                        Verdict::Unknown
+                    } else if l > occ_l {
+                        Verdict::Occupied
+                    } else if l < free_l {
+                        Verdict::Free
+                    } else {
+                        Verdict::Undecided
+                    };
+                    assert_eq!(m.verdict(c, &t), expected, "{c:?}");
+                    assert_eq!(m.beyond(c, &t), (l > occ_l, l < free_l));
+                    states[expected as usize] += 1;
+                }
+            }
+            states.iter().filter(|&&n| n > 0).count()
+        }
+        let log_odds = LogOdds::new(0.3, 4.0);
+        let ls: Vec<f32> = (-45..=45)
+            .map(|k| k as f32 * 0.1)
+            .chain([log_odds.l0])
+            .collect();
+        assert_eq!(check(&log_odds, &ls), 4);
+        let counting = HitCounting {
+            occupied_ratio: 0.25,
+        };
+        let counts: Vec<HitCount> = (0..=12u16)
+            .flat_map(|visits| (0..=visits).map(move |hits| HitCount { hits, visits }))
+            .collect();
+        // (Its log odds skip the band between the export's thresholds:
+        // no counting cell is undecided.)
+        assert_eq!(check(&counting, &counts), 3);
+        let odds = HitMissOdds::cartographer();
+        let values: Vec<u16> = (0..=32_767u16).step_by(97).chain([0, 1, 32_767]).collect();
+        assert_eq!(check(&odds, &values), 4);
+    }
+
     #[test]
     fn hit_counting_orders_cells_by_log_odds_without_a_division() {
         // Every pair of cells of up to 40 visits, at GMapping's ratio and

@@ -349,4 +349,28 @@ mod tests {
             );
         }
     }
+
+    /// Sums kept by differences are the scores of the cells as they are
+    /// now; the region counts a cell listed twice once.
+    #[test]
+    fn map_scores_kept_by_differences_are_the_scores_of_the_cells_now() {
+        use crate::grid::binary_entropy_bits as h;
+        let truth = [true, false, false, true, false];
+        let mut s = MapScores::new(5, &truth, Some(&[1, 3, 3])).unwrap();
+        for (i, p) in [(0, 0.9), (1, 0.2), (3, 0.6), (1, 0.5), (4, 0.1), (0, 0.7)] {
+            s.rescore(i, p, h(p));
+        }
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(close(s.entropy_bits(), h(0.7) + h(0.5) + h(0.6) + h(0.1)));
+        assert!(close(s.brier_all(), (0.09 + 0.25 + 0.16 + 0.01) / 5.0));
+        assert!(close(s.brier_region(), (0.25 + 0.16) / 2.0));
+        s.clear();
+        assert_eq!((s.entropy_bits(), s.brier_all()), (0.0, 0.0));
+        let every = MapScores::new(5, &truth, None).unwrap();
+        assert_eq!(every.region_cells, 5);
+        let err = |r: Result<MapScores>| r.unwrap_err().to_string();
+        assert!(err(MapScores::new(4, &truth, None)).contains("truth"));
+        assert!(err(MapScores::new(5, &truth, Some(&[]))).contains("at least one cell"));
+        assert!(err(MapScores::new(5, &truth, Some(&[0, 5]))).contains("inside the map"));
+    }
 }

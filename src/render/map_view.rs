@@ -292,10 +292,7 @@ fn changed_cells<C: Copy + PartialEq>(
     };
     let blocks = now.chunks_exact(LANES).zip(shown.chunks_exact(LANES));
     for (b, (a, s)) in blocks.enumerate() {
-        let changed = a
-            .iter()
-            .zip(s)
-            .fold(false, |acc, (&x, &y)| acc | (x != y));
+        let changed = a.iter().zip(s).fold(false, |acc, (&x, &y)| acc | (x != y));
         if changed {
             push_changed(b * LANES, a, s);
         }
