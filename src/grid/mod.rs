@@ -229,6 +229,14 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
     /// order, by the scores a view keeps ([`stats::MapScores`]).
     pub fn brier_score(&self, truth: &[bool], region: Option<&[usize]>) -> Result<f64> {
         let n = self.geometry.len();
+        let every: Vec<usize>;
+        let region = match region {
+            Some(cells) => cells,
+            None => {
+                every = (0..n).collect();
+                &every
+            }
+        };
         let mut scores = stats::MapScores::new(n, truth, region)?;
         for i in 0..n {
             let (ix, iy) = self.geometry.cell_of_index(i);

@@ -226,8 +226,8 @@ pub struct MapScores {
 impl MapScores {
     /// Scores of a map of `cells` cells, nothing scored yet, against
     /// `truth` (`true` = occupied, row-major like the map), with a Brier
-    /// region of the cells listed in `region` (every cell for `None`).
-    pub fn new(cells: usize, truth: &[bool], region: Option<&[usize]>) -> Result<Self> {
+    /// region of the cells listed in `region`.
+    pub fn new(cells: usize, truth: &[bool], region: &[usize]) -> Result<Self> {
         if truth.len() != cells {
             return Err(OccError::LengthMismatch {
                 field: "truth".into(),
@@ -235,22 +235,13 @@ impl MapScores {
                 found: truth.len(),
             });
         }
-        let in_region = match region {
-            None => vec![true; cells],
-            Some(listed) => {
-                if listed.is_empty() {
-                    return Err(invalid("region", "[]", "at least one cell"));
-                }
-                let mut in_region = vec![false; cells];
-                for &i in listed {
-                    match in_region.get_mut(i) {
-                        Some(slot) => *slot = true,
-                        None => return Err(invalid("region", i, "cell indices inside the map")),
-                    }
-                }
-                in_region
+        let mut in_region = vec![false; cells];
+        for &i in region {
+            match in_region.get_mut(i) {
+                Some(slot) => *slot = true,
+                None => return Err(invalid("region", i, "cell indices inside the map")),
             }
-        };
+        }
         let region_cells = in_region.iter().filter(|&&b| b).count();
         if region_cells == 0 {
             return Err(invalid("region", "[]", "at least one cell"));
@@ -356,7 +347,7 @@ mod tests {
     fn map_scores_kept_by_differences_are_the_scores_of_the_cells_now() {
         use crate::grid::binary_entropy_bits as h;
         let truth = [true, false, false, true, false];
-        let mut s = MapScores::new(5, &truth, Some(&[1, 3, 3])).unwrap();
+        let mut s = MapScores::new(5, &truth, &[1, 3, 3]).unwrap();
         for (i, p) in [(0, 0.9), (1, 0.2), (3, 0.6), (1, 0.5), (4, 0.1), (0, 0.7)] {
             s.rescore(i, p, h(p));
         }
@@ -366,11 +357,9 @@ mod tests {
         assert!(close(s.brier_region(), (0.25 + 0.16) / 2.0));
         s.clear();
         assert_eq!((s.entropy_bits(), s.brier_all()), (0.0, 0.0));
-        let every = MapScores::new(5, &truth, None).unwrap();
-        assert_eq!(every.region_cells, 5);
         let err = |r: Result<MapScores>| r.unwrap_err().to_string();
-        assert!(err(MapScores::new(4, &truth, None)).contains("truth"));
-        assert!(err(MapScores::new(5, &truth, Some(&[]))).contains("at least one cell"));
-        assert!(err(MapScores::new(5, &truth, Some(&[0, 5]))).contains("inside the map"));
+        assert!(err(MapScores::new(4, &truth, &[0])).contains("truth"));
+        assert!(err(MapScores::new(5, &truth, &[])).contains("at least one cell"));
+        assert!(err(MapScores::new(5, &truth, &[0, 5])).contains("inside the map"));
     }
 }

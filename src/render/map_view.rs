@@ -149,7 +149,7 @@ impl<C: Copy + PartialEq> MapView<C> {
     /// Brier region of the cells in `region` (indices).
     pub fn new(geometry: &GridGeometry, truth: &[bool], region: &[usize]) -> Result<Self> {
         let n = geometry.len();
-        let scores = MapScores::new(n, truth, Some(region))?;
+        let scores = MapScores::new(n, truth, region)?;
         Ok(Self {
             width: geometry.width(),
             height: geometry.height(),
