@@ -167,8 +167,8 @@ impl<M: CellModel, S: Store<M::Cell>> PaneView<M, S> for ScreenView {
 }
 
 /// The whole map at one pixel per cell: a view position is an image cell.
-impl<M: CellModel<Cell = f32>> PaneView<M, crate::grid::Dense<f32>> for MapView {
-    fn refresh(&mut self, grid: &Grid<M, crate::grid::Dense<f32>>) -> &[u8] {
+impl<M: CellModel, S: Store<M::Cell>> PaneView<M, S> for MapView<M::Cell> {
+    fn refresh(&mut self, grid: &Grid<M, S>) -> &[u8] {
         self.sync(grid);
         self.rgba()
     }

@@ -4,16 +4,83 @@
 //! The traversal decides, per scan, at most one verdict per cell: occupied
 //! (a *hit*: the beam ended in it) or free (a *miss*: the beam passed
 //! through), hits winning (Table 9.1 applied once per cell per scan). A
-//! cell model turns a verdict into a new cell value and a cell value into
-//! a probability. [`LogOdds`] is the chapter's binary Bayes filter
-//! (Table 9.1: `l <- l + evidence - l0`, clamped); a model that
-//! counts hits and visits, or one that steps through tables of odds,
-//! implements the same trait and every consumer of a map works with it:
-//! [`HitCounting`] (GMapping's) and [`HitMissOdds`] (Cartographer's).
+//! cell model turns a verdict into a new cell value, and says what a cell
+//! value believes: its probability of occupancy, and whether anything has
+//! measured it. Every consumer of a map asks for that belief (a state
+//! count or an export asks for a [`Verdict`] under its thresholds, a
+//! renderer or a score for the probability).
+//!
+//! Log odds are one way to hold a belief. [`LogOdds`] is the chapter's
+//! binary Bayes filter (Table 9.1: `l <- l + evidence - l0`, clamped); a
+//! model that counts hits and visits ([`HitCounting`], GMapping's) or one
+//! that steps through tables of odds ([`HitMissOdds`], Cartographer's)
+//! keeps log odds at hand too, and says so ([`CellModel::held_log_odds`]),
+//! so that the consumers that compare many cells compare them in log odds
+//! without a logarithm or an exponential per cell. A model that does not
+//! (the tests' last-reading and Beta-count cells, `tests/cell_models.rs`)
+//! states a probability and is read through it.
 
 use super::{logit, probability};
 
-/// A cell model: the value a cell holds and what a verdict does to it.
+/// What a verdict under thresholds is: the three states of a map, and the
+/// measured cells between the thresholds (which a trinary map shows as
+/// unknown).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// Never measured: the cell still holds the model's unknown value.
+    Unknown,
+    /// Above the occupied threshold.
+    Occupied,
+    /// Below the free threshold.
+    Free,
+    /// Measured, and between the thresholds.
+    Undecided,
+}
+
+/// The thresholds of a verdict: `p > occupied_above` is occupied,
+/// `p < free_below` free (strict, as the export's loader compares, see
+/// docs/ARCHITECTURE.md, "Real logs"). Held in both forms: a model that
+/// holds log odds is compared in log odds (no exponential per cell), in
+/// the `f32` form its cells have.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Thresholds {
+    occupied_above: f64,
+    free_below: f64,
+    occupied_log_odds: f32,
+    free_log_odds: f32,
+}
+
+impl Thresholds {
+    /// `p > occupied_above` occupied, `p < free_below` free.
+    pub fn new(occupied_above: f64, free_below: f64) -> Self {
+        Self {
+            occupied_above,
+            free_below,
+            occupied_log_odds: logit(occupied_above) as f32,
+            free_log_odds: logit(free_below) as f32,
+        }
+    }
+    /// The occupied threshold, a probability.
+    pub fn occupied_above(&self) -> f64 {
+        self.occupied_above
+    }
+    /// The free threshold, a probability.
+    pub fn free_below(&self) -> f64 {
+        self.free_below
+    }
+    /// Both thresholds as the log odds cells are compared with.
+    pub fn log_odds(&self) -> (f32, f32) {
+        (self.occupied_log_odds, self.free_log_odds)
+    }
+}
+
+/// A cell model: the value a cell holds, what a verdict does to it, and
+/// what it believes.
+///
+/// Required: the updates, [`Self::probability`] and [`Self::is_unknown`].
+/// Everything else is derived from them; a model that holds log odds (or
+/// has them at hand) overrides [`Self::held_log_odds`] so that the numbers
+/// derived from them are its own.
 pub trait CellModel: Clone + std::fmt::Debug + PartialEq {
     /// What one cell holds.
     type Cell: Copy + PartialEq + std::fmt::Debug;
@@ -35,24 +102,72 @@ pub trait CellModel: Clone + std::fmt::Debug + PartialEq {
     /// such as the learned model of §9.3).
     fn add(&self, cell: &mut Self::Cell, evidence: f32);
 
-    /// The cell's log odds of occupancy.
-    fn log_odds(&self, cell: Self::Cell) -> f32;
+    /// What the cell believes: its probability of occupancy.
+    fn probability(&self, cell: Self::Cell) -> f64;
 
-    /// True while the cell holds exactly the unknown value.
+    /// True while the cell holds exactly the unknown value: measured or
+    /// not.
     fn is_unknown(&self, cell: Self::Cell) -> bool;
 
-    /// True when known cell `a` has larger log odds than known cell `b`: a
-    /// view's darkest sample of sixteen (`render::viewport`) is found
-    /// with this, and its log odds computed once.
+    /// The log odds the model holds for the cell, when it holds its belief
+    /// as log odds or has them at hand without a logarithm; `None` (the
+    /// default) for a model read through its probability. Consumers that
+    /// compare many cells (the gray ramp, the verdicts) compare these when
+    /// there are any, and the probability otherwise.
     #[inline(always)]
-    fn more_occupied(&self, a: Self::Cell, b: Self::Cell) -> bool {
-        self.log_odds(a) > self.log_odds(b)
+    fn held_log_odds(&self, _cell: Self::Cell) -> Option<f32> {
+        None
     }
 
-    /// The cell's probability of occupancy.
+    /// The cell's log odds of occupancy: the ones the model holds, or
+    /// those of its probability.
+    #[inline(always)]
+    fn log_odds(&self, cell: Self::Cell) -> f32 {
+        match self.held_log_odds(cell) {
+            Some(l) => l,
+            None => logit(self.probability(cell)) as f32,
+        }
+    }
+
+    /// Whether the cell's belief lies above the occupied threshold and
+    /// below the free one, whatever [`Self::is_unknown`] says: the two
+    /// comparisons of a [`Verdict`], apart, so that a count over many cells
+    /// can add them up without a branch.
+    #[inline(always)]
+    fn beyond(&self, cell: Self::Cell, t: &Thresholds) -> (bool, bool) {
+        match self.held_log_odds(cell) {
+            Some(l) => (l > t.occupied_log_odds, l < t.free_log_odds),
+            None => {
+                let p = self.probability(cell);
+                (p > t.occupied_above, p < t.free_below)
+            }
+        }
+    }
+
+    /// The cell's state under thresholds `t`: unknown while never
+    /// measured (whatever the thresholds say of the unknown value),
+    /// occupied above, free below, undecided between.
     #[inline]
-    fn probability(&self, cell: Self::Cell) -> f64 {
-        probability(self.log_odds(cell) as f64)
+    fn verdict(&self, cell: Self::Cell, t: &Thresholds) -> Verdict {
+        if self.is_unknown(cell) {
+            return Verdict::Unknown;
+        }
+        match self.beyond(cell, t) {
+            (true, _) => Verdict::Occupied,
+            (_, true) => Verdict::Free,
+            _ => Verdict::Undecided,
+        }
+    }
+
+    /// True when known cell `a` believes more in occupancy than known cell
+    /// `b`: a view's darkest sample of sixteen (`render::viewport`) is
+    /// found with this, and its gray level computed once.
+    #[inline(always)]
+    fn more_occupied(&self, a: Self::Cell, b: Self::Cell) -> bool {
+        match (self.held_log_odds(a), self.held_log_odds(b)) {
+            (Some(la), Some(lb)) => la > lb,
+            _ => self.probability(a) > self.probability(b),
+        }
     }
 }
 
@@ -119,13 +234,18 @@ impl CellModel for LogOdds {
     }
 
     #[inline(always)]
-    fn log_odds(&self, l: f32) -> f32 {
-        l
+    fn probability(&self, l: f32) -> f64 {
+        probability(l as f64)
     }
 
     #[inline(always)]
     fn is_unknown(&self, l: f32) -> bool {
         l == self.l0
+    }
+
+    #[inline(always)]
+    fn held_log_odds(&self, l: f32) -> Option<f32> {
+        Some(l)
     }
 }
 
@@ -181,6 +301,16 @@ impl HitCounting {
         }
     }
 
+    /// The log odds a cell stands for: its ratio placed, 0 while never
+    /// visited.
+    #[inline]
+    fn placed_log_odds(&self, cell: HitCount) -> f32 {
+        if cell.visits == 0 {
+            return 0.0;
+        }
+        self.placed(cell.hits as f32 / cell.visits as f32)
+    }
+
     #[inline(always)]
     fn count(cell: &mut HitCount, hit: bool) {
         if cell.visits == u16::MAX {
@@ -213,16 +343,19 @@ impl CellModel for HitCounting {
             Self::count(cell, evidence > 0.0)
         }
     }
+    /// The probability of the log odds the ratio is placed at (see the
+    /// type's doc), 0.5 while never visited.
     #[inline]
-    fn log_odds(&self, cell: HitCount) -> f32 {
-        if cell.visits == 0 {
-            return 0.0;
-        }
-        self.placed(cell.hits as f32 / cell.visits as f32)
+    fn probability(&self, cell: HitCount) -> f64 {
+        probability(self.placed_log_odds(cell) as f64)
     }
     #[inline(always)]
     fn is_unknown(&self, cell: HitCount) -> bool {
         cell.visits == 0
+    }
+    #[inline]
+    fn held_log_odds(&self, cell: HitCount) -> Option<f32> {
+        Some(self.placed_log_odds(cell))
     }
     /// The log odds rise with the hit ratio (both pieces of `placed`
     /// rise): the ratios compared without a division.
@@ -331,13 +464,20 @@ impl CellModel for HitMissOdds {
             self.miss(v, evidence)
         }
     }
+    /// The probability of the value's log odds (the table's, so that the
+    /// probability and the log odds a consumer reads agree to rounding);
+    /// 0.5 for the unknown value.
     #[inline]
-    fn log_odds(&self, v: u16) -> f32 {
-        self.log_odds_table[v as usize & ODDS_STEPS]
+    fn probability(&self, v: u16) -> f64 {
+        probability(self.log_odds_table[v as usize & ODDS_STEPS] as f64)
     }
     #[inline(always)]
     fn is_unknown(&self, v: u16) -> bool {
         v == 0
+    }
+    #[inline]
+    fn held_log_odds(&self, v: u16) -> Option<f32> {
+        Some(self.log_odds_table[v as usize & ODDS_STEPS])
     }
 }
 
@@ -443,6 +583,56 @@ mod tests {
         let mut u = m.unknown();
         m.miss(&mut u, -1.0);
         assert!((m.probability(u) - 0.49).abs() < 1e-4);
+    }
+
+    /// A model that holds log odds is read through them: its log odds are
+    /// the held ones, its probability theirs, and its verdicts are made
+    /// in log odds against the thresholds' `f32` log odds (no cell changes
+    /// state for being read through its probability).
+    #[test]
+    fn held_log_odds_are_what_verdicts_and_log_odds_read() {
+        fn check<M: CellModel>(m: &M, cells: &[M::Cell]) -> usize {
+            let mut states = [0; 4];
+            for t in [Thresholds::new(0.65, 0.35), Thresholds::new(0.65, 0.196)] {
+                let (occ_l, free_l) = t.log_odds();
+                for &c in cells {
+                    let l = m.held_log_odds(c).unwrap();
+                    assert_eq!(m.log_odds(c).to_bits(), l.to_bits());
+                    assert_eq!(m.probability(c).to_bits(), probability(l as f64).to_bits());
+                    let expected = if m.is_unknown(c) {
+                        Verdict::Unknown
+                    } else if l > occ_l {
+                        Verdict::Occupied
+                    } else if l < free_l {
+                        Verdict::Free
+                    } else {
+                        Verdict::Undecided
+                    };
+                    assert_eq!(m.verdict(c, &t), expected, "{c:?}");
+                    assert_eq!(m.beyond(c, &t), (l > occ_l, l < free_l));
+                    states[expected as usize] += 1;
+                }
+            }
+            states.iter().filter(|&&n| n > 0).count()
+        }
+        let log_odds = LogOdds::new(0.3, 4.0);
+        let ls: Vec<f32> = (-45..=45)
+            .map(|k| k as f32 * 0.1)
+            .chain([log_odds.l0])
+            .collect();
+        assert_eq!(check(&log_odds, &ls), 4);
+        let counting = HitCounting {
+            occupied_ratio: 0.25,
+        };
+        let counts: Vec<HitCount> = (0..=12u16)
+            .flat_map(|visits| (0..=visits).map(move |hits| HitCount { hits, visits }))
+            .collect();
+        // (Its log odds skip the band between the export's thresholds:
+        // no counting cell is undecided.)
+        assert_eq!(check(&counting, &counts), 3);
+        let odds = HitMissOdds::cartographer();
+        let values: Vec<u16> = (0..=32_767u16).step_by(97).chain([0, 1, 32_767]).collect();
+        assert_eq!(check(&odds, &values), 4);
     }
 
     #[test]

@@ -1,10 +1,13 @@
-//! The occupancy grid: one binary Bayes filter per cell, in log odds.
+//! The occupancy grid: one belief per cell, the chapter's being a binary
+//! Bayes filter in log odds.
 //!
 //! This is the state every mapper writes into and every widget draws
-//! (Probabilistic Robotics, §9.2, Table 9.1). A cell holds
+//! (Probabilistic Robotics, §9.2, Table 9.1). The chapter's cell holds
 //! `l = ln(p / (1 - p))`; a measurement adds the inverse sensor model's
 //! evidence *net of the prior* `l0`, because the inverse model returns a
-//! posterior and the prior must be counted once, not once per scan.
+//! posterior and the prior must be counted once, not once per scan. Other
+//! cell models hold their belief otherwise ([`cell`]); every consumer asks
+//! a cell for its probability or its verdict.
 //!
 //! One map type, [`Grid`], for every consumer: the map's limits
 //! ([`GridGeometry`], geometry layer), where its cells live
@@ -15,7 +18,7 @@
 //! the same methods. [`LogOddsGrid`] is the dense log-odds map of the
 //! chapter's widgets, [`TiledGrid`] the tiled one of real logs.
 
-use crate::error::{self, invalid, OccError, Result};
+use crate::error::{self, invalid, Result};
 use crate::geometry::GridGeometry;
 
 pub mod cell;
@@ -201,7 +204,8 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
 
     /// Entropy of the map, `sum_i H_b(p_i)`, in bits. A fresh map with
     /// `p0 = 0.5` holds exactly one bit per cell; a cell no storage holds
-    /// counts as unknown.
+    /// counts as unknown. (One pass over the cells held: a view that keeps
+    /// the sum up to date cell by cell keeps it in [`stats::MapScores`].)
     pub fn entropy_bits(&self) -> f64 {
         let m = &self.model;
         let mut bits = 0.0;
@@ -221,36 +225,27 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
 
     /// Brier score `mean_i (p_i - m_i)^2` against a ground-truth binary map
     /// (`true` = occupied, row-major like the map), over every cell or over
-    /// the cells listed in `region`.
+    /// the cells listed in `region`: every cell scored once, in index
+    /// order, by the scores a view keeps ([`stats::MapScores`]).
     pub fn brier_score(&self, truth: &[bool], region: Option<&[usize]>) -> Result<f64> {
         let n = self.geometry.len();
-        if truth.len() != n {
-            return Err(OccError::LengthMismatch {
-                field: "truth".into(),
-                expected: n,
-                found: truth.len(),
-            });
-        }
-        let sq = |i: usize| {
+        let every: Vec<usize>;
+        let region = match region {
+            Some(cells) => cells,
+            None => {
+                every = (0..n).collect();
+                &every
+            }
+        };
+        let mut scores = stats::MapScores::new(n, truth, region)?;
+        for i in 0..n {
             let (ix, iy) = self.geometry.cell_of_index(i);
             let p = self
                 .cell_at(ix, iy)
                 .map_or(0.5, |c| self.model.probability(c));
-            let m = if truth[i] { 1.0 } else { 0.0 };
-            (p - m).powi(2)
-        };
-        match region {
-            None => Ok((0..n).map(sq).sum::<f64>() / n as f64),
-            Some(cells) => {
-                if cells.is_empty() {
-                    return Err(invalid("region", "[]", "at least one cell"));
-                }
-                if let Some(&bad) = cells.iter().find(|&&i| i >= n) {
-                    return Err(invalid("region", bad, "cell indices inside the map"));
-                }
-                Ok(cells.iter().map(|&i| sq(i)).sum::<f64>() / cells.len() as f64)
-            }
+            scores.rescore(i, p, 0.0);
         }
+        Ok(scores.brier_region())
     }
 
     /// The same map in one array (for a map the dense store can hold: at

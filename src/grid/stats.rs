@@ -1,11 +1,17 @@
 //! What a whole map amounts to: how many cells are occupied, free and still
-//! unknown. [`count_states`] uses the thresholds of BENCHMARKS.md W1 (the
-//! benchmark's figures); [`count_states_between`] any pair, which is how an
-//! exported map counts its cells with the thresholds its YAML states
-//! (`crate::io::map_server::export_counts`).
+//! unknown, and how well it is scored against the world it maps.
+//! [`count_states`] uses the thresholds of workload W1 (the benchmark's
+//! figures); [`count_states_between`] any pair, which is how an exported
+//! map counts its cells with the thresholds its YAML states
+//! (`crate::io::map_server::export_counts`). A cell is counted by its
+//! verdict ([`CellModel::beyond`], [`CellModel::is_unknown`]), so that any
+//! cell model's map is counted alike. [`MapScores`] keeps a map's entropy
+//! and Brier scores cell by cell.
 
+use super::cell::Thresholds;
 use super::storage::Tiled;
-use super::{logit, CellModel, Grid, Store};
+use super::{CellModel, Grid, Store};
+use crate::error::{invalid, OccError, Result};
 
 /// Cells above this probability count as occupied (W1).
 pub const OCCUPIED_ABOVE: f64 = 0.65;
@@ -31,13 +37,6 @@ pub fn count_states<M: CellModel, S: Store<M::Cell>>(grid: &Grid<M, S>) -> State
     count_states_between(grid, OCCUPIED_ABOVE, FREE_BELOW)
 }
 
-/// The log-odds form of the thresholds `p > occupied_above` and
-/// `p < free_below`, as every comparison against them is made (one place,
-/// so that a map's image and its counts cannot disagree on a cell).
-pub fn log_odds_thresholds(occupied_above: f64, free_below: f64) -> (f32, f32) {
-    (logit(occupied_above) as f32, logit(free_below) as f32)
-}
-
 /// Counts the three states of a map with `p > occupied_above` occupied and
 /// `p < free_below` free (a cell still unknown is unknown either way; one
 /// between the thresholds is in none of the three). Cells no storage holds
@@ -47,34 +46,33 @@ pub fn count_states_between<M: CellModel, S: Store<M::Cell>>(
     occupied_above: f64,
     free_below: f64,
 ) -> StateCounts {
-    // Compared in log odds: no exp per cell.
-    let thresholds = log_odds_thresholds(occupied_above, free_below);
+    let thresholds = Thresholds::new(occupied_above, free_below);
     let mut sums = [0; 3];
     let mut held = 0;
     grid.store().allocated(|cells| {
         held += cells.len();
-        let t = tally(grid.model(), thresholds, cells);
+        let t = tally(grid.model(), &thresholds, cells);
         sums = [sums[0] + t[0], sums[1] + t[1], sums[2] + t[2]];
     });
-    state_counts(grid, thresholds, held, sums)
+    state_counts(grid, &thresholds, held, sums)
 }
 
 /// The counts of `grid` from the tally `[above, below, at_prior]` of the
 /// `held` cells its storage holds.
 fn state_counts<M: CellModel, S: Store<M::Cell>>(
     grid: &Grid<M, S>,
-    (occ_l, free_l): (f32, f32),
+    thresholds: &Thresholds,
     held: usize,
     [above, below, at_prior]: [usize; 3],
 ) -> StateCounts {
     let model = grid.model();
-    let unknown_l = model.log_odds(model.unknown());
-    // Take the cells still unknown back out of the band their log odds
-    // fall in.
+    let (unknown_above, unknown_below) = model.beyond(model.unknown(), thresholds);
+    // Take the cells still unknown back out of the band their belief
+    // falls in.
     let cells = grid.geometry().len();
     StateCounts {
-        occupied: above - if unknown_l > occ_l { at_prior } else { 0 },
-        free: below - if unknown_l < free_l { at_prior } else { 0 },
+        occupied: above - if unknown_above { at_prior } else { 0 },
+        free: below - if unknown_below { at_prior } else { 0 },
         // Every cell not held (and every held cell beyond the map, at the
         // edge of a tile) is unknown.
         unknown: cells - (held - at_prior),
@@ -83,12 +81,11 @@ fn state_counts<M: CellModel, S: Store<M::Cell>>(
 }
 
 /// `[above, below, at_prior]` of `cells`: above the occupied threshold,
-/// below the free one, still at the prior (log odds thresholds).
-fn tally<M: CellModel>(model: &M, (occ_l, free_l): (f32, f32), cells: &[M::Cell]) -> [usize; 3] {
+/// below the free one, still at the prior.
+fn tally<M: CellModel>(model: &M, thresholds: &Thresholds, cells: &[M::Cell]) -> [usize; 3] {
     let mut tally = Tally {
         model,
-        occ_l,
-        free_l,
+        thresholds,
         at_prior: 0,
         above: 0,
         below: 0,
@@ -117,7 +114,7 @@ fn tally<M: CellModel>(model: &M, (occ_l, free_l): (f32, f32), cells: &[M::Cell]
 /// [`TILE_CELLS`]: super::storage::TILE_CELLS
 #[derive(Debug, Clone, PartialEq)]
 pub struct TileTally {
-    thresholds: (f32, f32),
+    thresholds: Thresholds,
     /// Per allocated tile, `[above, below, at_prior]`.
     tiles: Vec<[usize; 3]>,
     /// Their sum.
@@ -131,7 +128,7 @@ impl TileTally {
     /// `p < free_below` free.
     pub fn new(occupied_above: f64, free_below: f64) -> Self {
         Self {
-            thresholds: log_odds_thresholds(occupied_above, free_below),
+            thresholds: Thresholds::new(occupied_above, free_below),
             tiles: Vec::new(),
             sums: [0; 3],
             resets: 0,
@@ -147,7 +144,7 @@ impl TileTally {
             (self.tiles, self.sums, self.resets) = (Vec::new(), [0; 3], store.resets());
         }
         let mut recounted = 0;
-        let thresholds = self.thresholds;
+        let thresholds = &self.thresholds;
         store.take_touched(|t, cells| {
             recounted += cells.len();
             if self.tiles.len() <= t {
@@ -177,12 +174,12 @@ impl TileTally {
             };
             let new = store
                 .tile(t)
-                .map_or([0; 3], |cells| tally(grid.model(), self.thresholds, cells));
+                .map_or([0; 3], |cells| tally(grid.model(), &self.thresholds, cells));
             for i in 0..3 {
                 sums[i] = sums[i] - old[i] + new[i];
             }
         }
-        state_counts(grid, self.thresholds, grid.cells_allocated(), sums)
+        state_counts(grid, &self.thresholds, grid.cells_allocated(), sums)
     }
 }
 
@@ -191,8 +188,7 @@ impl TileTally {
 /// map).
 struct Tally<'m, M> {
     model: &'m M,
-    occ_l: f32,
-    free_l: f32,
+    thresholds: &'m Thresholds,
     at_prior: usize,
     above: usize,
     below: usize,
@@ -201,10 +197,103 @@ struct Tally<'m, M> {
 impl<M: CellModel> Tally<'_, M> {
     #[inline(always)]
     fn add(&mut self, cell: M::Cell) {
-        let l = self.model.log_odds(cell);
+        let (above, below) = self.model.beyond(cell, self.thresholds);
         self.at_prior += self.model.is_unknown(cell) as usize;
-        self.above += (l > self.occ_l) as usize;
-        self.below += (l < self.free_l) as usize;
+        self.above += above as usize;
+        self.below += below as usize;
+    }
+}
+
+/// A map's entropy (bits) and Brier scores against a ground truth, kept
+/// cell by cell: each cell's binary entropy and squared error, and their
+/// sums, which rescoring a cell changes by the difference. A view that
+/// rescores only the cells a scan changed keeps a whole map's scores
+/// without a pass over it (`crate::render::map_view::MapView`); a map
+/// scored once, cell by cell in index order, gives them too
+/// ([`Grid::brier_score`]).
+#[derive(Debug, Clone)]
+pub struct MapScores {
+    truth: Vec<bool>,
+    in_region: Vec<bool>,
+    region_cells: usize,
+    entropy: Vec<f64>,
+    sq_error: Vec<f64>,
+    entropy_sum: f64,
+    sq_sum_all: f64,
+    sq_sum_region: f64,
+}
+
+impl MapScores {
+    /// Scores of a map of `cells` cells, nothing scored yet, against
+    /// `truth` (`true` = occupied, row-major like the map), with a Brier
+    /// region of the cells listed in `region`.
+    pub fn new(cells: usize, truth: &[bool], region: &[usize]) -> Result<Self> {
+        if truth.len() != cells {
+            return Err(OccError::LengthMismatch {
+                field: "truth".into(),
+                expected: cells,
+                found: truth.len(),
+            });
+        }
+        let mut in_region = vec![false; cells];
+        for &i in region {
+            match in_region.get_mut(i) {
+                Some(slot) => *slot = true,
+                None => return Err(invalid("region", i, "cell indices inside the map")),
+            }
+        }
+        let region_cells = in_region.iter().filter(|&&b| b).count();
+        if region_cells == 0 {
+            return Err(invalid("region", "[]", "at least one cell"));
+        }
+        Ok(Self {
+            truth: truth.to_vec(),
+            in_region,
+            region_cells,
+            entropy: vec![0.0; cells],
+            sq_error: vec![0.0; cells],
+            entropy_sum: 0.0,
+            sq_sum_all: 0.0,
+            sq_sum_region: 0.0,
+        })
+    }
+
+    /// Cell `i` now believes `p` with binary entropy `entropy_bits` (the
+    /// caller's: exact, or interpolated in a table).
+    #[inline]
+    pub fn rescore(&mut self, i: usize, p: f64, entropy_bits: f64) {
+        let m = if self.truth[i] { 1.0 } else { 0.0 };
+        let sq = (p - m) * (p - m);
+        self.entropy_sum += entropy_bits - self.entropy[i];
+        self.entropy[i] = entropy_bits;
+        let d = sq - self.sq_error[i];
+        self.sq_sum_all += d;
+        if self.in_region[i] {
+            self.sq_sum_region += d;
+        }
+        self.sq_error[i] = sq;
+    }
+
+    /// Every cell unscored, every sum zero.
+    pub fn clear(&mut self) {
+        self.entropy.fill(0.0);
+        self.sq_error.fill(0.0);
+        self.entropy_sum = 0.0;
+        self.sq_sum_all = 0.0;
+        self.sq_sum_region = 0.0;
+    }
+
+    /// Map entropy, bits: the sum of the cells' binary entropies.
+    pub fn entropy_bits(&self) -> f64 {
+        self.entropy_sum
+    }
+    /// Brier score over the region: the mean squared error of its cells.
+    pub fn brier_region(&self) -> f64 {
+        self.sq_sum_region / self.region_cells as f64
+    }
+    /// Brier score over every cell.
+    pub fn brier_all(&self) -> f64 {
+        self.sq_sum_all / self.truth.len() as f64
     }
 }
 
@@ -250,5 +339,27 @@ mod tests {
                 "prior {prior}"
             );
         }
+    }
+
+    /// Sums kept by differences are the scores of the cells as they are
+    /// now; the region counts a cell listed twice once.
+    #[test]
+    fn map_scores_kept_by_differences_are_the_scores_of_the_cells_now() {
+        use crate::grid::binary_entropy_bits as h;
+        let truth = [true, false, false, true, false];
+        let mut s = MapScores::new(5, &truth, &[1, 3, 3]).unwrap();
+        for (i, p) in [(0, 0.9), (1, 0.2), (3, 0.6), (1, 0.5), (4, 0.1), (0, 0.7)] {
+            s.rescore(i, p, h(p));
+        }
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(close(s.entropy_bits(), h(0.7) + h(0.5) + h(0.6) + h(0.1)));
+        assert!(close(s.brier_all(), (0.09 + 0.25 + 0.16 + 0.01) / 5.0));
+        assert!(close(s.brier_region(), (0.25 + 0.16) / 2.0));
+        s.clear();
+        assert_eq!((s.entropy_bits(), s.brier_all()), (0.0, 0.0));
+        let err = |r: Result<MapScores>| r.unwrap_err().to_string();
+        assert!(err(MapScores::new(4, &truth, &[0])).contains("truth"));
+        assert!(err(MapScores::new(5, &truth, &[])).contains("at least one cell"));
+        assert!(err(MapScores::new(5, &truth, &[0, 5])).contains("inside the map"));
     }
 }

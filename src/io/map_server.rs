@@ -22,7 +22,8 @@
 //!   the lower-left pixel, metres and radians: exactly the grid's origin.
 
 use crate::error::{OccError, Result};
-use crate::grid::stats::{count_states_between, log_odds_thresholds, StateCounts};
+use crate::grid::cell::{Thresholds, Verdict};
+use crate::grid::stats::{count_states_between, StateCounts};
 use crate::grid::{CellModel, Grid, Store};
 
 /// `occupied_thresh` of the YAML: a cell with `p > 0.65` is exported as
@@ -62,26 +63,24 @@ pub struct MapServerPair {
 /// The trinary gray level of a cell: unknown if the cell still holds the
 /// prior (whatever the prior is: a cell nobody measured is not free just
 /// because the prior was low), else occupied above [`OCCUPIED_THRESH`],
-/// free below [`FREE_THRESH`], unknown in between. The comparisons are
-/// strict, as in the loader, and made in log odds exactly as
-/// [`export_counts`] makes them.
+/// free below [`FREE_THRESH`], unknown in between: the cell's
+/// [`Verdict`] under the export's thresholds, the one [`export_counts`]
+/// counts. The comparisons are strict, as in the loader.
 pub fn trinary_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
-    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
-    gray_of(model, cell, occ_l, free_l)
+    gray_of(model, cell, &export_thresholds())
+}
+
+/// The thresholds of an export: [`OCCUPIED_THRESH`] and [`FREE_THRESH`].
+pub fn export_thresholds() -> Thresholds {
+    Thresholds::new(OCCUPIED_THRESH, FREE_THRESH)
 }
 
 #[inline]
-fn gray_of<M: CellModel>(model: &M, cell: M::Cell, occ_l: f32, free_l: f32) -> u8 {
-    if model.is_unknown(cell) {
-        return PGM_UNKNOWN;
-    }
-    let l = model.log_odds(cell);
-    if l > occ_l {
-        PGM_OCCUPIED
-    } else if l < free_l {
-        PGM_FREE
-    } else {
-        PGM_UNKNOWN
+fn gray_of<M: CellModel>(model: &M, cell: M::Cell, thresholds: &Thresholds) -> u8 {
+    match model.verdict(cell, thresholds) {
+        Verdict::Occupied => PGM_OCCUPIED,
+        Verdict::Free => PGM_FREE,
+        Verdict::Unknown | Verdict::Undecided => PGM_UNKNOWN,
     }
 }
 
@@ -138,13 +137,13 @@ pub fn map_server_pair<M: CellModel, S: Store<M::Cell>>(
     );
     let mut pgm = Vec::with_capacity(header.len() + w * h);
     pgm.extend_from_slice(header.as_bytes());
-    let (occ_l, free_l) = log_odds_thresholds(OCCUPIED_THRESH, FREE_THRESH);
+    let thresholds = export_thresholds();
     let model = grid.model();
     // Image rows run north to south, grid rows south to north.
     for iy in (0..h).rev() {
         grid.store().row_runs(iy, |run| match run.cells {
             None => pgm.extend(std::iter::repeat_n(PGM_UNKNOWN, run.len)),
-            Some((cells, _)) => pgm.extend(cells.iter().map(|&c| gray_of(model, c, occ_l, free_l))),
+            Some((cells, _)) => pgm.extend(cells.iter().map(|&c| gray_of(model, c, &thresholds))),
         });
     }
     let yaml = yaml_text(g.resolution(), g.origin(), image_name);

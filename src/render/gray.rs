@@ -70,13 +70,24 @@ pub fn gray_level(l: f32) -> u8 {
 }
 
 /// A cell's gray level on screen: [`UNKNOWN_GRAY`] while it is unknown,
-/// the ramp of its log odds otherwise.
+/// the ramp of its belief otherwise ([`known_cell_gray`]).
 #[inline(always)]
 pub fn cell_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
     if model.is_unknown(cell) {
         UNKNOWN_GRAY
     } else {
-        gray_level(model.log_odds(cell))
+        known_cell_gray(model, cell)
+    }
+}
+
+/// The ramp's gray level of a cell's belief: found from the log odds the
+/// model holds without an exponential ([`gray_level`]), else from its
+/// probability ([`probability_gray`]); the two agree bit for bit.
+#[inline(always)]
+pub fn known_cell_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
+    match model.held_log_odds(cell) {
+        Some(l) => gray_level(l),
+        None => probability_gray(model.probability(cell)),
     }
 }
 

@@ -1,12 +1,15 @@
 //! What a reader sees of a map, kept up to date at the cost of what changed.
 //!
 //! Between the mapper and the page (docs/ARCHITECTURE.md, "Sessions and panes": "map pixels through a view
-//! into wasm memory"): after each scan a [`MapView`] compares the grid's log
-//! odds with the values it last drew and, for the cells that changed only,
+//! into wasm memory"): after each scan a [`MapView`] compares the grid's
+//! cells with the values it last drew and, for the cells that changed only,
 //! redraws the pixel and rescores the cell's entropy (bits) and squared
-//! error against the ground truth. A scan of the apartment changes about a
-//! tenth of the map, so this costs far less than redrawing and rescoring
-//! every cell, and needs no exponential or logarithm per cell:
+//! error against the ground truth ([`MapScores`], the map's scores kept
+//! cell by cell). A scan of the apartment changes about a tenth of the map,
+//! so this costs far less than redrawing and rescoring every cell. A view
+//! shows a map of any storage and cell model; for a model that holds log
+//! odds ([`CellModel::held_log_odds`]) it needs no exponential or logarithm
+//! per cell:
 //!
 //! * pixels come from [`gray_level`], which finds a cell's gray level by
 //!   a binary search over the 255 exact log-odds thresholds of the ramp
@@ -15,13 +18,17 @@
 //!   interpolated ([`cell_look`]; error below 1e-6 per cell, see the
 //!   test). The same table holds each bin's gray level and the one ramp
 //!   threshold inside it, so drawing a cell is one comparison.
+//!
+//! A model read through its probability is drawn and scored with the
+//! exact formulas ([`probability_gray`], [`binary_entropy_bits`]).
 
-use crate::error::{invalid, OccError, Result};
+use crate::error::Result;
 use crate::geometry::GridGeometry;
-use crate::grid::{binary_entropy_bits, probability, CellModel, Dense, Grid};
+use crate::grid::stats::MapScores;
+use crate::grid::{binary_entropy_bits, probability, CellModel, Grid, Store};
 use std::sync::OnceLock;
 
-use super::gray::{gray_level, thresholds, UNKNOWN_GRAY};
+use super::gray::{gray_level, probability_gray, thresholds, UNKNOWN_GRAY};
 
 /// Log-odds range of the cell table; beyond it cells are drawn and scored
 /// with the exact formulas.
@@ -104,165 +111,138 @@ pub fn score(l: f32) -> (f64, f64) {
     (p, h)
 }
 
-/// A map as the page shows it: RGBA pixels (north up, the grid's drawing
-/// convention), and every cell's entropy and squared error with their sums.
-#[derive(Debug, Clone)]
-pub struct MapView {
-    width: usize,
-    height: usize,
-    /// The log odds each cell had when last drawn (NaN: never drawn).
-    shown: Vec<f32>,
-    rgba: Vec<u8>,
-    entropy: Vec<f64>,
-    sq_error: Vec<f64>,
-    truth: Vec<bool>,
-    in_region: Vec<bool>,
-    region_cells: usize,
-    entropy_sum: f64,
-    sq_sum_all: f64,
-    sq_sum_region: f64,
-    /// Scratch: the cells that changed since the last sync.
-    dirty: Vec<u32>,
+/// Gray level, probability and binary entropy (bits) of `cell`, as the
+/// view draws and scores it: [`cell_look`] of the log odds the model
+/// holds, the exact formulas of its probability otherwise.
+#[inline]
+fn look<M: CellModel>(model: &M, cell: M::Cell) -> (u8, f64, f64) {
+    match model.held_log_odds(cell) {
+        Some(l) => cell_look(l),
+        None => {
+            let p = model.probability(cell);
+            (probability_gray(p), p, binary_entropy_bits(p))
+        }
+    }
 }
 
-impl MapView {
+/// A map as the page shows it: RGBA pixels (north up, the grid's drawing
+/// convention), and every cell's entropy and squared error with their sums.
+/// `C` is the cell model's cell (log odds for the chapter's maps).
+#[derive(Debug, Clone)]
+pub struct MapView<C = f32> {
+    width: usize,
+    height: usize,
+    /// The cell each pixel was last drawn from, in the rows drawn (empty
+    /// before the first sync).
+    shown: Vec<C>,
+    /// Per map row, true once drawn since the view was made or cleared.
+    row_drawn: Vec<bool>,
+    rgba: Vec<u8>,
+    scores: MapScores,
+    /// Scratch: the cells that changed since the last sync, and their
+    /// values now.
+    dirty: Vec<(u32, C)>,
+}
+
+impl<C: Copy + PartialEq> MapView<C> {
     /// A view of maps with `geometry`, scored against `truth`, with a
     /// Brier region of the cells in `region` (indices).
     pub fn new(geometry: &GridGeometry, truth: &[bool], region: &[usize]) -> Result<Self> {
         let n = geometry.len();
-        if truth.len() != n {
-            return Err(OccError::LengthMismatch {
-                field: "truth".into(),
-                expected: n,
-                found: truth.len(),
-            });
-        }
-        let mut in_region = vec![false; n];
-        for &i in region {
-            if i >= n {
-                return Err(invalid("region", i, "cell indices inside the map"));
-            }
-            in_region[i] = true;
-        }
-        let region_cells = in_region.iter().filter(|&&b| b).count();
-        if region_cells == 0 {
-            return Err(invalid("region", "[]", "at least one cell"));
-        }
+        let scores = MapScores::new(n, truth, region)?;
         Ok(Self {
             width: geometry.width(),
             height: geometry.height(),
-            shown: vec![f32::NAN; n],
+            shown: Vec::new(),
+            row_drawn: vec![false; geometry.height()],
             rgba: vec![0; 4 * n],
-            entropy: vec![0.0; n],
-            sq_error: vec![0.0; n],
-            truth: truth.to_vec(),
-            in_region,
-            region_cells,
-            entropy_sum: 0.0,
-            sq_sum_all: 0.0,
-            sq_sum_region: 0.0,
+            scores,
             dirty: Vec::new(),
         })
     }
 
     /// Brings the view up to date with `grid` (same geometry as the view),
-    /// redrawing and rescoring only the cells whose log odds changed since
-    /// the last call.
-    pub fn sync<M: CellModel<Cell = f32>>(&mut self, grid: &Grid<M, Dense<f32>>) {
-        let model = grid.model();
-        let now = grid.cells();
-        // Find the changed cells first. Most cells did not change, so test
-        // eight at a time with one branch.
-        let mut dirty = std::mem::take(&mut self.dirty);
-        dirty.clear();
-        const LANES: usize = 8;
-        let blocks = now.chunks_exact(LANES).zip(self.shown.chunks_exact(LANES));
-        for (b, (a, s)) in blocks.enumerate() {
-            let diff = a
-                .iter()
-                .zip(s)
-                .fold(0u32, |acc, (x, y)| acc | (x.to_bits() ^ y.to_bits()));
-            if diff != 0 {
-                let base = b * LANES;
-                for (j, (x, y)) in a.iter().zip(s).enumerate() {
-                    if x.to_bits() != y.to_bits() {
-                        dirty.push((base + j) as u32);
-                    }
-                }
-            }
-        }
-        let tail = now.len() - now.len() % LANES;
-        for j in tail..now.len().min(self.shown.len()) {
-            if now[j].to_bits() != self.shown[j].to_bits() {
-                dirty.push(j as u32);
-            }
-        }
-        for &i in &dirty {
-            let i = i as usize;
-            let l = now[i];
-            self.redraw(i, model.log_odds(l), model.is_unknown(l));
-        }
-        self.dirty = dirty;
+    /// redrawing and rescoring only the cells that changed since the last
+    /// call.
+    pub fn sync<M: CellModel<Cell = C>, S: Store<C>>(&mut self, grid: &Grid<M, S>) {
+        self.sync_rows(grid, 0..self.height);
     }
 
     /// [`MapView::sync`] over the rows `rows` of the map only (clipped to
-    /// it), returning the cells looked at. A row's cells are redrawn in the
-    /// order `sync` redraws them, so rows synced in increasing bands that
-    /// cover the map leave the view, its sums included, bit for bit as one
-    /// `sync` does: a large view is first drawn a band per call this way.
-    pub fn sync_rows<M: CellModel<Cell = f32>>(
+    /// it), returning the cells looked at. Cells are redrawn in index
+    /// order, so rows synced in increasing bands that cover the map leave
+    /// the view, its sums included, bit for bit as one `sync` does: a
+    /// large view is first drawn a band per call this way.
+    pub fn sync_rows<M: CellModel<Cell = C>, S: Store<C>>(
         &mut self,
-        grid: &Grid<M, Dense<f32>>,
+        grid: &Grid<M, S>,
         rows: std::ops::Range<usize>,
     ) -> usize {
         let model = grid.model();
-        let now = grid.cells();
+        let unknown = model.unknown();
         let w = self.width;
-        let n = now.len().min(self.shown.len());
-        let (start, end) = ((rows.start * w).min(n), (rows.end.saturating_mul(w)).min(n));
-        for (i, &l) in now.iter().enumerate().take(end).skip(start) {
-            if l.to_bits() != self.shown[i].to_bits() {
-                self.redraw(i, model.log_odds(l), model.is_unknown(l));
-            }
+        let rows = rows.start.min(self.height)..rows.end.min(self.height);
+        if self.shown.len() != w * self.height {
+            // The first sync: no row is drawn yet.
+            self.shown = vec![unknown; w * self.height];
         }
-        end.saturating_sub(start)
+        let mut dirty = std::mem::take(&mut self.dirty);
+        dirty.clear();
+        for iy in rows.clone() {
+            let drawn = self.row_drawn[iy];
+            grid.store().row_runs(iy, |run| {
+                let start = iy * w + run.x0;
+                let Some(shown) = self.shown.get(start..start + run.len) else {
+                    return;
+                };
+                match run.cells {
+                    Some((cells, _)) if drawn => changed_cells(cells, shown, start, &mut dirty),
+                    Some((cells, _)) => {
+                        dirty.extend((start as u32..).zip(cells.iter().copied()));
+                    }
+                    None => {
+                        for (k, &s) in shown.iter().enumerate() {
+                            if !drawn || s != unknown {
+                                dirty.push(((start + k) as u32, unknown));
+                            }
+                        }
+                    }
+                }
+            });
+            self.row_drawn[iy] = true;
+        }
+        for &(i, cell) in &dirty {
+            self.redraw(model, i as usize, cell);
+        }
+        self.dirty = dirty;
+        rows.len() * w
     }
 
-    /// Draws and scores cell `i` at log odds `l` (`unknown`: still at the
-    /// prior).
+    /// Draws and scores cell `i`, which now holds `cell`.
     #[inline]
-    fn redraw(&mut self, i: usize, l: f32, unknown: bool) {
-        self.shown[i] = l;
-        let (gray, p, hb) = cell_look(l);
+    fn redraw<M: CellModel<Cell = C>>(&mut self, model: &M, i: usize, cell: C) {
+        self.shown[i] = cell;
+        let (gray, p, hb) = look(model, cell);
         // Unknown is mid-gray whatever the prior (`super::gray::cell_gray`).
-        let g = if unknown { UNKNOWN_GRAY } else { gray };
+        let g = if model.is_unknown(cell) {
+            UNKNOWN_GRAY
+        } else {
+            gray
+        };
         let w = self.width;
         let (ix, iy) = (i % w, i / w);
         let o = 4 * ((self.height - 1 - iy) * w + ix);
         if let Some(px) = self.rgba.get_mut(o..o + 4) {
             px.copy_from_slice(&[g, g, g, 255]);
         }
-        let m = if self.truth[i] { 1.0 } else { 0.0 };
-        let sq = (p - m) * (p - m);
-        self.entropy_sum += hb - self.entropy[i];
-        self.entropy[i] = hb;
-        let d = sq - self.sq_error[i];
-        self.sq_sum_all += d;
-        if self.in_region[i] {
-            self.sq_sum_region += d;
-        }
-        self.sq_error[i] = sq;
+        self.scores.rescore(i, p, hb);
     }
 
     /// Forgets everything drawn and scored, as if new: the next sync
     /// redraws every cell and sums from zero.
     pub fn clear(&mut self) {
-        self.shown.fill(f32::NAN);
-        self.entropy.fill(0.0);
-        self.sq_error.fill(0.0);
-        self.entropy_sum = 0.0;
-        self.sq_sum_all = 0.0;
-        self.sq_sum_region = 0.0;
+        self.row_drawn.fill(false);
+        self.scores.clear();
     }
 
     /// The pixels as of the last [`MapView::sync`], `4 * width * height`
@@ -274,18 +254,51 @@ impl MapView {
     pub fn size(&self) -> (usize, usize) {
         (self.width, self.height)
     }
+    /// The scores as of the last sync.
+    pub fn scores(&self) -> &MapScores {
+        &self.scores
+    }
     /// Map entropy, bits.
     pub fn entropy_bits(&self) -> f64 {
-        self.entropy_sum
+        self.scores.entropy_bits()
     }
     /// Brier score over the region.
     pub fn brier_region(&self) -> f64 {
-        self.sq_sum_region / self.region_cells as f64
+        self.scores.brier_region()
     }
     /// Brier score over every cell.
     pub fn brier_all(&self) -> f64 {
-        self.sq_sum_all / self.truth.len() as f64
+        self.scores.brier_all()
     }
+}
+
+/// Pushes onto `dirty` the cells of `now` (the map's cells from index
+/// `start` on) that differ from the ones `shown`, in order. Most cells
+/// did not change, so eight are tested at a time with one branch.
+#[inline]
+fn changed_cells<C: Copy + PartialEq>(
+    now: &[C],
+    shown: &[C],
+    start: usize,
+    dirty: &mut Vec<(u32, C)>,
+) {
+    const LANES: usize = 8;
+    let mut push_changed = |base: usize, a: &[C], s: &[C]| {
+        for (j, (&x, &y)) in a.iter().zip(s).enumerate() {
+            if x != y {
+                dirty.push(((start + base + j) as u32, x));
+            }
+        }
+    };
+    let blocks = now.chunks_exact(LANES).zip(shown.chunks_exact(LANES));
+    for (b, (a, s)) in blocks.enumerate() {
+        let changed = a.iter().zip(s).fold(false, |acc, (&x, &y)| acc | (x != y));
+        if changed {
+            push_changed(b * LANES, a, s);
+        }
+    }
+    let tail = now.len() - now.len() % LANES;
+    push_changed(tail, &now[tail..], &shown[tail.min(shown.len())..]);
 }
 
 #[cfg(test)]
@@ -358,8 +371,8 @@ mod tests {
         assert!((view.entropy_bits() - grid.entropy_bits()).abs() < 1e-5);
         let b = grid.brier_score(&truth, Some(&[0, 1, 2])).unwrap();
         assert!((view.brier_region() - b).abs() < 1e-6);
-        assert!(MapView::new(&g, &truth[1..], &[0]).is_err());
-        assert!(MapView::new(&g, &truth, &[]).is_err());
-        assert!(MapView::new(&g, &truth, &[35]).is_err());
+        assert!(MapView::<f32>::new(&g, &truth[1..], &[0]).is_err());
+        assert!(MapView::<f32>::new(&g, &truth, &[]).is_err());
+        assert!(MapView::<f32>::new(&g, &truth, &[35]).is_err());
     }
 }

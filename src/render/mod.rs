@@ -1,5 +1,6 @@
-//! Rendering: log odds to pixels. The one gray ramp, and the incremental
-//! view a widget reads its map pixels from (in wasm memory, without a copy).
+//! Rendering: what cells believe, to pixels. The one gray ramp, and the
+//! incremental view a widget reads its map pixels from (in wasm memory,
+//! without a copy).
 
 pub mod evidence;
 pub mod gray;

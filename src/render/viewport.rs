@@ -446,7 +446,7 @@ impl<C: Copy> Darkest<C> {
     fn gray<M: CellModel<Cell = C>>(&self, model: &M) -> u8 {
         let unknown = if self.unknown { UNKNOWN_GRAY } else { u8::MAX };
         match self.most_occupied {
-            Some(cell) => unknown.min(crate::render::gray::gray_level(model.log_odds(cell))),
+            Some(cell) => unknown.min(crate::render::gray::known_cell_gray(model, cell)),
             None => unknown,
         }
     }
