@@ -19,8 +19,8 @@ use occgrid::inverse::{HandCrafted, HandCraftedParams};
 use occgrid::io::map_server::{
     export_counts, map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH,
 };
-use occgrid::render::gray::render_grid_rgba;
 use occgrid::render::map_view::MapView;
+use occgrid::render::viewport::render_grid_rgba;
 use occgrid::sensors::Scan;
 
 /// The verdicts a cell received, each count saturating.
