@@ -96,7 +96,7 @@ fn doorway_climb_reaches_a_local_maximum() {
 #[wasm_bindgen_test]
 fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     let text = b"# log\nFLASER 3 1.0 2.0 3.0 0 0 0 0 0 0 1 h 1\nFLASER 3 1.0 2.0 3.0 0.1 0 0 0 0 0 2 h 2\n";
-    let mut s = log_session(text.to_vec());
+    let mut s = log_session(text);
     let p = s.read(JsValue::from_f64(100.0)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
     assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
@@ -117,7 +117,7 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
             .unwrap_err(),
     );
     assert!(msg.contains("resoluton"), "{msg}");
-    let mut broken = log_session(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n".to_vec());
+    let mut broken = log_session(b"ODOM 0 0 0\nFLASER 2 1.0 -2 0 0 0 0 0 0\n");
     let msg = js_error_message(broken.read(JsValue::from_f64(10.0)).unwrap_err());
     assert!(
         msg.starts_with("line 2:") && msg.contains("negative"),

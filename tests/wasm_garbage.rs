@@ -589,7 +589,7 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     refused(bad.geometry(num(0.0)), &["not been read"]);
 
     // A log without laser lines.
-    let mut empty = log_session(b"ODOM 0 0 0\n".to_vec());
+    let mut empty = log_session(b"ODOM 0 0 0\n");
     refused(
         empty.read(num(f64::INFINITY)),
         &["no FLASER or ROBOTLASER1 lines"],
