@@ -1,5 +1,6 @@
-// Removes the `name` custom section (function names for debuggers) from a
-// wasm module, in place. It holds about a tenth of the module's bytes and
+// Removes the custom sections nothing at run time reads (function names for
+// debuggers, the producers, the target features) from a wasm module, in
+// place. The names hold about a tenth of the module's bytes and
 // nothing the page runs: panics still print their message through the
 // panic hook.
 import fs from 'node:fs';
@@ -14,6 +15,11 @@ function leb(bytes, i) {
   return [value, i];
 }
 
+/** Custom sections nothing at run time reads: the function names, the
+ * compiler's and tools' names and versions (`producers`), and the features
+ * the compiler assumed (`target_features`, read only by linkers). */
+const DROPPED = new Set(['name', 'producers', 'target_features']);
+
 export function stripNames(bytes) {
   const keep = [bytes.subarray(0, 8)];
   let i = 8;
@@ -25,7 +31,7 @@ export function stripNames(bytes) {
     let drop = false;
     if (id === 0) {
       const [len, nameAt] = leb(bytes, body);
-      drop = Buffer.from(bytes.subarray(nameAt, nameAt + len)).toString() === 'name';
+      drop = DROPPED.has(Buffer.from(bytes.subarray(nameAt, nameAt + len)).toString());
     }
     if (!drop) keep.push(bytes.subarray(start, end));
     i = end;
