@@ -18,7 +18,7 @@
 // calls `this.attrs.resolve(constants)`, its value is read with the
 // table's own `type` (a looser one) and a bad value is not yet reported;
 // after, the core's type checks it and a bad value is reported as any other.
-import { el } from './ui.js';
+import { el, grouped } from './ui.js';
 
 /**
  * Attributes every HTML element may carry; never reported as unknown. So
@@ -62,7 +62,7 @@ export const SHORT_TEXT = 200;
 
 /** The refusal of a value longer than its kind allows, before it is parsed. */
 export function tooLong(name, text, type, max) {
-  return new Error(`invalid ${name}: "${shortText(text)}" (${text.length.toLocaleString('en-US')} characters, at most ${max.toLocaleString('en-US')}; expected ${type.describe})`);
+  return new Error(`invalid ${name}: "${shortText(text)}" (${grouped(text.length)} characters, at most ${grouped(max)}; expected ${type.describe})`);
 }
 
 /** Parses `text` with `type`, refusing it unread when it is longer than the type allows. */
