@@ -32,6 +32,9 @@ const TABLE_ROWS = 50;
 
 const readingsType = {
   describe: `at most ${grouped(MAX_READINGS)} letters o for occupied and f for free, e.g. "oof"`,
+  // Letters with a separator and a space each; longer is refused unread
+  // (widgets/lib/attributes.js, parseBounded).
+  maxLength: 3 * MAX_READINGS,
   parse(text, name) {
     const letters = text.replace(/[\s,]/g, '');
     // Refused on its length before a reading is parsed; the message cites

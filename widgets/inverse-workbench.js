@@ -18,7 +18,7 @@
 import { startWidget } from './lib/start.js';
 import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, nextId, fixed, grouped, nextTask } from './lib/ui.js';
-import { ANY_NUMBER, applyControls, controlGroups, flag, formatControls, steps, whole } from './lib/attributes.js';
+import { ANY_NUMBER, applyControls, controlGroups, flag, formatControls, parseBounded, steps, whole } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
 import { FIRST_TRAIN_UNITS, TRAIN_SLICE_MS, workBudget } from './lib/work-budget.js';
 
@@ -382,7 +382,7 @@ class InverseWorkbenchElement extends HTMLElement {
     const text = this.seedInput.value;
     let seed;
     try {
-      seed = InverseWorkbenchElement.attributeSpec.seed.type.parse(text, 'seed');
+      seed = parseBounded(InverseWorkbenchElement.attributeSpec.seed.type, text, 'seed');
     } catch (e) {
       this.refuse(`Seed box: ${e.message}`);
       return;

@@ -18,7 +18,7 @@
 // calls `this.attrs.resolve(constants)`, its value is read with the
 // table's own `type` (a looser one) and a bad value is not yet reported;
 // after, the core's type checks it and a bad value is reported as any other.
-import { el } from './ui.js';
+import { el, grouped } from './ui.js';
 
 /**
  * Attributes every HTML element may carry; never reported as unknown. So
@@ -34,9 +34,42 @@ const GLOBAL_ATTRIBUTES = new Set([
 const isGlobal = (name) =>
   GLOBAL_ATTRIBUTES.has(name) || name.startsWith('data-') || name.startsWith('aria-') || name.startsWith('on');
 
+/**
+ * The most of a value a message repeats: its first 60 characters and an
+ * ellipsis, as the core cuts its own messages (docs/ARCHITECTURE.md, "Bad
+ * input"). A page or a link may set a megabyte in an attribute; an error
+ * box that repeats it all holds the page for seconds.
+ */
+export const SHOWN_CHARS = 60;
+
+/** `text` as a message quotes it: at most `SHOWN_CHARS` characters, then "…". */
+export function shortText(text) {
+  return text.length > SHOWN_CHARS ? `${text.slice(0, SHOWN_CHARS)}…` : text;
+}
+
 /** The message every widget shows for a bad value. */
 export function invalidValue(name, text, expected) {
-  return new Error(`invalid ${name}: "${text}" (expected ${expected})`);
+  return new Error(`invalid ${name}: "${shortText(text)}" (expected ${expected})`);
+}
+
+/**
+ * The longest text read for a value of each kind, checked before the value
+ * is parsed (so that nothing trims, splits, scans or parses a megabyte): a
+ * number, a flag or a word fits in `SHORT_TEXT`; a type may state its own
+ * (`maxLength`: a JSON scene, a list of readings, the control groups).
+ */
+export const SHORT_TEXT = 200;
+
+/** The refusal of a value longer than its kind allows, before it is parsed. */
+export function tooLong(name, text, type, max) {
+  return new Error(`invalid ${name}: "${shortText(text)}" (${grouped(text.length)} characters, at most ${grouped(max)}; expected ${type.describe})`);
+}
+
+/** Parses `text` with `type`, refusing it unread when it is longer than the type allows. */
+export function parseBounded(type, text, name) {
+  const max = type.maxLength ?? SHORT_TEXT;
+  if (text.length > max) throw tooLong(name, text, type, max);
+  return type.parse(text, name);
 }
 
 // ---- value types ----------------------------------------------------------
@@ -147,12 +180,41 @@ export function flag() {
   };
 }
 
+/**
+ * A JSON scene's longest text, characters: a scene overrides a few dozen
+ * fields (the chapter's scenes fit in a few hundred characters), so ten
+ * thousand is well above any real one.
+ */
+export const MAX_JSON_TEXT = 10_000;
+/** A JSON scene's deepest nesting: a scene's fields are numbers, pairs and small tables. */
+export const MAX_JSON_DEPTH = 16;
+
+/** How deep `text` nests brackets and braces outside its strings (a JSON text's nesting). */
+function jsonDepth(text) {
+  let depth = 0;
+  let deepest = 0;
+  let inString = false;
+  for (let i = 0; i < text.length; i++) {
+    const c = text.charCodeAt(i);
+    if (inString) {
+      if (c === 0x5c) i++; // a backslash: the next character is escaped
+      else if (c === 0x22) inString = false;
+    } else if (c === 0x22) inString = true;
+    else if (c === 0x5b || c === 0x7b) deepest = Math.max(deepest, ++depth);
+    else if (c === 0x5d || c === 0x7d) depth--;
+  }
+  return deepest;
+}
+
 /** A JSON object, handed to the core as it is (the core checks its fields). */
 export function jsonObject(example) {
   const describe = `a JSON object such as ${example}`;
   return {
     describe,
+    maxLength: MAX_JSON_TEXT,
     parse(text, name) {
+      if (text.length > MAX_JSON_TEXT) throw tooLong(name, text, this, MAX_JSON_TEXT);
+      if (jsonDepth(text) > MAX_JSON_DEPTH) throw invalidValue(name, text, `${describe}, nested at most ${MAX_JSON_DEPTH} deep`);
       let v;
       try {
         v = JSON.parse(text);
@@ -175,13 +237,16 @@ export function controlGroups(groups) {
   return {
     describe,
     groups,
+    // Every group named twice, with a separator each.
+    maxLength: Math.max(SHORT_TEXT, 2 * groups.reduce((n, g) => n + g.length + 2, 0)),
     parse(text, name) {
       const words = text.trim().toLowerCase().split(/[\s,]+/).filter(Boolean);
       if (words.length === 1 && words[0] === 'all') return new Set(groups);
       if (words.length === 0 || (words.length === 1 && words[0] === 'none')) return new Set();
       const unknown = words.filter((w) => !groups.includes(w));
       if (unknown.length) {
-        throw new Error(`invalid ${name}: "${text}" (unknown group${unknown.length > 1 ? 's' : ''} ${unknown.map((w) => `"${w}"`).join(', ')}; expected ${describe})`);
+        const named = unknown.slice(0, 3).map((w) => `"${shortText(w)}"`).join(', ') + (unknown.length > 3 ? ', …' : '');
+        throw new Error(`invalid ${name}: "${shortText(text)}" (unknown group${unknown.length > 1 ? 's' : ''} ${named}; expected ${describe})`);
       }
       return new Set(words);
     },
@@ -230,7 +295,7 @@ export class AttributeReader {
 
   parseDefault(name) {
     const s = this.spec[name];
-    return s.default === undefined ? undefined : s.type.parse(s.default, name);
+    return s.default === undefined ? undefined : parseBounded(s.type, s.default, name);
   }
 
   /**
@@ -274,7 +339,7 @@ export class AttributeReader {
         continue;
       }
       try {
-        this.last[name] = s.type.parse(text, name);
+        this.last[name] = parseBounded(s.type, text, name);
       } catch (e) {
         // Bounds the core has not given yet: reported once it has.
         if (!s.core || s.fromCore) errors.push(e.message);
@@ -295,7 +360,7 @@ export class AttributeReader {
     const known = Object.keys(this.spec).join(', ');
     const warnings = unknown.map((n) => {
       const v = this.host.getAttribute(n);
-      return `unknown attribute ${n}${v === '' ? '' : `="${v}"`} (ignored; ${tag} knows: ${known})`;
+      return `unknown attribute ${shortText(n)}${v === '' ? '' : `="${shortText(v)}"`} (ignored; ${tag} knows: ${known})`;
     });
     const now = new Set([...errors, ...warnings]);
     for (const m of errors) if (!this.logged.has(m)) console.error(`${tag}: ${m}`);

@@ -8,7 +8,7 @@
 // element's id, or its tag name without "occgrid-" (with "-2", "-3", … for
 // further elements of the same tag), so several widgets share one URL.
 import { el, button, ensureStyles } from './ui.js';
-import { AttributeReader } from './attributes.js';
+import { AttributeReader, MAX_JSON_TEXT } from './attributes.js';
 
 /** The widget's key in the URL: its id, else its tag (numbered when repeated). */
 export function widgetKey(host) {
@@ -20,13 +20,44 @@ export function widgetKey(host) {
 }
 
 /**
+ * The longest value of a link that is decoded, characters as the link
+ * writes them: three for each character of the longest attribute value
+ * (widgets/lib/attributes.js, MAX_JSON_TEXT), every one percent-encoded.
+ * A longer one is over every attribute's cap however it decodes, and is
+ * set as the link writes it, to be refused on its length: decoding a
+ * megabyte of query (`URLSearchParams` over the whole URL) holds the page
+ * for a third of a second.
+ */
+export const MAX_LINK_VALUE = 3 * MAX_JSON_TEXT;
+
+/** One `name=value` piece of a query, decoded as `URLSearchParams` decodes it. */
+const decodePart = (text) => (/[%+]/.test(text) ? new URLSearchParams(`a=${text}`).get('a') : text);
+
+/**
  * The attribute values the page URL holds for `host`, as a Map from name
  * to text (a Map, so that a name such as `__proto__` is just a name).
+ * Each `&`-separated piece is decoded alone, and a value longer than
+ * `MAX_LINK_VALUE` not at all, so that nothing decodes a megabyte.
  */
 export function urlState(host, search = location.search) {
   const prefix = `${widgetKey(host)}.`;
   const out = new Map();
-  for (const [k, v] of new URLSearchParams(search)) if (k.startsWith(prefix)) out.set(k.slice(prefix.length), v);
+  const query = search.startsWith('?') ? search.slice(1) : search;
+  for (let start = 0; start < query.length;) {
+    let end = query.indexOf('&', start);
+    if (end < 0) end = query.length;
+    const eq = query.indexOf('=', start);
+    const keyEnd = eq < 0 || eq > end ? end : eq;
+    // A key longer than the longest value a link decodes is no attribute's.
+    if (keyEnd > start && keyEnd - start <= MAX_LINK_VALUE) {
+      const key = decodePart(query.slice(start, keyEnd));
+      if (key.startsWith(prefix)) {
+        const raw = keyEnd < end ? query.slice(keyEnd + 1, end) : '';
+        out.set(key.slice(prefix.length), raw.length > MAX_LINK_VALUE ? raw : decodePart(raw));
+      }
+    }
+    start = end + 1;
+  }
   return out;
 }
 
