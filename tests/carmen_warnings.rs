@@ -126,7 +126,7 @@ fn stamps_running_backwards_are_counted_from_their_first_line_and_mapped_in_file
     assert_eq!(
         p.warning.as_deref(),
         Some(
-            "the scans' stamps run backwards 3 times (the first on line 2): \
+            "The scans' stamps run backwards 3 times (the first on line 2): \
              the scans are mapped in file order"
         )
     );
@@ -172,7 +172,7 @@ fn warnings_of_a_cut_short_log_are_joined_in_one_string() {
              (FLASER line ends before range 3); the 3 complete scans before it are kept. \
              1 RLASER line was not read (the first on line 2): \
              only FLASER and ROBOTLASER1 lines are mapped. \
-             the scans' stamps run backwards 1 time (the first on line 3): \
+             The scans' stamps run backwards 1 time (the first on line 3): \
              the scans are mapped in file order"
         )
     );

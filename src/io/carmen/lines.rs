@@ -185,7 +185,7 @@ impl StampOrder {
         }
         let n = self.backwards;
         Some(format!(
-            "the scans' stamps run backwards {n} time{} (the first on line {line}): \
+            "The scans' stamps run backwards {n} time{} (the first on line {line}): \
              the scans are mapped in file order",
             if n == 1 { "" } else { "s" },
         ))
