@@ -74,7 +74,11 @@ pub struct LoadProgress {
     /// Bytes taken from the (possibly compressed) input.
     pub bytes_read: u64,
     pub finished: bool,
-    /// How a log cut short ended, naming where, or `None`.
+    /// What a finished read has to say about a log it still maps, in
+    /// short sentences joined by ". " (without a final stop), or `None`:
+    /// how a log cut short ended, naming where, and what the format's
+    /// reader passed over or found out of order (for CARMEN, the module
+    /// doc of [`super::carmen`]). Bounded whatever the log's length.
     pub warning: Option<String>,
 }
 

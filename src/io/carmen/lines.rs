@@ -5,7 +5,7 @@
 //! the compressed file; it then pauses (for the compressed bytes, even
 //! inside a line) and the next read resumes there.
 
-use super::parse::{laser_line, LaserRecord};
+use super::parse::{laser_line, LaserRecord, LogLine, SKIPPED_LASER_MESSAGES};
 use super::source::{is_budget_pause, Source};
 use super::MAX_LINE_BYTES;
 use crate::error::{OccError, Result};
@@ -130,7 +130,66 @@ pub struct LogReader<R: Read> {
     records: usize,
     bytes_at_close: u64,
     pub(super) failure: Option<OccError>,
+    /// How a log cut short ended, when it was.
+    cut: Option<String>,
+    /// Laser lines not read, by message ([`SKIPPED_LASER_MESSAGES`]).
+    skipped: [usize; SKIPPED_LASER_MESSAGES.len()],
+    /// The first laser line not read.
+    first_skipped: Option<usize>,
+    stamps: StampOrder,
+    /// Everything worth saying about the read, once it has ended.
     warning: Option<String>,
+}
+
+/// How often a read laser line's stamp lies before the previous one's.
+#[derive(Debug, Default)]
+struct StampOrder {
+    previous: Option<f64>,
+    steps: usize,
+    backwards: usize,
+    first_backwards: Option<usize>,
+    /// The longest step back, seconds.
+    longest_back: f64,
+}
+
+/// A step back of more than this, in seconds, is no logger's jitter: the
+/// public corpus's stamps step back four times in the Intel log, by at most
+/// 0.86 s (messages logged slightly out of order), never by more.
+const STAMP_JITTER_SECONDS: f64 = 2.0;
+
+/// Steps back in more than one step in this many are no jitter either
+/// (the public corpus: at most 4 in 910).
+const STAMP_JITTER_STEPS: usize = 100;
+
+impl StampOrder {
+    fn record(&mut self, line: usize, stamp: Option<f64>) {
+        let Some(stamp) = stamp else { return };
+        if let Some(previous) = self.previous {
+            self.steps += 1;
+            if stamp < previous {
+                self.backwards += 1;
+                self.first_backwards.get_or_insert(line);
+                self.longest_back = self.longest_back.max(previous - stamp);
+            }
+        }
+        self.previous = Some(stamp);
+    }
+
+    /// A sentence when the stamps run backwards beyond a logger's jitter.
+    fn warning(&self) -> Option<String> {
+        let line = self.first_backwards?;
+        let jitter = self.longest_back <= STAMP_JITTER_SECONDS
+            && self.backwards * STAMP_JITTER_STEPS <= self.steps;
+        if jitter {
+            return None;
+        }
+        let n = self.backwards;
+        Some(format!(
+            "The scans' stamps run backwards {n} time{} (the first on line {line}): \
+             the scans are mapped in file order",
+            if n == 1 { "" } else { "s" },
+        ))
+    }
 }
 
 impl<R: Read> LogReader<R> {
@@ -146,13 +205,22 @@ impl<R: Read> LogReader<R> {
             records: 0,
             bytes_at_close: 0,
             failure: None,
+            cut: None,
+            skipped: [0; SKIPPED_LASER_MESSAGES.len()],
+            first_skipped: None,
+            stamps: StampOrder::default(),
             warning: None,
         }
     }
 
-    /// How the read ended early, when the log was cut short: the line and
-    /// what was kept ("line 5103: the file ends inside this FLASER line
-    /// (...); the 1519 complete scans before it are kept").
+    /// What the reader has to say once the read has ended, in sentences
+    /// joined by ". " (no final stop), each bounded whatever the log's
+    /// length: how the read ended early when the log was cut short ("line
+    /// 5103: the file ends inside this FLASER line (...); the 1519 complete
+    /// scans before it are kept"), the laser lines not read, by message
+    /// ("66 RLASER lines were not read (the first on line 4): only FLASER
+    /// and ROBOTLASER1 lines are mapped"), and stamps that run backwards
+    /// beyond a logger's jitter. `None` until the read ends.
     pub fn warning(&self) -> Option<&str> {
         self.warning.as_deref()
     }
@@ -191,18 +259,49 @@ impl<R: Read> LogReader<R> {
         if n == 0 {
             return self.fail(line, what);
         }
-        self.close();
-        self.warning = Some(format!(
+        self.cut = Some(format!(
             "line {line}: {what}; the {n} complete scan{} before it {} kept",
             if n == 1 { "" } else { "s" },
             if n == 1 { "is" } else { "are" },
         ));
+        self.close();
         Ok(Step::End)
     }
 
     pub(super) fn close(&mut self) {
         self.bytes_at_close = self.bytes_read();
         self.source = Source::Closed;
+        let sentences: Vec<String> = [
+            self.cut.clone(),
+            self.skipped_warning(),
+            self.stamps.warning(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        self.warning = (!sentences.is_empty()).then(|| sentences.join(". "));
+    }
+
+    /// A sentence naming the laser lines not read, by message.
+    fn skipped_warning(&self) -> Option<String> {
+        let first = self.first_skipped?;
+        let counts: Vec<String> = SKIPPED_LASER_MESSAGES
+            .iter()
+            .zip(self.skipped)
+            .filter(|&(_, n)| n > 0)
+            .map(|(name, n)| format!("{n} {name}"))
+            .collect();
+        let total: usize = self.skipped.iter().sum();
+        let lines = if total == 1 { "line was" } else { "lines were" };
+        let counts = match counts.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+            None => return None,
+        };
+        Some(format!(
+            "{counts} {lines} not read (the first on line {first}): \
+             only FLASER and ROBOTLASER1 lines are mapped"
+        ))
     }
 
     fn fail<T>(&mut self, line: usize, reason: String) -> Result<T> {
@@ -299,9 +398,15 @@ impl<R: Read> LogReader<R> {
             // The last line of a file cut short has no newline.
             let unterminated = self.line.last() != Some(&b'\n');
             return match laser_line(number, &self.line) {
-                Ok(None) => continue,
-                Ok(Some(record)) => {
+                Ok(LogLine::Other) => continue,
+                Ok(LogLine::SkippedLaser(message)) => {
+                    self.skipped[message] += 1;
+                    self.first_skipped.get_or_insert(number);
+                    continue;
+                }
+                Ok(LogLine::Laser(record)) => {
                     self.records += 1;
+                    self.stamps.record(number, record.timestamp);
                     Ok(Step::Record(record))
                 }
                 Err(reason) if unterminated => self.cut_short(

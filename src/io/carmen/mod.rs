@@ -56,7 +56,11 @@
 //! * every `x` and `y` of the line's poses within [`MAX_POSE_COORDINATE`]
 //!   (1,000 km) of the log's origin: the logs of buildings and campuses
 //!   span a few kilometres, and a pose at 1e300 m would leave no grid to
-//!   build (its cells could not be counted).
+//!   build (its cells could not be counted);
+//! * every heading (`theta`, `odom_theta`, `laser_theta`, `robot_theta`)
+//!   within [`MAX_HEADING`] (1,000 pi) of 0: a heading lies within pi, or
+//!   a few hundred turns from it when a logger does not wrap it, and one of
+//!   1e300 radians is no angle (its sine and cosine are rounding noise).
 //!
 //! The trailing timestamps and host name are optional. The first malformed
 //! line ends the read with an [`OccError::Parse`](crate::error::OccError)
@@ -68,6 +72,18 @@
 //! the read cleanly with a [`LogReader::warning`] naming the line, not an
 //! error. (A cut among the trailing timestamps, which the map does not use,
 //! loses nothing: that line is read as usual.)
+//!
+//! **What is read without a word lost**: a finished read's
+//! [`LogReader::warning`] also names, in one short sentence each (counts
+//! and a first line, never a list that grows with the log), the laser
+//! lines it passes over (`RLASER`, `LASER3`, `LASER4`, `RAWLASER1` to
+//! `RAWLASER4`, `ROBOTLASER2`: only `FLASER` and `ROBOTLASER1` are mapped)
+//! and scans whose `ipc_timestamp` runs backwards (mapped in file order
+//! all the same). Loggers write a few messages slightly out of order (the
+//! Intel log's stamps step back four times, by under a second), so stamps
+//! count as running backwards when one steps back by more than 2 s or more
+//! than one step in 100 does. Sentences are joined by ". ", after a cut
+//! short's.
 //!
 //! **Foreign bytes** (a picture, an archive, random data) are refused on
 //! the first line holding bytes no text log has (NUL and other control
@@ -122,3 +138,11 @@ pub const MAX_BEAMS: usize = 10_000;
 /// lie: 1,000 km, hundreds of times the span of any building or campus
 /// log, and far inside what a grid over the log can count in cells.
 pub const MAX_POSE_COORDINATE: f64 = 1e6;
+
+/// How far from 0 a pose's heading may lie, in radians: 1,000 pi. A
+/// wrapped heading lies within pi (a log's rounding takes it a little past:
+/// the public corpus's headings stay within 3.25 rad); a heading counted on
+/// through whole turns without wrapping still fits for 500 of them, and at
+/// this size an `f64` holds it to 1e-12 rad, so its sine and cosine are
+/// still the heading's. A heading of 1e300 has no angle left in it.
+pub const MAX_HEADING: f64 = 1000.0 * std::f64::consts::PI;

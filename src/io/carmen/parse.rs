@@ -3,7 +3,7 @@
 //! line is a reason in words naming the message and the field (the module
 //! doc of [`super`] lists what counts as malformed).
 
-use super::{MAX_BEAMS, MAX_POSE_COORDINATE};
+use super::{MAX_BEAMS, MAX_HEADING, MAX_POSE_COORDINATE};
 use crate::error::Result;
 use crate::geometry::Pose;
 use crate::sensors::Scan;
@@ -65,13 +65,37 @@ impl LaserRecord {
     }
 }
 
-/// Reads one complete line (newline included, if any): `Ok(None)` for a
-/// blank line, a comment or a message other than a laser one, the record
-/// for a laser line, and the reason when the line is malformed.
-pub(super) fn laser_line(
-    number: usize,
-    line: &[u8],
-) -> std::result::Result<Option<LaserRecord>, String> {
+/// The laser messages CARMEN writes that are not read: front and rear
+/// lasers of old logs (`RLASER`, `LASER3`, `LASER4` beside `FLASER`), the
+/// raw scans without a pose (`RAWLASER1` to `RAWLASER4`) and the second
+/// robot laser (`ROBOTLASER2`). A log holding them is still read; how many
+/// were passed over is said once the read ends.
+pub(super) const SKIPPED_LASER_MESSAGES: [&str; 8] = [
+    "RLASER",
+    "LASER3",
+    "LASER4",
+    "RAWLASER1",
+    "RAWLASER2",
+    "RAWLASER3",
+    "RAWLASER4",
+    "ROBOTLASER2",
+];
+
+/// What one line of a log is.
+#[derive(Debug)]
+pub(super) enum LogLine {
+    /// A blank line, a comment or a message that is not a laser one.
+    Other,
+    /// A laser line that is read.
+    Laser(LaserRecord),
+    /// A laser line that is not read: its message's index in
+    /// [`SKIPPED_LASER_MESSAGES`].
+    SkippedLaser(usize),
+}
+
+/// Reads one complete line (newline included, if any): what the line is,
+/// and the reason when a laser line is malformed.
+pub(super) fn laser_line(number: usize, line: &[u8]) -> std::result::Result<LogLine, String> {
     let mut text = line;
     if number == 1 {
         text = text.strip_prefix(b"\xef\xbb\xbf").unwrap_or(text);
@@ -80,12 +104,16 @@ pub(super) fn laser_line(
         .split(|b: &u8| b.is_ascii_whitespace())
         .filter(|t| !t.is_empty());
     let Some(name) = fields.next() else {
-        return Ok(None); // blank line
+        return Ok(LogLine::Other); // blank line
     };
     match name {
-        b"FLASER" => parse_flaser(number, fields).map(Some),
-        b"ROBOTLASER1" => parse_robot_laser(number, fields).map(Some),
-        _ if name[0] == b'#' || is_message_name(name) => Ok(None),
+        b"FLASER" => parse_flaser(number, fields).map(LogLine::Laser),
+        b"ROBOTLASER1" => parse_robot_laser(number, fields).map(LogLine::Laser),
+        _ if name[0] == b'#' => Ok(LogLine::Other),
+        _ if is_message_name(name) => Ok(SKIPPED_LASER_MESSAGES
+            .iter()
+            .position(|m| m.as_bytes() == name)
+            .map_or(LogLine::Other, LogLine::SkippedLaser)),
         _ => Err(format!(
             "not a CARMEN log line: it starts with {}, not a message name such as FLASER or ODOM",
             show(token_text(name))
@@ -233,11 +261,26 @@ impl<'a, I: Iterator<Item = &'a [u8]>> Fields<'a, I> {
         }
     }
 
+    /// A pose's heading, radians, within [`MAX_HEADING`] of 0.
+    fn heading(&mut self, name: &str) -> std::result::Result<f64, String> {
+        let v = self.named(name)?;
+        if v.abs() <= MAX_HEADING {
+            Ok(v)
+        } else {
+            Err(format!(
+                "{} {name} = {} is not a heading: beyond {MAX_HEADING:.0} radians \
+                 (1,000 pi; a heading lies within pi)",
+                self.message,
+                as_written(self.last)
+            ))
+        }
+    }
+
     fn pose(&mut self, x: &str, y: &str, theta: &str) -> std::result::Result<Pose, String> {
         Ok(Pose {
             x: self.coordinate(x)?,
             y: self.coordinate(y)?,
-            theta: self.named(theta)?,
+            theta: self.heading(theta)?,
         })
     }
 
