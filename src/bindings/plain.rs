@@ -18,7 +18,7 @@
 //!    alone reads only the fields it knows, so a misspelt one would pass
 //!    unnoticed.
 
-use super::guarded::{is_array, thrown};
+use super::guarded::{describe_binary, is_array, thrown};
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::JsValue;
 
@@ -118,6 +118,12 @@ fn copy(
             out.push(&copy(&item, depth + 1, budget, nodes).map_err(at)?);
         }
         return Ok(out.into());
+    }
+    // A typed array's keys are its items (millions of them, to walk before
+    // refusing), and a buffer's bytes are no keys at all (it would read as
+    // `{}`): neither is settings.
+    if let Some(binary) = describe_binary(value) {
+        return Err(here(format!("{binary} (expected plain data)")));
     }
     let out = Object::new();
     let keys = Reflect::own_keys(value).map_err(|e| here(thrown(e)))?;

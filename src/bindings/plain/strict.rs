@@ -175,9 +175,19 @@ impl<'de> Deserializer<'de> for Strict {
 
     fn deserialize_tuple<V: Visitor<'de>>(
         self,
-        _len: usize,
+        len: usize,
         visitor: V,
     ) -> Result<V::Value, Error> {
+        // A fixed number of items (Map Weaver's two panes): serde reads
+        // that many and would drop any past them unread.
+        if let Some(n) = crate::bindings::guarded::array_length(&self.0)
+            .map_err(<Error as de::Error>::custom)?
+            .filter(|n| *n != len)
+        {
+            return Err(<Error as de::Error>::custom(format!(
+                "an array of {n} (expected exactly {len} items)"
+            )));
+        }
         self.deserialize_seq(visitor)
     }
 

@@ -66,6 +66,9 @@ impl RealLogSession {
             number_from_js("y", &y)?,
             number_from_js("factor", &factor)?,
         );
+        // A pointer is always somewhere: a point that is no number is a
+        // caller's mistake, not the view's centre.
+        let (x, y) = (crate::error::finite("x", x)?, crate::error::finite("y", y)?);
         Ok(self.session.pane_mut(pane)?.zoom_view(x, y, factor)?)
     }
 
