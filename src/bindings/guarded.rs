@@ -120,48 +120,49 @@ fn as_count(value: JsValue) -> Option<usize> {
 
 /// Binary data JavaScript sent, told by its internal slots (no code of the
 /// value runs, and a Proxy or an object dressed as one is none): its kind
-/// (`Uint8Array`, any other typed array, `DataView`, `ArrayBuffer`) and its
+/// (`Uint8Array`, any other typed array, `ArrayBuffer`, `DataView`) and its
 /// length, items of a typed array and bytes of the others. Read without
 /// touching its items or keys: a view of millions of bytes answers at once.
+#[inline(never)]
 pub(crate) fn binary_data(value: &JsValue) -> Option<(String, usize)> {
     if !value.is_object() {
         return None;
     }
-    let slot = |prototype: Object, key: &str| {
-        call_getter(&builtin_getter(&prototype, &JsValue::from_str(key))?, value)
-    };
-    if !ArrayBuffer::is_view(value) {
-        let buffer = Reflect::get_prototype_of(&ArrayBuffer::new(0)).ok()?;
-        return Some(("ArrayBuffer".into(), as_count(slot(buffer, "byteLength")?)?));
-    }
-    // %TypedArray%.prototype, where the typed arrays' getters live; its tag
-    // getter names a typed array's kind, and is undefined for a DataView.
+    // %TypedArray%.prototype, where the typed arrays' getters live: its tag
+    // getter names a typed array's kind, and is undefined for anything else.
     let uint8 = Reflect::get_prototype_of(&Uint8Array::new_with_length(0)).ok()?;
     let typed = Reflect::get_prototype_of(&uint8).ok()?;
-    let tag = builtin_getter(&typed, &Symbol::to_string_tag())?;
-    match call_getter(&tag, value)?.as_string() {
-        Some(kind) => Some((kind, as_count(slot(typed, "length")?)?)),
-        None => {
-            let view = DataView::new(&ArrayBuffer::new(0), 0, 0);
-            let view = Reflect::get_prototype_of(&view).ok()?;
-            Some(("DataView".into(), as_count(slot(view, "byteLength")?)?))
-        }
+    if let Some(kind) = slot(&typed, &Symbol::to_string_tag(), value)?.as_string() {
+        return Some((kind, as_count(slot(&typed, &"length".into(), value)?)?));
     }
+    let view = DataView::new(&ArrayBuffer::new(0), 0, 0);
+    [("ArrayBuffer", ArrayBuffer::new(0).into()), ("DataView", view.into())]
+        .into_iter()
+        .find_map(|(kind, instance): (&str, JsValue)| {
+            let prototype = Reflect::get_prototype_of(&instance).ok()?;
+            let len = as_count(slot(&prototype, &"byteLength".into(), value)?)?;
+            Some((kind.into(), len))
+        })
+}
+
+/// What the getter `prototype` has for `key` reads of `value`'s internal
+/// slot; `None` when `value` has no such slot.
+fn slot(prototype: &Object, key: &JsValue, value: &JsValue) -> Option<JsValue> {
+    call_getter(&builtin_getter(prototype, key)?, value)
 }
 
 /// [`binary_data`] as a reader would say it: "a Uint8Array of 50,000,000
 /// items", "an ArrayBuffer of 16 bytes".
+#[inline(never)]
 pub(crate) fn describe_binary(value: &JsValue) -> Option<String> {
     let (kind, len) = binary_data(value)?;
     let article = if kind.starts_with(['A', 'I']) { "an" } else { "a" };
     let unit = if kind.ends_with("Array") { "items" } else { "bytes" };
-    let digits = len.to_string();
-    let mut grouped = String::new();
-    for (i, digit) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            grouped.push(',');
-        }
-        grouped.push(digit);
+    let mut grouped = len.to_string();
+    let mut at = grouped.len();
+    while at > 3 {
+        at -= 3;
+        grouped.insert(at, ',');
     }
     Some(format!("{article} {kind} of {grouped} {unit}"))
 }

@@ -178,16 +178,7 @@ impl<'de> Deserializer<'de> for Strict {
         len: usize,
         visitor: V,
     ) -> Result<V::Value, Error> {
-        // A fixed number of items (Map Weaver's two panes): serde reads
-        // that many and would drop any past them unread.
-        if let Some(n) = crate::bindings::guarded::array_length(&self.0)
-            .map_err(<Error as de::Error>::custom)?
-            .filter(|n| *n != len)
-        {
-            return Err(<Error as de::Error>::custom(format!(
-                "an array of {n} (expected exactly {len} items)"
-            )));
-        }
+        exactly(&self.0, len)?;
         self.deserialize_seq(visitor)
     }
 
@@ -234,6 +225,19 @@ impl<'de> Deserializer<'de> for Strict {
         let names: Vec<String> = variants.iter().map(|v| format!("\"{v}\"")).collect();
         let expected = format!("one of {}", names.join(", "));
         Err(self.unexpected(&expected.as_str()))
+    }
+}
+
+/// Refuses an array of other than `len` items where a fixed number
+/// belongs (Map Weaver's two panes): serde reads `len` of them and would
+/// drop any past them unread. Out of line, as [`known_fields`] is.
+#[inline(never)]
+fn exactly(value: &JsValue, len: usize) -> Result<(), Error> {
+    match crate::bindings::guarded::array_length(value).map_err(<Error as de::Error>::custom)? {
+        Some(n) if n != len => Err(<Error as de::Error>::custom(format!(
+            "an array of {n} (expected exactly {len} items)"
+        ))),
+        _ => Ok(()),
     }
 }
 

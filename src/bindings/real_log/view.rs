@@ -68,7 +68,9 @@ impl RealLogSession {
         );
         // A pointer is always somewhere: a point that is no number is a
         // caller's mistake, not the view's centre.
-        let (x, y) = (crate::error::finite("x", x)?, crate::error::finite("y", y)?);
+        for (field, at) in [("x", x), ("y", y)] {
+            crate::error::finite(field, at)?;
+        }
         Ok(self.session.pane_mut(pane)?.zoom_view(x, y, factor)?)
     }
 
