@@ -128,27 +128,35 @@ pub(crate) fn binary_data(value: &JsValue) -> Option<(String, usize)> {
     if !value.is_object() {
         return None;
     }
-    // %TypedArray%.prototype, where the typed arrays' getters live: its tag
-    // getter names a typed array's kind, and is undefined for anything else.
-    let uint8 = Reflect::get_prototype_of(&Uint8Array::new_with_length(0)).ok()?;
-    let typed = Reflect::get_prototype_of(&uint8).ok()?;
-    if let Some(kind) = slot(&typed, &Symbol::to_string_tag(), value)?.as_string() {
-        return Some((kind, as_count(slot(&typed, &"length".into(), value)?)?));
+    // %TypedArray%.prototype, two levels above a Uint8Array, holds the
+    // typed arrays' getters: its tag getter names a typed array's kind,
+    // and is undefined for anything else.
+    let typed = |key: &JsValue| slot(Uint8Array::new_with_length(0).into(), 2, key, value);
+    if let Some(kind) = typed(&Symbol::to_string_tag())?.as_string() {
+        return Some((kind, as_count(typed(&"length".into())?)?));
     }
-    let view = DataView::new(&ArrayBuffer::new(0), 0, 0);
-    [("ArrayBuffer", ArrayBuffer::new(0).into()), ("DataView", view.into())]
-        .into_iter()
-        .find_map(|(kind, instance): (&str, JsValue)| {
-            let prototype = Reflect::get_prototype_of(&instance).ok()?;
-            let len = as_count(slot(&prototype, &"byteLength".into(), value)?)?;
-            Some((kind.into(), len))
-        })
+    let byte_length = "byteLength".into();
+    let bytes = |kind: &str, instance: JsValue| {
+        Some((
+            kind.into(),
+            as_count(slot(instance, 1, &byte_length, value)?)?,
+        ))
+    };
+    bytes("ArrayBuffer", ArrayBuffer::new(0).into()).or_else(|| {
+        let view = DataView::new(&ArrayBuffer::new(0), 0, 0);
+        bytes("DataView", view.into())
+    })
 }
 
-/// What the getter `prototype` has for `key` reads of `value`'s internal
-/// slot; `None` when `value` has no such slot.
-fn slot(prototype: &Object, key: &JsValue, value: &JsValue) -> Option<JsValue> {
-    call_getter(&builtin_getter(prototype, key)?, value)
+/// What the getter for `key` on the prototype `up` levels above
+/// `instance` reads of `value`'s internal slot; `None` when `value` has no
+/// such slot.
+fn slot(instance: JsValue, up: usize, key: &JsValue, value: &JsValue) -> Option<JsValue> {
+    let mut prototype = instance;
+    for _ in 0..up {
+        prototype = Reflect::get_prototype_of(&prototype).ok()?.into();
+    }
+    call_getter(&builtin_getter(prototype.unchecked_ref(), key)?, value)
 }
 
 /// [`binary_data`] as a reader would say it: "a Uint8Array of 50,000,000
@@ -156,8 +164,15 @@ fn slot(prototype: &Object, key: &JsValue, value: &JsValue) -> Option<JsValue> {
 #[inline(never)]
 pub(crate) fn describe_binary(value: &JsValue) -> Option<String> {
     let (kind, len) = binary_data(value)?;
-    let article = if kind.starts_with(['A', 'I']) { "an" } else { "a" };
-    let unit = if kind.ends_with("Array") { "items" } else { "bytes" };
+    let article = match kind.as_bytes().first() {
+        Some(b'A' | b'I') => "an",
+        _ => "a",
+    };
+    let unit = if kind.ends_with("Array") {
+        "items"
+    } else {
+        "bytes"
+    };
     let mut grouped = len.to_string();
     let mut at = grouped.len();
     while at > 3 {

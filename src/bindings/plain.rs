@@ -83,7 +83,7 @@ fn copy(
     let here = |reason: String| (String::new(), reason);
     *nodes += 1;
     if *nodes > budget.nodes {
-        return Err(here(format!("more than {} values", budget.nodes)));
+        return Err(more_than(budget));
     }
     if depth > budget.depth {
         return Err(here(format!("nested deeper than {} levels", budget.depth)));
@@ -130,7 +130,7 @@ fn copy(
     // Each key is a value of the budget: more keys than are left is
     // refused before any is read.
     if keys.length() as usize > budget.nodes - *nodes {
-        return Err(here(format!("more than {} values", budget.nodes)));
+        return Err(more_than(budget));
     }
     for key in keys.iter() {
         // Symbol keys are no settings.
@@ -139,7 +139,7 @@ fn copy(
         };
         *nodes += 1;
         if *nodes > budget.nodes {
-            return Err(here(format!("more than {} values", budget.nodes)));
+            return Err(more_than(budget));
         }
         let at = |(path, reason): CopyError| (path_under(&name, &path), reason);
         let item = Reflect::get(value, &key).map_err(|e| at(here(thrown(e))))?;
@@ -150,6 +150,13 @@ fn copy(
         define_field(&out, &key, &item).map_err(|e| at(here(thrown(e))))?;
     }
     Ok(out.into())
+}
+
+/// The refusal of a value with more parts than `budget` allows. Out of
+/// line: [`copy`] refuses in three places.
+#[inline(never)]
+fn more_than(budget: Budget) -> CopyError {
+    (String::new(), format!("more than {} values", budget.nodes))
 }
 
 /// Gives `target` the own field `key`: defined, not assigned, so that a

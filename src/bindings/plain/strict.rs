@@ -173,11 +173,7 @@ impl<'de> Deserializer<'de> for Strict {
         visitor.visit_seq(Items(items.into_iter().enumerate()))
     }
 
-    fn deserialize_tuple<V: Visitor<'de>>(
-        self,
-        len: usize,
-        visitor: V,
-    ) -> Result<V::Value, Error> {
+    fn deserialize_tuple<V: Visitor<'de>>(self, len: usize, visitor: V) -> Result<V::Value, Error> {
         exactly(&self.0, len)?;
         self.deserialize_seq(visitor)
     }
@@ -233,11 +229,15 @@ impl<'de> Deserializer<'de> for Strict {
 /// drop any past them unread. Out of line, as [`known_fields`] is.
 #[inline(never)]
 fn exactly(value: &JsValue, len: usize) -> Result<(), Error> {
-    match crate::bindings::guarded::array_length(value).map_err(<Error as de::Error>::custom)? {
-        Some(n) if n != len => Err(<Error as de::Error>::custom(format!(
-            "an array of {n} (expected exactly {len} items)"
-        ))),
-        _ => Ok(()),
+    // A plain copy's arrays are genuine: their length is no code's answer.
+    match is_array(value).map_err(<Error as de::Error>::custom)? {
+        true => match value.unchecked_ref::<Array>().length() as usize {
+            n if n != len => Err(<Error as de::Error>::custom(format!(
+                "an array of {n} (expected exactly {len} items)"
+            ))),
+            _ => Ok(()),
+        },
+        false => Ok(()),
     }
 }
 
