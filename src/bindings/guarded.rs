@@ -17,7 +17,9 @@
 //! instance being called (`free()`, another call) is refused by the glue,
 //! since the instance is borrowed for the whole call.
 
-use js_sys::{Array, ArrayBuffer, Function, JsString, Object, Reflect, Symbol, Uint8Array};
+use js_sys::{
+    Array, ArrayBuffer, DataView, Function, JsString, Object, Reflect, Symbol, Uint8Array,
+};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen]
@@ -116,36 +118,84 @@ fn as_count(value: JsValue) -> Option<usize> {
         .map(|n| n as usize)
 }
 
-/// Bytes JavaScript sent, checked by their internal slots: a genuine
-/// `Uint8Array` (a Node `Buffer` is one) or a view of a genuine
-/// `ArrayBuffer`, with its length. `None` for anything else, a Proxy of
-/// either and an object dressed as one included: their `length` would be
-/// whatever their code says, and copying trusts it.
-pub(crate) fn byte_source(value: &JsValue) -> Option<(Uint8Array, usize)> {
+/// Binary data JavaScript sent, told by its internal slots (no code of the
+/// value runs, and a Proxy or an object dressed as one is none): its kind
+/// (`Uint8Array`, any other typed array, `ArrayBuffer`, `DataView`) and its
+/// length, items of a typed array and bytes of the others. Read without
+/// touching its items or keys: a view of millions of bytes answers at once.
+#[inline(never)]
+pub(crate) fn binary_data(value: &JsValue) -> Option<(String, usize)> {
     if !value.is_object() {
         return None;
     }
-    // %TypedArray%.prototype, where the typed arrays' getters live.
-    let uint8 = Reflect::get_prototype_of(&Uint8Array::new_with_length(0)).ok()?;
-    let typed = Reflect::get_prototype_of(&uint8).ok()?;
-    let tag = builtin_getter(&typed, &Symbol::to_string_tag())?;
-    if call_getter(&tag, value)
-        .and_then(|t| t.as_string())
-        .as_deref()
-        == Some("Uint8Array")
-    {
-        let length = builtin_getter(&typed, &JsValue::from_str("length"))?;
-        let len = as_count(call_getter(&length, value)?)?;
-        return Some((value.clone().unchecked_into(), len));
+    // %TypedArray%.prototype, two levels above a Uint8Array, holds the
+    // typed arrays' getters: its tag getter names a typed array's kind,
+    // and is undefined for anything else.
+    let typed = |key: &JsValue| slot(Uint8Array::new_with_length(0).into(), 2, key, value);
+    if let Some(kind) = typed(&Symbol::to_string_tag())?.as_string() {
+        return Some((kind, as_count(typed(&"length".into())?)?));
     }
-    let buffer = Reflect::get_prototype_of(&ArrayBuffer::new(0)).ok()?;
-    let byte_length = builtin_getter(&buffer, &JsValue::from_str("byteLength"))?;
-    let len = as_count(call_getter(&byte_length, value)?)?;
-    if len == 0 {
+    let byte_length = "byteLength".into();
+    let bytes = |kind: &str, instance: JsValue| {
+        Some((
+            kind.into(),
+            as_count(slot(instance, 1, &byte_length, value)?)?,
+        ))
+    };
+    bytes("ArrayBuffer", ArrayBuffer::new(0).into()).or_else(|| {
+        let view = DataView::new(&ArrayBuffer::new(0), 0, 0);
+        bytes("DataView", view.into())
+    })
+}
+
+/// What the getter for `key` on the prototype `up` levels above
+/// `instance` reads of `value`'s internal slot; `None` when `value` has no
+/// such slot.
+fn slot(instance: JsValue, up: usize, key: &JsValue, value: &JsValue) -> Option<JsValue> {
+    let mut prototype = instance;
+    for _ in 0..up {
+        prototype = Reflect::get_prototype_of(&prototype).ok()?.into();
+    }
+    call_getter(&builtin_getter(prototype.unchecked_ref(), key)?, value)
+}
+
+/// [`binary_data`] as a reader would say it: "a Uint8Array of 50,000,000
+/// items", "an ArrayBuffer of 16 bytes".
+#[inline(never)]
+pub(crate) fn describe_binary(value: &JsValue) -> Option<String> {
+    let (kind, len) = binary_data(value)?;
+    let article = match kind.as_bytes().first() {
+        Some(b'A' | b'I') => "an",
+        _ => "a",
+    };
+    let unit = if kind.ends_with("Array") {
+        "items"
+    } else {
+        "bytes"
+    };
+    let mut grouped = len.to_string();
+    let mut at = grouped.len();
+    while at > 3 {
+        at -= 3;
+        grouped.insert(at, ',');
+    }
+    Some(format!("{article} {kind} of {grouped} {unit}"))
+}
+
+/// Bytes JavaScript sent, checked by their internal slots
+/// ([`binary_data`]): a genuine `Uint8Array` (a Node `Buffer` is one) or
+/// a genuine `ArrayBuffer`, with its length. `None` for anything else, a
+/// Proxy of either and an object dressed as one included: their `length`
+/// would be whatever their code says, and copying trusts it.
+pub(crate) fn byte_source(value: &JsValue) -> Option<(Uint8Array, usize)> {
+    let (kind, len) = binary_data(value)?;
+    match kind.as_str() {
+        "Uint8Array" => Some((value.clone().unchecked_into(), len)),
         // A detached buffer reads as empty; no view can be made over it.
-        return Some((Uint8Array::new_with_length(0), 0));
+        "ArrayBuffer" if len == 0 => Some((Uint8Array::new_with_length(0), 0)),
+        "ArrayBuffer" => Some((Uint8Array::new(value), len)),
+        _ => None,
     }
-    Some((Uint8Array::new(value), len))
 }
 
 /// Copies `len` bytes of `source` (from [`byte_source`]) into wasm memory;

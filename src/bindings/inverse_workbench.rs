@@ -145,7 +145,8 @@ pub fn forward_density(z: JsValue, z_star: JsValue, params: JsValue) -> Result<f
     let params: BeamModelParams = object_or_default("params", params, || BeamModelParams::CHAPTER)?;
     let model = BeamModel::new(params)?;
     crate::error::non_negative("z", z)?;
-    crate::error::finite("z_star", z_star)?;
+    // An expected range is a distance: a negative one has no density.
+    crate::error::non_negative("z_star", z_star)?;
     Ok(model.density(z, z_star))
 }
 

@@ -217,7 +217,10 @@ impl MapWeaver {
     /// around its calls into the core) for the "ms per frame" readout.
     #[wasm_bindgen(js_name = recordFrameMs)]
     pub fn record_frame_ms(&mut self, ms: JsValue) -> Result<(), JsError> {
-        self.0.record_frame_ms(number_from_js("ms", &ms)?);
+        // A frame's duration: NaN, a negative or an endless one is no
+        // measurement, and would skew the median the readout shows.
+        let ms = crate::error::non_negative("ms", number_from_js("ms", &ms)?)?;
+        self.0.record_frame_ms(ms);
         Ok(())
     }
 

@@ -31,10 +31,11 @@ pub(crate) fn from_js<T: serde::de::DeserializeOwned>(
 }
 
 /// Refuses anything but a plain object of named fields (a string, a
-/// number, `null`, an array; a revoked Proxy by what asking it threw).
+/// number, `null`, an array, a typed array or a buffer; a revoked Proxy by
+/// what asking it threw).
 fn check_object(what: &str, value: &JsValue) -> Result<(), JsError> {
     match guarded::is_array(value) {
-        Ok(false) if value.is_object() => Ok(()),
+        Ok(false) if value.is_object() && guarded::binary_data(value).is_none() => Ok(()),
         Err(reason) => Err(invalid_at(what, "", &reason)),
         _ => Err(JsError::new(&format!(
             "invalid {what}: {} (expected an object of named settings)",

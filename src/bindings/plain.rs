@@ -18,7 +18,7 @@
 //!    alone reads only the fields it knows, so a misspelt one would pass
 //!    unnoticed.
 
-use super::guarded::{is_array, thrown};
+use super::guarded::{describe_binary, is_array, thrown};
 use js_sys::{Array, Object, Reflect};
 use wasm_bindgen::JsValue;
 
@@ -83,7 +83,7 @@ fn copy(
     let here = |reason: String| (String::new(), reason);
     *nodes += 1;
     if *nodes > budget.nodes {
-        return Err(here(format!("more than {} values", budget.nodes)));
+        return Err(more_than(budget));
     }
     if depth > budget.depth {
         return Err(here(format!("nested deeper than {} levels", budget.depth)));
@@ -119,12 +119,18 @@ fn copy(
         }
         return Ok(out.into());
     }
+    // A typed array's keys are its items (millions of them, to walk before
+    // refusing), and a buffer's bytes are no keys at all (it would read as
+    // `{}`): neither is settings.
+    if let Some(binary) = describe_binary(value) {
+        return Err(here(format!("{binary} (expected plain data)")));
+    }
     let out = Object::new();
     let keys = Reflect::own_keys(value).map_err(|e| here(thrown(e)))?;
     // Each key is a value of the budget: more keys than are left is
     // refused before any is read.
     if keys.length() as usize > budget.nodes - *nodes {
-        return Err(here(format!("more than {} values", budget.nodes)));
+        return Err(more_than(budget));
     }
     for key in keys.iter() {
         // Symbol keys are no settings.
@@ -133,7 +139,7 @@ fn copy(
         };
         *nodes += 1;
         if *nodes > budget.nodes {
-            return Err(here(format!("more than {} values", budget.nodes)));
+            return Err(more_than(budget));
         }
         let at = |(path, reason): CopyError| (path_under(&name, &path), reason);
         let item = Reflect::get(value, &key).map_err(|e| at(here(thrown(e))))?;
@@ -144,6 +150,13 @@ fn copy(
         define_field(&out, &key, &item).map_err(|e| at(here(thrown(e))))?;
     }
     Ok(out.into())
+}
+
+/// The refusal of a value with more parts than `budget` allows. Out of
+/// line: [`copy`] refuses in three places.
+#[inline(never)]
+fn more_than(budget: Budget) -> CopyError {
+    (String::new(), format!("more than {} values", budget.nodes))
 }
 
 /// Gives `target` the own field `key`: defined, not assigned, so that a

@@ -32,6 +32,11 @@ pub(crate) fn describe(value: &JsValue) -> String {
         json.ok()
             .and_then(|text| guarded::short_string(&text.into(), DESCRIBED))
     };
+    // Typed arrays and buffers by their kind and length: their keys are
+    // their items, millions of them.
+    if let Some(binary) = guarded::describe_binary(value) {
+        return binary;
+    }
     let text = if value.is_object() {
         match plain::copy_within(value, DESCRIBED_OBJECT) {
             Ok(copy) => shown(js_sys::JSON::stringify(&copy)),

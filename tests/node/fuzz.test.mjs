@@ -310,7 +310,7 @@ const BORROWED_CALLS = 20_000;
  * large beside any value a parameter takes, while the 130-odd calls stay
  * near a second (a refusal describes the value it refuses).
  */
-const LARGE_ARRAY_LENGTH = 100_000;
+const LARGE_ARRAY_LENGTH = 5_000_000;
 
 /** The name of the core's export a glue method or getter calls with the instance's handle. */
 function coreExportOf(C, member) {

@@ -93,8 +93,8 @@ test('Map Weaver refuses attribute-like garbage and keeps mapping', () => {
   refuses(() => w.cellInfo(0, 0, NaN), 'row', 'NaN');
   for (const n of [-1, 0.5, NaN, 'many']) refuses(() => w.advance(n), 'scans');
   refuses(() => w.recordFrameMs('slow'), 'invalid ms', '"slow"');
-  w.recordFrameMs(-1);
-  w.recordFrameMs(NaN);
+  refuses(() => w.recordFrameMs(-1), 'invalid ms: -1');
+  refuses(() => w.recordFrameMs(NaN), 'invalid ms: NaN');
   assert.equal(JSON.stringify(w.readout()), before, 'refused calls changed nothing');
   assert.equal(w.cellInfo(0, -1, 0), null);
   assert.equal(w.cellInfo(0, 0, 1e12), null);

@@ -314,3 +314,109 @@ test('the doorway trap, the fusion widget, the workbench and the cell filter nev
   }
   assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 0]), true).steps.length, 2);
 });
+
+/** Runs `f`, which must be refused naming every word, and returns how long the refusal took, ms. */
+function refusalMs(f, ...words) {
+  const started = performance.now();
+  refuses(f, ...words);
+  return performance.now() - started;
+}
+
+test('a typed array or a buffer where a small value belongs is refused by its kind and length, its items unread', () => {
+  // Describing the value walked its keys (its 50 million items) before
+  // refusing it: 5-9 s. A message that gives kind and length was written
+  // without reading an item; the times are logged, not asserted.
+  const big = new Uint8Array(50e6);
+  const said = 'a Uint8Array of 50,000,000 items';
+  const ms = [];
+  const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
+  const s = new logs.RealLogSession(FLASER);
+  const cases = [
+    [() => core.twoCellPreset(big), 'invalid preset'],
+    [() => core.forwardDensity(big, 2, undefined), 'invalid z'],
+    [() => core.forwardDensity(2, 2, big), 'invalid params'],
+    [() => core.runCellFilter(big, 0.3, 0.5, 12, new Uint8Array([1]), true), 'invalid p_occ'],
+    [() => core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1]), big), 'invalid'],
+    [() => core.zipMapPair(big, new Uint8Array(1), 'image: m.pgm\n'), 'invalid name'],
+    [() => core.zipMapPair('m', new Uint8Array(1), big), 'invalid yaml'],
+    [() => core.jointPosterior(big), 'invalid joint query'],
+    [() => new core.MapWeaver(big), 'invalid settings'],
+    [() => new core.MapWeaver({ laps: 1, scene: big }), 'invalid settings.scene'],
+    [() => new core.DoorwayTrap(big), 'invalid scene'],
+    [() => new core.SensorFusion({ lidar: big }, undefined), 'invalid scene.lidar'],
+    [() => new core.InverseWorkbench(big), 'invalid seed'],
+    [() => w.advance(big), 'invalid scans'],
+    [() => w.cellInfo(0, 0, big), 'invalid row'],
+    [() => w.setPerson(big), 'invalid person'],
+    [() => w.stagePane(0, big), 'invalid panes[0]'],
+    [() => w.stagePane(0, { clamp: big }), 'invalid panes[0].clamp'],
+    [() => s.configure(big), 'invalid settings'],
+    [() => s.read(big), 'invalid maxScans'],
+    [() => s.zoomAt(0, 0, big, 2), 'invalid y'],
+    [() => s.exportStem(0, big), 'invalid'],
+  ];
+  for (const [f, field] of cases) ms.push(refusalMs(f, field, said));
+  // Another kind of view in a bytes parameter is named as such.
+  ms.push(refusalMs(() => new logs.RealLogSession(new Float64Array(5e6)), 'invalid bytes', 'a Float64Array of 5,000,000 items'));
+  ms.push(refusalMs(() => core.zipMapPair('m', new Int16Array(5e6), 'image: m.pgm\n'), 'invalid pgm', 'an Int16Array of 5,000,000 items'));
+  console.log(`refusals of large typed arrays: the slowest took ${Math.round(Math.max(...ms))} ms`);
+  assert.equal(w.advance(1), 1, 'the run maps on');
+  assert.equal(s.read(Infinity).scans, 5, 'the session reads on');
+  w.free();
+  s.free();
+});
+
+test('an ArrayBuffer or a DataView is no settings or scene object: refused by name, not read as {}', () => {
+  const buffer = new ArrayBuffer(16);
+  const view = new DataView(new ArrayBuffer(8));
+  refuses(() => new core.MapWeaver(buffer), 'invalid settings', 'an ArrayBuffer of 16 bytes');
+  refuses(() => new core.MapWeaver({ laps: 1, scene: view }), 'invalid settings.scene', 'a DataView of 8 bytes');
+  refuses(() => new core.DoorwayTrap(view), 'invalid scene', 'a DataView of 8 bytes');
+  refuses(() => new core.SensorFusion(buffer, undefined), 'invalid scene', 'an ArrayBuffer of 16 bytes');
+  refuses(() => new core.SensorFusion(undefined, { sonar_p_occ: buffer }), 'invalid models.sonar_p_occ', 'an ArrayBuffer');
+  refuses(() => core.forwardDensity(2, 2, view), 'invalid params', 'a DataView of 8 bytes');
+  const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
+  refuses(() => w.stagePane(1, buffer), 'invalid panes[1]', 'an ArrayBuffer of 16 bytes');
+  refuses(() => w.stagePane(1, { model: view }), 'invalid panes[1].model', 'a DataView');
+  w.free();
+  const s = new logs.RealLogSession(FLASER);
+  refuses(() => s.configure(view), 'invalid settings', 'a DataView of 8 bytes');
+  refuses(() => s.configure({ clamp: buffer }), 'invalid settings.clamp', 'an ArrayBuffer of 16 bytes');
+  // Bytes parameters take a Uint8Array or an ArrayBuffer, as before.
+  const bytes = FLASER.buffer.slice(FLASER.byteOffset, FLASER.byteOffset + FLASER.byteLength);
+  assert.equal(new logs.RealLogSession(bytes).read(Infinity).scans, 5);
+  s.open(new Uint8Array(FLASER), 'again.log');
+  assert.equal(s.read(Infinity).scans, 5);
+  assert.equal(core.runCellFilter(0.7, 0.3, 0.5, 12, new Uint8Array([1, 0, 1]).buffer, true).steps.length, 3);
+  refuses(() => core.runCellFilter(0.7, 0.3, 0.5, 12, view, true), 'invalid readings', 'a DataView of 8 bytes');
+  s.free();
+});
+
+test('nonsense the core took without a word is refused by name', () => {
+  // A negative expected range gave a density (0.0167).
+  refuses(() => core.forwardDensity(2, -1, undefined), 'invalid z_star: -1');
+  assert.ok(core.forwardDensity(2, 2, undefined) > 0);
+  // A third pane was dropped unread.
+  refuses(() => new core.MapWeaver({ panes: [{}, {}, {}] }), 'invalid settings.panes', 'an array of 3', 'exactly 2');
+  refuses(() => new core.MapWeaver({ panes: [{}] }), 'invalid settings.panes');
+  // Frame times that are no durations were ignored.
+  const w = new core.MapWeaver({ laps: 1, training: { triplets: 400, epochs: 1 } });
+  for (const [bad, shown] of [[NaN, 'NaN'], [-1, '-1'], [Infinity, 'inf'], [-Infinity, '-inf']]) {
+    refuses(() => w.recordFrameMs(bad), `invalid ms: ${shown}`);
+  }
+  w.recordFrameMs(0);
+  w.recordFrameMs(16.5);
+  w.free();
+  // A zoom about no point was taken as one about the centre.
+  const s = new logs.RealLogSession(FLASER);
+  s.read(Infinity);
+  s.buildSlice(Infinity);
+  s.setViewSize(0, 100, 80);
+  const before = JSON.stringify(s.view(0));
+  refuses(() => s.zoomAt(0, NaN, NaN, 2), 'invalid x: NaN');
+  refuses(() => s.zoomAt(0, 5, Infinity, 2), 'invalid y: inf');
+  assert.equal(JSON.stringify(s.view(0)), before, 'a refused zoom moved nothing');
+  s.zoomAt(0, 50, 40, 2);
+  assert.notEqual(JSON.stringify(s.view(0)), before);
+  s.free();
+});

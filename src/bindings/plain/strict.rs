@@ -173,11 +173,8 @@ impl<'de> Deserializer<'de> for Strict {
         visitor.visit_seq(Items(items.into_iter().enumerate()))
     }
 
-    fn deserialize_tuple<V: Visitor<'de>>(
-        self,
-        _len: usize,
-        visitor: V,
-    ) -> Result<V::Value, Error> {
+    fn deserialize_tuple<V: Visitor<'de>>(self, len: usize, visitor: V) -> Result<V::Value, Error> {
+        exactly(&self.0, len)?;
         self.deserialize_seq(visitor)
     }
 
@@ -224,6 +221,23 @@ impl<'de> Deserializer<'de> for Strict {
         let names: Vec<String> = variants.iter().map(|v| format!("\"{v}\"")).collect();
         let expected = format!("one of {}", names.join(", "));
         Err(self.unexpected(&expected.as_str()))
+    }
+}
+
+/// Refuses an array of other than `len` items where a fixed number
+/// belongs (Map Weaver's two panes): serde reads `len` of them and would
+/// drop any past them unread. Out of line, as [`known_fields`] is.
+#[inline(never)]
+fn exactly(value: &JsValue, len: usize) -> Result<(), Error> {
+    // A plain copy's arrays are genuine: their length is no code's answer.
+    match is_array(value).map_err(<Error as de::Error>::custom)? {
+        true => match value.unchecked_ref::<Array>().length() as usize {
+            n if n != len => Err(<Error as de::Error>::custom(format!(
+                "an array of {n} (expected exactly {len} items)"
+            ))),
+            _ => Ok(()),
+        },
+        false => Ok(()),
     }
 }
 

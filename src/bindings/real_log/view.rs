@@ -66,6 +66,11 @@ impl RealLogSession {
             number_from_js("y", &y)?,
             number_from_js("factor", &factor)?,
         );
+        // A pointer is always somewhere: a point that is no number is a
+        // caller's mistake, not the view's centre.
+        for (field, at) in [("x", x), ("y", y)] {
+            crate::error::finite(field, at)?;
+        }
         Ok(self.session.pane_mut(pane)?.zoom_view(x, y, factor)?)
     }
 
