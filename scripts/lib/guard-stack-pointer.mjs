@@ -30,6 +30,7 @@
 // glue whose text is not the one it patches) stops the build: a module that
 // ships unguarded is not an option.
 import fs from 'node:fs';
+import { leb } from './wasm-leb.mjs';
 
 export const STACK_POINTER = '__stack_pointer';
 export const EXPORT_NAME = '__occgrid_stack_pointer';
@@ -42,17 +43,6 @@ const MUTABLE = 1;
 
 function refuse(file, why) {
   throw new Error(`${file}: ${why}; the stack pointer cannot be guarded (scripts/lib/guard-stack-pointer.mjs), so the build stops`);
-}
-
-/** An unsigned LEB128 number at `i`: [value, the index after it]. */
-function leb(bytes, i) {
-  let value = 0, shift = 0, b;
-  do {
-    b = bytes[i++];
-    value += (b & 0x7f) * 2 ** shift;
-    shift += 7;
-  } while (b & 0x80);
-  return [value, i];
 }
 
 function encodeLeb(value) {

@@ -4,16 +4,7 @@
 // nothing the page runs: panics still print their message through the
 // panic hook.
 import fs from 'node:fs';
-
-function leb(bytes, i) {
-  let value = 0, shift = 0, b;
-  do {
-    b = bytes[i++];
-    value += (b & 0x7f) * 2 ** shift;
-    shift += 7;
-  } while (b & 0x80);
-  return [value, i];
-}
+import { leb } from './wasm-leb.mjs';
 
 /** Custom sections nothing at run time reads: the function names, the
  * compiler's and tools' names and versions (`producers`), and the features
