@@ -103,13 +103,23 @@ test('readings past the budget are refused naming the attribute; the table stays
   const w = page.locator('occgrid-cell-filter');
   const alert = w.locator(':scope > .occgrid-attribute-error');
   await alert.waitFor();
-  assert.match(await alert.textContent(), /invalid readings: 15,000 readings \(expected at most 1,000 letters o for occupied and f for free/);
+  // Past the attribute's length the value is refused before it is read,
+  // shown by its first 60 characters.
+  assert.match(await alert.textContent(), /invalid readings: "o{60}…" \(15,000 characters, at most 3,000; expected at most 1,000 letters o for occupied and f for free/);
   await w.locator('.cell-filter-table tbody tr').first().waitFor();
   // The last good value (the default) stands: the worked example.
   assert.equal(await w.locator('.cell-filter-table tbody tr').count(), 4);
   assert.ok((await page.locator('*').count()) < 5000, 'no DOM node per reading');
   assert.deepEqual(errors.filter((e) => !e.includes('invalid readings')), []);
   await close();
+
+  // Within the attribute's length but past the filter's budget: refused
+  // by the count of readings.
+  const { page: p1, close: c1 } = await openPage(`/?cell-filter.readings=${'o'.repeat(2_000)}#cell-filter`);
+  const alert1 = p1.locator('occgrid-cell-filter').locator(':scope > .occgrid-attribute-error');
+  await alert1.waitFor();
+  assert.match(await alert1.textContent(), /invalid readings: 2,000 readings \(expected at most 1,000 letters o for occupied and f for free/);
+  await c1();
 
   // At the budget: a table of the prior, a line for the hidden rows and
   // the latest 50; the chart has every reading.
