@@ -33,7 +33,11 @@ const TRIES: usize = 8;
 
 /// Scan `k` of `scans` at `pose`.
 pub(super) fn at_pose(scans: &ScanLog, k: usize, pose: Pose) -> Option<Scan> {
-    let scan = scans.scan(k)?;
+    placed_at(scans.scan(k)?, pose)
+}
+
+/// `scan` at `pose` (itself when it is there already).
+pub(super) fn placed_at(scan: Scan, pose: Pose) -> Option<Scan> {
     if scan.pose() == pose {
         return Some(scan);
     }

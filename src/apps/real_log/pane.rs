@@ -8,8 +8,8 @@
 //! `view.rs`.
 
 use super::budget::{
-    at_pose, check_tile_budget, grid_of_extent, scan_model, tiles_needed, UNITS_PER_NEW_CELL,
-    VISITS_PER_UNIT,
+    at_pose, check_tile_budget, grid_of_extent, placed_at, scan_model, tiles_needed,
+    UNITS_PER_NEW_CELL, VISITS_PER_UNIT,
 };
 use super::map::{reserve_ahead, LogGrid, LogMap};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings};
@@ -332,16 +332,24 @@ impl LogPane {
     pub(super) fn integrate_next(&mut self) {
         let k = self.done;
         let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
-        if let Some(scan) = self.scans.scan(k) {
-            let located = self
-                .source
-                .locate(k, &scan, laser_max, self.map.grid().as_match_map());
-            if let Err(e) = located {
-                self.failure = Some(e);
-                return;
+        // The scan is read from the log once: its source locates it, and
+        // it is inserted where the source put it.
+        let placed = match self.scans.scan(k) {
+            Some(scan) => {
+                let located =
+                    self.source
+                        .locate(k, &scan, laser_max, self.map.grid().as_match_map());
+                match located {
+                    Ok(pose) => placed_at(scan, pose),
+                    Err(e) => {
+                        self.failure = Some(e);
+                        return;
+                    }
+                }
             }
-        }
-        if let Some(scan) = self.scan_at_pose(k) {
+            None => None,
+        };
+        if let Some(scan) = placed {
             self.reserved = reserve_ahead(self.grid().bytes_allocated(), self.reserved);
             self.map.insert(&mut self.inserter, &scan, laser_max);
             if self.grid().refused() {
