@@ -2,6 +2,7 @@
 //! image), and the supercover raster that walks a ray through cells.
 
 pub mod grid_geometry;
+pub mod order;
 pub mod pose;
 pub mod raster;
 

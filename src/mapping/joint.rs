@@ -211,7 +211,7 @@ impl JointPosterior {
         // Cells sorted by range, so that a configuration's expected range is
         // the range of its first occupied cell in this order.
         let mut by_range: Vec<usize> = (0..k).collect();
-        by_range.sort_by(|&a, &b| query.cells[a].range.total_cmp(&query.cells[b].range));
+        crate::geometry::order::sort_stable_by_key(&mut by_range, |&cell| query.cells[cell].range);
 
         // A configuration's expected range is one of k + 1 values (a cell's
         // range, or z_max): the readings' log likelihood is tabulated once

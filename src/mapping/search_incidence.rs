@@ -176,7 +176,7 @@ impl IncidenceBuild {
         let mut cells: Vec<(f64, usize)> = touched.drain(..).map(|i| (best[i], i)).collect();
         // Nearest first; equal ranges by cell index, so the order (and the
         // tie between two cells entered at the same range) is fixed.
-        cells.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        crate::geometry::order::sort_keyed(&mut cells);
         for &(r, i) in &cells {
             best[i] = f64::INFINITY;
             inc.entry_cell.push(i as u32);

@@ -42,7 +42,7 @@ pub fn sweep_rows<M: InverseModel + ?Sized>(
         .zip(scan.ranges())
         .map(|(&b, &z)| (wrap_angle(b), z))
         .collect();
-    beams.sort_by(|a, b| a.0.total_cmp(&b.0));
+    crate::geometry::order::sort_stable_by_key(&mut beams, |beam| beam.0);
     let max_reach = beams
         .iter()
         .map(|&(_, z)| model.reach(z))

@@ -107,6 +107,6 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
     if v.is_empty() {
         return None;
     }
-    v.sort_by(f64::total_cmp);
+    crate::geometry::order::sort_stable_by_key(&mut v, |&x| x);
     Some(v[v.len() / 2])
 }

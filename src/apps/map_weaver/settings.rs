@@ -446,7 +446,7 @@ impl PaneChoices {
             setting: None,
             value: own,
         });
-        resolutions.sort_by(|a, b| b.value.total_cmp(&a.value));
+        crate::geometry::order::sort_stable_by_key(&mut resolutions, |choice| -choice.value);
         Self { beams, resolutions }
     }
 }

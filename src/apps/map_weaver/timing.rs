@@ -51,7 +51,7 @@ impl RecentTimes {
             return None;
         }
         let mut v: Vec<f64> = self.times.iter().copied().collect();
-        v.sort_by(f64::total_cmp);
+        crate::geometry::order::sort_stable_by_key(&mut v, |&x| x);
         Some(v[v.len() / 2])
     }
 

@@ -21,6 +21,7 @@
 //!
 //! Nothing else depends on the log's length or the map's size.
 
+use super::match_map::MatchMap;
 use super::points::ScanPoints;
 use super::refine::{gauss_newton, AnchorWeights, GridField, OccupancyField};
 use super::search::{correlative_search, reach_box, PlacedPoint, SearchOutcome};
@@ -28,7 +29,6 @@ use super::window::Pyramid;
 use super::{MatchSettings, Prediction};
 use crate::error::Result;
 use crate::geometry::Pose;
-use crate::grid::{CellModel, Grid, Store};
 use crate::sensors::Scan;
 
 /// Points closer together than this many cells of a level are thinned
@@ -152,9 +152,9 @@ impl ScanMatcher {
     /// when the log does not say). An error, and no work, when the search
     /// on this grid's cells would exceed its bound
     /// ([`MatchSettings::validate_for`]).
-    pub fn match_scan<M: CellModel, S: Store<M::Cell>>(
+    pub fn match_scan(
         &mut self,
-        grid: &Grid<M, S>,
+        grid: &dyn MatchMap,
         scan: &Scan,
         laser_max: f64,
         prediction: &Prediction,
@@ -169,11 +169,7 @@ impl ScanMatcher {
         &self.points
     }
 
-    fn match_points<M: CellModel, S: Store<M::Cell>>(
-        &mut self,
-        grid: &Grid<M, S>,
-        prediction: &Prediction,
-    ) -> MatchReport {
+    fn match_points(&mut self, grid: &dyn MatchMap, prediction: &Prediction) -> MatchReport {
         // The window as wide as the prediction's spread asks.
         let s = self.settings.window_for(prediction);
         let predicted = &prediction.pose;
@@ -338,7 +334,7 @@ impl ScanMatcher {
 }
 
 /// Mean match value of `points` on `field` with the sensor at `pose`.
-fn mean_occupancy(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose) -> f64 {
+fn mean_occupancy(field: &dyn OccupancyField, points: &[[f64; 2]], pose: &Pose) -> f64 {
     let trig = pose.theta.sin_cos();
     let sum: f64 = points
         .iter()
@@ -352,7 +348,7 @@ fn mean_occupancy(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose)
 
 /// Mean squared residual `(1 - M)^2` of `points` on `field` with the
 /// sensor at `pose` (Gauss–Newton's cost without its anchor).
-fn mean_residual(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose) -> f64 {
+fn mean_residual(field: &dyn OccupancyField, points: &[[f64; 2]], pose: &Pose) -> f64 {
     let trig = pose.theta.sin_cos();
     let sum: f64 = points
         .iter()
@@ -367,41 +363,23 @@ fn mean_residual(field: &impl OccupancyField, points: &[[f64; 2]], pose: &Pose) 
 
 /// Fraction of `points` that land on measured cells of `grid` with the
 /// sensor at `pose`.
-fn overlap<M: CellModel, S: Store<M::Cell>>(
-    grid: &Grid<M, S>,
-    points: &[[f64; 2]],
-    pose: &Pose,
-) -> f64 {
+fn overlap(grid: &dyn MatchMap, points: &[[f64; 2]], pose: &Pose) -> f64 {
     let g = grid.geometry();
-    let m = grid.model();
     let trig = pose.theta.sin_cos();
     let known = points
         .iter()
         .filter(|&&p| {
             let [x, y] = ScanPoints::to_world(pose, trig, p);
             g.world_to_cell(x, y)
-                .and_then(|(ix, iy)| grid.cell_at(ix, iy))
-                .is_some_and(|c| !m.is_unknown(c))
+                .is_some_and(|(ix, iy)| grid.is_measured(ix, iy))
         })
         .count();
     known as f64 / points.len().max(1) as f64
 }
 
-/// A map a scan can be matched against, whatever its cells hold: what a
-/// pose source reads of the map built so far.
-pub trait MatchMap {
-    /// [`ScanMatcher::match_scan`] of `scan` against this map.
-    fn match_scan_with(
-        &self,
-        matcher: &mut ScanMatcher,
-        scan: &Scan,
-        laser_max: f64,
-        prediction: &Prediction,
-    ) -> Result<MatchReport>;
-}
-
-impl<M: CellModel, S: Store<M::Cell>> MatchMap for Grid<M, S> {
-    fn match_scan_with(
+/// [`ScanMatcher::match_scan`] through the map a pose source is given.
+impl dyn MatchMap + '_ {
+    pub fn match_scan_with(
         &self,
         matcher: &mut ScanMatcher,
         scan: &Scan,

@@ -37,6 +37,7 @@
 //! Everything is sequential `f64` arithmetic in a fixed order, so the same
 //! inputs give the same poses bit for bit on every run and runtime.
 
+mod match_map;
 mod matcher;
 mod points;
 mod prediction;
@@ -45,7 +46,8 @@ pub mod search;
 mod settings;
 pub mod window;
 
-pub use matcher::{MatchMap, MatchReport, ScanMatcher};
+pub use match_map::MatchMap;
+pub use matcher::{MatchReport, ScanMatcher};
 pub use points::ScanPoints;
 pub use prediction::Prediction;
 pub use settings::MatchSettings;

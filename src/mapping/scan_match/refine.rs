@@ -15,10 +15,10 @@
 //! only if it lowers `E` (tried again more damped otherwise), so a step
 //! never makes the fit worse.
 
+use super::match_map::MatchMap;
 use super::window::{match_value, FieldSample, PooledLevel};
 use crate::geometry::{wrap_angle, Pose};
 use crate::grid::sample::quadratic_bspline;
-use crate::grid::{CellModel, Grid, Store};
 use nalgebra::{Matrix3, Vector3};
 
 /// A map's match value read at any world point, with its gradient.
@@ -35,17 +35,16 @@ impl OccupancyField for PooledLevel {
 
 /// A map itself as a field: its cells' match values read smoothly
 /// ([`quadratic_bspline`]); a cell outside the map counts as unknown (0).
-pub struct GridField<'a, M: CellModel, S: Store<M::Cell>> {
-    grid: &'a Grid<M, S>,
+pub struct GridField<'a> {
+    grid: &'a dyn MatchMap,
     l_unknown: f32,
 }
 
-impl<'a, M: CellModel, S: Store<M::Cell>> GridField<'a, M, S> {
-    pub fn new(grid: &'a Grid<M, S>) -> Self {
-        let m = grid.model();
+impl<'a> GridField<'a> {
+    pub fn new(grid: &'a dyn MatchMap) -> Self {
         Self {
             grid,
-            l_unknown: m.log_odds(m.unknown()),
+            l_unknown: grid.unknown_log_odds(),
         }
     }
 
@@ -53,14 +52,13 @@ impl<'a, M: CellModel, S: Store<M::Cell>> GridField<'a, M, S> {
         if ix < 0 || iy < 0 {
             return 0.0;
         }
-        let m = self.grid.model();
         self.grid
-            .cell_at(ix as usize, iy as usize)
-            .map_or(0.0, |c| match_value(m.log_odds(c), self.l_unknown))
+            .log_odds_at(ix as usize, iy as usize)
+            .map_or(0.0, |l| match_value(l, self.l_unknown))
     }
 }
 
-impl<M: CellModel, S: Store<M::Cell>> OccupancyField for GridField<'_, M, S> {
+impl OccupancyField for GridField<'_> {
     #[inline]
     fn sample(&self, x: f64, y: f64) -> FieldSample {
         let g = self.grid.geometry();
@@ -118,7 +116,7 @@ struct Linearised {
 
 /// `E`, and the normal equations' `H` and `b`, at `pose`.
 fn linearise(
-    field: &impl OccupancyField,
+    field: &dyn OccupancyField,
     points: &[[f64; 2]],
     pose: &Pose,
     anchor: &Pose,
@@ -170,7 +168,7 @@ const MAX_DAMPING: f64 = 1e6;
 /// more damped, at most three tries per step kept), held near `anchor`
 /// with weights `w`.
 pub fn gauss_newton(
-    field: &impl OccupancyField,
+    field: &dyn OccupancyField,
     points: &[[f64; 2]],
     start: Pose,
     anchor: &Pose,

@@ -190,22 +190,27 @@ pub fn correlative_search(
         }
         out.best.extend(best);
     }
-    // Best first; among equals the heading nearest the prediction (the
-    // order they were tried in: a stable sort keeps it).
-    out.best.sort_by(|a, b| b.weighted.total_cmp(&a.weighted));
+    // Best first, each heading apart from those kept before it; among
+    // equals the heading nearest the prediction (the one tried first: the
+    // rest keep the order they were tried in). A few picks among a few
+    // dozen headings: no sort needed.
     let mut kept = 0;
-    for i in 0..out.best.len() {
-        if kept == keep {
+    while kept < keep {
+        let mut pick: Option<usize> = None;
+        for i in kept..out.best.len() {
+            let c = out.best[i];
+            let apart = out.best[..kept]
+                .iter()
+                .all(|b| (b.step - c.step).abs() > HEADING_SEPARATION);
+            if apart && pick.is_none_or(|p| c.weighted.total_cmp(&out.best[p].weighted).is_gt()) {
+                pick = Some(i);
+            }
+        }
+        let Some(p) = pick else {
             break;
-        }
-        let c = out.best[i];
-        if out.best[..kept]
-            .iter()
-            .all(|b| (b.step - c.step).abs() > HEADING_SEPARATION)
-        {
-            out.best[kept] = c;
-            kept += 1;
-        }
+        };
+        out.best[kept..=p].rotate_right(1);
+        kept += 1;
     }
     out.best.truncate(kept);
 }

@@ -11,7 +11,7 @@
 //! bilinearly between cell centres, with its gradient. What is
 //! interpolated is each cell's [`match_value`], not its probability.
 
-use crate::grid::{CellModel, Grid, Store};
+use super::match_map::MatchMap;
 
 /// What a cell of log odds `l` is worth to a match: how sure the map is
 /// that a wall is there, `max(0, 2 p - 1) = max(0, tanh((l - l_u) / 2))`
@@ -132,9 +132,18 @@ impl PooledLevel {
 }
 
 /// The coarse levels of one match: factors 2, 4, … up to the search's.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct Pyramid {
     levels: Vec<PooledLevel>,
+    /// One row of the map's log odds, the scratch of [`Pyramid::build`].
+    row: Vec<f32>,
+}
+
+/// Two pyramids are equal when their levels are (the scratch aside).
+impl PartialEq for Pyramid {
+    fn eq(&self, other: &Self) -> bool {
+        self.levels == other.levels
+    }
 }
 
 impl Pyramid {
@@ -156,12 +165,7 @@ impl Pyramid {
     /// the box widened to whole cells of the coarsest level, aligned on
     /// the map's own cell 0 so that a coarse cell always covers the same
     /// map cells. The coarsest level's match values are filled.
-    pub fn build<M: CellModel, S: Store<M::Cell>>(
-        &mut self,
-        grid: &Grid<M, S>,
-        [ix0, iy0, ix1, iy1]: [i64; 4],
-        coarsest: usize,
-    ) {
+    pub fn build(&mut self, grid: &dyn MatchMap, [ix0, iy0, ix1, iy1]: [i64; 4], coarsest: usize) {
         let kept = coarsest.max(1).trailing_zeros() as usize;
         self.levels.resize_with(kept, PooledLevel::default);
         if kept == 0 {
@@ -179,8 +183,7 @@ impl Pyramid {
             g.origin()[0] + ix0 as f64 * res,
             g.origin()[1] + iy0 as f64 * res,
         ];
-        let m = grid.model();
-        let unknown_l = m.log_odds(m.unknown());
+        let unknown_l = grid.unknown_log_odds();
         for (k, level) in self.levels.iter_mut().enumerate() {
             let factor = 2usize << k;
             level.factor = factor;
@@ -191,7 +194,13 @@ impl Pyramid {
             level.l_unknown = unknown_l;
             level.values.clear();
         }
-        Self::pool_map(&mut self.levels[0], grid, [ix0, iy0, ix1, iy1], unknown_l);
+        Self::pool_map(
+            &mut self.levels[0],
+            grid,
+            [ix0, iy0, ix1, iy1],
+            unknown_l,
+            &mut self.row,
+        );
         for k in 1..kept {
             let (finer, coarser) = self.levels.split_at_mut(k);
             Self::pool_level(&finer[k - 1], &mut coarser[0]);
@@ -204,13 +213,14 @@ impl Pyramid {
         }
     }
 
-    /// The first level, pooled 2 x 2 from the map's cells, walked one
-    /// storage block (tile) at a time.
-    fn pool_map<M: CellModel, S: Store<M::Cell>>(
+    /// The first level, pooled 2 x 2 from the map's cells, read one row
+    /// at a time.
+    fn pool_map(
         level: &mut PooledLevel,
-        grid: &Grid<M, S>,
+        grid: &dyn MatchMap,
         [ix0, iy0, ix1, iy1]: [i64; 4],
         unknown_l: f32,
+        row: &mut Vec<f32>,
     ) {
         let g = grid.geometry();
         let (w, h) = (g.width() as i64, g.height() as i64);
@@ -227,50 +237,26 @@ impl Pyramid {
                     .push(if inside { f32::NEG_INFINITY } else { unknown_l });
             }
         }
-        let m = grid.model();
         let (cx0, cy0) = (ix0.max(0), iy0.max(0));
         let (cx1, cy1) = (ix1.min(w), iy1.min(h));
-        let mut y = cy0;
-        while y < cy1 {
-            let mut x = cx0;
-            let mut next_y = cy1;
-            while x < cx1 {
-                let b = grid.store().block(x as usize, y as usize);
-                let bx1 = ((b.x0 + b.width) as i64).min(cx1);
-                let by1 = ((b.y0 + b.height) as i64).min(cy1);
-                next_y = next_y.min(by1);
-                // Columns `x..bx1` of the block, two map cells to a
-                // coarse cell (`x` is even: the box and the blocks start
-                // on even columns).
-                let (c0, c1) = (((x - ix0) >> 1) as usize, ((bx1 - ix0 + 1) >> 1) as usize);
-                for yy in y..by1 {
-                    let row = ((yy - iy0) >> 1) as usize * nx;
-                    let out = &mut level.log_odds[row + c0..row + c1];
-                    match b.cells {
-                        Some(cells) => {
-                            let start = (yy as usize - b.y0) * b.stride + (x as usize - b.x0);
-                            let run = &cells[start..start + (bx1 - x) as usize];
-                            let pairs = run.chunks_exact(2);
-                            let odd = pairs.remainder().first().copied();
-                            for (o, pair) in out.iter_mut().zip(pairs) {
-                                *o = o.max(m.log_odds(pair[0]).max(m.log_odds(pair[1])));
-                            }
-                            if let (Some(c), Some(o)) = (odd, out.last_mut()) {
-                                *o = o.max(m.log_odds(c));
-                            }
-                        }
-                        None => {
-                            for o in out.iter_mut() {
-                                *o = o.max(unknown_l);
-                            }
-                        }
-                    }
-                }
-                // (A block's rows past `next_y` are read again with the
-                // next row of blocks: the maximum does not mind.)
-                x = bx1;
+        if cx0 >= cx1 {
+            return;
+        }
+        // Columns `cx0..cx1`, two map cells to a coarse cell (`cx0` is
+        // even: the box starts on an even column, or on the map's first).
+        let (c0, c1) = (((cx0 - ix0) >> 1) as usize, ((cx1 - ix0 + 1) >> 1) as usize);
+        for yy in cy0..cy1 {
+            grid.row_log_odds(yy as usize, cx0 as usize, cx1 as usize, row);
+            let start = ((yy - iy0) >> 1) as usize * nx;
+            let out = &mut level.log_odds[start + c0..start + c1];
+            let pairs = row.chunks_exact(2);
+            let odd = pairs.remainder().first().copied();
+            for (o, pair) in out.iter_mut().zip(pairs) {
+                *o = o.max(pair[0].max(pair[1]));
             }
-            y = next_y;
+            if let (Some(l), Some(o)) = (odd, out.last_mut()) {
+                *o = o.max(l);
+            }
         }
     }
 

@@ -100,12 +100,21 @@ impl RayMapper {
             between,
             res,
         };
-        if S::WINDOWED {
+        // The walk is the same whatever the cell model (compiled once per
+        // way of gathering); only settling the verdicts into the map is
+        // the model's.
+        let (cells_visited, cells_updated) = if S::WINDOWED {
             let gathered = frame.segment_codes(&mut self.codes, &mut self.segments);
-            plan.gather(gathered, grid, evidence)
+            let (visits, gathered) = plan.gather(gathered, true);
+            (visits, gathered.settle(grid, &frame.window, evidence))
         } else {
             let gathered = frame.codes(&mut self.codes, &mut self.touched);
-            plan.gather(gathered, grid, evidence)
+            let (visits, gathered) = plan.gather(gathered, false);
+            (visits, gathered.settle(grid, &frame.window, evidence))
+        };
+        ScanStats {
+            cells_visited,
+            cells_updated,
         }
     }
 }
@@ -125,15 +134,16 @@ struct BandsPlan<'p> {
 
 impl BandsPlan<'_> {
     /// Walks the beams (the wedges' spans left out), fills the wedges and
-    /// draws the walls between, then updates the map once per cell.
-    fn gather<C: CellModel, S: Store<C::Cell>, const SEGMENTED: bool>(
+    /// draws the walls between: the cells visited and the verdicts
+    /// gathered, at most one per cell. On a `windowed` map a beam past the
+    /// window's reach is not walked.
+    fn gather<'g, const SEGMENTED: bool>(
         &mut self,
-        mut gathered: Gathered<'_, u8, SEGMENTED>,
-        grid: &mut Grid<C, S>,
-        evidence: ScanEvidence,
-    ) -> ScanStats {
+        mut gathered: Gathered<'g, u8, SEGMENTED>,
+        windowed: bool,
+    ) -> (usize, Gathered<'g, u8, SEGMENTED>) {
         let (frame, res) = (self.frame, self.res);
-        let walkable = |r: f64| r > 0.0 && (!S::WINDOWED || r / res <= MAX_REACH_CELLS);
+        let walkable = |r: f64| r > 0.0 && (!windowed || r / res <= MAX_REACH_CELLS);
         let mut visits = 0;
         if self.between {
             // The fans near the sensor and far out (`fans`): a beam inside
@@ -191,10 +201,6 @@ impl BandsPlan<'_> {
             );
             visits += n;
         }
-        let count = gathered.settle(grid, &frame.window, evidence);
-        ScanStats {
-            cells_visited: visits,
-            cells_updated: count,
-        }
+        (visits, gathered)
     }
 }
