@@ -56,6 +56,8 @@ const LOWERED_COLOR = COLORS.series[1];
 const POSE_COLOR = COLORS.series[1];
 
 const GROUPS = ['playback', 'arrangements', 'sliders', 'export', 'link'];
+/** The attributes of the two-cell table. */
+const TWO_CELL_KEYS = ['arrangement', 'cells', 'reading', 'prior'];
 const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read it.';
 /** What the MAP map says of a cell (the core's `map` of a cell readout). */
 const MAP_CELL_TEXT = { occupied: 'occupied', free: 'free', undecided: 'undecided (no reading reached it)' };
@@ -127,6 +129,8 @@ class DoorwayTrapElement extends HTMLElement {
         this.twoCell.start(this.core, this.values);
       },
       ahead: true,
+      // A link about the two cells (exercises 2 and 3) lands on their table.
+      landing: (keys) => (TWO_CELL_KEYS.some((k) => keys.has(k)) ? this.twoCell.root : null),
     });
   }
 
@@ -147,7 +151,7 @@ class DoorwayTrapElement extends HTMLElement {
       this.layout();
     } else if (!this.core || !this.started) return;
     else if (['seed', 'scene', 'scans', 'flips'].includes(name)) this.create();
-    else if (['arrangement', 'cells', 'reading', 'prior'].includes(name)) this.twoCell.start(this.core, this.values);
+    else if (TWO_CELL_KEYS.includes(name)) this.twoCell.start(this.core, this.values);
   }
 
   /** The current state as attribute values, for "Copy link". */
