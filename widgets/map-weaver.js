@@ -760,7 +760,8 @@ class MapWeaverElement extends HTMLElement {
     this.reading = r;
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
-      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
+      // Parked, the robot drives no lap: the line says where it is.
+      `${r.situation === 'ghost-watch' ? 'Parked in the corridor' : `Lap ${r.lap} of ${r.laps}`} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
       `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}` +
       behind.map((n, k) => (n > 0 ? ` · rebuilding the ${SIDES[k]} map: ${count(r.scans - n)} of ${count(r.scans)} scans` : '')).join('');
   }

@@ -2,8 +2,8 @@
 // 1280 x 800, lands with its widget on screen (the doorway trap's two-cell
 // links on the two-cell table), and the widget starts and draws; and a
 // link's keys replace only the attributes they name, so a course page's own
-// attributes survive, and a copied link on that page writes what differs
-// from them.
+// attributes survive, and a copied link on that page names a default the
+// reader went back to where the page gave another value.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { baseUrl, openPage, serveForeign, shutdown } from './harness.mjs';
@@ -65,7 +65,7 @@ test('every exercise link at 1280 x 800 lands with its widget on screen, and the
   }
 });
 
-test('a link replaces only the attributes it names: a course page’s own attributes survive, and a copied link writes what differs from them', async () => {
+test('a link replaces only the attributes it names: a course page’s own attributes survive, and a copied link overrides them where the reader changed them', async () => {
   const { page, errors, close } = await openPage(`${course.origin}/weaver.html?mwB.left-strength=2`, { viewport: LAPTOP, reducedMotion: 'reduce' });
   const w = page.locator('#mwB');
   await w.scrollIntoViewIfNeeded();
@@ -74,13 +74,15 @@ test('a link replaces only the attributes it names: a course page’s own attrib
   assert.deepEqual(attrs, { 'left-clamp': '4', autoplay: 'off', scans: '100', 'left-strength': '2' });
   const core = await w.evaluate((e) => ({ clamp: e.weaver.readout().panes[0].clamp, strength: e.weaver.readout().panes[0].strength, playing: e.playing }));
   assert.deepEqual(core, { clamp: 4, strength: 2, playing: false });
-  // The copied link names the strength (not the page's own clamp)...
+  // The copied link names the strength and, as every link, what differs
+  // from the defaults (the page's clamp 4)...
   await w.locator('button[name=copy-link]').click();
   await page.waitForFunction(() => document.querySelector('#mwB').dataset.link !== undefined);
   let link = new URL(await w.evaluate((e) => e.dataset.link));
   assert.equal(link.searchParams.get('mwB.left-strength'), '2');
-  assert.equal(link.searchParams.has('mwB.left-clamp'), false);
-  // ...and the clamp once the reader moves it, even back to its default.
+  assert.equal(link.searchParams.get('mwB.left-clamp'), '4');
+  // ...and the clamp once the reader moves it back to its default: the
+  // page's own 4 would otherwise stay.
   await w.evaluate((e) => {
     const input = e.querySelector('input[name=clamp-left]');
     input.value = '12';

@@ -66,7 +66,7 @@ export function urlState(host, search = location.search) {
  * widget: each value replaces only the attribute it names, so that a
  * course page's own attributes (`left-clamp="4" autoplay="off"`) survive a
  * link that names another one. The page's own values are kept in
- * `host.pageAttributes`: a copied link writes what differs from them.
+ * `host.pageAttributes` (see `linkFor`).
  * Call once, before the widget first reads its attributes.
  *
  * Only the attributes the widget declares in `spec` are set. A link is
@@ -108,9 +108,10 @@ export function firstConnection(host, spec) {
 
 /**
  * The page URL with `host`'s state in it. `state` maps attribute names to
- * values; a value equal to what the page gave the element (its own
- * attribute, else the attribute's default in `spec`), null or undefined is
- * left out: opening the link on the same page restores every value. The fragment points at the widget (its id, or
+ * values; a value equal to the attribute's default (in `spec`), null or
+ * undefined is left out, unless the page gave the element another value
+ * for it: a link's keys replace only the attributes they name, so a
+ * default that differs from the page's own attribute must be named. The fragment points at the widget (its id, or
  * the nearest enclosing element with an id) so the link opens there.
  */
 export function linkFor(host, spec, state) {
@@ -120,8 +121,10 @@ export function linkFor(host, spec, state) {
   for (const [name, value] of Object.entries(state)) {
     if (value === null || value === undefined) continue;
     const text = String(value);
-    const base = host.pageAttributes?.has(name) ? host.pageAttributes.get(name) : spec[name]?.default;
-    if (spec[name] && base === text) continue;
+    // A default is left out, unless the page gave the element another
+    // value (which the link must then override).
+    const page = host.pageAttributes?.get(name);
+    if (spec[name] && spec[name].default === text && (page === undefined || page === text)) continue;
     url.searchParams.set(`${key}.${name}`, text);
   }
   const anchor = host.id || host.parentElement?.closest('[id]')?.id;
