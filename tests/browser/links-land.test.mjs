@@ -3,7 +3,8 @@
 // links on the two-cell table), and the widget starts and draws; and a
 // link's keys replace only the attributes they name, so a course page's own
 // attributes survive, and a copied link on that page names a default the
-// reader went back to where the page gave another value.
+// reader went back to where the page gave another value. Exercise 1's ten
+// readings fit the cell filter's table without its inner scroll.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { baseUrl, openPage, serveForeign, shutdown } from './harness.mjs';
@@ -93,6 +94,24 @@ test('a link replaces only the attributes it names: a course page’s own attrib
   await page.waitForFunction(() => document.querySelector('#mwB').dataset.link !== undefined);
   link = new URL(await w.evaluate((e) => e.dataset.link));
   assert.equal(link.searchParams.get('mwB.left-clamp'), '12');
+  assert.deepEqual(errors, []);
+  await close();
+});
+
+test('exercise 1’s link shows the prior and all ten readings in the table, none hidden in its inner scroll', async () => {
+  const { page: index, close: closeIndex } = await openPage('/', { viewport: LAPTOP });
+  const href = await index.getAttribute('a[data-exercise="1"]', 'href');
+  await closeIndex();
+  const { page, errors, close } = await openPage(`/${href}`, { viewport: LAPTOP, reducedMotion: 'reduce' });
+  await page.waitForFunction(() => document.querySelectorAll('occgrid-cell-filter .cell-filter-table tbody tr').length === 11, null, { timeout: 60_000 });
+  const box = await page.evaluate(() => {
+    const s = document.querySelector('occgrid-cell-filter .cell-filter-scroll');
+    const last = s.querySelector('tbody tr:last-child').getBoundingClientRect();
+    const r = s.getBoundingClientRect();
+    return { scroll: s.scrollHeight, client: s.clientHeight, lastBottom: last.bottom, boxBottom: r.bottom };
+  });
+  assert.ok(box.scroll <= box.client + 1, `the table scrolls inside its box: ${box.scroll} px in ${box.client}`);
+  assert.ok(box.lastBottom <= box.boxBottom + 1, 'the tenth reading is inside the box');
   assert.deepEqual(errors, []);
   await close();
 });
