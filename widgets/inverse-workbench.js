@@ -100,6 +100,8 @@ class InverseWorkbenchElement extends HTMLElement {
         this.density = this.values.density;
         this.densitySlider.set(this.density);
         this.setReading(this.values.reading);
+        // What Reset returns to: the workbench as the page (or link) opened it.
+        this.start = { z: this.values.reading, zoom: this.values.zoom, seed: this.values.seed, density: this.values.density };
       },
       whenSeen: () => this.later(() => this.train(this.seed)),
     });
@@ -158,6 +160,8 @@ class InverseWorkbenchElement extends HTMLElement {
     this.maxButton = button('Max-range reading', () => { if (this.zMax) this.setReading(this.zMax); }, {
       name: 'max-range', title: 'A no-return: the reading sits at the sensor’s maximum range', pressed: false,
     });
+    this.resetButton = button('Reset', () => this.reset(), { name: 'reset', title: 'Back to the reading, zoom, seed and density the workbench opened with' });
+    this.resetButton.dataset.controls = 'reading';
     this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, this.zoom, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
     const seedId = nextId('seed');
     this.seedInput = el('input', { id: seedId, type: 'number', min: 0, step: 1, value: this.seed, name: 'seed', inputmode: 'numeric', class: 'inverse-workbench-seed' });
@@ -206,7 +210,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.retrainButton.dataset.controls = 'retrain';
 
     this.append(
-      el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root),
+      el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root, this.resetButton),
       el('div', { class: 'occgrid-controls' },
         el('div', { class: 'occgrid-control', dataset: { controls: 'retrain' } }, el('label', { for: seedId }, 'Seed'), this.seedInput),
         this.retrainButton,
@@ -402,6 +406,29 @@ class InverseWorkbenchElement extends HTMLElement {
     this.seed = seed;
     this.status.textContent = `Training with seed ${seed}…`;
     this.later(() => this.train(this.seed));
+  }
+
+  /** Back to the workbench as it opened: its reading and zoom at once, its model retrained if the seed or density changed. */
+  async reset() {
+    const start = this.start;
+    if (!start) return;
+    this.setReading(start.z);
+    this.zoom = start.zoom;
+    this.zoomToggle.input.checked = start.zoom;
+    this.requestDraw();
+    if (!this.bench || !this.info) return;
+    this.refuse(null);
+    if (this.info.run.density !== start.density) {
+      this.densitySlider.set(start.density);
+      this.status.textContent = `Training on maps of ${densityText(start.density)}…`;
+      await this.train(null, start.density);
+    }
+    this.seedInput.value = String(start.seed);
+    if (this.info.run.seed !== start.seed) {
+      this.seed = start.seed;
+      this.status.textContent = `Training with seed ${start.seed}…`;
+      await this.train(start.seed);
+    }
   }
 
   setReading(z) {

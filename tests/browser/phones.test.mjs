@@ -233,3 +233,29 @@ test('inverse workbench on a phone: a tap reads both models at the tapped cell (
   assert.deepEqual(errors, []);
   await close();
 });
+
+test('inverse workbench: Reset returns the reading, the zoom and the model’s seed to what the page opened with', async () => {
+  const { page, errors, close } = await openPage('/?inverse-workbench.reading=2.50#inverse-workbench', { viewport: LAPTOP, reducedMotion: 'reduce' });
+  const w = page.locator('occgrid-inverse-workbench');
+  await w.scrollIntoViewIfNeeded();
+  await page.waitForFunction(() => document.querySelector('occgrid-inverse-workbench').dataset.seed === '9', null, { timeout: 120_000 });
+  // The reader moves the reading, zooms and retrains with another seed.
+  await w.evaluate((el) => {
+    const input = el.querySelector('input[name=reading]');
+    input.value = '4';
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  await w.getByLabel(/^Zoom to/).check();
+  await w.locator('input[name=seed]').fill('12');
+  await w.getByRole('button', { name: 'Retrain', exact: true }).click();
+  await page.waitForFunction(() => document.querySelector('occgrid-inverse-workbench').dataset.seed === '12', null, { timeout: 120_000 });
+  await page.waitForFunction(() => document.querySelector('occgrid-inverse-workbench').dataset.reading === '4');
+  await w.locator('button[name=reset]').click();
+  await page.waitForFunction(() => document.querySelector('occgrid-inverse-workbench').dataset.seed === '9', null, { timeout: 120_000 });
+  await page.waitForFunction(() => document.querySelector('occgrid-inverse-workbench').dataset.reading === '2.5');
+  assert.equal(await w.getByLabel(/^Zoom to/).isChecked(), false);
+  assert.equal(await w.locator('input[name=seed]').inputValue(), '9');
+  assert.equal(await w.locator('input[name=reading]').inputValue(), '2.5');
+  assert.deepEqual(errors, []);
+  await close();
+});
