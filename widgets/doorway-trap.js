@@ -32,7 +32,7 @@ import {
 } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
 import { arrowCell, exportButton, exportMap, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
-import { followCellPointer } from './lib/cell-pointer.js';
+import { floatingReadout, followCellPointer, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { drawCones, drawDots, drawMapImage, layerStack, outlineBox, outlineCell } from './lib/layers.js';
 import { TwoCellTable, cellsType } from './lib/two-cell-table.js';
 
@@ -56,6 +56,8 @@ const LOWERED_COLOR = COLORS.series[1];
 const POSE_COLOR = COLORS.series[1];
 
 const GROUPS = ['playback', 'arrangements', 'sliders', 'export', 'link'];
+/** The attributes of the two-cell table. */
+const TWO_CELL_KEYS = ['arrangement', 'cells', 'reading', 'prior'];
 const HOVER_HINT = 'Point at a cell (or focus a map and use the arrow keys) to read it.';
 /** What the MAP map says of a cell (the core's `map` of a cell readout). */
 const MAP_CELL_TEXT = { occupied: 'occupied', free: 'free', undecided: 'undecided (no reading reached it)' };
@@ -127,6 +129,8 @@ class DoorwayTrapElement extends HTMLElement {
         this.twoCell.start(this.core, this.values);
       },
       ahead: true,
+      // A link about the two cells (exercises 2 and 3) lands on their table.
+      landing: (keys) => (TWO_CELL_KEYS.some((k) => keys.has(k)) ? this.twoCell.root : null),
     });
   }
 
@@ -147,7 +151,7 @@ class DoorwayTrapElement extends HTMLElement {
       this.layout();
     } else if (!this.core || !this.started) return;
     else if (['seed', 'scene', 'scans', 'flips'].includes(name)) this.create();
-    else if (['arrangement', 'cells', 'reading', 'prior'].includes(name)) this.twoCell.start(this.core, this.values);
+    else if (TWO_CELL_KEYS.includes(name)) this.twoCell.start(this.core, this.values);
   }
 
   /** The current state as attribute values, for "Copy link". */
@@ -172,6 +176,9 @@ class DoorwayTrapElement extends HTMLElement {
         class: 'occgrid-map doorway-trap-canvas', role: 'img', tabindex: 0,
         'aria-label': `${title} map of the doorway scene. ${MAP_HINT}`,
       });
+      // The tapped or pointed cell's values float over its map (on a phone
+      // the line below both maps is a screen away).
+      const stage = mapStage(canvas);
       const status = el('p', { class: 'occgrid-readout doorway-trap-status', 'aria-live': 'polite' }, 'Loading…');
       const door = el('p', { class: 'occgrid-readout doorway-trap-door' });
       const save = exportButton({
@@ -181,7 +188,7 @@ class DoorwayTrapElement extends HTMLElement {
       const root = el('figure', { class: `doorway-trap-pane doorway-trap-${key}`, dataset: { map: key } },
         el('figcaption', {}, el('strong', {}, title), ' ', el('span', { class: 'doorway-trap-note' }, note)),
         el('div', { class: 'occgrid-controls doorway-trap-buttons', dataset: { controls: 'playback' } }, controls),
-        canvas, status, door,
+        stage, status, door,
         el('div', { class: 'doorway-trap-foot', dataset: { controls: 'export' } }, save));
       followCellPointer(canvas, {
         point: (ev) => this.hover(key, ev),
@@ -195,7 +202,7 @@ class DoorwayTrapElement extends HTMLElement {
         this.cursor = null;
         this.draw();
       });
-      return { key, canvas, status, door, root, layers: key === 'sweep' ? this.sweepLayers() : this.mapLayers() };
+      return { key, canvas, stage, status, door, root, layers: key === 'sweep' ? this.sweepLayers() : this.mapLayers() };
     };
 
     this.sweepPlay = button('Play', () => this.toggle('sweep'), { name: 'sweep-play', pressed: false });
@@ -215,6 +222,7 @@ class DoorwayTrapElement extends HTMLElement {
       ]),
     };
     this.hoverOut = el('p', { class: 'occgrid-readout doorway-trap-hover', 'aria-live': 'polite' }, HOVER_HINT);
+    this.hoverFloat = floatingReadout();
     this.flipText = el('p', { class: 'occgrid-readout doorway-trap-flip', 'aria-live': 'polite' });
     this.barBox = el('div', { class: 'doorway-trap-chart doorway-trap-bars', role: 'img', 'aria-label': 'Change of each beam’s log likelihood for the latest flip: no flip yet.' });
     this.curveBox = el('div', { class: 'doorway-trap-chart doorway-trap-curve', role: 'img', 'aria-label': 'Objective J(m) over flips: no flip yet.' });
@@ -586,10 +594,11 @@ class DoorwayTrapElement extends HTMLElement {
   hover(key, ev) {
     if (!this.trap || !ev) {
       this.hoverOut.textContent = HOVER_HINT;
+      this.hoverFloat.hidden = true;
       return;
     }
     const { col, row } = pointerCell(this.panes[key].canvas, ev, this.view.width, this.view.height);
-    this.readCell(col, row);
+    this.readCell(col, row, key);
   }
 
   /** Arrow keys move the cursor cell on a focused map. */
@@ -610,11 +619,11 @@ class DoorwayTrapElement extends HTMLElement {
   placeCursor(key, { col, row }) {
     this.cursor = { key, col, row };
     this.draw();
-    this.readCell(col, row);
+    this.readCell(col, row, key);
   }
 
-  /** Reads image cell (col, row) of both halves into the readout line. */
-  readCell(col, row) {
+  /** Reads image cell (col, row) of both halves into the readout line, and over map `key`. */
+  readCell(col, row, key) {
     if (col < 0 || row < 0 || col >= this.view.width || row >= this.view.height) return;
     try {
       const c = this.trap.cellInfo(col, row);
@@ -622,6 +631,8 @@ class DoorwayTrapElement extends HTMLElement {
         `MAP: ${MAP_CELL_TEXT[c.map]}, inside ${grouped(c.beams)} cone${c.beams === 1 ? '' : 's'}, ` +
         `flipping it would change J by ${c.sensitivity >= 0 ? '+' : ''}${fixed(c.sensitivity, 3)} nats.`;
       this.hoverOut.dataset.map = c.map;
+      this.hoverFloat.textContent = this.hoverOut.textContent;
+      placeReadout(this.hoverFloat, this.panes[key].stage, row, this.view.height);
     } catch (e) {
       showError(this, e);
     }

@@ -20,6 +20,7 @@ import { lineChart, COLORS } from './lib/chart.js';
 import { el, slider, button, toggle, showError, clearError, hiDpiCanvas, nextId, fixed, grouped, nextTask } from './lib/ui.js';
 import { ANY_NUMBER, applyControls, controlGroups, flag, formatControls, parseBounded, steps, whole } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
+import { floatingReadout, followCellPointer, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { FIRST_TRAIN_UNITS, TRAIN_SLICE_MS, workBudget } from './lib/work-budget.js';
 
 // The reading's and the density's upper bounds are the core's
@@ -37,6 +38,7 @@ const IMAGE_HEIGHT = 150;
 const MAX_IMAGE_WIDTH = 520;
 const GRID_COLOR = 'rgba(60, 60, 54, 0.55)';
 const GROUPS = ['reading', 'zoom', 'retrain', 'link'];
+const CELL_HINT = 'Point at a cell of either image (a tap on a phone) to read what one reading adds to it under both models.';
 const densityText = (d) => (d === 0 ? 'buildings as drawn' : `boxes to ${Math.round(100 * d)}%`);
 /** The chart's four lines; the two priors share the l0 blue, told apart by the dash. */
 const SERIES = [
@@ -98,6 +100,8 @@ class InverseWorkbenchElement extends HTMLElement {
         this.density = this.values.density;
         this.densitySlider.set(this.density);
         this.setReading(this.values.reading);
+        // What Reset returns to: the workbench as the page (or link) opened it.
+        this.start = { z: this.values.reading, zoom: this.values.zoom, seed: this.values.seed, density: this.values.density };
       },
       whenSeen: () => this.later(() => this.train(this.seed)),
     });
@@ -156,6 +160,8 @@ class InverseWorkbenchElement extends HTMLElement {
     this.maxButton = button('Max-range reading', () => { if (this.zMax) this.setReading(this.zMax); }, {
       name: 'max-range', title: 'A no-return: the reading sits at the sensor’s maximum range', pressed: false,
     });
+    this.resetButton = button('Reset', () => this.reset(), { name: 'reset', title: 'Back to the reading, zoom, seed and density the workbench opened with' });
+    this.resetButton.dataset.controls = 'reading';
     this.zoomToggle = toggle(`Zoom to ±${ZOOM} m around the reading`, this.zoom, (on) => { this.zoom = on; this.requestDraw(); }, { name: 'zoom' });
     const seedId = nextId('seed');
     this.seedInput = el('input', { id: seedId, type: 'number', min: 0, step: 1, value: this.seed, name: 'seed', inputmode: 'numeric', class: 'inverse-workbench-seed' });
@@ -179,13 +185,22 @@ class InverseWorkbenchElement extends HTMLElement {
       const canvas = el('canvas', { class: 'inverse-workbench-image', role: 'img', 'aria-label': `${title} inverse model: what one reading adds to the cells around the beam; not drawn yet.` });
       const note = el('span', { class: 'inverse-workbench-note' });
       const free = el('output', { class: 'inverse-workbench-free', 'aria-live': 'off' }, '–');
+      const stage = mapStage(canvas);
+      followCellPointer(canvas, {
+        point: (e) => this.pointAt(key, e),
+        leave: () => this.pointAt(key, null),
+        keyboardFocus: () => {},
+      });
       const root = el('figure', { class: `inverse-workbench-pane inverse-workbench-${key}` },
         el('figcaption', {}, el('strong', {}, title), ' ', note),
-        canvas,
+        stage,
         el('p', { class: 'inverse-workbench-foot' }, 'mean free evidence in front of the reading: ', free));
-      return { key, title, canvas, note, free, root };
+      return { key, title, canvas, stage, note, free, root };
     };
     this.panes = [pane('hand', 'Hand-crafted (Table 9.2)'), pane('learned', 'Learned (§9.3)')];
+    // One cell of both images: what one reading adds to it under each model.
+    this.cellOut = el('p', { class: 'occgrid-readout inverse-workbench-cell', 'aria-live': 'polite' }, CELL_HINT);
+    this.cellFloat = floatingReadout();
     this.legend = el('canvas', { class: 'inverse-workbench-legend', role: 'img', 'aria-label': 'Colour scale of the two images: white free, mid-gray no evidence, black occupied.' });
     this.chartTitle = el('p', { class: 'inverse-workbench-chart-title' });
     this.chartBox = el('div', { class: 'inverse-workbench-chart', role: 'img', 'aria-label': 'Log odds along the beam axis: not drawn yet.' });
@@ -195,7 +210,7 @@ class InverseWorkbenchElement extends HTMLElement {
     this.retrainButton.dataset.controls = 'retrain';
 
     this.append(
-      el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root),
+      el('div', { class: 'occgrid-controls' }, this.readingSlider.root, this.maxButton, this.zoomToggle.root, this.resetButton),
       el('div', { class: 'occgrid-controls' },
         el('div', { class: 'occgrid-control', dataset: { controls: 'retrain' } }, el('label', { for: seedId }, 'Seed'), this.seedInput),
         this.retrainButton,
@@ -205,6 +220,7 @@ class InverseWorkbenchElement extends HTMLElement {
       // (widgets/lib/ui.js, showError) is, and clearing it must leave this.
       el('div', { class: 'inverse-workbench-training' }, this.status, this.refusal),
       el('div', { class: 'inverse-workbench-panes' }, this.panes.map((p) => p.root)),
+      this.cellOut,
       el('div', { class: 'inverse-workbench-scale' }, this.legend),
       this.scaleText,
       this.chartTitle,
@@ -392,6 +408,29 @@ class InverseWorkbenchElement extends HTMLElement {
     this.later(() => this.train(this.seed));
   }
 
+  /** Back to the workbench as it opened: its reading and zoom at once, its model retrained if the seed or density changed. */
+  async reset() {
+    const start = this.start;
+    if (!start) return;
+    this.setReading(start.z);
+    this.zoom = start.zoom;
+    this.zoomToggle.input.checked = start.zoom;
+    this.requestDraw();
+    if (!this.bench || !this.info) return;
+    this.refuse(null);
+    if (this.info.run.density !== start.density) {
+      this.densitySlider.set(start.density);
+      this.status.textContent = `Training on maps of ${densityText(start.density)}…`;
+      await this.train(null, start.density);
+    }
+    this.seedInput.value = String(start.seed);
+    if (this.info.run.seed !== start.seed) {
+      this.seed = start.seed;
+      this.status.textContent = `Training with seed ${start.seed}…`;
+      await this.train(start.seed);
+    }
+  }
+
   setReading(z) {
     this.z = z;
     this.readingSlider.set(z);
@@ -463,7 +502,54 @@ class InverseWorkbenchElement extends HTMLElement {
     this.dataset.handFree = v.handFree === null ? '' : String(v.handFree);
     this.dataset.learnedAxisMean = String(v.learnedAxis.reduce((a, b) => a + b, 0) / v.learnedAxis.length);
     this.dataset.scale = String(v.scale);
+    this.lattice = lattice;
+    this.readCell();
     this.dataset.state = 'ready';
+  }
+
+  /** The lattice sample under the pointer on image `key` (`e` a pointer event; null: the mouse left). */
+  pointAt(key, e) {
+    const p = this.panes.find((q) => q.key === key);
+    if (!e || !p.geom) {
+      this.pointed = null;
+      return this.readCell();
+    }
+    const rect = p.canvas.getBoundingClientRect();
+    const { left, w, h } = p.geom;
+    const x = e.clientX - rect.left - left;
+    const y = e.clientY - rect.top;
+    this.pointed = x >= 0 && x < w && y >= 0 && y < h ? { key, x: x / w, y: y / h } : null;
+    this.readCell();
+  }
+
+  /** Reads the pointed sample of both models at the current reading (the core's numbers), below the images and over the one pointed at. */
+  readCell() {
+    const at = this.pointed;
+    const lattice = this.lattice;
+    let c = null;
+    if (at && lattice && this.bench) {
+      const col = Math.min(lattice.ranges - 1, Math.floor(at.x * lattice.ranges));
+      const row = Math.min(lattice.bearings - 1, Math.floor(at.y * lattice.bearings));
+      try {
+        c = this.bench.cellAt(this.z, lattice, col, row);
+      } catch (e) {
+        showError(this, e);
+      }
+    }
+    if (!c) {
+      this.cellOut.textContent = CELL_HINT;
+      this.cellFloat.hidden = true;
+      for (const k of ['range', 'bearing', 'hand', 'learned']) delete this.cellOut.dataset[k];
+      return;
+    }
+    const model = (m) => `${m.evidence >= 0 ? '+' : '−'}${fixed(Math.abs(m.evidence), 3)} log odds (p(m | z) = ${fixed(m.p, 3)})`;
+    this.cellOut.textContent =
+      `Range ${fixed(c.range, 2)} m, bearing ${c.bearing >= 0 ? '+' : '−'}${fixed(Math.abs(deg(c.bearing)), 2)}°: ` +
+      `hand-crafted adds ${model(c.hand)}, learned ${model(c.learned)}.`;
+    Object.assign(this.cellOut.dataset, { range: String(c.range), bearing: String(c.bearing), hand: String(c.hand.evidence), learned: String(c.learned.evidence) });
+    this.cellFloat.textContent = this.cellOut.textContent;
+    const p = this.panes.find((q) => q.key === at.key);
+    placeReadout(this.cellFloat, p.stage, at.y * p.geom.h, p.geom.h + 18);
   }
 
   /** One model's evidence image (RGBA at `ptr` in wasm memory) with its green overlays and axis ticks. */
@@ -480,6 +566,7 @@ class InverseWorkbenchElement extends HTMLElement {
     const ctx = p.ctx;
     const w = cssW - left - 14;
     const h = IMAGE_HEIGHT;
+    p.geom = { left, w, h };
     if (!p.off || p.off.width !== ranges || p.off.height !== bearings) {
       p.off = document.createElement('canvas');
       p.off.width = ranges;

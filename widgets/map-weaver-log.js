@@ -28,6 +28,8 @@ import { listedLogs } from './lib/dataset-listing.js';
 import { modelNote } from './lib/log-models.js';
 import { settingsControls } from './lib/log-controls.js';
 import { drawViews, dpr, paintPane } from './lib/log-view.js';
+import { floatingReadout, mapStage, placeReadout } from './lib/cell-pointer.js';
+import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -220,14 +222,19 @@ export class RealLogPanel {
     this.canvas.addEventListener('keydown', (e) => this.moveCursor(e));
     this.canvas.addEventListener('blur', () => { this.session?.clearCursor(MAIN); this.redraw(); this.clearCell(); });
     this.listenForViewInput();
-    // The pointer left the map: its last cell would go on being read out.
-    this.canvas.addEventListener('pointerleave', () => { if (!this.cursor()) this.clearCell(); });
+    // A mouse left the map: its last cell would go on being read out. (A
+    // lifted finger leaves at once: the tapped cell stays to be read.)
+    this.canvas.addEventListener('pointerleave', (e) => { if (e.pointerType === 'mouse' && !this.cursor()) this.clearCell(); });
     this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
     // The maps beside the operated one (the corrected map beside a
     // dead-reckoned one): drawn whole, not operated (hover, zoom, cursor,
     // scrub and export act on the first pane).
     this.mainCaption = el('figcaption', { class: 'occgrid-caption' });
-    this.mainPane = el('figure', { class: 'map-weaver-log-pane' }, this.mainCaption, this.canvas);
+    // The cell read out floats over the map too (the line below it is a screen away on a phone).
+    this.readoutFloat = floatingReadout();
+    this.mapStage = mapStage(this.canvas);
+    this.mainPane = el('figure', { class: 'map-weaver-log-pane' }, this.mainCaption, this.mapStage);
+    this.switcher = paneSwitcher(() => this.showPane());
     this.sidePanes = [];
     this.dropHint = el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.');
     this.stage = el('div', { class: 'map-weaver-log-stage' }, this.mainPane, this.dropHint);
@@ -247,7 +254,7 @@ export class RealLogPanel {
       el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },
         Object.values(this.controls).map((c) => c.root)),
       this.progress, this.status, this.timing,
-      this.stage, this.viewStatus,
+      this.switcher.root, this.stage, mapLegend(), this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
       this.readout, this.counts, modelNote(),
       el('p', { class: 'occgrid-caption' },
@@ -563,8 +570,11 @@ export class RealLogPanel {
     this.canvas.addEventListener('pointerdown', (e) => {
       if (!this.view) return;
       this.canvas.setPointerCapture?.(e.pointerId);
-      pointers.set(e.pointerId, this.viewPoint(e));
+      const p = this.viewPoint(e);
+      pointers.set(e.pointerId, p);
       last = pointers.size === 2 ? pinch() : null;
+      // A tap fires no move: the press reads the cell under it.
+      if (pointers.size === 1) this.readViewCell(p.x, p.y);
     });
     const release = (e) => {
       pointers.delete(e.pointerId);
@@ -657,7 +667,11 @@ export class RealLogPanel {
     this.sidePanes.forEach((side, i) => {
       if (side.geometry && !side.figure.hidden) panes.push([side.canvas, side.geometry, i + 1]);
     });
-    const avail = Math.max(100, (this.stage.clientWidth - 8) / panes.length - (panes.length > 1 ? 8 : 0));
+    const narrow = panes.length > 1 && this.stage.clientWidth < NARROW_WIDTH;
+    this.switcher.update(panes.map(([, , k]) => (k === MAIN ? this.mainCaption : this.sidePanes[k - 1].caption).textContent), narrow);
+    this.stage.classList.toggle('map-weaver-log-narrow', narrow);
+    this.showPane();
+    const avail = Math.max(100, (this.stage.clientWidth - 8) / (narrow ? 1 : panes.length) - (panes.length > 1 && !narrow ? 8 : 0));
     const fit = Math.min(...panes.map(([, g]) => Math.min(avail / g.width, (0.75 * window.innerHeight) / g.height)));
     for (const [canvas, { width, height }, k] of panes) {
       const cssW = Math.max(1, Math.floor(width * fit));
@@ -672,6 +686,11 @@ export class RealLogPanel {
     }
     this.stage.classList.toggle('map-weaver-log-comparing', panes.length > 1);
     this.drawLater();
+  }
+
+  /** On a narrow screen, the map the switcher names is the one displayed. */
+  showPane() {
+    [this.mainPane, ...this.sidePanes.map((s) => s.figure)].forEach((f, k) => f.classList.toggle('map-weaver-log-shown', k === this.switcher.shown));
   }
 
   /** The operated map's figures in the status line, counts and label, after drawing it (unless `render` is false: drawn already). */
@@ -759,19 +778,31 @@ export class RealLogPanel {
   /** Reads out the cell under canvas pixel `(x, y)` of the view. */
   readViewCell(x, y) {
     const c = this.session?.cellAtView(MAIN, x, y);
-    if (c) this.showReadout(c);
+    if (c) this.showReadout(c, y);
   }
 
-  showReadout(c) {
+  /** Reads out cell `c`, over the map too, clear of canvas row `y` (device pixels; the cursor's row when absent). */
+  showReadout(c, y = null) {
     for (const k of ['x', 'y', 'ix', 'iy', 'l', 'p', 'updates']) this.readout.dataset[k] = String(c[k]);
     this.readout.textContent =
       `cell (${c.ix}, ${c.iy}) at (${fixed(c.x, 2)} m, ${fixed(c.y, 2)} m): l = ${fixed(c.l, 3)}, p = ${fixed(c.p, 3)}, ` +
       `${count(c.updates)} update${c.updates === 1 ? '' : 's'}`;
+    this.readoutFloat.textContent = this.readout.textContent;
+    const at = y ?? this.cursorY();
+    placeReadout(this.readoutFloat, this.mapStage, at, this.canvas.height);
+  }
+
+  /** The keyboard cursor's row on the canvas, device pixels (the canvas's middle without one). */
+  cursorY() {
+    const at = this.cursor();
+    const v = this.view;
+    return at && v ? (at.row + 0.5 - v.v0) * v.scale : this.canvas.height / 2;
   }
 
   /** The cell readout with no cell pointed at (its values would be stale). */
   clearCell() {
     this.readout.textContent = READOUT_HINT;
+    this.readoutFloat.hidden = true;
     for (const k of ['x', 'y', 'ix', 'iy', 'l', 'p', 'updates']) delete this.readout.dataset[k];
   }
 

@@ -453,6 +453,7 @@ class MapWeaverElement extends HTMLElement {
     if (generation !== this.generation) return;
     const v = this.values;
     let next;
+    let caughtUp = false;
     try {
       const settings = { seed: v.seed, laps: v.laps, situation: v.situation, person: this.options.person, panes: this.options.panes.map((o) => ({ ...o })) };
       if (v.scene) settings.scene = v.scene;
@@ -486,6 +487,7 @@ class MapWeaverElement extends HTMLElement {
       }
       this.weaver?.free();
       this.weaver = next;
+      caughtUp = this.catchUp(settings);
       this.readTracked();
       this.fillChoices(next.readout().choices);
       clearError(this);
@@ -499,6 +501,30 @@ class MapWeaverElement extends HTMLElement {
     this.syncControls();
     this.makeCharts();
     this.layout();
+    if (caughtUp) this.workNow();
+  }
+
+  /**
+   * The settings a reader changed while `create()` made the run from
+   * `made` (the old run took them, the new one was made without them) go
+   * to the new run as well: no setting is lost to a rebuild. True if any did.
+   */
+  catchUp(made) {
+    let staged = false;
+    const same = (a, b) => JSON.stringify(a ?? null) === JSON.stringify(b ?? null);
+    try {
+      this.options.panes.forEach((o, k) => {
+        const patch = Object.fromEntries(Object.entries(o).filter(([f, v]) => !same(v, made.panes[k][f])));
+        if (Object.keys(patch).length > 0) {
+          this.weaver.stagePane(k, patch);
+          staged = true;
+        }
+      });
+      if (this.options.person !== made.person) this.weaver.setPerson(this.options.person);
+    } catch (e) {
+      showError(this, inAttributeTerms(e));
+    }
+    return staged;
   }
 
   /** Advances `weaver` by `target` scans in slices, the count on screen; false when a later create() took over. */
@@ -734,7 +760,8 @@ class MapWeaverElement extends HTMLElement {
     this.reading = r;
     const frame = r.frameMs === undefined || r.frameMs === null ? '–' : fixed(r.frameMs, 2);
     this.status.textContent =
-      `Lap ${r.lap} of ${r.laps} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
+      // Parked, the robot drives no lap: the line says where it is.
+      `${r.situation === 'ghost-watch' ? 'Parked in the corridor' : `Lap ${r.lap} of ${r.laps}`} · scan ${count(r.scans)} of ${count(r.totalScans)} · ${fixed(r.time, 1)} s of ${r.situation === 'ghost-watch' ? 'watching' : 'driving'} · ` +
       `core time ${frame} ms per frame${r.done ? ' · done: press Play to start again' : ''}` +
       behind.map((n, k) => (n > 0 ? ` · rebuilding the ${SIDES[k]} map: ${count(r.scans - n)} of ${count(r.scans)} scans` : '')).join('');
   }

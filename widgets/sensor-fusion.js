@@ -17,10 +17,11 @@ import {
   el, slider, button, showError, clearError,
   frameLoop, prefersReducedMotion, fixed, grouped, pacer, showPlaying, setText, nextTask,
 } from './lib/ui.js';
-import { exportButton, exportMap, followPaneVisibility, followResize, resetPaneSizes, sizePanes } from './lib/pane.js';
+import { exportButton, exportMap, followPaneVisibility, followResize, pointerCell, resetPaneSizes, sizePanes } from './lib/pane.js';
 import { drawBeams, drawCones, drawMapImage, drawRobot, layerStack, outlineBox } from './lib/layers.js';
 import { applyControls, controlGroups, flag, formatControls, jsonObject, whole } from './lib/attributes.js';
 import { copyLinkControl } from './lib/state.js';
+import { floatingReadout, followCellPointer, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { FRAME_WORK_MS, workBudget } from './lib/work-budget.js';
 
 /** Scans per second while playing. */
@@ -54,6 +55,7 @@ const PANES = [
 ];
 
 const GROUPS = ['playback', 'sliders', 'export', 'link'];
+const CELL_HINT = 'Point at a cell of any map (a tap on a phone) to read its probability in all four.';
 
 class SensorFusionElement extends HTMLElement {
   static attributeSpec = {
@@ -169,14 +171,23 @@ class SensorFusionElement extends HTMLElement {
         name: `export-${p.key}`, title: `Save the ${p.title.toLowerCase()} as a ROS map_server PGM + YAML pair`,
         spoken: p.title.toLowerCase(), onClick: () => this.exportMap(p.key),
       });
+      const stage = mapStage(canvas);
+      followCellPointer(canvas, {
+        point: (e) => this.pointAt(p.key, e),
+        leave: () => this.pointAt(p.key, null),
+        keyboardFocus: () => {},
+      });
       const root = el('figure', { class: `sensor-fusion-pane sensor-fusion-${p.key}`, dataset: { map: p.key } },
         el('figcaption', {}, el('strong', {}, p.title), ' ', note),
-        canvas,
+        stage,
         el('div', { class: 'sensor-fusion-foot' },
           el('span', {}, 'footprint mean occupancy ', mean),
           el('span', { dataset: { controls: 'export' } }, save)));
-      return { ...p, canvas, note, mean, root, layers: this.paneLayers(p.key) };
+      return { ...p, canvas, stage, note, mean, root, layers: this.paneLayers(p.key) };
     });
+    // One cell of all four maps: eq. 9.9 checked cell by cell.
+    this.cellOut = el('p', { class: 'occgrid-readout sensor-fusion-cell', 'aria-live': 'polite' }, CELL_HINT);
+    this.cellFloat = floatingReadout();
     this.loop = frameLoop(this, (dt) => this.tick(dt));
     const playback = [
       this.playButton,
@@ -189,6 +200,7 @@ class SensorFusionElement extends HTMLElement {
       el('div', { class: 'occgrid-controls' }, playback, this.beamSlider.root),
       this.status,
       el('div', { class: 'sensor-fusion-panes' }, this.panes.map((p) => p.root)),
+      this.cellOut,
       el('p', { class: 'occgrid-caption' },
         'The dashed outline is the table top. The sonar sees its rim and cannot see past it; the LiDAR sees four legs and free floor between them. ',
         'Both are right about their own slice. Max fusion keeps one map per sensor and takes the more occupied answer per cell, so the table stays an obstacle ',
@@ -490,8 +502,44 @@ class SensorFusionElement extends HTMLElement {
       this.dataset.sumMean = String(r.footprint.sum);
     }
     this.reading = r;
+    this.readCell();
     if (this.playing) setText(this.status, 'off', 'aria-live');
     this.statusText(r);
+  }
+
+  /** The cell under the pointer on map `key` (`e` a pointer event; null: the mouse left the map). */
+  pointAt(key, e) {
+    if (!this.sim || !e) {
+      this.pointed = null;
+      return this.readCell();
+    }
+    this.pointed = { key, ...pointerCell(this.panes.find((p) => p.key === key).canvas, e, this.sim.width, this.sim.height) };
+    this.readCell();
+  }
+
+  /** Reads the pointed cell of all four maps (the core's numbers), below the maps and over the one pointed at. */
+  readCell() {
+    const at = this.pointed;
+    let c = null;
+    try {
+      c = at && this.sim ? this.sim.cellAt(at.col, at.row) : null;
+    } catch {
+      c = null; // off the map: no cell
+    }
+    if (!c) {
+      this.cellOut.textContent = CELL_HINT;
+      this.cellFloat.hidden = true;
+      for (const k of ['sonar', 'lidar', 'max', 'sum']) delete this.cellOut.dataset[k];
+      return;
+    }
+    const { sonar, lidar, sum } = c;
+    setText(this.cellOut,
+      `Cell (${sonar.ix}, ${sonar.iy}) at (${fixed(sonar.x, 2)} m, ${fixed(sonar.y, 2)} m)${c.footprint ? ', under the table' : ''}: ` +
+      `sonar p = ${fixed(sonar.p, 3)}, LiDAR p = ${fixed(lidar.p, 3)}, max p = ${fixed(c.max, 3)}, summed p = ${fixed(sum.p, 3)} ` +
+      `(${grouped(sum.updates)} update${sum.updates === 1 ? '' : 's'} summed).`);
+    Object.assign(this.cellOut.dataset, { sonar: String(sonar.p), lidar: String(lidar.p), max: String(c.max), sum: String(sum.p) });
+    setText(this.cellFloat, this.cellOut.textContent);
+    placeReadout(this.cellFloat, this.panes.find((p) => p.key === at.key).stage, at.row, this.sim.height);
   }
 
   /** The status line; `announce` writes it again even when unchanged, for a screen reader to hear it. */

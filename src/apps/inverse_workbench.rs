@@ -99,6 +99,40 @@ pub struct WorkbenchView {
     pub l0: [f32; 2],
 }
 
+/// One model's answer for one cell of the beam's neighbourhood.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ModelCell {
+    /// Log odds net of the model's `l0` (what the image draws).
+    pub evidence: f32,
+    /// The inverse model's own log odds, `evidence + l0`.
+    pub l: f64,
+    /// The inverse model's probability `p(m | z)` (Table 9.1, line 4).
+    pub p: f64,
+}
+
+/// One lattice sample of both images, as the cell readout shows it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct WorkbenchCell {
+    /// Range along the beam, metres.
+    pub range: f64,
+    /// Bearing offset from the beam axis, radians.
+    pub bearing: f64,
+    pub hand: ModelCell,
+    pub learned: ModelCell,
+}
+
+fn model_cell(m: &dyn InverseModel, r: f64, phi: f64, z: f64) -> ModelCell {
+    let evidence = m.evidence(r, phi, z);
+    let l = evidence as f64 + m.l0() as f64;
+    ModelCell {
+        evidence,
+        l,
+        p: crate::grid::probability(l),
+    }
+}
+
 /// The workbench: the training configuration, both models and the last run.
 pub struct WorkbenchSession {
     config: TrainingConfig,
@@ -231,6 +265,33 @@ impl WorkbenchSession {
         })
     }
 
+    /// Both models for reading `z` at image pixel `(col, row)` of
+    /// `lattice`'s images (column `col` a range, row 0 the most positive
+    /// bearing, as drawn); `None` off the lattice.
+    pub fn cell(
+        &self,
+        z: f64,
+        lattice: &BeamLattice,
+        col: usize,
+        row: usize,
+    ) -> Result<Option<WorkbenchCell>> {
+        crate::error::non_negative("z", z)?;
+        lattice.validate()?;
+        if col >= lattice.ranges || row >= lattice.bearings {
+            return Ok(None);
+        }
+        let (r, phi) = (
+            lattice.range(col),
+            lattice.bearing(lattice.bearings - 1 - row),
+        );
+        Ok(Some(WorkbenchCell {
+            range: r,
+            bearing: phi,
+            hand: model_cell(&self.hand, r, phi, z),
+            learned: model_cell(&self.learned, r, phi, z),
+        }))
+    }
+
     /// Both models for reading `z` (metres) over `lattice`.
     pub fn view(&self, z: f64, lattice: &BeamLattice) -> Result<WorkbenchView> {
         let v = side_by_side(&self.hand, &self.learned, z, lattice)?;
@@ -326,6 +387,18 @@ mod tests {
             v.free[1].is_some() && v.free[1].unwrap() < 0.0,
             "free space in front"
         );
+        // A cell's readout is the image's field value at that pixel (rows
+        // flipped: row 0 is the most positive bearing).
+        let l = lattice();
+        for (col, row) in [(0, 0), (13, 4), (39, 8)] {
+            let c = w.cell(2.0, &l, col, row).unwrap().unwrap();
+            let at = (l.bearings - 1 - row) * l.ranges + col;
+            assert_eq!(c.hand.evidence, v.fields[0][at]);
+            assert_eq!(c.learned.evidence, v.fields[1][at]);
+            assert!((c.learned.p - crate::grid::probability(c.learned.l)).abs() < 1e-12);
+        }
+        assert_eq!(w.cell(2.0, &l, 40, 0).unwrap(), None);
+        assert!(w.cell(-1.0, &l, 0, 0).is_err());
         let before = w.learned().clone();
         w.retrain(10, &now).unwrap();
         assert_eq!(w.run().seed, 10);

@@ -5,8 +5,8 @@
 //! learned model with another seed; it draws what it gets.
 
 use super::{
-    budget_from_js, number_from_js, object_from_js, object_or_default, optional_number_from_js,
-    to_js,
+    budget_from_js, index_from_js, number_from_js, object_from_js, object_or_default,
+    optional_number_from_js, to_js,
 };
 use crate::apps::inverse_workbench::WorkbenchSession;
 use crate::apps::workbench_training::WorkbenchTraining;
@@ -83,6 +83,27 @@ impl InverseWorkbench {
     /// weights }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
         to_js(&self.session.readout()?)
+    }
+
+    /// Both models for reading `z` at image pixel `(col, row)` of the
+    /// images `view` drew over `lattice` (row 0 on top): `{ range,
+    /// bearing, hand: { evidence, l, p }, learned: { evidence, l, p } }`,
+    /// or `null` off the lattice.
+    #[wasm_bindgen(js_name = cellAt)]
+    pub fn cell_at(
+        &self,
+        z: JsValue,
+        lattice: JsValue,
+        col: JsValue,
+        row: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let z = number_from_js("z", &z)?;
+        let lattice: BeamLattice = object_from_js("lattice", lattice)?;
+        let (col, row) = (index_from_js("col", &col)?, index_from_js("row", &row)?);
+        match self.session.cell(z, &lattice, col, row)? {
+            Some(c) => to_js(&c),
+            None => Ok(JsValue::NULL),
+        }
     }
 
     /// Both models for reading `z` over `lattice` (`{ minRange, maxRange,

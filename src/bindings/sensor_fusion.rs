@@ -3,8 +3,8 @@
 //! core, draws the four maps from wasm memory and reads small readouts.
 
 use super::{
-    budget_from_js, map_pair_to_js, number_from_js, object_or_default, string_from_js, to_js,
-    Pixels,
+    budget_from_js, index_from_js, map_pair_to_js, number_from_js, object_or_default,
+    string_from_js, to_js, Pixels,
 };
 use crate::apps::sensor_fusion::{FusionModels, TableFusion};
 use crate::grid::LogOddsGrid;
@@ -90,6 +90,20 @@ impl SensorFusion {
     /// scansSimulated }`.
     pub fn readout(&self) -> Result<JsValue, JsError> {
         to_js(&self.fusion.readout())
+    }
+
+    /// The cell under image pixel `(col, row)` of the north-up maps (whole
+    /// numbers, row 0 at the top): `{ sonar, lidar, sum }` each `{ ix, iy,
+    /// x, y, l, p, updates, unknown }`, `max` (eq. 9.9's p) and `footprint`
+    /// (under the table top); `null` off the map.
+    #[wasm_bindgen(js_name = cellAt)]
+    pub fn cell_at(&self, col: JsValue, row: JsValue) -> Result<JsValue, JsError> {
+        let col = index_from_js("col", &col)?;
+        let row = index_from_js("row", &row)?;
+        match self.fusion.cell_at_pixel(col, row) {
+            Some(c) => to_js(&c),
+            None => Ok(JsValue::NULL),
+        }
     }
 
     /// `{ robot: [u, v, theta], footprint: [u0, v0, u1, v1],

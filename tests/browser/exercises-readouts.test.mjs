@@ -138,15 +138,18 @@ test('exercise 3: the two-cell table shows the joint entropy, the sum of the mar
     assert.ok(gap >= 0 && Math.abs(gap - (sum - joint)) <= 1.5e-3, `${what}: gap ${gap} = ${sum} - ${joint}`);
     return { joint, sum, gap };
   };
-  // The link: side by side, a 1.5 m reading in front of both cells.
-  await page.waitForFunction(() => document.querySelector('occgrid-doorway-trap .doorway-trap-joint-entropy'));
-  const early = await check('side by side, 1.5 m');
-  assert.ok(early.gap < 0.01, `a reading in front of both: little shared (${early.gap})`);
-  // The chapter's reading: side by side, 0.222 bits shared.
-  await w.getByLabel('Reading z').fill('2');
-  await page.waitForFunction(() => document.querySelector('occgrid-doorway-trap .doorway-trap-shared-information').textContent === '0.222');
+  // The link lands where the lesson shows: side by side at the chapter's
+  // 2 m reading, 0.222 bits shared.
+  await page.waitForFunction(() => document.querySelector('occgrid-doorway-trap .doorway-trap-shared-information')?.textContent === '0.222');
   const side = await check('side by side, 2.0 m');
   assert.equal(side.gap, 0.222);
+  // A 1.5 m reading in front of both cells: little shared.
+  await w.getByLabel('Reading z').fill('1.5');
+  await page.waitForFunction(() => Number(document.querySelector('occgrid-doorway-trap .doorway-trap-shared-information').textContent) < 0.01);
+  const early = await check('side by side, 1.5 m');
+  assert.ok(early.gap < 0.01, `a reading in front of both: little shared (${early.gap})`);
+  await w.getByLabel('Reading z').fill('2');
+  await page.waitForFunction(() => document.querySelector('occgrid-doorway-trap .doorway-trap-shared-information').textContent === '0.222');
   await screenshot(w.locator('.doorway-trap-two-cell'), 'exercise-3-side-by-side');
   await w.getByRole('button', { name: 'Collinear' }).click();
   await page.waitForFunction(() => document.querySelector('occgrid-doorway-trap button[name=arrange-collinear]').getAttribute('aria-pressed') === 'true');

@@ -35,7 +35,9 @@ async function copiedState(page, tag, key) {
   await widget.scrollIntoViewIfNeeded();
   await page.waitForFunction((t) => {
     const w = document.querySelector(t);
-    return w && w.built && !w.querySelector('.occgrid-error:not([hidden])') && w.querySelector('canvas')?.width > 0;
+    // A link's scans are integrated first (Map Weaver's run is made after them).
+    const made = t !== 'occgrid-map-weaver' || (!!w?.weaver && w.dataset.fastForward === undefined);
+    return w && w.built && made && !w.querySelector('.occgrid-error:not([hidden])') && w.querySelector('canvas')?.width > 0;
   }, tag, { timeout: 60_000 });
   // Let the core's first frame land.
   await page.waitForTimeout(300);

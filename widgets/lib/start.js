@@ -6,7 +6,7 @@
 // paints and answers input in between, rather than all of them starting in
 // the one task that loads their modules.
 import { loadCore } from './core.js';
-import { firstConnection } from './state.js';
+import { firstConnection, urlState } from './state.js';
 import { showError, startTurn, whenVisible } from './ui.js';
 
 /**
@@ -20,13 +20,16 @@ import { showError, startTurn, whenVisible } from './ui.js';
  * - `whenSeen()`: the first run, when the element first comes into view
  *   (with `ahead`, a screen before, so a reader scrolling down waits for
  *   no widget).
+ * - `landing(keys)`: the part of the widget a link's keys are about (the
+ *   element itself when absent or null); see `landLink`.
  * Resolves once the start is arranged; does nothing when the element was
  * built already (moved in the document) or is no longer connected.
  */
-export async function startWidget(element, spec, { build, withCore, whenSeen, ahead = false }) {
+export async function startWidget(element, spec, { build, withCore, whenSeen, ahead = false, landing = null }) {
   await startTurn();
   if (!element.isConnected || !firstConnection(element, spec)) return;
   build();
+  landLink(element, landing);
   try {
     ({ core: element.core, memory: element.memory } = await loadCore());
     await startTurn();
@@ -39,4 +42,25 @@ export async function startWidget(element, spec, { build, withCore, whenSeen, ah
     await startTurn();
     await whenSeen();
   }, { ahead });
+}
+
+/**
+ * A link that sets this widget's attributes and points at its section
+ * (`?map-weaver.scans=300#map-weaver`, the exercises' links) lands on the
+ * widget, not on the section's prose above it: the widget (or the part
+ * `landing(keys)` names) is put at the top of the window once the page has
+ * loaded (the browser's own scroll to the fragment comes at load), and so
+ * starts at once, being on screen. A fragment alone (a table of contents)
+ * keeps the browser's scroll to the section's heading.
+ */
+function landLink(element, landing) {
+  const id = decodeURIComponent(location.hash.slice(1));
+  if (!id) return;
+  const keys = urlState(element);
+  if (keys.size === 0) return;
+  const named = document.getElementById(id);
+  if (!named || !(named === element || named.contains(element))) return;
+  const land = () => (landing?.(keys) ?? element).scrollIntoView({ block: 'start' });
+  if (document.readyState === 'complete') land();
+  else window.addEventListener('load', () => setTimeout(land, 0), { once: true });
 }

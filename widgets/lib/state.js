@@ -63,9 +63,11 @@ export function urlState(host, search = location.search) {
 
 /**
  * Sets `host`'s attributes from the page URL, if it holds any for this
- * widget: the URL then describes the whole state, so the attributes of
- * `spec` it leaves out go back to their defaults. Call once, before the
- * widget first reads its attributes.
+ * widget: each value replaces only the attribute it names, so that a
+ * course page's own attributes (`left-clamp="4" autoplay="off"`) survive a
+ * link that names another one. The page's own values are kept in
+ * `host.pageAttributes` (see `linkFor`).
+ * Call once, before the widget first reads its attributes.
  *
  * Only the attributes the widget declares in `spec` are set. A link is
  * text anyone can write, and a page without a Content-Security-Policy
@@ -75,10 +77,10 @@ export function urlState(host, search = location.search) {
  * attribute was renamed still opens the page.
  */
 export function restoreFromUrl(host, spec) {
+  host.pageAttributes = new Map(Object.keys(spec).filter((n) => host.hasAttribute(n)).map((n) => [n, host.getAttribute(n)]));
   const state = urlState(host);
   if (!state.size) return false;
   const key = widgetKey(host);
-  for (const name of Object.keys(spec)) if (!state.has(name)) host.removeAttribute(name);
   for (const [name, value] of state) {
     if (!Object.hasOwn(spec, name)) {
       console.warn(`${host.localName}: ignored "${key}.${name}" in the page URL: a link may set only this widget's attributes (${Object.keys(spec).join(', ')})`);
@@ -107,7 +109,9 @@ export function firstConnection(host, spec) {
 /**
  * The page URL with `host`'s state in it. `state` maps attribute names to
  * values; a value equal to the attribute's default (in `spec`), null or
- * undefined is left out. The fragment points at the widget (its id, or
+ * undefined is left out, unless the page gave the element another value
+ * for it: a link's keys replace only the attributes they name, so a
+ * default that differs from the page's own attribute must be named. The fragment points at the widget (its id, or
  * the nearest enclosing element with an id) so the link opens there.
  */
 export function linkFor(host, spec, state) {
@@ -117,7 +121,10 @@ export function linkFor(host, spec, state) {
   for (const [name, value] of Object.entries(state)) {
     if (value === null || value === undefined) continue;
     const text = String(value);
-    if (spec[name] && spec[name].default === text) continue;
+    // A default is left out, unless the page gave the element another
+    // value (which the link must then override).
+    const page = host.pageAttributes?.get(name);
+    if (spec[name] && spec[name].default === text && (page === undefined || page === text)) continue;
     url.searchParams.set(`${key}.${name}`, text);
   }
   const anchor = host.id || host.parentElement?.closest('[id]')?.id;

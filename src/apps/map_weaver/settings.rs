@@ -44,11 +44,17 @@ pub const STRENGTH: Steps = Steps {
     max: 3.0,
     step: 0.25,
 };
-/// The clamp `l_max`, log odds: at 1 a cell never passes p = 0.73; at 16
-/// it may reach p = 1 - 1.1e-7, certain as far as the readouts show.
+/// The clamp `l_max`, log odds: at 1 a cell never passes p = 0.73; from
+/// 16 it may reach p = 1 - 1.1e-7, certain as far as the readouts show.
+/// The range reaches 80 for exercise 5 at the chapter's strength 3: a
+/// ghost then fades in `l_max / |l_free|` = `l_max / 1.2` scans, five
+/// seconds of the ghost watch's twelve scans a second at 72 (at 16, every
+/// fade was over in 1.1 s). A ghost reaches the clamp before the person
+/// leaves (8 s, 96 scans of `l_occ` 0.85 x strength) at every clamp from
+/// strength 1 up; below, only the smaller clamps are reached.
 pub const CLAMP: Steps = Steps {
     min: 1.0,
-    max: 16.0,
+    max: 80.0,
     step: 0.5,
 };
 /// The cone's opening angle `beta` of Table 9.2, degrees: from a LiDAR's

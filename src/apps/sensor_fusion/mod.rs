@@ -18,7 +18,10 @@ use crate::mapping::traversal::RayMapper;
 use crate::render::overlay::{RayMark, RobotMark};
 use crate::scenes::table::{TableRun, TableScene};
 
+mod cell;
 mod pieces;
+
+pub use cell::FusionCell;
 
 /// What the widget's beam count keeps to: the chapter's LiDAR and the
 /// scene's cap.
