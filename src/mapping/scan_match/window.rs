@@ -132,18 +132,9 @@ impl PooledLevel {
 }
 
 /// The coarse levels of one match: factors 2, 4, … up to the search's.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Pyramid {
     levels: Vec<PooledLevel>,
-    /// One row of the map's log odds, the scratch of [`Pyramid::build`].
-    row: Vec<f32>,
-}
-
-/// Two pyramids are equal when their levels are (the scratch aside).
-impl PartialEq for Pyramid {
-    fn eq(&self, other: &Self) -> bool {
-        self.levels == other.levels
-    }
 }
 
 impl Pyramid {
@@ -194,13 +185,7 @@ impl Pyramid {
             level.l_unknown = unknown_l;
             level.values.clear();
         }
-        Self::pool_map(
-            &mut self.levels[0],
-            grid,
-            [ix0, iy0, ix1, iy1],
-            unknown_l,
-            &mut self.row,
-        );
+        Self::pool_map(&mut self.levels[0], grid, [ix0, iy0, ix1, iy1], unknown_l);
         for k in 1..kept {
             let (finer, coarser) = self.levels.split_at_mut(k);
             Self::pool_level(&finer[k - 1], &mut coarser[0]);
@@ -213,14 +198,12 @@ impl Pyramid {
         }
     }
 
-    /// The first level, pooled 2 x 2 from the map's cells, read one row
-    /// at a time.
+    /// The first level, pooled 2 x 2 from the map's cells.
     fn pool_map(
         level: &mut PooledLevel,
         grid: &dyn MatchMap,
         [ix0, iy0, ix1, iy1]: [i64; 4],
         unknown_l: f32,
-        row: &mut Vec<f32>,
     ) {
         let g = grid.geometry();
         let (w, h) = (g.width() as i64, g.height() as i64);
@@ -239,24 +222,13 @@ impl Pyramid {
         }
         let (cx0, cy0) = (ix0.max(0), iy0.max(0));
         let (cx1, cy1) = (ix1.min(w), iy1.min(h));
-        if cx0 >= cx1 {
-            return;
-        }
-        // Columns `cx0..cx1`, two map cells to a coarse cell (`cx0` is
-        // even: the box starts on an even column, or on the map's first).
-        let (c0, c1) = (((cx0 - ix0) >> 1) as usize, ((cx1 - ix0 + 1) >> 1) as usize);
-        for yy in cy0..cy1 {
-            grid.row_log_odds(yy as usize, cx0 as usize, cx1 as usize, row);
-            let start = ((yy - iy0) >> 1) as usize * nx;
-            let out = &mut level.log_odds[start + c0..start + c1];
-            let pairs = row.chunks_exact(2);
-            let odd = pairs.remainder().first().copied();
-            for (o, pair) in out.iter_mut().zip(pairs) {
-                *o = o.max(pair[0].max(pair[1]));
-            }
-            if let (Some(l), Some(o)) = (odd, out.last_mut()) {
-                *o = o.max(l);
-            }
+        if cx0 < cx1 && cy0 < cy1 {
+            grid.pool_pairs(
+                [cx0 as usize, cy0 as usize, cx1 as usize, cy1 as usize],
+                [ix0, iy0],
+                nx,
+                &mut level.log_odds,
+            );
         }
     }
 
