@@ -65,10 +65,17 @@ pub fn invalid(
     value: impl fmt::Display,
     expected: impl Into<Cow<'static, str>>,
 ) -> OccError {
+    invalid_shown(field, &value, expected.into())
+}
+
+/// [`invalid`] written once for every kind of value (it is called from
+/// hundreds of checks).
+#[inline(never)]
+fn invalid_shown(field: &str, value: &dyn fmt::Display, expected: Cow<'static, str>) -> OccError {
     OccError::InvalidParameter {
         field: field.to_string(),
         value: value.to_string(),
-        expected: expected.into(),
+        expected,
     }
 }
 
