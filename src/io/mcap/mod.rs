@@ -1,0 +1,37 @@
+//! Reading MCAP files, the container `ros2 bag record` writes by default.
+//!
+//! A reader of its own over the published MCAP specification (major
+//! version 0): the magic bytes, then records (an opcode, a little-endian
+//! `u64` length, the fields); messages stand alone or inside Chunk
+//! records, whose records are stored as they are, or compressed with zstd
+//! or lz4 (frames). Decompression is `ruzstd` and `lz4_flex`, pure Rust
+//! as every dependency of the wasm must be.
+//!
+//! * `records`: one record's fields, every length checked against its
+//!   record, and every refusal naming the record and its byte;
+//! * `chunk`: a chunk's records inflated in bounded steps, the size it
+//!   states checked before inflating and the output cut at it, its CRC-32
+//!   checked;
+//! * `reader`: [`McapReader`], the file's records in order, a bounded
+//!   step at a time.
+//!
+//! The **summary section**, when a whole file has one (its footer and
+//! trailing magic bytes in place), is read first: it names the channels
+//! and their message counts before the data is read, and its CRC is
+//! checked. It is never needed: a file without one is read from its data
+//! alone. A file **cut short** (no trailing magic bytes) is read up to
+//! the last whole record before the cut (inside a chunk, the records that
+//! inflate before it), and [`McapReader::warning`] names the byte where
+//! the file ends and the record it ends in. In a whole file, a length
+//! that runs past the data section is an error. The Data End record's
+//! CRC of the data section is checked when it states one.
+//!
+//! What the messages mean is the ROS 2 layer's (`crate::io::ros2`).
+
+mod chunk;
+mod records;
+mod reader;
+
+pub use chunk::MAX_CHUNK_BYTES;
+pub use reader::{Event, McapReader, Summary, MAGIC};
+pub use records::{Channel, MessageHead, Place, Schema};
