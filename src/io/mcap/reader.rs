@@ -128,6 +128,16 @@ impl McapReader {
         self.summary.as_ref()
     }
 
+    /// Checks the magic bytes and reads the footer and summary of a whole
+    /// file, once (the first [`Self::next`] does it too).
+    pub fn open(&mut self) -> Result<()> {
+        if !self.started {
+            self.started = true;
+            self.start()?;
+        }
+        Ok(())
+    }
+
     /// Checks the magic bytes and the header, and reads the footer and the
     /// summary of a whole file.
     fn start(&mut self) -> Result<()> {
@@ -247,10 +257,7 @@ impl McapReader {
         if self.finished {
             return Ok(Event::End);
         }
-        if !self.started {
-            self.started = true;
-            self.start()?;
-        }
+        self.open()?;
         loop {
             if *bytes == 0 {
                 return Ok(Event::Paused);
