@@ -151,6 +151,8 @@ impl McapReader {
             )));
         }
         self.at = MAGIC.len();
+        // The data section's CRC covers the leading magic bytes too.
+        self.data_crc.update(MAGIC);
         self.whole = len >= 2 * MAGIC.len() + FOOTER_BYTES && &b[len - MAGIC.len()..] == MAGIC;
         if self.whole {
             self.read_footer()?;
@@ -413,7 +415,6 @@ impl McapReader {
             records::DATA_END => {
                 let mut f = Fields::new(op, place, &b[at + RECORD_HEAD..next]);
                 let stated = f.u32("data_section_crc")?;
-                self.data_crc.update(&b[self.hashed_to()..at]);
                 let digest = std::mem::replace(&mut self.data_crc, CRC32.digest());
                 let found = digest.finalize();
                 if stated != 0 && found != stated {
@@ -445,12 +446,6 @@ impl McapReader {
                 Ok(None)
             }
         }
-    }
-
-    /// Where the data section's CRC has been taken to: every byte before
-    /// the next record.
-    fn hashed_to(&self) -> usize {
-        self.at
     }
 
     fn hash_to(&mut self, next: usize) {
