@@ -137,8 +137,8 @@ pub trait LogSource {
         match scan_topic.or(odom_topic) {
             None => Ok(()),
             Some(t) => Err(OccError::State(format!(
-                "topic \"{}\" chosen, but the file is not a ROS 2 bag: it has no topics",
-                t.escape_debug()
+                "topic {} chosen, but the file is not a ROS 2 bag: it has no topics",
+                super::mcap::quoted(&t)
             ))),
         }
     }

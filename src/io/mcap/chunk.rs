@@ -7,7 +7,7 @@
 //! size it claims. The CRC-32 it states (0: none) is checked once it is
 //! inflated.
 
-use super::records::{malformed, Place, CHUNK};
+use super::records::{malformed, quoted, Place, CHUNK};
 use crate::error::{OccError, Result};
 use crc::{Crc, Digest, CRC_32_ISO_HDLC};
 use std::io::Read;
@@ -102,7 +102,7 @@ impl Inflating {
                 return Err(malformed(
                     CHUNK,
                     place,
-                    format_args!("compression \"{}\" is not none, zstd or lz4", other.escape_debug()),
+                    format_args!("compression {} is not none, zstd or lz4", quoted(other)),
                 ))
             }
         };

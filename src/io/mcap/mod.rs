@@ -34,4 +34,4 @@ mod reader;
 
 pub use chunk::MAX_CHUNK_BYTES;
 pub use reader::{Event, McapReader, Summary, MAGIC};
-pub use records::{Channel, MessageHead, Place, Schema};
+pub use records::{quoted, Channel, MessageHead, Place, Schema};

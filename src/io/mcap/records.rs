@@ -19,6 +19,20 @@ pub const DATA_END: u8 = 0x0f;
 /// Bytes of a record's opcode and length.
 pub const RECORD_HEAD: usize = 9;
 
+/// A name read from a file, as a message quotes it: printable characters
+/// only (any other becomes `?`), at most 80 of them.
+pub fn quoted(name: &str) -> String {
+    let mut out: String = name
+        .chars()
+        .take(80)
+        .map(|c| if c.is_control() { '?' } else { c })
+        .collect();
+    if name.chars().nth(80).is_some() {
+        out.push('\u{2026}');
+    }
+    format!("\"{out}\"")
+}
+
 /// A record's name, for messages.
 pub fn record_name(op: u8) -> &'static str {
     match op {

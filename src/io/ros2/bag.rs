@@ -10,9 +10,9 @@ use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
 use crate::error::{OccError, Result};
 use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource};
-use crate::io::mcap::{Channel, Event, McapReader, Place, Schema};
+use crate::io::mcap::{quoted, Channel, Event, McapReader, Place, Schema};
 use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 /// What a bag calls the records [`ScanRecord::origin`] counts.
 const UNIT: &str = "message";
@@ -66,12 +66,12 @@ pub struct BagLoader {
     reader: McapReader,
     budget: LogBudget,
     choice: TopicChoice,
-    schemas: HashMap<u16, Schema>,
+    schemas: BTreeMap<u16, Schema>,
     channels: BTreeMap<u16, ChannelInfo>,
     /// The LaserScan channel whose scans are kept.
     scan_channel: Option<u16>,
     /// Odometry per channel: stamp and planar pose, and the frames.
-    odometry: HashMap<u16, (Vec<(f64, [f64; 3])>, String, String)>,
+    odometry: BTreeMap<u16, (Vec<(f64, [f64; 3])>, String, String)>,
     tree: StaticTree,
     /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
     map_links: Vec<String>,
@@ -99,10 +99,10 @@ impl BagLoader {
             reader: McapReader::new(bytes),
             budget: budget.at_least_one(),
             choice: TopicChoice::default(),
-            schemas: HashMap::new(),
+            schemas: BTreeMap::new(),
             channels: BTreeMap::new(),
             scan_channel: None,
-            odometry: HashMap::new(),
+            odometry: BTreeMap::new(),
             tree: StaticTree::default(),
             map_links: Vec::new(),
             frames: Vec::new(),
@@ -145,7 +145,7 @@ impl BagLoader {
         let list: Vec<String> = self
             .topics()
             .iter()
-            .map(|(t, ty, n)| format!("{t} ({ty}, {n} messages)"))
+            .map(|(t, ty, n)| format!("{} ({}, {n} messages)", quoted(t), quoted(ty)))
             .collect();
         if list.is_empty() {
             "no topics".into()
@@ -169,12 +169,12 @@ impl BagLoader {
             (None, _) => None,
             (Some(_), None) => Some(format!("its Schema {} is not in the bag", c.schema_id)),
             (Some(_), Some(s)) if s.encoding != "ros2msg" => Some(format!(
-                "its schema encoding is \"{}\", not ros2msg",
-                s.encoding.escape_debug()
+                "its schema encoding is {}, not ros2msg",
+                quoted(&s.encoding)
             )),
             (Some(_), Some(_)) if c.message_encoding != "cdr" => Some(format!(
-                "its message encoding is \"{}\", not cdr",
-                c.message_encoding.escape_debug()
+                "its message encoding is {}, not cdr",
+                quoted(&c.message_encoding)
             )),
             (Some(_), Some(s)) => schema::check(&s.name, &String::from_utf8_lossy(&s.data)).err(),
         };
@@ -209,8 +209,8 @@ impl BagLoader {
                 .find(|id| self.channels[id].topic == name)
                 .ok_or_else(|| {
                     OccError::State(format!(
-                        "{option} \"{}\" is no {type_name} topic of the bag, which holds {}",
-                        name.escape_debug(),
+                        "{option} {} is no {type_name} topic of the bag, which holds {}",
+                        quoted(name),
                         self.topic_list()
                     ))
                 });
@@ -264,7 +264,7 @@ impl BagLoader {
 
     /// A message's refusal: its number, topic, place and why.
     fn bad_message(&self, channel: u16, place: Place, why: impl std::fmt::Display) -> OccError {
-        let topic = self.channels.get(&channel).map_or("?", |c| c.topic.as_str());
+        let topic = self.channels.get(&channel).map_or("?".into(), |c| quoted(&c.topic));
         OccError::State(format!(
             "the bag's Message record at {place} (message {}, topic {topic}) cannot be read: {why}",
             self.messages
@@ -296,7 +296,7 @@ impl BagLoader {
             return Ok(());
         }
         if let Some(why) = &info.refused {
-            let why = format!("{} ({}) {why}", info.topic, info.type_name);
+            let why = format!("{} ({}): {why}", quoted(&info.topic), quoted(&info.type_name));
             return Err(self.bad_message(channel, place, why));
         }
         let topic_is_static = info.topic.ends_with("tf_static");
@@ -313,7 +313,7 @@ impl BagLoader {
                     .or_insert_with(|| (Vec::new(), odom.frame.clone(), odom.child.clone()));
                 if let Some(&(last, _)) = entry.0.last() {
                     if odom.stamp < last {
-                        let why = format!("its stamp {:.6} s runs backwards, before the {:.6} s of the odometry before it", odom.stamp, last);
+                        let why = format!("its stamp {} s runs backwards, before the {} s of the odometry before it", odom.stamp, last);
                         return Err(self.bad_message(channel, place, why));
                     }
                 }
@@ -328,8 +328,8 @@ impl BagLoader {
                 for t in transforms {
                     if topic_is_static {
                         self.tree.add(&t.parent, &t.child, t.pose);
-                    } else if t.parent == "map" && self.map_links.len() < 8 && !self.map_links.contains(&t.child) {
-                        self.map_links.push(t.child);
+                    } else if t.parent == "map" && self.map_links.len() < 8 && !self.map_links.contains(&quoted(&t.child)) {
+                        self.map_links.push(quoted(&t.child));
                     }
                 }
                 Ok(())
@@ -345,7 +345,7 @@ impl BagLoader {
     fn keep_scan(&mut self, scan: LaserScan, channel: u16, place: Place) -> Result<()> {
         if let Some(last) = self.last_scan_stamp {
             if scan.stamp < last {
-                let why = format!("its stamp {:.6} s runs backwards, before the {:.6} s of the scan before it", scan.stamp, last);
+                let why = format!("its stamp {} s runs backwards, before the {} s of the scan before it", scan.stamp, last);
                 return Err(self.bad_message(channel, place, why));
             }
         }
@@ -408,7 +408,7 @@ impl BagLoader {
         let Some((samples, _, child)) = self.odometry.get(&odom) else {
             return Err(OccError::State(format!(
                 "the bag's odometry topic {} has no messages: the scans cannot be placed",
-                self.channels[&odom].topic
+                quoted(&self.channels[&odom].topic)
             )));
         };
         if samples.is_empty() {
@@ -418,9 +418,9 @@ impl BagLoader {
         for frame in &self.frames {
             let mount = self.tree.pose_of(child, frame).ok_or_else(|| {
                 OccError::State(format!(
-                    "the bag's /tf_static transforms lead from no frame \"{}\" (the odometry's child frame) to the scans' frame \"{}\": the laser's mount is unknown (static transforms: {})",
-                    child.escape_debug(),
-                    frame.escape_debug(),
+                    "the bag's /tf_static transforms lead from no frame {} (the odometry's child frame) to the scans' frame {}: the laser's mount is unknown (static transforms: {})",
+                    quoted(child),
+                    quoted(frame),
                     self.tree.describe()
                 ))
             })?;
@@ -467,7 +467,7 @@ impl BagLoader {
             let samples = &self.odometry[odom].0;
             let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
             return Err(OccError::State(format!(
-                "no scan of the bag has odometry around its stamp: the odometry runs from {first:.3} s to {last:.3} s, the scans from {:.3} s to {:.3} s",
+                "no scan of the bag has odometry around its stamp: the odometry runs from {first} s to {last} s, the scans from {} s to {} s",
                 self.pending[0].stamp,
                 self.pending[self.pending.len() - 1].stamp
             )));

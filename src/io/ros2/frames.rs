@@ -3,7 +3,7 @@
 //! the odometry interpolated at a scan's stamp.
 
 use crate::geometry::{wrap_angle, Pose};
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// `a` then `b` (`b` given in `a`'s frame).
 pub fn compose(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -26,7 +26,7 @@ pub fn pose(p: [f64; 3]) -> Pose {
 /// The static transforms: each child frame's parent and pose in it.
 #[derive(Debug, Clone, Default)]
 pub struct StaticTree {
-    parents: HashMap<String, (String, [f64; 3])>,
+    parents: BTreeMap<String, (String, [f64; 3])>,
 }
 
 impl StaticTree {
@@ -57,7 +57,7 @@ impl StaticTree {
         let mut links: Vec<String> = self
             .parents
             .iter()
-            .map(|(c, (p, _))| format!("{p} \u{2192} {c}"))
+            .map(|(c, (p, _))| format!("{} \u{2192} {}", crate::io::mcap::quoted(p), crate::io::mcap::quoted(c)))
             .collect();
         links.sort();
         if links.is_empty() {
