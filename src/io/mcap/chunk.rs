@@ -1,5 +1,6 @@
 //! A Chunk record's records, inflated a bounded step at a time: none,
-//! zstd (`ruzstd`) or lz4 frames (`lz4_flex`), both pure Rust. A chunk
+//! zstd (`ruzstd`'s frame decoder) or lz4 frames (`lz4`: the framing read
+//! here, the blocks by `lz4_flex`), all pure Rust. A chunk
 //! states how large its records are once inflated; that size is checked
 //! against [`MAX_CHUNK_BYTES`] and the log's budget before anything is
 //! inflated, and the output is cut at it, so that a bomb (a small chunk
@@ -7,9 +8,11 @@
 //! size it claims. The CRC-32 it states (0: none) is checked once it is
 //! inflated.
 
+use super::lz4::Lz4Frames;
 use super::records::{malformed, quoted, Place, CHUNK};
 use crate::error::{OccError, Result};
 use crc::{Crc, Digest, CRC_32_ISO_HDLC};
+use ruzstd::decoding::{BlockDecodingStrategy, FrameDecoder};
 use std::io::Read;
 use std::sync::Arc;
 
@@ -21,17 +24,11 @@ pub static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
 /// under one); a chunk has to be held whole while its records are read.
 pub const MAX_CHUNK_BYTES: u64 = 64 << 20;
 
-/// A slice of the file's bytes, read as a stream by a decompressor.
+/// A slice of the file's bytes, read as a stream by the zstd decoder.
 pub struct SharedSlice {
     bytes: Arc<Vec<u8>>,
     at: usize,
     end: usize,
-}
-
-impl SharedSlice {
-    pub fn new(bytes: Arc<Vec<u8>>, at: usize, end: usize) -> Self {
-        Self { bytes, at, end }
-    }
 }
 
 impl Read for SharedSlice {
@@ -43,11 +40,19 @@ impl Read for SharedSlice {
     }
 }
 
+/// How a chunk's records are stored.
+enum Codec {
+    Stored,
+    Zstd(Box<FrameDecoder>),
+    Lz4(Lz4Frames),
+}
+
 /// A chunk being inflated.
 pub struct Inflating {
     /// Where the Chunk record starts in the file.
     pub chunk: u64,
-    decoder: Box<dyn Read>,
+    input: SharedSlice,
+    codec: Codec,
     /// The records inflated so far.
     pub out: Vec<u8>,
     declared: u64,
@@ -83,21 +88,27 @@ impl Inflating {
                 ),
             ));
         }
-        let source = SharedSlice::new(bytes, at, end);
-        let decoder: Box<dyn Read> = match compression {
-            "" => Box::new(source),
+        let mut input = SharedSlice { bytes, at, end };
+        let codec = match compression {
+            "" => Codec::Stored,
             "zstd" => {
+                let mut frame = FrameDecoder::new();
                 // A frame whose window is past what any chunk may hold is
                 // refused before its window is allocated.
-                Box::new(
-                    ruzstd::decoding::StreamingDecoder::new_with_max_window_size(
-                        source,
-                        MAX_CHUNK_BYTES,
-                    )
-                    .map_err(|e| malformed(CHUNK, place, format_args!("zstd frame: {e}")))?,
-                )
+                frame.set_max_window_size(MAX_CHUNK_BYTES);
+                match frame.init(&mut input) {
+                    Ok(()) => Codec::Zstd(Box::new(frame)),
+                    Err(_) if cut => {
+                        // Cut inside the frame's header: nothing inflates.
+                        input.at = input.end;
+                        Codec::Stored
+                    }
+                    Err(_) => {
+                        return Err(malformed(CHUNK, place, "its records are no zstd frame"))
+                    }
+                }
             }
-            "lz4" => Box::new(lz4_flex::frame::FrameDecoder::new(source)),
+            "lz4" => Codec::Lz4(Lz4Frames::default()),
             other => {
                 return Err(malformed(
                     CHUNK,
@@ -108,7 +119,8 @@ impl Inflating {
         };
         Ok(Self {
             chunk,
-            decoder,
+            input,
+            codec,
             out: Vec::new(),
             declared,
             crc,
@@ -117,40 +129,54 @@ impl Inflating {
         })
     }
 
-    /// Inflates up to `step` more bytes: `Ok(true)` once the chunk is
-    /// whole (its size and CRC checked) or, for a chunk cut short, once
-    /// nothing more inflates.
+    /// Inflates some `step` more bytes (a block's worth past it at most):
+    /// `Ok(true)` once the chunk is whole (its size and CRC checked) or,
+    /// for a chunk cut short, once nothing more inflates.
     pub fn step(&mut self, step: usize) -> Result<bool> {
         let place = Place::File(self.chunk);
-        // One byte past the declared size is asked for, to see a chunk
-        // that inflates to more than it says.
-        let room = (self.declared + 1 - self.out.len() as u64).min(step.max(1) as u64) as usize;
         let from = self.out.len();
-        if self.out.try_reserve(room).is_err() {
-            return Err(malformed(CHUNK, place, "out of memory inflating it"));
-        }
-        self.out.resize(from + room, 0);
-        let mut got = 0;
-        let mut finished = false;
-        while got < room {
-            match self.decoder.read(&mut self.out[from + got..from + room]) {
-                Ok(0) => {
-                    finished = true;
-                    break;
+        let broken = |why: &str| malformed(CHUNK, place, format_args!("its records do not inflate: {why}"));
+        // One byte past the declared size is let through, to see a chunk
+        // that inflates to more than it says.
+        let room = (self.declared + 1).saturating_sub(from as u64);
+        let step = (step.max(1) as u64).min(room) as usize;
+        let finished = match &mut self.codec {
+            Codec::Stored => {
+                let input = &mut self.input;
+                let n = step.min(input.end - input.at);
+                self.out.extend_from_slice(&input.bytes[input.at..input.at + n]);
+                input.at += n;
+                input.at == input.end
+            }
+            Codec::Zstd(frame) => {
+                let decoded = frame.decode_blocks(&mut self.input, BlockDecodingStrategy::UptoBytes(step));
+                if let Some(bytes) = frame.collect() {
+                    self.out.extend_from_slice(&bytes);
                 }
-                Ok(n) => got += n,
-                Err(_) if self.cut => {
-                    finished = true;
-                    break;
-                }
-                Err(e) => {
-                    self.out.truncate(from + got);
-                    return Err(malformed(CHUNK, place, format_args!("its records do not inflate: {e}")));
+                match decoded {
+                    Ok(done) => {
+                        if done || frame.is_finished() {
+                            if let Some(bytes) = frame.collect() {
+                                self.out.extend_from_slice(&bytes);
+                            }
+                            true
+                        } else {
+                            false
+                        }
+                    }
+                    Err(_) if self.cut => true,
+                    Err(_) => return Err(broken("a zstd block is malformed")),
                 }
             }
-        }
-        self.out.truncate(from + got);
-        self.digest.update(&self.out[from..]);
+            Codec::Lz4(frames) => {
+                let input = &mut self.input;
+                match frames.step(&input.bytes[..input.end], &mut input.at, &mut self.out, from + step) {
+                    Ok(done) => done,
+                    Err(_) if self.cut => true,
+                    Err(why) => return Err(broken(why)),
+                }
+            }
+        };
         let len = self.out.len() as u64;
         if len > self.declared && !self.cut {
             return Err(malformed(
@@ -159,6 +185,7 @@ impl Inflating {
                 format_args!("its records inflate past the uncompressed_size of {} bytes", self.declared),
             ));
         }
+        self.digest.update(&self.out[from..]);
         if !finished {
             return Ok(false);
         }

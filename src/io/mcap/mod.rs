@@ -4,8 +4,9 @@
 //! version 0): the magic bytes, then records (an opcode, a little-endian
 //! `u64` length, the fields); messages stand alone or inside Chunk
 //! records, whose records are stored as they are, or compressed with zstd
-//! or lz4 (frames). Decompression is `ruzstd` and `lz4_flex`, pure Rust
-//! as every dependency of the wasm must be.
+//! or lz4 (frames). Decompression is `ruzstd` and `lz4_flex` (its block
+//! decoder, the frames read in `lz4`), pure Rust as every dependency of
+//! the wasm must be.
 //!
 //! * `records`: one record's fields, every length checked against its
 //!   record, and every refusal naming the record and its byte;
@@ -29,6 +30,7 @@
 //! What the messages mean is the ROS 2 layer's (`crate::io::ros2`).
 
 mod chunk;
+mod lz4;
 mod records;
 mod reader;
 

@@ -145,9 +145,10 @@ impl McapReader {
         let len = b.len();
         if len < MAGIC.len() || &b[..MAGIC.len()] != MAGIC {
             let n = len.min(8);
+            let hex: Vec<String> = b[..n].iter().map(|x| format!("{x:02x}")).collect();
             return Err(OccError::State(format!(
-                "the file does not start with MCAP's magic bytes (0x89 \"MCAP0\" CR LF): its first {n} bytes are {:02x?}",
-                &b[..n]
+                "the file does not start with MCAP's magic bytes (0x89 \"MCAP0\" CR LF): its first {n} bytes are {}",
+                hex.join(" ")
             )));
         }
         self.at = MAGIC.len();

@@ -12,7 +12,7 @@ use crate::error::{OccError, Result};
 use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource};
 use crate::io::mcap::{quoted, Channel, Event, McapReader, Place, Schema};
 use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
-use std::collections::BTreeMap;
+use super::table::{IdTable, MAX_IDS};
 
 /// What a bag calls the records [`ScanRecord::origin`] counts.
 const UNIT: &str = "message";
@@ -66,12 +66,12 @@ pub struct BagLoader {
     reader: McapReader,
     budget: LogBudget,
     choice: TopicChoice,
-    schemas: BTreeMap<u16, Schema>,
-    channels: BTreeMap<u16, ChannelInfo>,
+    schemas: IdTable<Schema>,
+    channels: IdTable<ChannelInfo>,
     /// The LaserScan channel whose scans are kept.
     scan_channel: Option<u16>,
     /// Odometry per channel: stamp and planar pose, and the frames.
-    odometry: BTreeMap<u16, (Vec<(f64, [f64; 3])>, String, String)>,
+    odometry: IdTable<(Vec<(f64, [f64; 3])>, String, String)>,
     tree: StaticTree,
     /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
     map_links: Vec<String>,
@@ -99,10 +99,10 @@ impl BagLoader {
             reader: McapReader::new(bytes),
             budget: budget.at_least_one(),
             choice: TopicChoice::default(),
-            schemas: BTreeMap::new(),
-            channels: BTreeMap::new(),
+            schemas: IdTable::default(),
+            channels: IdTable::default(),
             scan_channel: None,
-            odometry: BTreeMap::new(),
+            odometry: IdTable::default(),
             tree: StaticTree::default(),
             map_links: Vec::new(),
             frames: Vec::new(),
@@ -136,8 +136,8 @@ impl BagLoader {
     /// `(topic, type, messages)`.
     pub fn topics(&self) -> Vec<(String, String, u64)> {
         self.channels
-            .values()
-            .map(|c| (c.topic.clone(), c.type_name.clone(), c.count))
+            .iter()
+            .map(|(_, c)| (c.topic.clone(), c.type_name.clone(), c.count))
             .collect()
     }
 
@@ -154,15 +154,19 @@ impl BagLoader {
         }
     }
 
-    fn add_schema(&mut self, s: Schema) {
-        self.schemas.insert(s.id, s);
+    fn add_schema(&mut self, s: Schema) -> Result<()> {
+        if self.schemas.insert(s.id, s) {
+            Ok(())
+        } else {
+            Err(OccError::State(format!("the bag defines more than {MAX_IDS} schemas")))
+        }
     }
 
-    fn add_channel(&mut self, c: Channel) {
-        if self.channels.contains_key(&c.id) {
-            return;
+    fn add_channel(&mut self, c: Channel) -> Result<()> {
+        if self.channels.get(c.id).is_some() {
+            return Ok(());
         }
-        let schema = self.schemas.get(&c.schema_id);
+        let schema = self.schemas.get(c.schema_id);
         let type_name = schema.map_or_else(|| "(no schema)".to_string(), |s| s.name.clone());
         let kind = Kind::of(&type_name);
         let refused = match (kind, schema) {
@@ -178,16 +182,18 @@ impl BagLoader {
             )),
             (Some(_), Some(s)) => schema::check(&s.name, &String::from_utf8_lossy(&s.data)).err(),
         };
-        self.channels.insert(
-            c.id,
-            ChannelInfo {
-                topic: c.topic,
-                type_name,
-                kind,
-                count: 0,
-                refused,
-            },
-        );
+        let info = ChannelInfo {
+            topic: c.topic,
+            type_name,
+            kind,
+            count: 0,
+            refused,
+        };
+        if self.channels.insert(c.id, info) {
+            Ok(())
+        } else {
+            Err(OccError::State(format!("the bag defines more than {MAX_IDS} channels")))
+        }
     }
 
     /// The channels of `kind`.
@@ -195,7 +201,7 @@ impl BagLoader {
         self.channels
             .iter()
             .filter(|(_, c)| c.kind == Some(kind))
-            .map(|(&id, _)| id)
+            .map(|(id, _)| id)
             .collect()
     }
 
@@ -206,7 +212,7 @@ impl BagLoader {
         if let Some(name) = chosen {
             return ids
                 .into_iter()
-                .find(|id| self.channels[id].topic == name)
+                .find(|&id| self.channels.get(id).is_some_and(|c| c.topic == name))
                 .ok_or_else(|| {
                     OccError::State(format!(
                         "{option} {} is no {type_name} topic of the bag, which holds {}",
@@ -240,14 +246,14 @@ impl BagLoader {
             return Ok(());
         };
         for s in summary.schemas {
-            self.add_schema(s);
+            self.add_schema(s)?;
         }
         for c in summary.channels {
-            self.add_channel(c);
+            self.add_channel(c)?;
         }
         if let Some(counts) = &summary.counts {
             for &(id, n) in counts {
-                if let Some(c) = self.channels.get_mut(&id) {
+                if let Some(c) = self.channels.get_mut(id) {
                     c.count = n;
                 }
             }
@@ -264,7 +270,7 @@ impl BagLoader {
 
     /// A message's refusal: its number, topic, place and why.
     fn bad_message(&self, channel: u16, place: Place, why: impl std::fmt::Display) -> OccError {
-        let topic = self.channels.get(&channel).map_or("?".into(), |c| quoted(&c.topic));
+        let topic = self.channels.get(channel).map_or("?".into(), |c| quoted(&c.topic));
         OccError::State(format!(
             "the bag's Message record at {place} (message {}, topic {topic}) cannot be read: {why}",
             self.messages
@@ -273,7 +279,7 @@ impl BagLoader {
 
     fn message(&mut self, channel: u16, place: Place, data: &[u8]) -> Result<()> {
         self.messages += 1;
-        let Some(info) = self.channels.get_mut(&channel) else {
+        let Some(info) = self.channels.get_mut(channel) else {
             return Err(self.bad_message(channel, place, format_args!("its channel {channel} has no Channel record before it")));
         };
         info.count += 1;
@@ -307,10 +313,14 @@ impl BagLoader {
             }
             Kind::Odometry => {
                 let odom = Odometry::decode(data).map_err(|why| self.bad_message(channel, place, why))?;
-                let entry = self
-                    .odometry
-                    .entry(channel)
-                    .or_insert_with(|| (Vec::new(), odom.frame.clone(), odom.child.clone()));
+                if self.odometry.get(channel).is_none()
+                    && !self.odometry.insert(channel, (Vec::new(), odom.frame.clone(), odom.child.clone()))
+                {
+                    return Err(self.bad_message(channel, place, "too many odometry topics"));
+                }
+                let Some(entry) = self.odometry.get_mut(channel) else {
+                    return Err(self.bad_message(channel, place, "its odometry is not kept"));
+                };
                 if let Some(&(last, _)) = entry.0.last() {
                     if odom.stamp < last {
                         let why = format!("its stamp {} s runs backwards, before the {} s of the odometry before it", odom.stamp, last);
@@ -405,10 +415,10 @@ impl BagLoader {
         if self.scan_channel != Some(scan) || self.pending.is_empty() {
             return Err(self.no_scans());
         }
-        let Some((samples, _, child)) = self.odometry.get(&odom) else {
+        let Some((samples, _, child)) = self.odometry.get(odom) else {
             return Err(OccError::State(format!(
                 "the bag's odometry topic {} has no messages: the scans cannot be placed",
-                quoted(&self.channels[&odom].topic)
+                quoted(self.channels.get(odom).map_or("", |c| c.topic.as_str()))
             )));
         };
         if samples.is_empty() {
@@ -435,7 +445,9 @@ impl BagLoader {
         let Some((odom, mounts)) = &self.placing else {
             return Ok(self.pending.len());
         };
-        let samples = &self.odometry[odom].0;
+        let Some((samples, _, _)) = self.odometry.get(*odom) else {
+            return Ok(self.pending.len());
+        };
         let end = (next + most).min(self.pending.len());
         for k in next..end {
             let p = self.pending[k];
@@ -464,7 +476,6 @@ impl BagLoader {
                 .map_err(|why| OccError::State(format!("the bag's Message record at {} (message {}) cannot be kept: {why}", p.place, p.origin)))?;
         }
         if end == self.pending.len() && self.scans.is_empty() {
-            let samples = &self.odometry[odom].0;
             let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
             return Err(OccError::State(format!(
                 "no scan of the bag has odometry around its stamp: the odometry runs from {first} s to {last} s, the scans from {} s to {} s",
@@ -479,7 +490,7 @@ impl BagLoader {
         let odom_frame = self
             .placing
             .as_ref()
-            .and_then(|(id, _)| self.odometry.get(id))
+            .and_then(|(id, _)| self.odometry.get(*id))
             .map(|(_, frame, _)| frame.clone());
         let mount = self.placing.as_ref().and_then(|(_, m)| m.first().copied()).unwrap_or_default();
         self.scans.set_mount(pose(mount));
@@ -520,8 +531,8 @@ impl BagLoader {
                     match self.reader.next(&mut bytes, most_chunk)? {
                         Event::Paused => return Ok(()),
                         Event::End => break,
-                        Event::Schema(s) => self.add_schema(s),
-                        Event::Channel(c) => self.add_channel(c),
+                        Event::Schema(s) => self.add_schema(s)?,
+                        Event::Channel(c) => self.add_channel(c)?,
                         Event::Message { head, data, place } => {
                             let data = data.to_vec();
                             self.message(head.channel_id, place, &data)?;

@@ -3,7 +3,6 @@
 //! the odometry interpolated at a scan's stamp.
 
 use crate::geometry::{wrap_angle, Pose};
-use std::collections::BTreeMap;
 
 /// `a` then `b` (`b` given in `a`'s frame).
 pub fn compose(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -26,13 +25,24 @@ pub fn pose(p: [f64; 3]) -> Pose {
 /// The static transforms: each child frame's parent and pose in it.
 #[derive(Debug, Clone, Default)]
 pub struct StaticTree {
-    parents: BTreeMap<String, (String, [f64; 3])>,
+    /// `(child, parent, pose)`, in the order first given.
+    links: Vec<(String, String, [f64; 3])>,
 }
+
+/// The most static frames kept: a robot has tens.
+const MAX_FRAMES: usize = 1024;
 
 impl StaticTree {
     pub fn add(&mut self, parent: &str, child: &str, pose: [f64; 3]) {
-        self.parents
-            .insert(child.to_string(), (parent.to_string(), pose));
+        let full = self.links.len() >= MAX_FRAMES;
+        match self.links.iter_mut().find(|l| l.0 == child) {
+            Some(l) => {
+                l.1 = parent.to_string();
+                l.2 = pose;
+            }
+            None if !full => self.links.push((child.to_string(), parent.to_string(), pose)),
+            None => {}
+        }
     }
 
     /// The pose of frame `to` in frame `from`, following the static
@@ -41,11 +51,11 @@ impl StaticTree {
     pub fn pose_of(&self, from: &str, to: &str) -> Option<[f64; 3]> {
         let mut at = to;
         let mut pose = [0.0; 3];
-        for _ in 0..=self.parents.len() {
+        for _ in 0..=self.links.len() {
             if at == from {
                 return Some(pose);
             }
-            let (parent, step) = self.parents.get(at)?;
+            let (_, parent, step) = self.links.iter().find(|l| l.0 == at)?;
             pose = compose(*step, pose);
             at = parent;
         }
@@ -54,12 +64,12 @@ impl StaticTree {
 
     /// The frames that have a parent, with it, for messages.
     pub fn describe(&self) -> String {
-        let mut links: Vec<String> = self
-            .parents
+        let links: Vec<String> = self
+            .links
             .iter()
-            .map(|(c, (p, _))| format!("{} \u{2192} {}", crate::io::mcap::quoted(p), crate::io::mcap::quoted(c)))
+            .take(20)
+            .map(|(c, p, _)| format!("{} \u{2192} {}", crate::io::mcap::quoted(p), crate::io::mcap::quoted(c)))
             .collect();
-        links.sort();
         if links.is_empty() {
             "none".into()
         } else {

@@ -42,5 +42,6 @@ mod cdr;
 mod frames;
 mod messages;
 mod schema;
+mod table;
 
 pub use bag::{BagLoader, TopicChoice};
