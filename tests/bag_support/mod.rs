@@ -202,7 +202,7 @@ impl Cdr {
     }
 
     fn align(&mut self, n: usize) {
-        while (self.out.len() - 4) % n != 0 {
+        while !(self.out.len() - 4).is_multiple_of(n) {
             self.out.push(0);
         }
     }

@@ -38,6 +38,10 @@ struct ChannelInfo {
     refused: Option<String>,
 }
 
+/// One Odometry topic's samples (stamp, planar pose), sorted by stamp,
+/// and its frame and child frame.
+type OdometryTrack = (Vec<(f64, [f64; 3])>, String, String);
+
 /// A scan kept until it is placed.
 #[derive(Debug, Clone, Copy)]
 struct PendingScan {
@@ -71,7 +75,7 @@ pub struct BagLoader {
     /// The LaserScan channel whose scans are kept.
     scan_channel: Option<u16>,
     /// Odometry per channel: stamp and planar pose, and the frames.
-    odometry: IdTable<(Vec<(f64, [f64; 3])>, String, String)>,
+    odometry: IdTable<OdometryTrack>,
     tree: StaticTree,
     /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
     map_links: Vec<String>,
