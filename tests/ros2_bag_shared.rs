@@ -59,7 +59,9 @@ fn intel_perfect_bag_puts_each_scan_at_the_corrected_logs_laser_pose() {
 fn each_shared_bag_reads_in_bounded_calls_to_the_same_scans() {
     for name in ["intel-perfect.mcap", "intel-noisy.mcap", "aces-noisy.mcap"] {
         let Some(bag) = read(name) else { return };
+        let t = Instant::now();
         let whole = read_log(bag.clone()).unwrap();
+        eprintln!("{name}: {} scans read in {:?}", whole.len(), t.elapsed());
         let budget = LogBudget {
             bytes_per_read: 4096,
             records_per_read: 16,
