@@ -165,3 +165,17 @@ fn a_data_section_crc_mismatch_is_refused_at_the_data_end_record() {
     let e = refusal(bag);
     assert!(e.contains("Data End record at byte") && e.contains("fails its CRC"), "{e}");
 }
+
+#[test]
+fn a_footer_whose_summary_points_into_the_data_is_refused() {
+    let (mut bag, _) = robot_bag(&BagSpec {
+        summary: false,
+        ..BagSpec::default()
+    });
+    let n = bag.len();
+    // summary_start: the Header record at byte 8; no summary CRC.
+    let footer = n - 8 - 29;
+    bag[footer + 9..footer + 17].copy_from_slice(&8u64.to_le_bytes());
+    let e = refusal(bag);
+    assert!(e.contains("Header record at byte 8") && e.contains("summary_start points at it"), "{e}");
+}
