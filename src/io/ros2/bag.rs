@@ -607,8 +607,10 @@ impl LogSource for BagLoader {
         LoadProgress {
             records: self.reader.records(),
             record_name: "records",
-            scans: if finished { self.scans.len() } else { self.pending.len().max(self.scans.len()) },
-            beams: if finished { self.scans.beams() } else { self.ranges.len().max(self.scans.beams()) },
+            // The scans kept in the log so far (placed ones): what
+            // `scans()` holds, as the session counts a call's progress.
+            scans: self.scans.len(),
+            beams: self.scans.beams(),
             bytes_read: self.reader.bytes_read(),
             finished,
             warning: if finished { self.warning() } else { None },
