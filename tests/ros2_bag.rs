@@ -70,6 +70,20 @@ fn a_chain_and_a_yawed_mount_move_the_laser_off_the_odometry() {
 }
 
 #[test]
+fn a_mount_given_only_on_tf_is_read_there_with_a_warning() {
+    let spec = BagSpec {
+        chain: true,
+        mount_on_tf: true,
+        ..BagSpec::default()
+    };
+    let (bag, truth) = robot_bag(&spec);
+    let (scans, warning) = read_all(bag, None, None).unwrap();
+    assert_at_truth(&scans, &truth);
+    let w = warning.unwrap();
+    assert!(w.contains("mount is read from /tf"), "{w}");
+}
+
+#[test]
 fn other_topic_names_map_and_several_topics_need_a_choice() {
     let spec = BagSpec {
         scan_topics: vec!["/front/scan", "/rear/scan"],

@@ -371,6 +371,8 @@ pub struct BagSpec {
     /// The first scan with odometry before it (the scans before it have
     /// none).
     pub odom_from: usize,
+    /// The mount's transforms on `/tf` instead of `/tf_static`.
+    pub mount_on_tf: bool,
 }
 
 impl Default for BagSpec {
@@ -389,6 +391,7 @@ impl Default for BagSpec {
             step: std::f32::consts::PI / 89.0,
             stamp: |k| 1_700_000_000.0 + k as f64 * 0.5,
             odom_from: 0,
+            mount_on_tf: false,
         }
     }
 }
@@ -420,7 +423,7 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
         id += 1;
     }
     let tf_static = id;
-    w.channel(tf_static, 3, "/tf_static");
+    w.channel(tf_static, 3, if spec.mount_on_tf { "/tf" } else { "/tf_static" });
     let t0 = (spec.stamp)(0);
     let foot = [0.05, 0.0, 0.0];
     let (child, whole) = if spec.chain {

@@ -77,6 +77,11 @@ pub struct BagLoader {
     /// Odometry per channel: stamp and planar pose, and the frames.
     odometry: IdTable<OdometryTrack>,
     tree: StaticTree,
+    /// The transforms of `/tf` (each link's last), for a bag that gives
+    /// the laser's mount there and not in `/tf_static`.
+    moving_tree: StaticTree,
+    /// True when the mount came from `/tf`.
+    mount_from_tf: bool,
     /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
     map_links: Vec<String>,
     frames: Vec<String>,
@@ -108,6 +113,8 @@ impl BagLoader {
             scan_channel: None,
             odometry: IdTable::default(),
             tree: StaticTree::default(),
+            moving_tree: StaticTree::default(),
+            mount_from_tf: false,
             map_links: Vec::new(),
             frames: Vec::new(),
             pending: Vec::new(),
@@ -342,6 +349,8 @@ impl BagLoader {
                 for t in transforms {
                     if topic_is_static {
                         self.tree.add(&t.parent, &t.child, t.pose);
+                    } else if t.parent != "map" {
+                        self.moving_tree.add(&t.parent, &t.child, t.pose);
                     } else if t.parent == "map" && self.map_links.len() < 8 && !self.map_links.contains(&quoted(&t.child)) {
                         self.map_links.push(quoted(&t.child));
                     }
@@ -430,7 +439,17 @@ impl BagLoader {
         }
         let mut mounts = Vec::with_capacity(self.frames.len());
         for frame in &self.frames {
-            let mount = self.tree.pose_of(child, frame).ok_or_else(|| {
+            let from_tf = || {
+                // Only where /tf_static has no chain: the mount as /tf
+                // last gave it.
+                let m = self.moving_tree.pose_of(child, frame);
+                m.filter(|_| child != frame)
+            };
+            let mount = match self.tree.pose_of(child, frame) {
+                Some(m) => Some(m),
+                None => from_tf().inspect(|_| self.mount_from_tf = true),
+            };
+            let mount = mount.ok_or_else(|| {
                 OccError::State(format!(
                     "the bag's /tf_static transforms lead from no frame {} (the odometry's child frame) to the scans' frame {}: the laser's mount is unknown (static transforms: {})",
                     quoted(child),
@@ -576,6 +595,9 @@ impl BagLoader {
             parts.push(format!(
                 "{n} scans with no odometry around their stamps are skipped (the first is message {first})"
             ));
+        }
+        if self.mount_from_tf {
+            parts.push("the laser's mount is read from /tf (its last transform), as /tf_static gives none".into());
         }
         if !self.map_links.is_empty() {
             parts.push(format!(
