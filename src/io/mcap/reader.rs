@@ -217,7 +217,7 @@ impl McapReader {
         let mut at = 0;
         while at < b.len() {
             let place = Place::File((base + at) as u64);
-            let (op, body) = Self::record(b, at, place)?.ok_or_else(|| {
+            let (op, body) = Self::record(b, at).ok_or_else(|| {
                 malformed(b[at], place, "its length runs past the summary section's end")
             })?;
             let mut f = Fields::new(op, place, body);
@@ -243,15 +243,15 @@ impl McapReader {
 
     /// The record at `b[at..]`: its opcode and body, `None` when its head
     /// or its body runs past `b`'s end.
-    fn record(b: &[u8], at: usize, _place: Place) -> Result<Option<(u8, &[u8])>> {
+    fn record(b: &[u8], at: usize) -> Option<(u8, &[u8])> {
         if b.len() - at < RECORD_HEAD {
-            return Ok(None);
+            return None;
         }
         let len = le_u64(&b[at + 1..]);
         if len > (b.len() - at - RECORD_HEAD) as u64 {
-            return Ok(None);
+            return None;
         }
-        Ok(Some((b[at], &b[at + RECORD_HEAD..at + RECORD_HEAD + len as usize])))
+        Some((b[at], &b[at + RECORD_HEAD..at + RECORD_HEAD + len as usize]))
     }
 
     /// Ends the read at a cut: the file's last bytes are inside `what`.
@@ -309,7 +309,7 @@ impl McapReader {
                         chunk,
                         at: at as u64,
                     };
-                    let Some((op, body)) = Self::record(&out, at, place)? else {
+                    let Some((op, body)) = Self::record(&out, at) else {
                         if cut {
                             return Ok(self.cut(format!("the Chunk at byte {chunk}")));
                         }
@@ -371,17 +371,11 @@ impl McapReader {
         let at = self.at;
         let b = Arc::clone(&self.bytes);
         let place = Place::File(at as u64);
-        if at >= self.data_end {
-            if !self.whole {
-                self.finished = true;
-                if at > MAGIC.len() {
-                    return Ok(Some(TopLevel::End));
-                }
-            }
-            if self.whole {
-                self.finished = true;
-                return Ok(Some(TopLevel::End));
-            }
+        if at >= self.data_end && (self.whole || at > MAGIC.len()) {
+            // The data read to its end (a file of the magic bytes alone
+            // is cut short, below).
+            self.finished = true;
+            return Ok(Some(TopLevel::End));
         }
         let end = self.data_end;
         if end - at < RECORD_HEAD {

@@ -510,14 +510,8 @@ impl BagLoader {
     }
 
     fn finish(&mut self) {
-        let odom_frame = self
-            .placing
-            .as_ref()
-            .and_then(|(id, _)| self.odometry.get(*id))
-            .map(|(_, frame, _)| frame.clone());
         let mount = self.placing.as_ref().and_then(|(_, m)| m.first().copied()).unwrap_or_default();
         self.scans.set_mount(pose(mount));
-        let _ = odom_frame;
         self.scans.set_pose_kinds(LogPoseKinds {
             reference: false,
             odometry: true,
