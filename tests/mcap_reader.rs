@@ -1,3 +1,4 @@
+#![cfg(not(target_arch = "wasm32"))]
 //! Hostile and damaged bags: each refused with an error naming the record
 //! and its byte, never a panic or a hang; a bag cut short read to the cut.
 

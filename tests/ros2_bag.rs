@@ -1,3 +1,4 @@
+#![cfg(not(target_arch = "wasm32"))]
 //! ROS 2 bags written by the tests themselves: each compression, either
 //! byte order, a tf chain, a yawed mount, other topic names, a summary or
 //! none map each scan at the odometry interpolated at its stamp, moved by

@@ -1,3 +1,4 @@
+#![cfg(not(target_arch = "wasm32"))]
 //! The shared bags (written from the Intel and ACES logs by an independent
 //! writer), read in place from `../shared/datasets` (or
 //! `OCCGRID_DATASETS`): each maps at its odometry, whose poses are the
