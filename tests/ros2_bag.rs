@@ -177,3 +177,24 @@ fn a_bag_maps_at_odometry_and_scan_matched_but_not_corrected_or_dead_reckoning()
         assert!(!kind.applies(&scans));
     }
 }
+
+#[test]
+fn a_scan_frame_no_transform_reaches_is_refused_naming_both_frames() {
+    use bag_support::{laser_scan, laser_scan_def, odometry, odometry_def, Writer};
+    let mut w = Writer::new(Compression::Lz4);
+    w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
+    w.schema(2, "nav_msgs/msg/Odometry", &odometry_def());
+    w.channel(1, 1, "/scan");
+    w.channel(2, 2, "/odom");
+    for k in 0..3 {
+        let t = 10.0 + k as f64;
+        w.message(2, t - 0.5, &odometry(false, t - 0.5, "base_link", [0.0; 3]));
+        w.message(1, t, &laser_scan(false, t, "lidar\u{7}", 0.0, 0.1, 8.0, &[1.0; 5]));
+        w.message(2, t + 0.5, &odometry(false, t + 0.5, "base_link", [0.0; 3]));
+    }
+    let e = read_all(w.finish(true), None, None).unwrap_err().to_string();
+    assert!(
+        e.contains("no frame \"base_link\"") && e.contains("frame \"lidar?\"") && e.contains("static transforms: none"),
+        "{e}"
+    );
+}
