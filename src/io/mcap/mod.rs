@@ -27,6 +27,17 @@
 //! that runs past the data section is an error. The Data End record's
 //! CRC of the data section is checked when it states one.
 //!
+//! # Bounded steps
+//!
+//! [`McapReader::next`] takes a budget of bytes per call
+//! ([`crate::io::LogBudget::bytes_per_read`]): the records passed over
+//! and the bytes a chunk inflates count against it, a chunk being
+//! inflated a step at a time (a zstd or lz4 block at most past the
+//! budget), so that one call's work is bounded whatever the file holds;
+//! the record that crosses the budget is finished (a record outside
+//! chunks is taken whole: its bytes are in memory already, and only its
+//! CRC is computed).
+//!
 //! What the messages mean is the ROS 2 layer's (`crate::io::ros2`).
 
 mod chunk;
