@@ -1,8 +1,9 @@
-// Builds the map of a CARMEN log with the wasm core under Node and writes it
-// as a ROS map_server pair:
+// Builds the map of a CARMEN log or a ROS 2 bag (MCAP) with the wasm core
+// under Node and writes it as a ROS map_server pair:
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
-//     [--poses corrected|dead-reckoning|scan-matched] [--seed N]
+//     [--poses corrected|dead-reckoning|scan-matched|odometry] [--seed N]
+//     [--scan-topic T] [--odom-topic T]
 //     [--model hit-counting|log-odds|hit-miss-odds]
 //
 // writes OUT_PREFIX.pgm and OUT_PREFIX.yaml (the YAML's `image:` names the
@@ -26,11 +27,18 @@
 // what a cell believes: hit-counting (the default: GMapping's hits and
 // visits), log-odds (Table 9.2's filter with the chapter's clamp) or
 // hit-miss-odds (Cartographer's odds tables).
+// A bag (BAG.mcap) is mapped at its own odometry (`--poses odometry`) or
+// scan-matched from it; it has no corrected poses unless it says so, and
+// dead reckoning does not apply to it (the core refuses a source that does
+// not apply, by name). Its poses.tsv holds the laser's pose in the
+// odometry frame. A bag with several LaserScan or Odometry topics needs
+// `--scan-topic` / `--odom-topic`; without them the core's refusal lists
+// the bag's topics, types and message counts.
 import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched] [--seed N] [--model hit-counting|log-odds|hit-miss-odds]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched|odometry] [--seed N] [--model hit-counting|log-odds|hit-miss-odds] [--scan-topic T] [--odom-topic T]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -66,6 +74,7 @@ function optionText(argv, i, name, what) {
 function parseArgs(argv) {
   const positional = [];
   const settings = {};
+  const topics = {};
   const is = (a, name) => a === name || a.startsWith(`${name}=`);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
@@ -86,9 +95,13 @@ function parseArgs(argv) {
       settings.walls = text;
     } else if (is(a, '--poses')) {
       let text;
-      [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning or scan-matched');
+      [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning, scan-matched or odometry');
       // The core names the field and the value it refuses.
       settings.poses = text;
+    } else if (is(a, '--scan-topic')) {
+      [topics.scan, i] = optionText(argv, i, '--scan-topic', "a bag's LaserScan topic, such as /scan");
+    } else if (is(a, '--odom-topic')) {
+      [topics.odom, i] = optionText(argv, i, '--odom-topic', "a bag's Odometry topic, such as /odom");
     } else if (is(a, '--model')) {
       let text;
       [text, i] = optionText(argv, i, '--model', 'hit-counting, log-odds or hit-miss-odds');
@@ -114,11 +127,11 @@ function parseArgs(argv) {
     }
   }
   if (positional.length !== 2) throw new Error(`expected LOG and OUT_PREFIX, got ${positional.length} argument(s)\n${USAGE}`);
-  return { log: positional[0], prefix: positional[1], settings };
+  return { log: positional[0], prefix: positional[1], settings, topics };
 }
 
 async function main() {
-  const { log, prefix, settings } = parseArgs(process.argv.slice(2));
+  const { log, prefix, settings, topics } = parseArgs(process.argv.slice(2));
   let bytes;
   try {
     bytes = fs.readFileSync(log);
@@ -129,6 +142,7 @@ async function main() {
   const session = new core.RealLogSession(bytes);
   try {
     session.configure(settings);
+    if (topics.scan !== undefined || topics.odom !== undefined) session.chooseTopics(topics.scan, topics.odom);
     // Each call reads a bounded step (scans, lines, bytes): loop to the end.
     let read;
     do read = session.read(1 << 30); while (!read.finished);

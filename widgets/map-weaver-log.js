@@ -203,7 +203,7 @@ export class RealLogPanel {
 
   buildDom() {
     const fileId = nextId('real-log-file');
-    this.fileInput = el('input', { type: 'file', id: fileId, name: 'log-file', accept: '.log,.gz,.clf,.txt,application/gzip,text/plain' });
+    this.fileInput = el('input', { type: 'file', id: fileId, name: 'log-file', accept: '.log,.gz,.clf,.txt,.mcap,application/gzip,text/plain' });
     this.fileInput.addEventListener('change', () => {
       const file = this.fileInput.files?.[0];
       if (file) this.loadFile(file);
@@ -236,7 +236,7 @@ export class RealLogPanel {
     this.mainPane = el('figure', { class: 'map-weaver-log-pane' }, this.mainCaption, this.mapStage);
     this.switcher = paneSwitcher(() => this.showPane());
     this.sidePanes = [];
-    this.dropHint = el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) here.');
+    this.dropHint = el('p', { class: 'map-weaver-log-hint' }, 'Drop a CARMEN log (.log or .log.gz) or a ROS 2 bag (.mcap) here.');
     this.stage = el('div', { class: 'map-weaver-log-stage' }, this.mainPane, this.dropHint);
     this.sidePane(1);
     this.readout = el('p', { class: 'map-weaver-log-readout occgrid-readout', 'aria-live': 'polite' }, READOUT_HINT);

@@ -86,6 +86,24 @@ impl RealLogSession {
         Ok(())
     }
 
+    /// Names the topics of a ROS 2 bag to map, before its first read:
+    /// `scanTopic` (its LaserScan topic) and `odomTopic` (its Odometry
+    /// topic), each a string, or `undefined` / `null` for the bag's only
+    /// one.
+    #[wasm_bindgen(js_name = chooseTopics)]
+    pub fn choose_topics(&mut self, scan_topic: JsValue, odom_topic: JsValue) -> Result<(), JsError> {
+        let topic = |field: &str, v: &JsValue| -> Result<Option<String>, JsError> {
+            if v.is_undefined() || v.is_null() {
+                Ok(None)
+            } else {
+                string_from_js(field, v, "a topic name, or nothing").map(Some)
+            }
+        };
+        let scan = topic("scanTopic", &scan_topic)?;
+        let odom = topic("odomTopic", &odom_topic)?;
+        Ok(self.session.choose_topics(scan, odom)?)
+    }
+
     /// Reads up to `maxScans` more scans (a whole number; `Infinity` for
     /// the rest of the log) and returns `{ records, recordName, scans,
     /// beams, bytesRead, bytesTotal, finished, warning }` (`recordName` is

@@ -88,6 +88,9 @@ pub enum LogFormat {
     /// A CARMEN text log, plain or gzip ([`super::carmen`]).
     #[serde(rename = "carmen")]
     Carmen,
+    /// A ROS 2 bag, MCAP with CDR messages ([`super::ros2`]).
+    #[serde(rename = "mcap")]
+    Mcap,
 }
 
 impl LogFormat {
@@ -97,17 +100,14 @@ impl LogFormat {
     /// them in words.
     pub fn sniff(head: &[u8]) -> Result<Self> {
         if head.starts_with(MCAP_MAGIC) {
-            return Err(OccError::State(
-                "the file is an MCAP bag (ROS 2): this version reads CARMEN logs (.log, .log.gz)"
-                    .into(),
-            ));
+            return Ok(Self::Mcap);
         }
         Ok(Self::Carmen)
     }
 }
 
-/// The first bytes of an MCAP file (a ROS 2 bag), recognised so that one
-/// is named rather than refused as foreign bytes.
+/// The first bytes of an MCAP file (a ROS 2 bag); the rest of its magic
+/// is checked by its reader, which names a mismatch.
 const MCAP_MAGIC: &[u8] = b"\x89MCAP";
 
 /// A log being read into a [`ScanLog`], a bounded step at a time, so that
@@ -129,4 +129,17 @@ pub trait LogSource {
     /// Why a file read to its end without a scan cannot be mapped, in the
     /// format's words.
     fn no_scans(&self) -> OccError;
+    /// Names the topics to map, before the first read, for a format that
+    /// has topics (a ROS 2 bag: its LaserScan and its Odometry topic);
+    /// `None` leaves the reader to take the only one. A format without
+    /// topics refuses a name.
+    fn choose_topics(&mut self, scan_topic: Option<String>, odom_topic: Option<String>) -> Result<()> {
+        match scan_topic.or(odom_topic) {
+            None => Ok(()),
+            Some(t) => Err(OccError::State(format!(
+                "topic {} chosen, but the file is not a ROS 2 bag: it has no topics",
+                super::mcap::quoted(&t)
+            ))),
+        }
+    }
 }

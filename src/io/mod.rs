@@ -7,6 +7,8 @@ pub mod carmen;
 pub mod gzip;
 pub mod log_source;
 pub mod map_server;
+pub mod mcap;
+pub mod ros2;
 mod open;
 
 pub use log_source::{LoadProgress, LogBudget, LogFormat, LogSource, MAX_KEPT_BYTES};

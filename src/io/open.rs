@@ -2,6 +2,7 @@
 //! knows every format's reader ([`open_log`]).
 
 use super::carmen;
+use super::ros2;
 use super::log_source::{LogBudget, LogFormat, LogSource};
 use crate::error::Result;
 use crate::sensors::ScanLog;
@@ -16,6 +17,7 @@ pub fn open_log(bytes: Vec<u8>, budget: LogBudget) -> Result<Box<dyn LogSource>>
             Cursor::new(bytes),
             budget,
         ))),
+        LogFormat::Mcap => Ok(Box::new(ros2::BagLoader::new(bytes, budget))),
     }
 }
 

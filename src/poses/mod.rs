@@ -10,6 +10,8 @@
 //! - `scan_matched`: the log's odometry (or dead reckoning) corrected scan
 //!   by scan by matching each scan against the map of the scans before it
 //!   ([`crate::mapping::scan_match`]);
+//! - `odometry`: the log's own odometry (a ROS 2 bag's), where it has
+//!   some;
 //! - `matched_path`: that source with a map of its own, for a caller
 //!   without one.
 //!
@@ -23,6 +25,7 @@
 mod corrected;
 mod dead_reckoning;
 mod matched_path;
+mod odometry;
 mod scan_matched;
 
 pub use matched_path::{MatchedPath, StepReport};
@@ -118,6 +121,10 @@ pub enum PoseSourceKind {
     /// before integrating it ([`crate::mapping::scan_match`]).
     #[serde(rename = "scan-matched")]
     ScanMatched,
+    /// The log's own odometry (a ROS 2 bag's, interpolated at each scan's
+    /// stamp), where it has odometry of its own.
+    #[serde(rename = "odometry")]
+    Odometry,
 }
 
 /// What the registry knows of one pose source.
@@ -144,9 +151,14 @@ pub struct SourceInfo {
 
 impl PoseSourceKind {
     /// Every source, in the order a page lists them.
-    pub const ALL: [PoseSourceKind; 3] = [Self::Corrected, Self::DeadReckoning, Self::ScanMatched];
+    pub const ALL: [PoseSourceKind; 4] = [
+        Self::Corrected,
+        Self::DeadReckoning,
+        Self::ScanMatched,
+        Self::Odometry,
+    ];
     /// The names a page and the CLI use, in the order of [`Self::ALL`].
-    pub const NAMES: [&'static str; 3] = ["corrected", "dead-reckoning", "scan-matched"];
+    pub const NAMES: [&'static str; 4] = ["corrected", "dead-reckoning", "scan-matched", "odometry"];
 
     /// The registry entry of this source.
     pub fn info(self) -> &'static SourceInfo {
@@ -154,6 +166,7 @@ impl PoseSourceKind {
             Self::Corrected => &corrected::INFO,
             Self::DeadReckoning => &dead_reckoning::INFO,
             Self::ScanMatched => &scan_matched::INFO,
+            Self::Odometry => &odometry::INFO,
         }
     }
 
@@ -193,11 +206,42 @@ impl PoseSourceKind {
     /// This source over `log` (one pose per scan). (Apart from the
     /// registry's words, which pages read without the code of a source.)
     pub fn start(self, log: &ScanLog, settings: &SourceSettings) -> Result<Box<dyn PoseSource>> {
+        self.check_applies(log)?;
         Ok(match self {
             Self::Corrected => Box::new(corrected::Corrected::new(log, settings)),
             Self::DeadReckoning => Box::new(dead_reckoning::DeadReckoning::new(log, settings)),
             Self::ScanMatched => Box::new(scan_matched::ScanMatching::start(log, settings)?),
+            Self::Odometry => Box::new(odometry::OwnOdometry::new(log, settings)?),
         })
+    }
+
+    /// Whether this source can place `log`'s scans: the log's reference
+    /// poses for `corrected`, and for `dead-reckoning`, which adds its
+    /// noise to their motion (a log with odometry of its own and no
+    /// reference poses, a ROS 2 bag, has real odometry instead); the
+    /// log's own odometry for `odometry`.
+    pub fn applies(self, log: &ScanLog) -> bool {
+        self.check_applies(log).is_ok()
+    }
+
+    fn check_applies(self, log: &ScanLog) -> Result<()> {
+        let kinds = log.pose_kinds();
+        let why = match self {
+            Self::Corrected if !kinds.reference => {
+                "the log carries no reference (corrected) poses, only its own odometry: map it at odometry or scan-matched"
+            }
+            Self::DeadReckoning if !kinds.reference => {
+                "the log carries real odometry and no reference poses to add noise to; map it at odometry"
+            }
+            Self::Odometry if !kinds.odometry => {
+                "the log carries no odometry of its own (its odometry fields repeat its corrected poses)"
+            }
+            _ => return Ok(()),
+        };
+        Err(crate::error::OccError::State(format!(
+            "the pose source {} does not apply: {why}",
+            self.name()
+        )))
     }
 }
 

@@ -33,11 +33,13 @@ test('the dataset menu names every log of datasets/ by its place and scans, as i
   const { page, errors, close } = await openPage('/#map-weaver', { reducedMotion: 'reduce' });
   await realLog(page);
   const options = await page.locator(`${PANEL} select[name=dataset] option`).evaluateAll((os) => os.map((o) => [o.value, o.textContent]));
-  const logs = fs.readdirSync(DATASETS).filter((f) => f.endsWith('.log.gz'));
+  const logs = fs.readdirSync(DATASETS).filter((f) => f.endsWith('.log.gz') || f.endsWith('.mcap'));
   assert.deepEqual(options.slice(1).map(([v]) => v).sort(), logs.sort());
   for (const [file, label] of options.slice(1)) {
     assert.notEqual(label, file, `${file} has a descriptive name`);
-    assert.match(label, /^[A-Z][^()]+ \([\d,]+ scans\)$/, `${file}: ${label}`);
+    // A bag is named by the log it was made from.
+    const named = file.endsWith('.mcap') ? /^\S+\.mcap \(ROS 2 bag of \S+\.log\.gz\)$/ : /^[A-Z][^()]+ \([\d,]+ scans\)$/;
+    assert.match(label, named, `${file}: ${label}`);
   }
   console.log(`the dataset menu: ${options.slice(1).map(([, l]) => l).join('; ')}`);
   assert.deepEqual(errors, []);

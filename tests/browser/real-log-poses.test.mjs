@@ -128,14 +128,14 @@ test('log-poses and log-seed are checked like the other attributes and set the p
     const w = document.createElement('occgrid-map-weaver');
     w.id = 'dr';
     w.setAttribute('mode', 'log');
-    w.setAttribute('log-poses', 'odometry');
+    w.setAttribute('log-poses', 'gps');
     w.setAttribute('log-seed', '-3');
     w.setAttribute('autoplay', 'off');
     document.body.prepend(w);
   });
   const box = page.locator('#dr > .occgrid-attribute-error');
   await box.waitFor();
-  assert.match(await box.textContent(), /invalid log-poses: "odometry" \(expected one of "corrected", "dead-reckoning", "scan-matched"\)/);
+  assert.match(await box.textContent(), /invalid log-poses: "gps" \(expected one of "corrected", "dead-reckoning", "scan-matched", "odometry"\)/);
   assert.match(await box.textContent(), /invalid log-seed: "-3"/);
   await page.evaluate(() => {
     const w = document.getElementById('dr');

@@ -102,7 +102,11 @@ test('--poses dead-reckoning maps the ACES log at seeded dead-reckoned poses', (
   }
   const big = run(log, path.join(dir, 'bad'), '--seed', '9007199254740993');
   assert.match(big.stderr, /--seed 9007199254740993 is too large/);
-  const poses = run(log, path.join(dir, 'bad'), '--poses', 'odometry');
+  const poses = run(log, path.join(dir, 'bad'), '--poses', 'gps');
   assert.equal(poses.status, 1);
-  assert.match(poses.stderr, /poses.*odometry/, poses.stderr);
+  assert.match(poses.stderr, /poses.*gps/, poses.stderr);
+  // A source of another kind of log: a corrected log has no odometry of its own.
+  const own = run(log, path.join(dir, 'bad'), '--poses', 'odometry');
+  assert.equal(own.status, 1);
+  assert.match(own.stderr, /the pose source odometry does not apply: the log carries no odometry of its own/, own.stderr);
 });

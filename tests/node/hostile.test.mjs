@@ -222,7 +222,7 @@ test('RealLogSession: throwing getters and proxies in settings, freeing valueOf 
     ['robotAt', [0, HOSTILE], 'scan'],
   ], (x, name) => assert.equal(typeof x.state().scansDone, 'number', `answers after ${name}`));
   // The pane beside is asked for through the settings, read as configure reads them.
-  refuses(() => s.configure({ poses: 'odometry' }), 'poses', 'odometry');
+  refuses(() => s.configure({ poses: 'gps' }), 'poses', 'gps');
   refuses(() => s.configure({ seed: 2 ** 53 }), 'seed', '9007199254740992');
   s.configure({ poses: 'dead-reckoning', seed: 3 });
   const done = s.buildSlice(Infinity);

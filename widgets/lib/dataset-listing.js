@@ -1,12 +1,14 @@
 // The logs a `datasets/` folder offers the real-log panel, read from the
 // table of its README.md (`| file | place | FLASER scans | … |`, as the
 // project's datasets README has it): each log's file name and a
-// descriptive name for the menu, "Intel Research Lab, Seattle (910 scans)".
+// descriptive name for the menu, "Intel Research Lab, Seattle (910 scans)";
+// a ROS 2 bag (an MCAP file) by its file name and, when the table has a
+// column headed from, the log it was made from.
 // Only table rows count, so a README that names no log in its table lists
 // none (a bundle ships such an empty listing; see scripts/dist.mjs).
 
 /** A log's file name as the panel accepts it: one name, no path. */
-const LOG_FILE = /^[\w-][\w.-]*\.(log|clf|txt)(\.gz)?$/i;
+const LOG_FILE = /^[\w-][\w.-]*\.((log|clf|txt)(\.gz)?|mcap)$/i;
 
 /** The cells of a Markdown table row, or null for a line that is none. */
 function cells(line) {
@@ -46,7 +48,11 @@ export function listedLogs(text) {
     const scans = row[at(/scans/)] ?? '';
     const name = row[file];
     if (out.some(([n]) => n === name)) continue;
-    const label = place ? `${placeName(place)}${/^[\d,]+$/.test(scans) ? ` (${scans} scans)` : ''}` : name;
+    const from = row[at(/^from$/)] ?? '';
+    const bag = /\.mcap$/i.test(name);
+    const label = bag
+      ? `${name} (ROS 2 bag${from ? ` of ${from}` : ''})`
+      : place ? `${placeName(place)}${/^[\d,]+$/.test(scans) ? ` (${scans} scans)` : ''}` : name;
     out.push([name, label]);
   }
   return out;

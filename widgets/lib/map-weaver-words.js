@@ -53,10 +53,10 @@ export const LOG_FIELDS = {
 
 /** A log's file name in the server's /datasets/: one name, no path. */
 export const logName = {
-  describe: 'the file name of a CARMEN log in the server’s /datasets/, such as "intel-corrected.log.gz"',
+  describe: 'the file name of a CARMEN log or a ROS 2 bag in the server’s /datasets/, such as "intel-corrected.log.gz" or "intel-perfect.mcap"',
   parse(text, name) {
     const w = text.trim();
-    if (!/^[\w-][\w.-]*\.(log|clf|txt)(\.gz)?$/i.test(w)) throw invalidValue(name, text, this.describe);
+    if (!/^[\w-][\w.-]*\.((log|clf|txt)(\.gz)?|mcap)$/i.test(w)) throw invalidValue(name, text, this.describe);
     return w;
   },
 };

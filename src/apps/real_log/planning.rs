@@ -95,7 +95,12 @@ impl PanePlanning {
         let panes = s
             .pane_plan()
             .into_iter()
-            .map(|(kind, model)| {
+            // The maps shown beside the chosen one only where their source
+            // applies to this log (a bag has no corrected poses); the
+            // chosen one is planned whatever, to be refused by name.
+            .enumerate()
+            .filter(|(i, (kind, _))| *i == 0 || kind.applies(&scans))
+            .map(|(_, (kind, model))| {
                 let source = kind.start(&scans, &source_settings(settings, odometry));
                 // A pane whose plan walks the log's own poses (a
                 // scan-matched one too, with room for drift) takes the box

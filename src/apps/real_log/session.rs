@@ -193,6 +193,20 @@ impl RealLogSession {
         }
     }
 
+    /// Names the topics of a ROS 2 bag to map (its LaserScan and its
+    /// Odometry topic), before its first read: refused for a file without
+    /// topics, once reading has begun, or when no log is open.
+    pub fn choose_topics(
+        &mut self,
+        scan_topic: Option<String>,
+        odom_topic: Option<String>,
+    ) -> Result<()> {
+        match self.loader.as_mut() {
+            Some(loader) => loader.choose_topics(scan_topic, odom_topic),
+            None => Err(OccError::State("no log to read: open one first".into())),
+        }
+    }
+
     /// Reads up to `max_scans` more laser lines (and at most the reader's
     /// budget of lines and bytes per call: [`LogBudget`]). When the log is
     /// finished its panes are set up; a malformed line is an error naming
