@@ -44,7 +44,7 @@ pub const MATCH_DRIFT_MARGIN: f64 = 5.0;
 /// 48 ns (four: each reads the 3 x 3 cells of the smooth field) and a map
 /// cell pooled into the coarse levels 2.5 ns (a fifth); a scan's time is
 /// within 8 to 16 ns per unit of its estimate for eight scans in ten. A
-/// candidate also costs [`CANDIDATE_POINTS`] points of its own, whatever
+/// candidate also costs `CANDIDATE_POINTS` points of its own, whatever
 /// its points: a log of one-beam scans, counted by its points alone, ran
 /// at twice the time per unit of the office logs.
 pub fn match_work(report: &MatchReport) -> u64 {
