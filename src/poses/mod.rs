@@ -29,7 +29,9 @@ mod odometry;
 mod scan_matched;
 
 pub use matched_path::{MatchedPath, StepReport};
-pub use scan_matched::{match_settings, match_work, ScanMatching, MATCH_DRIFT_MARGIN};
+pub use scan_matched::{
+    match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
+};
 
 use crate::error::{invalid, Result};
 use crate::geometry::Pose;
@@ -74,6 +76,15 @@ pub trait PoseSource {
     /// Work spent finding poses since the last reset, in the units of a
     /// cell update (so that one budget bounds a build's call).
     fn work(&self) -> u64 {
+        0
+    }
+
+    /// The most [`Self::work`] finding the pose of every scan of `log` may
+    /// cost, known before the first scan is located, so that a plan can
+    /// refuse a log past its budget: 0 for a source that knows its poses
+    /// in advance.
+    fn work_bound(&self, log: &ScanLog) -> u64 {
+        let _ = log;
         0
     }
 

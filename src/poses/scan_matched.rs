@@ -43,13 +43,50 @@ pub const MATCH_DRIFT_MARGIN: f64 = 5.0;
 /// about 1.5 ns (an eighth of an update), a Gauss–Newton iteration's point
 /// 48 ns (four: each reads the 3 x 3 cells of the smooth field) and a map
 /// cell pooled into the coarse levels 2.5 ns (a fifth); a scan's time is
-/// within 8 to 16 ns per unit of its estimate for eight scans in ten.
+/// within 8 to 16 ns per unit of its estimate for eight scans in ten. A
+/// candidate also costs `CANDIDATE_POINTS` points of its own, whatever
+/// its points: a log of one-beam scans, counted by its points alone, ran
+/// at twice the time per unit of the office logs.
 pub fn match_work(report: &MatchReport) -> u64 {
     let points = report.points as u64;
-    let search = report.candidates as u64 * points / 8;
+    let search = report.candidates as u64 * (points + CANDIDATE_POINTS) / 8;
     let refine = report.iterations as u64 * points * 4;
     let pooled = report.cells_read as u64 / 5;
     search + refine + pooled
+}
+
+/// What a search candidate costs besides its points (its heading's
+/// rotation, its place among the best), in points: a one-beam scan's
+/// match (some 4,300 candidates) took 66 us natively, 10 ns per unit
+/// counted so, 33 counted by its one point (the office logs: 13 to 15).
+pub const CANDIDATE_POINTS: u64 = 8;
+
+/// The most [`match_work`] one scan's match may cost under `settings` on a
+/// map of `resolution` metres per cell: `(per scan, per point matched)`.
+/// A scan's points lie within `max_range` of its pose and the window
+/// reaches at most `max_linear_window` and `max_angular_window` either
+/// side, so the coarse copy reads at most a square of `2 (maxRange +
+/// maxLinearWindow) / resolution` cells a side (and a few coarse cells of
+/// rounding), the search scores at most the widest window's candidates, and
+/// each hypothesis runs at most `maxIterations` steps on each coarse level,
+/// and the best two more on the map itself.
+pub fn match_work_bound(settings: &MatchSettings, resolution: f64) -> (u64, u64) {
+    let s = settings;
+    let coarse = s.coarse_factor as f64;
+    let side = 2.0 * (s.max_range + s.max_linear_window) / resolution + 8.0 * coarse + 2.0;
+    let widest = MatchSettings {
+        linear_window: s.max_linear_window,
+        angular_window: s.max_angular_window,
+        ..*s
+    };
+    let candidates = widest.candidates_at(resolution * coarse);
+    let coarse_levels = s.coarse_factor.max(1).ilog2() as u64;
+    let iterations = (s.hypotheses as u64 * coarse_levels + 2) * s.max_iterations as u64;
+    // (Saturating: settings that pass `check_resolution` give a few
+    // million at most.)
+    let per_scan = (side * side / 5.0 + candidates * CANDIDATE_POINTS as f64 / 8.0).ceil() as u64;
+    let per_point = (candidates / 8.0).ceil() as u64 + iterations * 4;
+    (per_scan, per_point)
 }
 
 /// The matcher's settings for a map whose range cap is `range_cap`
@@ -79,6 +116,9 @@ pub struct ScanMatching {
     last: Option<(usize, MatchReport)>,
     /// The matching work since the last reset ([`match_work`]).
     work: u64,
+    /// The map's resolution, metres per cell (what a match's work is
+    /// bounded at: [`match_work_bound`]).
+    resolution: f64,
 }
 
 impl ScanMatching {
@@ -97,6 +137,7 @@ impl ScanMatching {
             noise,
             last: None,
             work: 0,
+            resolution,
         })
     }
 
@@ -196,6 +237,18 @@ impl PoseSource for ScanMatching {
 
     fn work(&self) -> u64 {
         self.work
+    }
+
+    /// Every scan but the first matched at the most [`match_work_bound`]
+    /// allows, with as many points as it has beams (at most `maxPoints`).
+    fn work_bound(&self, log: &ScanLog) -> u64 {
+        let (per_scan, per_point) = match_work_bound(self.matcher.settings(), self.resolution);
+        let matched = log.len().saturating_sub(1) as u64;
+        let points = (log.beams() as u64)
+            .min(matched.saturating_mul(self.matcher.settings().max_points as u64));
+        matched
+            .saturating_mul(per_scan)
+            .saturating_add(points.saturating_mul(per_point))
     }
 
     fn reset(&mut self) {

@@ -49,6 +49,13 @@ const ODOMETRY_STREAM: u64 = 0xD1B5_4A32_D192_ED03;
 /// The most scans per second a scene may ask for (a reader's attribute
 /// could ask for any number).
 pub const MAX_SCAN_RATE: f64 = 1000.0;
+/// The fewest scans per second a scene may ask for. Slower, the run is no
+/// longer a robot mapping as it drives: the page plays scans at the scene's
+/// rate times its speed, so at 1e-9 scans per second the first scan after
+/// the start never comes, and a lap shrinks to one scan taken at its start.
+/// One a second still shows a scan every 4 s at the page's slowest speed
+/// (a quarter), and the chapter's 12 a second lies well inside.
+pub const MIN_SCAN_RATE: f64 = 1.0;
 /// The largest apartment map, in cells (1024 x 1024): every pane keeps
 /// several per-cell arrays, and a browser tab has to hold them.
 pub const MAX_SCENE_CELLS: usize = 1 << 20;
@@ -305,11 +312,11 @@ impl ApartmentScene {
             }
         }
         error::positive("scan_rate", self.scan_rate)?;
-        if self.scan_rate > MAX_SCAN_RATE {
+        if !(MIN_SCAN_RATE..=MAX_SCAN_RATE).contains(&self.scan_rate) {
             return Err(invalid(
                 "scan_rate",
-                self.scan_rate,
-                "at most 1000 scans per second",
+                error::show(self.scan_rate),
+                format!("{MIN_SCAN_RATE} to {MAX_SCAN_RATE} scans per second"),
             ));
         }
         self.lidar.validate()?;
@@ -801,5 +808,31 @@ mod tests {
         let mut scene = ApartmentScene::default();
         scene.path.speed = 1e-9;
         assert!(scene.validate().unwrap_err().to_string().contains("path"));
+    }
+
+    /// A rate so slow that the page would never show a second scan (and
+    /// each lap shrank to one scan at its start) is refused by its name and
+    /// value, not run as "scan 0 of 3".
+    #[test]
+    fn a_scan_rate_below_one_a_second_is_refused_by_name_and_value() {
+        for (rate, shown) in [(1e-9, "1e-9"), (0.5, "0.5")] {
+            let scene = ApartmentScene {
+                scan_rate: rate,
+                ..Default::default()
+            };
+            let message = scene.validate().unwrap_err().to_string();
+            assert!(
+                message.contains("scan_rate") && message.contains(shown),
+                "{message}"
+            );
+            assert!(message.contains("1 to 1000 scans per second"), "{message}");
+        }
+        for rate in [MIN_SCAN_RATE, 12.0, MAX_SCAN_RATE] {
+            let scene = ApartmentScene {
+                scan_rate: rate,
+                ..Default::default()
+            };
+            assert!(scene.validate().is_ok(), "{rate} scans per second");
+        }
     }
 }

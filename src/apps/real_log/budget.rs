@@ -11,6 +11,7 @@ use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
 use crate::inverse::HandCrafted;
 use crate::mapping::reach::{covering_grid, tiles_reached, BeamReach};
+use crate::poses::PoseSource;
 use crate::sensors::{Scan, ScanLog};
 
 /// Cells visited that cost about one cell update (a verdict gathered, 15
@@ -24,6 +25,18 @@ pub const VISITS_PER_UNIT: u64 = 2;
 /// that allocated 100 to 160 tiles took 1.5 to 1.7 times the time of one
 /// that allocated none, about two updates' time per new cell.
 pub const UNITS_PER_NEW_CELL: u64 = 2;
+
+/// The most work, in the units of a cell update, finding the poses of a
+/// log's scans may cost one pane ([`PoseSource::work_bound`]: for scan
+/// matching, every scan matched at the most its settings allow). At the
+/// 10 to 16 ns a unit of matching takes natively, about five minutes at
+/// the most; the largest log of the corpus, the Freiburg campus (2,008
+/// scans of 360 beams), is bounded at 2.9e9 at 5 cm, and its matching
+/// costs a sixth of that. A log of a million one-beam scans, bounded at
+/// 3.5e11, is refused when its panes are planned, not matched for minutes. (A source that knows
+/// its poses costs nothing here; what inserting the scans costs is
+/// bounded by the scans a log may keep, [`crate::io::LogBudget`].)
+pub const MAX_POSE_WORK: u64 = 20_000_000_000;
 
 /// The resolutions offered when one is refused are whole steps of half a
 /// centimetre (the finest step a reader sets by hand): steps per metre.
@@ -228,6 +241,27 @@ pub(super) fn grid_of_extent(
     // window's scratch is what bounds the reach in cells.
     s.check_reach()?;
     Ok(grid)
+}
+
+/// Refuses a pane whose `source` could cost more than `budget` units of
+/// work finding the poses of `scans` ([`MAX_POSE_WORK`] unless a test
+/// says otherwise), naming the source, the figure and the budget.
+pub(super) fn check_pose_work(scans: &ScanLog, source: &dyn PoseSource, budget: u64) -> Result<()> {
+    let bound = source.work_bound(scans);
+    if bound <= budget {
+        return Ok(());
+    }
+    let n = scans.len() as u64;
+    Err(invalid(
+        "poses",
+        format!("\"{}\" over {n} scans", source.kind().name()),
+        format!(
+            "a log whose poses cost at most {budget} units of work (cell updates) to find: \
+             these {n} scans could cost up to {bound} ({} a scan); \
+             fewer scans, a coarser resolution, a shorter range cap or poses known in advance",
+            bound / n.max(1)
+        ),
+    ))
 }
 
 pub(super) fn no_scans() -> OccError {

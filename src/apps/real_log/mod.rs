@@ -34,7 +34,7 @@ mod settings;
 mod surface;
 mod view;
 
-pub use budget::VISITS_PER_UNIT;
+pub use budget::{MAX_POSE_WORK, VISITS_PER_UNIT};
 pub use map::LogGrid;
 pub use matched::MatchView;
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};

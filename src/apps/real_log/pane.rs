@@ -8,8 +8,8 @@
 //! `view.rs`.
 
 use super::budget::{
-    at_pose, check_tile_budget, grid_of_extent, placed_at, scan_model, tiles_needed,
-    UNITS_PER_NEW_CELL, VISITS_PER_UNIT,
+    at_pose, check_pose_work, check_tile_budget, grid_of_extent, placed_at, scan_model,
+    tiles_needed, MAX_POSE_WORK, UNITS_PER_NEW_CELL, VISITS_PER_UNIT,
 };
 use super::map::{reserve_ahead, LogGrid, LogMap};
 use super::settings::{CheckedSettings, LogCellModel, LogMapSettings};
@@ -156,6 +156,7 @@ impl LogPane {
         budget_cells: usize,
     ) -> Result<Self> {
         let source = kind.start(&scans, &source_settings(settings, noise))?;
+        check_pose_work(&scans, source.as_ref(), MAX_POSE_WORK)?;
         let extent = plan_grid(&scans, source.as_ref(), settings)?;
         let pane = Self::planned(
             Arc::clone(&scans),

@@ -5,8 +5,8 @@
 //! logs").
 
 use super::budget::{
-    at_pose, beam_reach, budget_refusal, budget_tiles, every_tile_fits, grid_of_extent, no_scans,
-    scan_model, FitSearch,
+    at_pose, beam_reach, budget_refusal, budget_tiles, check_pose_work, every_tile_fits,
+    grid_of_extent, no_scans, scan_model, FitSearch,
 };
 use super::pane::{source_settings, LogPane};
 use super::settings::{CheckedSettings, LogCellModel};
@@ -82,12 +82,14 @@ pub(super) struct PanePlanning {
 impl PanePlanning {
     /// The plan of `settings`' panes over `scans`; `read_extent` the box of
     /// every scan at its own poses when it was grown under these settings
-    /// as the lines were read.
+    /// as the lines were read. A pane whose pose source could cost more
+    /// than `pose_work` units finding its poses is refused here, before a
+    /// walk ([`check_pose_work`]).
     pub(super) fn new(
         scans: Arc<ScanLog>,
         settings: &CheckedSettings,
         odometry: OdometryParams,
-        budget_cells: usize,
+        (budget_cells, pose_work): (usize, u64),
         read_extent: Option<ExtentBox>,
     ) -> Self {
         let s = settings.settings();
@@ -101,7 +103,12 @@ impl PanePlanning {
             .enumerate()
             .filter(|(i, (kind, _))| *i == 0 || kind.applies(&scans))
             .map(|(_, (kind, model))| {
-                let source = kind.start(&scans, &source_settings(settings, odometry));
+                let source = kind
+                    .start(&scans, &source_settings(settings, odometry))
+                    .and_then(|source| {
+                        check_pose_work(&scans, source.as_ref(), pose_work)?;
+                        Ok(source)
+                    });
                 // A pane whose plan walks the log's own poses (a
                 // scan-matched one too, with room for drift) takes the box
                 // grown as the log was read.

@@ -6,7 +6,7 @@
 //! with the one state
 //! ([`SessionState`]) the panel renders.
 
-use super::budget::scan_model;
+use super::budget::{scan_model, MAX_POSE_WORK};
 use super::pane::LogPane;
 use super::planning::PanePlanning;
 use super::settings::{CheckedSettings, LogMapSettings};
@@ -118,6 +118,8 @@ pub struct RealLogSession {
     /// bar then continues from the read's share).
     pub(super) after_read: bool,
     pub(super) budget_cells: usize,
+    /// The most work finding a pane's poses may cost ([`MAX_POSE_WORK`]).
+    pub(super) pose_work: u64,
 }
 
 impl Default for RealLogSession {
@@ -143,6 +145,7 @@ impl RealLogSession {
             panes: Vec::new(),
             after_read: false,
             budget_cells: DEFAULT_TILE_BUDGET_CELLS,
+            pose_work: MAX_POSE_WORK,
         }
     }
 
@@ -165,6 +168,16 @@ impl RealLogSession {
     pub fn with_tile_budget(bytes: Vec<u8>, budget_cells: usize) -> Self {
         let mut s = Self::idle();
         s.budget_cells = budget_cells;
+        s.open(bytes, "log");
+        s
+    }
+
+    /// A session whose panes may cost at most `units` of work finding their
+    /// poses (a test's smaller budget, for a shorter log; the default is
+    /// [`MAX_POSE_WORK`]).
+    pub fn with_pose_work_budget(bytes: Vec<u8>, units: u64) -> Self {
+        let mut s = Self::idle();
+        s.pose_work = units;
         s.open(bytes, "log");
         s
     }
@@ -264,7 +277,7 @@ impl RealLogSession {
                 Arc::new(scans),
                 &self.settings,
                 OdometryParams::WHEELS,
-                self.budget_cells,
+                (self.budget_cells, self.pose_work),
                 extent,
             ),
             PlanFor::Read,
@@ -460,7 +473,7 @@ impl RealLogSession {
             scans,
             &self.settings,
             OdometryParams::WHEELS,
-            self.budget_cells,
+            (self.budget_cells, self.pose_work),
             None,
         );
         let planning_before = self.planning.replace((planning, purpose));

@@ -1,0 +1,265 @@
+//! What a log may cost in each pose source (docs/ARCHITECTURE.md, "Real
+//! logs"): a log of a million scans of one beam each was scan-matched for
+//! minutes. Finding a pane's poses is bounded before the first scan is
+//! located ([`MAX_POSE_WORK`], refused by name with the figure and the
+//! budget), and a build call's budget counts every candidate a match
+//! scores, so that a call of one-beam scans is as long as any other.
+
+use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK};
+use occgrid::poses::{match_work, PoseSourceKind};
+use std::time::Instant;
+
+/// The hostile log's length: a million scans.
+const MILLION: usize = 1_000_000;
+
+/// A log of `scans` FLASER lines of `beams` readings of `range` metres: a
+/// robot creeping round a circle of 2 m, a millimetre and a milliradian a
+/// scan.
+fn creeping_log(scans: usize, beams: usize, range: f64) -> Vec<u8> {
+    let ranges = vec![format!("{range}"); beams].join(" ");
+    let mut text = String::with_capacity(scans * (48 + ranges.len()));
+    for k in 0..scans {
+        let a = k as f64 * 1e-3;
+        let (x, y) = (2.0 * a.cos(), 2.0 * a.sin());
+        let th = a + std::f64::consts::FRAC_PI_2;
+        text.push_str(&format!(
+            "FLASER {beams} {ranges} {x:.4} {y:.4} {th:.4} {x:.4} {y:.4} {th:.4} {k} h {k}\n"
+        ));
+    }
+    text.into_bytes()
+}
+
+/// `scans` scans of one beam each, 1.5 m ahead.
+fn one_beam_log(scans: usize) -> Vec<u8> {
+    creeping_log(scans, 1, 1.5)
+}
+
+/// Reads `session` to its end: the error of its last call, if any.
+fn read_all(session: &mut RealLogSession) -> Result<(), String> {
+    loop {
+        match session.read(1 << 16) {
+            Ok(r) if r.progress.finished => return Ok(()),
+            Ok(_) => {}
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+}
+
+fn settings(poses: PoseSourceKind) -> LogMapSettings {
+    LogMapSettings {
+        poses,
+        ..Default::default()
+    }
+}
+
+/// A 2,000-scan share of the million-scan log, against the same share of
+/// the budget: scan matching it is refused when its panes are planned,
+/// naming the source, what it could cost and the budget; the poses known in
+/// advance (the log's own, dead reckoning) cost nothing to find and map it.
+#[test]
+fn a_log_whose_matching_passes_the_budget_is_refused_by_its_figure_and_the_budget() {
+    let scans = 2000;
+    let budget = MAX_POSE_WORK / (MILLION / scans) as u64;
+    let bytes = one_beam_log(scans);
+    let mut s = RealLogSession::with_pose_work_budget(bytes.clone(), budget);
+    s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
+    let message = read_all(&mut s).expect_err("scan matching is refused");
+    assert!(
+        message.contains("poses") && message.contains("\"scan-matched\" over 2000 scans"),
+        "{message}"
+    );
+    assert!(
+        message.contains(&format!("at most {budget} units")),
+        "{message}"
+    );
+    let bound: u64 = message
+        .split("could cost up to ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("the figure is named: {message}"));
+    assert!(bound > budget, "{message}");
+    // The whole million-scan log passes the whole budget by as much.
+    assert!(bound * (MILLION / scans) as u64 > MAX_POSE_WORK);
+    assert_eq!(s.stage(), Stage::AwaitingSettings);
+    assert_eq!(s.state().error.as_deref(), Some(message.as_str()));
+
+    // The scans wait for settings that fit: poses known in advance.
+    for poses in [PoseSourceKind::Corrected, PoseSourceKind::DeadReckoning] {
+        s.configure(settings(poses)).unwrap();
+        while s.stage() == Stage::Planning {
+            s.plan(1 << 16).unwrap();
+        }
+        while !s.build_slice(1 << 22).unwrap().finished {}
+        assert_eq!(s.state().scans_done, scans, "{poses:?}");
+    }
+
+    // Under the whole budget the same scans are matched.
+    let mut s = RealLogSession::new(bytes);
+    s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
+    read_all(&mut s).unwrap();
+    while !s.build_slice(1 << 22).unwrap().finished {}
+    assert_eq!(s.state().scans_done, scans);
+}
+
+/// A candidate of the search costs a unit at least, whatever its points:
+/// a one-beam scan's match was counted at an eighth of a unit per
+/// candidate, and a build call of such scans ran twice as long per unit
+/// as the office logs' (see `time_per_unit_measured`).
+#[test]
+fn a_one_beam_match_counts_each_candidate_it_scores() {
+    use occgrid::poses::{match_settings, PoseSource, ScanMatching};
+    use occgrid::sensors::odometry::OdometryParams;
+    let log = occgrid::io::carmen::read_scans(&one_beam_log(300)[..]).unwrap();
+    // The map of the log at its own poses, to match each scan against.
+    let mut map = LogPane::new(log.clone(), settings(PoseSourceKind::Corrected)).unwrap();
+    map.advance(usize::MAX);
+    let mut source = ScanMatching::new(
+        log.poses().to_vec(),
+        OdometryParams::WHEELS,
+        match_settings(30.0),
+        0.05,
+    )
+    .unwrap();
+    let mut counted = 0;
+    for k in 0..log.len() {
+        let scan = log.scan(k).unwrap();
+        source
+            .locate(k, &scan, f64::INFINITY, map.grid().as_match_map())
+            .unwrap();
+        let (_, report) = source.last().unwrap();
+        if report.candidates > 0 {
+            assert_eq!(report.points, 1);
+            assert!(
+                match_work(report) >= report.candidates as u64,
+                "{} candidates counted as {} units",
+                report.candidates,
+                match_work(report)
+            );
+            counted += 1;
+        }
+    }
+    assert!(counted > 200, "most scans are searched: {counted}");
+}
+
+/// This thread's CPU time, ns (the machine may be shared: wall time is not
+/// the code's).
+fn cpu_ns() -> u64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse().ok())
+        .unwrap_or(0)
+}
+
+/// The million-scan log read and built natively in calls of the page's
+/// first budget (run with `SCANS=1000000 cargo test --release --test
+/// real_log_pose_budget -- --ignored --nocapture`; `WRITE=PATH` keeps the
+/// log): the longest read and build calls, in CPU time.
+#[test]
+#[ignore = "a measurement"]
+fn one_beam_log_calls_measured() {
+    let env = |k: &str, d: u64| {
+        std::env::var(k)
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(d)
+    };
+    let n = env("SCANS", 100_000) as usize;
+    let budget = env("BUDGET", 250_000);
+    let bytes = one_beam_log(n);
+    if let Ok(path) = std::env::var("WRITE") {
+        std::fs::write(path, &bytes).unwrap();
+    }
+    for poses in PoseSourceKind::ALL {
+        let mut s = RealLogSession::new(bytes.clone());
+        s.configure(settings(poses)).unwrap();
+        let t = Instant::now();
+        let mut longest_read = 0;
+        let read = loop {
+            let c = cpu_ns();
+            let r = s.read(4096);
+            longest_read = longest_read.max(cpu_ns() - c);
+            match r {
+                Ok(r) if r.progress.finished => break Ok(()),
+                Ok(_) => {}
+                Err(e) => break Err(e),
+            }
+        };
+        if let Err(e) = read {
+            println!(
+                "{poses:?}: {n} scans; refused after {:?} (longest read call {:.1} ms): {e}",
+                t.elapsed(),
+                longest_read as f64 / 1e6
+            );
+            continue;
+        }
+        let t = Instant::now();
+        let (mut longest, mut calls) = (0, 0);
+        loop {
+            let c = cpu_ns();
+            let st = s.build_slice(budget).unwrap();
+            longest = longest.max(cpu_ns() - c);
+            calls += 1;
+            if st.finished {
+                break;
+            }
+        }
+        println!(
+            "{poses:?}: {n} scans; longest read call {:.1} ms; build {:?} in {calls} calls of {budget} units, longest {:.1} ms",
+            longest_read as f64 / 1e6,
+            t.elapsed(),
+            longest as f64 / 1e6
+        );
+    }
+}
+
+/// Native time per unit of work, for insertion and for matching, on logs
+/// of one and many beams and on the office logs (`OCCGRID_DATASETS` names
+/// their folder): what [`match_work`] is fitted to.
+#[test]
+#[ignore = "a measurement"]
+fn time_per_unit_measured() {
+    use occgrid::poses::match_work_bound;
+    let mut cases: Vec<(String, Vec<u8>)> = vec![];
+    for (beams, range) in [(1, 1.5), (1, 10.0), (1, 29.0), (20, 5.0), (180, 5.0)] {
+        cases.push((
+            format!("{beams} beams at {range} m"),
+            creeping_log(5000, beams, range),
+        ));
+    }
+    if let Ok(dir) = std::env::var("OCCGRID_DATASETS") {
+        for name in [
+            "intel-corrected.log.gz",
+            "freiburg-101-corrected.log.gz",
+            "freiburg-campus-corrected.log.gz",
+        ] {
+            cases.push((name.into(), std::fs::read(format!("{dir}/{name}")).unwrap()));
+        }
+    }
+    let (per_scan, per_point) = match_work_bound(&occgrid::poses::match_settings(30.0), 0.05);
+    println!("bound at 5 cm: {per_scan} a scan, {per_point} a point");
+    for (name, bytes) in cases {
+        let mut s = RealLogSession::new(bytes);
+        read_all(&mut s).unwrap();
+        let log = s.pane(0).unwrap().scans().clone();
+        let mut row = vec![];
+        for poses in [PoseSourceKind::Corrected, PoseSourceKind::ScanMatched] {
+            let mut pane = LogPane::new(log.clone(), settings(poses)).unwrap();
+            let t = cpu_ns();
+            pane.advance(usize::MAX);
+            row.push((
+                cpu_ns() - t,
+                pane.progress().work,
+                pane.progress().scans_done,
+            ));
+        }
+        let (c, m) = (row[0], row[1]);
+        let (ns, units) = (m.0 as f64 - c.0 as f64, m.1 as f64 - c.1 as f64);
+        let bound = (log.len() as u64 - 1) * per_scan + log.beams() as u64 * per_point;
+        println!(
+            "{name}: {} scans, {} beams; insertion {:.1} ns/unit ({:.0} units/scan); matching {:.1} ns/unit ({:.0} units/scan, {:.1} us/scan); matching bound {bound:.2e}, used {:.1} %",
+            c.2, log.beams(), c.0 as f64 / c.1 as f64, c.1 as f64 / c.2 as f64,
+            ns / units, units / m.2 as f64, ns / m.2 as f64 / 1e3, 100.0 * units / bound as f64
+        );
+    }
+}
