@@ -18,12 +18,12 @@
 //!   line to it has no second witness.
 //! * **A no-return** (a reading at or beyond `z_max`: open sky, a window,
 //!   a surface too dark or too oblique) measured nothing. It clears only
-//!   what the nearest returns on both sides, within [`MAX_PASSING_RUN`]
-//!   beams, saw free (the nearer of their free ranges, at most the
-//!   no-return reach); without a return on each side it clears nothing.
-//!   A run of no-returns wider than that (a window onto open sky, the
-//!   outside of a building past its last wall) leaves gray what nobody
-//!   saw.
+//!   what the nearest returns on both sides, at most
+//!   [`MAX_NO_RETURN_GAP`] apart, saw free (the nearer of their free
+//!   ranges, at most the no-return reach); without a return on each side
+//!   it clears nothing. A wider gap of no-returns (a window onto open sky,
+//!   the outside of a building past its last wall) leaves gray what
+//!   nobody saw.
 //!
 //! Both rules look at a few neighbouring readings per beam and shorten
 //! bands: no cell is visited twice, and what the beams between them fill
@@ -38,6 +38,13 @@ use super::traversal::BeamBand;
 /// opening (a doorway seen squarely is several beams wide at any range
 /// a laser sees a room's far wall).
 pub const MAX_PASSING_RUN: usize = 2;
+
+/// The widest gap between two returns, radians, across which the
+/// no-returns between them clear what both saw free: 5°, a dark patch, a
+/// pane or a person's legs a few beams wide at any spacing (4 beams at
+/// 1°, 9 at 0.5°). A wider gap is an opening (a window 2 m wide seen from
+/// 3 m spans 37°) and clears nothing.
+pub const MAX_NO_RETURN_GAP: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// How far apart two flanking readings may lie, beyond their occupied
 /// bands, for both to count as one surface, in units of the arc
@@ -67,12 +74,13 @@ pub fn rest_on_neighbours(
     // Decided on the bands as `beam_bands` made them, applied after: a
     // shortened band is no witness for its neighbour.
     let mut cuts: Vec<(usize, Option<f64>)> = Vec::new();
-    // No-returns: the nearest return on each side, past at most a run of
-    // other beams.
+    // No-returns: the nearest return on each side, the two at most
+    // `MAX_NO_RETURN_GAP` apart.
+    let span = |l: usize, r: usize| (bearings[r] - bearings[l]).abs();
     let flank = |i: usize, left: bool| -> Option<usize> {
-        (1..=MAX_PASSING_RUN)
+        (1..)
             .map_while(|d| if left { i.checked_sub(d) } else { Some(i + d) })
-            .take_while(|&j| j < n)
+            .take_while(|&j| j < n && span(i.min(j), i.max(j)) <= MAX_NO_RETURN_GAP)
             .find(|&j| returned(j))
     };
     for i in 0..n {
@@ -82,7 +90,7 @@ pub fn rest_on_neighbours(
         }
         let to = match (flank(i, true), flank(i, false)) {
             (Some(l), Some(r))
-                if r - l - 1 <= MAX_PASSING_RUN && within_spacing(bearings, l, r) =>
+                if span(l, r) <= MAX_NO_RETURN_GAP && within_spacing(bearings, l, r) =>
             {
                 let (a, b) = (bands[l], bands[r]);
                 let to = band
@@ -236,7 +244,10 @@ mod tests {
     /// them too wide to be flanked clears nothing.
     #[test]
     fn a_no_return_clears_only_what_its_flanks_saw() {
-        let ranges = [4.0, MAX, 3.0, MAX, MAX, MAX, 6.0];
+        // Beams 0.01 rad apart: 9 of them span 0.08 rad, 4.6°; 10, 5.2°.
+        let mut ranges = vec![4.0, MAX, 3.0, MAX, MAX, MAX, 6.0];
+        ranges.extend([MAX; 9]);
+        ranges.push(5.0);
         let mut bands: Vec<_> = ranges
             .iter()
             .map(|&z| if z < MAX { band(z) } else { no_return(5.0) })
@@ -244,6 +255,10 @@ mod tests {
         run(&ranges, &mut bands);
         assert_eq!(bands[1].unwrap().reach, 2.9);
         assert_eq!(bands[1].unwrap().free_until, 2.9);
-        assert!(bands[3..6].iter().all(Option::is_none), "{bands:?}");
+        assert!(
+            bands[3..6].iter().all(|b| b.unwrap().reach == 2.9),
+            "{bands:?}"
+        );
+        assert!(bands[7..16].iter().all(Option::is_none), "{bands:?}");
     }
 }
