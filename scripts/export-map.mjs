@@ -153,7 +153,8 @@ async function main() {
     do state = session.buildSlice(Infinity); while (!state.finished);
     const built = state.panes[0];
     const stem = path.basename(prefix);
-    const pair = session.exportMap(0, stem);
+    // The YAML's comments name the log it was made from.
+    const pair = session.exportMap(0, stem, path.basename(log));
     const dir = path.dirname(prefix);
     fs.mkdirSync(dir, { recursive: true });
     // The core names the image after the file stem; keep both files beside

@@ -6,6 +6,7 @@
 use occgrid::apps::real_log::{LogMapSettings, LogPane};
 use occgrid::io::carmen::{read_scans, LaserMessage, LogLoader, LogReader};
 use occgrid::io::LoadProgress;
+use occgrid::mapping::walls::WallModel;
 use occgrid::sensors::ScanLog;
 use occgrid::OccError;
 use rand::{Rng, SeedableRng};
@@ -569,11 +570,24 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
     let text = "ROBOTLASER1 0 0 0.1 0.1 4.0 0.01 0 2 4.0 2.0 0 \
                 0.0 0.0 0.0 0.0 0.0 0.0 0 0 0 0 0 1 h 1\n";
     let scans = read_scans(text.as_bytes()).unwrap();
+    // Table 9.2's walls: every no-return carves out to its reach. (Under
+    // the default incidence walls a no-return clears only what returns on
+    // both its sides saw free, `mapping::neighbour_support`; this one has
+    // a return on one side only, and clears nothing, as checked last.)
     let settings = LogMapSettings {
         resolution: 0.1,
         margin: 3.0,
+        walls: WallModel::Table92,
         ..Default::default()
     };
+    let mut defaults = LogPane::new(
+        scans.clone(),
+        LogMapSettings {
+            walls: WallModel::Incidence,
+            ..settings
+        },
+    )
+    .unwrap();
     let mut b = LogPane::new(scans, settings).unwrap();
     b.advance(1);
     let g = b.grid().to_dense().unwrap();
@@ -600,6 +614,18 @@ fn a_robotlaser1_reading_at_its_maximum_range_carves_free_space_and_marks_nothin
     for (x, y) in occupied {
         assert!((x - end.0).hypot(y - end.1) < 0.1, "occupied at ({x}, {y})");
     }
+    defaults.advance(1);
+    let d = defaults.grid().to_dense().unwrap();
+    let at = |x: f64, y: f64| {
+        let (ix, iy) = geo.world_to_cell(x, y).unwrap();
+        d.log_odds()[geo.index(ix, iy)]
+    };
+    assert_eq!(
+        (at(3.0, 0.01), at(4.2, 0.01)),
+        (0.0, 0.0),
+        "no-return: nothing"
+    );
+    assert!(at(end.0, end.1) > 0.0, "the 2 m reading marks its cell");
 }
 
 #[test]

@@ -71,7 +71,20 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
     };
     let defaults = LogMapSettings::default();
     assert_eq!(defaults.no_return_reach, 5.0);
+    // By default a no-return clears only what returns on both its sides
+    // saw free (`mapping::neighbour_support`): a run of 90 no-returns
+    // clears nothing, within the reach or beyond it.
     let b = build(&bytes, defaults);
+    assert!(!free_at(&b, 4.0, 0.0), "a wide run of no-returns cleared");
+    for d in [6.0, 12.0, 20.0, 28.0] {
+        assert!(!free_at(&b, d, 0.0), "a no-return cleared {d} m out");
+    }
+    // The reach alone bounds the clearing under Table 9.2's walls.
+    let table_9_2 = LogMapSettings {
+        walls: WallModel::Table92,
+        ..defaults
+    };
+    let b = build(&bytes, table_9_2);
     assert!(free_at(&b, 4.0, 0.0), "cleared within the reach");
     for d in [6.0, 12.0, 20.0, 28.0] {
         assert!(!free_at(&b, d, 0.0), "a no-return cleared {d} m out");
@@ -88,7 +101,7 @@ fn a_no_return_clears_at_most_the_no_return_reach_and_returns_still_carve() {
         &bytes,
         LogMapSettings {
             no_return_reach: 15.0,
-            ..defaults
+            ..table_9_2
         },
     );
     assert!(free_at(&b, 12.0, 0.0) && !free_at(&b, 20.0, 0.0));

@@ -223,19 +223,31 @@ impl RealLogSession {
     /// Pane `pane`'s map as a ROS `map_server` pair `{ pgm: Uint8Array,
     /// yaml }`, the YAML naming the image `NAME.pgm` (`name` a string;
     /// `undefined` or `null` for `map.pgm`) and, for poses other than the
-    /// log's own, saying which in a comment line.
+    /// log's own, saying which in a comment line; the YAML's comments say
+    /// how the map was made, naming the log as `logFile` (a string, or
+    /// `undefined` when the page has no name for it).
     #[wasm_bindgen(js_name = exportMap)]
-    pub fn export_map(&self, pane: JsValue, name: JsValue) -> Result<JsValue, JsError> {
+    pub fn export_map(
+        &self,
+        pane: JsValue,
+        name: JsValue,
+        log_file: JsValue,
+    ) -> Result<JsValue, JsError> {
         let pane = index_from_js("pane", &pane)?;
-        let name = if name.is_undefined() || name.is_null() {
-            None
-        } else {
-            Some(string_from_js(
-                "name",
-                &name,
-                "a file name, or nothing for map.pgm",
-            )?)
+        let optional = |field: &str, v: &JsValue, what: &str| {
+            if v.is_undefined() || v.is_null() {
+                Ok(None)
+            } else {
+                string_from_js(field, v, what).map(Some)
+            }
         };
-        map_pair_to_js(&self.session.pane(pane)?.export_map(name.as_deref()))
+        let name = optional("name", &name, "a file name, or nothing for map.pgm")?;
+        let log_file = optional("logFile", &log_file, "the log's file name, or nothing")?;
+        map_pair_to_js(
+            &self
+                .session
+                .pane(pane)?
+                .export_map_of(name.as_deref(), log_file.as_deref()),
+        )
     }
 }

@@ -159,6 +159,16 @@ pub trait CellModel: Clone + std::fmt::Debug + PartialEq {
         }
     }
 
+    /// The probabilities a trinary export draws this model's cells by,
+    /// `(occupied above, free below)`, when they are not the export's
+    /// own (`None`, the default: `map_server`'s 0.65 and 0.196). A model
+    /// whose single updates are too weak to cross those within the scans a
+    /// building gives a cell says where its own verdicts lie.
+    #[inline]
+    fn trinary_cut(&self) -> Option<(f64, f64)> {
+        None
+    }
+
     /// True when known cell `a` believes more in occupancy than known cell
     /// `b`: a view's darkest sample of sixteen (`render::viewport`) is
     /// found with this, and its gray level computed once.
@@ -429,6 +439,16 @@ impl HitMissOdds {
         }
     }
 
+    /// Where a trinary export draws these cells: occupied above even odds,
+    /// free below them, i.e. by which way its hits and misses have moved
+    /// it. A miss multiplies the odds by `odds(0.49)`, so a cell needs
+    /// some 34 misses to fall below `map_server`'s 0.196 from its first
+    /// 0.49: at that cut the floor of a building, crossed by a few beams
+    /// per cell, exported gray and the robot's own path was not free.
+    /// (Cartographer's own occupancy grids publish the probability and
+    /// leave the cut to the planner.)
+    pub const TRINARY_CUT: (f64, f64) = (0.5, 0.5);
+
     /// Cartographer's 2-D defaults: hit 0.55, miss 0.49, within [0.1, 0.9].
     pub fn cartographer() -> Self {
         Self::new(0.55, 0.49, 0.1, 0.9)
@@ -474,6 +494,10 @@ impl CellModel for HitMissOdds {
     #[inline(always)]
     fn is_unknown(&self, v: u16) -> bool {
         v == 0
+    }
+    #[inline]
+    fn trinary_cut(&self) -> Option<(f64, f64)> {
+        Some(Self::TRINARY_CUT)
     }
     #[inline]
     fn held_log_odds(&self, v: u16) -> Option<f32> {

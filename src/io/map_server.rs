@@ -67,12 +67,27 @@ pub struct MapServerPair {
 /// [`Verdict`] under the export's thresholds, the one [`export_counts`]
 /// counts. The comparisons are strict, as in the loader.
 pub fn trinary_gray<M: CellModel>(model: &M, cell: M::Cell) -> u8 {
-    gray_of(model, cell, &export_thresholds())
+    gray_of(model, cell, &drawing_thresholds(model))
 }
 
 /// The thresholds of an export: [`OCCUPIED_THRESH`] and [`FREE_THRESH`].
 pub fn export_thresholds() -> Thresholds {
     Thresholds::new(OCCUPIED_THRESH, FREE_THRESH)
+}
+
+/// The thresholds `model`'s cells are drawn by: the export's own
+/// ([`export_thresholds`]), or the model's where it states its own
+/// ([`CellModel::trinary_cut`]; the YAML then says so). The YAML's
+/// `occupied_thresh` and `free_thresh` read the image's three gray levels
+/// and stay the export's either way.
+pub fn drawing_thresholds<M: CellModel>(model: &M) -> Thresholds {
+    cut_thresholds(model.trinary_cut())
+}
+
+/// The thresholds of a model's [`CellModel::trinary_cut`].
+pub fn cut_thresholds(cut: Option<(f64, f64)>) -> Thresholds {
+    let (occupied, free) = cut.unwrap_or((OCCUPIED_THRESH, FREE_THRESH));
+    Thresholds::new(occupied, free)
 }
 
 #[inline]
@@ -102,7 +117,12 @@ pub struct ExportCounts {
 
 /// The cells of `grid` as its export would show them ([`map_server_pair`]).
 pub fn export_counts<M: CellModel, S: Store<M::Cell>>(grid: &Grid<M, S>) -> ExportCounts {
-    ExportCounts::from_states(count_states_between(grid, OCCUPIED_THRESH, FREE_THRESH))
+    let t = drawing_thresholds(grid.model());
+    ExportCounts::from_states(count_states_between(
+        grid,
+        t.occupied_above(),
+        t.free_below(),
+    ))
 }
 
 impl ExportCounts {
@@ -137,8 +157,8 @@ pub fn map_server_pair<M: CellModel, S: Store<M::Cell>>(
     );
     let mut pgm = Vec::with_capacity(header.len() + w * h);
     pgm.extend_from_slice(header.as_bytes());
-    let thresholds = export_thresholds();
     let model = grid.model();
+    let thresholds = drawing_thresholds(model);
     // Image rows run north to south, grid rows south to north.
     for iy in (0..h).rev() {
         grid.store().row_runs(iy, |run| match run.cells {

@@ -10,6 +10,7 @@ pub mod fusion;
 pub mod insertion;
 pub mod joint;
 pub mod map_search;
+pub mod neighbour_support;
 pub mod reach;
 pub mod scan_match;
 mod search_incidence;

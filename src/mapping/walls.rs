@@ -43,6 +43,7 @@
 //! [`WallModel::Table92`] the bands are Table 9.2's axis profile and the map
 //! is bit for bit the chapter's (and W1's).
 
+use super::neighbour_support::rest_on_neighbours;
 use super::traversal::BeamBand;
 use crate::inverse::{HandCrafted, InverseModel};
 use crate::sensors::Scan;
@@ -145,5 +146,8 @@ pub fn beam_bands(
             occupied_from: p.free_until,
             occupied_until: p.occupied_until,
         }));
+    }
+    if walls == WallModel::Incidence {
+        rest_on_neighbours(ranges, bearings, is_return, out);
     }
 }

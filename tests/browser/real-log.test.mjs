@@ -297,7 +297,12 @@ test('export downloads one zip with a map_server PGM and the YAML that names it'
   const yaml = files['intel-corrected-map.yaml'].toString();
   assert.match(yaml, /^image: intel-corrected-map\.pgm\nmode: trinary\nresolution: 0\.05\n/);
   assert.ok(yaml.includes(`origin: [${geometry.originX}, ${geometry.originY}, 0.0]`), yaml);
-  assert.match(yaml, /\nnegate: 0\noccupied_thresh: 0\.65\nfree_thresh: 0\.196\n$/);
+  assert.match(yaml, /\nnegate: 0\noccupied_thresh: 0\.65\nfree_thresh: 0\.196\n/);
+  // After map_server's fields, only comments: how the map was made.
+  const rest = yaml.slice(yaml.indexOf('free_thresh: 0.196\n') + 'free_thresh: 0.196\n'.length);
+  assert.ok(rest.split('\n').slice(0, -1).every((l) => l.startsWith('# ')), yaml);
+  assert.match(rest, /\n# pose source: corrected/);
+  assert.match(rest, /\n# cell model: hit-counting/);
   const pgm = files['intel-corrected-map.pgm'];
   const header = `P5\n# CREATOR: occgrid 0.050 m/pix\n${geometry.width} ${geometry.height}\n255\n`;
   assert.equal(pgm.subarray(0, header.length).toString(), header);

@@ -29,6 +29,7 @@ mod map;
 mod matched;
 mod pane;
 mod planning;
+mod provenance;
 mod session;
 mod settings;
 mod surface;

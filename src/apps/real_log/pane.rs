@@ -18,7 +18,7 @@ use crate::error::{invalid, OccError, Result};
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::stats::TileTally;
 use crate::grid::storage::{budget_message, DEFAULT_TILE_BUDGET_CELLS};
-use crate::io::map_server::{FREE_THRESH, OCCUPIED_THRESH};
+use crate::io::map_server;
 use crate::mapping::insertion::ScanInserter;
 use crate::mapping::reach::scan_extent;
 use crate::poses::{match_settings, PoseSource, PoseSourceKind, SourceSettings};
@@ -213,7 +213,10 @@ impl LogPane {
             done: 0,
             target,
             cursor: None,
-            tally: TileTally::new(OCCUPIED_THRESH, FREE_THRESH),
+            tally: {
+                let t = map_server::cut_thresholds(model.trinary_cut());
+                TileTally::new(t.occupied_above(), t.free_below())
+            },
         })
     }
 

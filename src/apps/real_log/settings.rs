@@ -81,6 +81,15 @@ impl LogCellModel {
         }
     }
 
+    /// Where an export draws this model's cells, when not at the export's
+    /// own thresholds ([`crate::grid::CellModel::trinary_cut`]).
+    pub fn trinary_cut(self) -> Option<(f64, f64)> {
+        match self {
+            Self::HitMissOdds => Some(HitMissOdds::TRINARY_CUT),
+            Self::LogOdds | Self::HitCounting => None,
+        }
+    }
+
     /// Cartographer's 2-D probability grid defaults.
     pub fn hit_miss_odds() -> HitMissOdds {
         HitMissOdds::cartographer()

@@ -5,6 +5,7 @@
 //! computed here; the page forwards pointer and key input and draws.
 
 use super::pane::LogPane;
+use super::provenance::Provenance;
 use crate::error::{invalid, Result};
 use crate::grid::readout::CellReadout;
 use crate::grid::storage::TILE_CELLS;
@@ -329,11 +330,25 @@ impl LogPane {
     /// log's own says which in a comment line of the YAML: the file alone
     /// then tells a dead-reckoned map from the corrected one.
     pub fn export_map(&self, name: Option<&str>) -> MapServerPair {
+        self.export_map_of(name, None)
+    }
+
+    /// [`Self::export_map`] of the log opened as `log_file` (its name
+    /// only): the YAML's comments say how the map was made
+    /// (`apps/real_log/provenance.rs`), the log's name among them when given.
+    pub fn export_map_of(&self, name: Option<&str>, log_file: Option<&str>) -> MapServerPair {
         let stem = map_server::file_stem(name.unwrap_or(""));
         let mut pair = self.map.export(&format!("{stem}.pgm"));
         if let Some(poses) = self.source().described(self.settings().seed) {
             pair.yaml.push_str(&format!("# poses: {poses}\n"));
         }
+        let provenance = Provenance {
+            log_file,
+            source: self.source(),
+            model: self.model(),
+            settings: self.settings(),
+        };
+        pair.yaml.push_str(&provenance.yaml_comments());
         pair
     }
 }
