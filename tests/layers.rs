@@ -9,8 +9,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// Lowest first; `bindings` may use everything.
-const LAYERS: [&str; 14] = [
-    "error", "geometry", "world", "sensors", "scenes", "grid", "inverse", "mapping", "poses",
+const LAYERS: [&str; 15] = [
+    "error", "geometry", "world", "sensors", "scenes", "grid", "inverse", "mapping", "slam", "poses",
     "render", "io", "apps", "bench", "bindings",
 ];
 

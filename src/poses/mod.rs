@@ -10,6 +10,8 @@
 //! - `scan_matched`: the log's odometry (or dead reckoning) corrected scan
 //!   by scan by matching each scan against the map of the scans before it
 //!   ([`crate::mapping::scan_match`]);
+//! - `slam`: scan matching against submaps with loops closed and a pose
+//!   graph optimised ([`crate::slam`]);
 //! - `matched_path`: that source with a map of its own, for a caller
 //!   without one.
 //!
@@ -24,9 +26,11 @@ mod corrected;
 mod dead_reckoning;
 mod matched_path;
 mod scan_matched;
+mod slam;
 
 pub use matched_path::{MatchedPath, StepReport};
 pub use scan_matched::{match_settings, match_work, ScanMatching, MATCH_DRIFT_MARGIN};
+pub use slam::Slam;
 
 use crate::error::{invalid, Result};
 use crate::geometry::Pose;
@@ -82,6 +86,13 @@ pub trait PoseSource {
     fn matching(&self) -> Option<&ScanMatching> {
         None
     }
+
+    /// Raised each time the poses of scans already located change (a
+    /// SLAM source's optimisation): a map built at the old poses must be
+    /// built again. Sources whose poses never change once found stay at 0.
+    fn revision(&self) -> u64 {
+        0
+    }
 }
 
 /// What a source is started with besides the log.
@@ -118,6 +129,11 @@ pub enum PoseSourceKind {
     /// before integrating it ([`crate::mapping::scan_match`]).
     #[serde(rename = "scan-matched")]
     ScanMatched,
+    /// SLAM: dead reckoning (or the log's own odometry) matched against
+    /// submaps of recent scans, loops closed and the pose graph optimised
+    /// ([`crate::slam`]).
+    #[serde(rename = "slam")]
+    Slam,
 }
 
 /// What the registry knows of one pose source.
@@ -144,9 +160,14 @@ pub struct SourceInfo {
 
 impl PoseSourceKind {
     /// Every source, in the order a page lists them.
-    pub const ALL: [PoseSourceKind; 3] = [Self::Corrected, Self::DeadReckoning, Self::ScanMatched];
+    pub const ALL: [PoseSourceKind; 4] = [
+        Self::Corrected,
+        Self::DeadReckoning,
+        Self::ScanMatched,
+        Self::Slam,
+    ];
     /// The names a page and the CLI use, in the order of [`Self::ALL`].
-    pub const NAMES: [&'static str; 3] = ["corrected", "dead-reckoning", "scan-matched"];
+    pub const NAMES: [&'static str; 4] = ["corrected", "dead-reckoning", "scan-matched", "slam"];
 
     /// The registry entry of this source.
     pub fn info(self) -> &'static SourceInfo {
@@ -154,6 +175,7 @@ impl PoseSourceKind {
             Self::Corrected => &corrected::INFO,
             Self::DeadReckoning => &dead_reckoning::INFO,
             Self::ScanMatched => &scan_matched::INFO,
+            Self::Slam => &slam::INFO,
         }
     }
 
@@ -197,6 +219,7 @@ impl PoseSourceKind {
             Self::Corrected => Box::new(corrected::Corrected::new(log, settings)),
             Self::DeadReckoning => Box::new(dead_reckoning::DeadReckoning::new(log, settings)),
             Self::ScanMatched => Box::new(scan_matched::ScanMatching::start(log, settings)?),
+            Self::Slam => Box::new(slam::Slam::start(log, settings)?),
         })
     }
 }
