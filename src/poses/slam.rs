@@ -7,7 +7,9 @@
 //! the revision ([`PoseSource::revision`]) rises: a map built at the old
 //! poses is built again.
 
-use super::{PoseSource, PoseSourceKind, ScanMatching, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN};
+use super::{
+    PoseSource, PoseSourceKind, ScanMatching, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN,
+};
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::mapping::scan_match::MatchMap;
@@ -72,7 +74,13 @@ impl PoseSource for Slam {
 
     /// Scan `k` located by SLAM. Scans come in order from the first: a
     /// scan out of order is an error, and nothing changes.
-    fn locate(&mut self, k: usize, scan: &Scan, laser_max: f64, map: &dyn MatchMap) -> Result<Pose> {
+    fn locate(
+        &mut self,
+        k: usize,
+        scan: &Scan,
+        laser_max: f64,
+        map: &dyn MatchMap,
+    ) -> Result<Pose> {
         let _ = map;
         if k != self.builder.located() {
             return Err(OccError::State(format!(

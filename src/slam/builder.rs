@@ -111,7 +111,8 @@ impl SlamBuilder {
     ) -> Result<Self> {
         let insertion = ScanInsertion {
             model: HandCraftedParams::laser(settings.max_range),
-            no_return_reach: 0.0,
+            // As the real-log maps clear along a no-return (5 m).
+            no_return_reach: 5.0,
             walls: WallModel::Incidence,
             between_beams: false,
         };
@@ -131,7 +132,11 @@ impl SlamBuilder {
             revision: 0,
             closures: 0,
             work: 0,
-            last_match: MatchReport::unmatched(Pose { x: 0.0, y: 0.0, theta: 0.0 }),
+            last_match: MatchReport::unmatched(Pose {
+                x: 0.0,
+                y: 0.0,
+                theta: 0.0,
+            }),
             points: ScanPoints::default(),
             loop_points: Vec::new(),
         })
@@ -189,10 +194,16 @@ impl SlamBuilder {
             ),
         };
         // Matched against the older growing submap.
-        let report = match self.submaps.iter().find(|s| s.grid.is_some() && s.scans > 0) {
-            Some(Submap { grid: Some(grid), .. }) if k > 0 => {
-                self.matcher.match_scan(grid, scan, laser_max, &prediction)?
-            }
+        let report = match self
+            .submaps
+            .iter()
+            .find(|s| s.grid.is_some() && s.scans > 0)
+        {
+            Some(Submap {
+                grid: Some(grid), ..
+            }) if k > 0 => self
+                .matcher
+                .match_scan(grid, scan, laser_max, &prediction)?,
             _ => MatchReport::unmatched(prediction.pose),
         };
         self.last_match = report;
@@ -216,7 +227,9 @@ impl SlamBuilder {
                     prediction.heading_spread,
                 ]
             };
-            self.graph.edges.push(Edge::new(k - 1, k, motion, sigma, false));
+            self.graph
+                .edges
+                .push(Edge::new(k - 1, k, motion, sigma, false));
         }
         if k % LOOP_EVERY == 0 {
             self.search_loops(k, scan, laser_max);
@@ -238,7 +251,8 @@ impl SlamBuilder {
             .is_none_or(|s| s.scans >= SUBMAP_SCANS / 2);
         if growing < 2 && newest_half {
             let reach = self.matcher.settings().max_range + 5.0;
-            self.submaps.push(Submap::start(k, local, reach, self.resolution)?);
+            self.submaps
+                .push(Submap::start(k, local, reach, self.resolution)?);
         }
         let placed = scan.with_pose(*local)?;
         for s in self.submaps.iter_mut().filter(|s| s.grid.is_some()) {
@@ -273,8 +287,10 @@ impl SlamBuilder {
         let window = Self::window(self.since_closure);
         let here = self.graph.nodes[k];
         self.points.fill(scan, laser_max, self.matcher.settings());
-        self.points
-            .thinned(LOOP_POINT_SPACING_CELLS * self.resolution, &mut self.loop_points);
+        self.points.thinned(
+            LOOP_POINT_SPACING_CELLS * self.resolution,
+            &mut self.loop_points,
+        );
         let mut best: Option<(f64, Candidate)> = None;
         for s in &self.submaps {
             let Some(grid) = &s.finished else { continue };
@@ -312,15 +328,13 @@ impl SlamBuilder {
         let Some((_, candidate)) = best else { return };
         // A partner: an earlier candidate whose placement agrees with this
         // one's as the local trajectory says.
-        let partner = self.candidates.iter().rposition(|c| {
-            c.scan + AGREEMENT_SCANS >= k && {
-                let by_matches = relative_motion(&c.placed, &candidate.placed);
-                let by_local = relative_motion(&self.local[c.scan], &self.local[k]);
-                (by_matches[0] - by_local[0]).hypot(by_matches[1] - by_local[1]) <= AGREEMENT[0]
-                    && wrap_angle(by_matches[2] - by_local[2]).abs() <= AGREEMENT[1]
-            }
-        });
         self.candidates.retain(|c| c.scan + AGREEMENT_SCANS >= k);
+        let partner = self.candidates.iter().rposition(|c| {
+            let by_matches = relative_motion(&c.placed, &candidate.placed);
+            let by_local = relative_motion(&self.local[c.scan], &self.local[k]);
+            (by_matches[0] - by_local[0]).hypot(by_matches[1] - by_local[1]) <= AGREEMENT[0]
+                && wrap_angle(by_matches[2] - by_local[2]).abs() <= AGREEMENT[1]
+        });
         match partner {
             Some(i) => {
                 let first = self.candidates.remove(i);

@@ -79,7 +79,11 @@ impl LoopGrid {
             for y in 0..h {
                 for x in 0..w {
                     let a = prev[y * w + x];
-                    let b = if x + shift < w { prev[y * w + x + shift] } else { 0 };
+                    let b = if x + shift < w {
+                        prev[y * w + x + shift]
+                    } else {
+                        0
+                    };
                     rows[y * w + x] = a.max(b);
                 }
             }
@@ -87,7 +91,11 @@ impl LoopGrid {
             for y in 0..h {
                 for x in 0..w {
                     let a = rows[y * w + x];
-                    let b = if y + shift < h { rows[(y + shift) * w + x] } else { 0 };
+                    let b = if y + shift < h {
+                        rows[(y + shift) * w + x]
+                    } else {
+                        0
+                    };
                     out[y * w + x] = a.max(b);
                 }
             }
@@ -117,7 +125,12 @@ impl LoopGrid {
     /// Searches `points` (sensor frame) around `predicted` (in this
     /// submap's frame) within `window`: the best match scoring at least
     /// the window's least score, or `None`.
-    pub fn search(&self, points: &[[f64; 2]], predicted: &Pose, window: &LoopWindow) -> (Option<LoopMatch>, u64) {
+    pub fn search(
+        &self,
+        points: &[[f64; 2]],
+        predicted: &Pose,
+        window: &LoopWindow,
+    ) -> (Option<LoopMatch>, u64) {
         if points.is_empty() || self.cells.is_empty() {
             return (None, 0);
         }
@@ -128,7 +141,10 @@ impl LoopGrid {
             .fold(0.0, f64::max)
             .max(res);
         // The heading step that moves the farthest point by a cell.
-        let dtheta = (1.0 - res * res / (2.0 * reach * reach)).clamp(-1.0, 1.0).acos().max(1e-4);
+        let dtheta = (1.0 - res * res / (2.0 * reach * reach))
+            .clamp(-1.0, 1.0)
+            .acos()
+            .max(1e-4);
         let headings = (window.angular / dtheta).ceil() as i64;
         let wxy = (window.linear / res).ceil() as i64;
         let levels = self.precompute();
@@ -152,7 +168,11 @@ impl LoopGrid {
                 ));
             }
             let score = |depth: usize, dx: i64, dy: i64| -> u64 {
-                let level: &[u8] = if depth == 0 { &self.cells } else { &levels[depth - 1] };
+                let level: &[u8] = if depth == 0 {
+                    &self.cells
+                } else {
+                    &levels[depth - 1]
+                };
                 // A window starting left of (below) the grid but reaching
                 // into it is bounded by the grid's first column (row),
                 // whose window holds its part.
@@ -277,7 +297,13 @@ mod tests {
             cells[20 * w + i] = 250;
             cells[i * w + 20] = 250;
         }
-        let grid = LoopGrid { origin: [0.0, 0.0], resolution: res, width: w, height: h, cells };
+        let grid = LoopGrid {
+            origin: [0.0, 0.0],
+            resolution: res,
+            width: w,
+            height: h,
+            cells,
+        };
         // Points of the two walls seen from (5, 5), heading 0.
         let mut points = Vec::new();
         for i in 0..60 {
@@ -285,11 +311,22 @@ mod tests {
             points.push([t - 5.0, 1.025 - 5.0]);
             points.push([1.025 - 5.0, t - 5.0]);
         }
-        let predicted = Pose { x: 5.4, y: 4.7, theta: 0.05 };
-        let window = LoopWindow { linear: 1.0, angular: 0.1, min_score: 0.5 };
+        let predicted = Pose {
+            x: 5.4,
+            y: 4.7,
+            theta: 0.05,
+        };
+        let window = LoopWindow {
+            linear: 1.0,
+            angular: 0.1,
+            min_score: 0.5,
+        };
         let (found, _) = grid.search(&points, &predicted, &window);
         let found = found.expect("a match");
-        assert!((found.pose.x - 5.0).abs() < 0.03 && (found.pose.y - 5.0).abs() < 0.03, "{found:?}");
+        assert!(
+            (found.pose.x - 5.0).abs() < 0.03 && (found.pose.y - 5.0).abs() < 0.03,
+            "{found:?}"
+        );
         assert!(found.pose.theta.abs() < 0.01, "{found:?}");
     }
 }

@@ -49,7 +49,13 @@ pub struct Edge {
 impl Edge {
     /// An edge measured as `measurement` with spreads `sigma` (metres,
     /// metres, radians).
-    pub fn new(from: usize, to: usize, measurement: [f64; 3], sigma: [f64; 3], robust: bool) -> Self {
+    pub fn new(
+        from: usize,
+        to: usize,
+        measurement: [f64; 3],
+        sigma: [f64; 3],
+        robust: bool,
+    ) -> Self {
         Self {
             from,
             to,
@@ -398,9 +404,21 @@ mod tests {
         // Three nodes in a line, measured exactly, the last two started off.
         let mut g = PoseGraph {
             nodes: vec![
-                Pose { x: 0.0, y: 0.0, theta: 0.0 },
-                Pose { x: 1.3, y: 0.2, theta: 0.1 },
-                Pose { x: 1.7, y: -0.4, theta: -0.2 },
+                Pose {
+                    x: 0.0,
+                    y: 0.0,
+                    theta: 0.0,
+                },
+                Pose {
+                    x: 1.3,
+                    y: 0.2,
+                    theta: 0.1,
+                },
+                Pose {
+                    x: 1.7,
+                    y: -0.4,
+                    theta: -0.2,
+                },
             ],
             edges: vec![
                 Edge::new(0, 1, [1.0, 0.0, 0.0], [0.1, 0.1, 0.05], false),
@@ -409,6 +427,10 @@ mod tests {
             ],
         };
         Optimizer::new(RobustSettings::default()).run(&mut g);
-        assert!((g.nodes[2].x - 2.0).abs() < 1e-6 && g.nodes[2].y.abs() < 1e-6, "{:?}", g.nodes);
+        assert!(
+            (g.nodes[2].x - 2.0).abs() < 1e-6 && g.nodes[2].y.abs() < 1e-6,
+            "{:?}",
+            g.nodes
+        );
     }
 }
