@@ -8,8 +8,17 @@ use occgrid::apps::real_log::LogMapSettings;
 use occgrid::poses::{match_settings, PoseSourceKind, SourceSettings};
 use occgrid::sensors::odometry::OdometryParams;
 
-mod scan_match_support;
-use scan_match_support::scans;
+use occgrid::grid::{FilterSettings, TiledGrid};
+use occgrid::io::carmen::read_scans;
+use occgrid::sensors::ScanLog;
+
+/// A log of ../shared/datasets (or `OCCGRID_DATASETS`), by file name.
+fn scans(name: &str) -> ScanLog {
+    let dir: std::path::PathBuf = std::env::var_os("OCCGRID_DATASETS")
+        .map(Into::into)
+        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    read_scans(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
+}
 
 #[test]
 #[ignore = "a measurement: every shared log mapped by SLAM"]
@@ -33,9 +42,14 @@ fn slam_on_the_shared_logs() {
         };
         let started = std::time::Instant::now();
         let mut source = PoseSourceKind::Slam.start(&log, &settings).unwrap();
-        let empty = scan_match_support::grid(
-            occgrid::geometry::GridGeometry::new(64, 64, s.resolution, 0.0, 0.0).unwrap(),
-        );
+        // The source keeps its own submaps: the map it is handed is not read.
+        let geometry =
+            occgrid::geometry::GridGeometry::new(64, 64, s.resolution, 0.0, 0.0).unwrap();
+        let filter = FilterSettings {
+            prior: 0.5,
+            clamp: s.clamp,
+        };
+        let empty = TiledGrid::new(geometry, filter, 64 * 64).unwrap();
         for k in 0..log.len() {
             let scan = log.scan(k).unwrap();
             let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);

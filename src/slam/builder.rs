@@ -231,7 +231,7 @@ impl SlamBuilder {
                 .edges
                 .push(Edge::new(k - 1, k, motion, sigma, false));
         }
-        if k % LOOP_EVERY == 0 {
+        if k.is_multiple_of(LOOP_EVERY) {
             self.search_loops(k, scan, laser_max);
         }
         let last = k + 1 == self.odometry.len();
@@ -255,7 +255,9 @@ impl SlamBuilder {
                 .push(Submap::start(k, local, reach, self.resolution)?);
         }
         let placed = scan.with_pose(*local)?;
+        let reach = self.matcher.settings().max_range.min(laser_max);
         for s in self.submaps.iter_mut().filter(|s| s.grid.is_some()) {
+            s.cover(&placed, reach);
             if let Some(grid) = s.grid.as_mut() {
                 let stats = self.inserter.insert(grid, &placed, laser_max);
                 self.work += stats.cells_updated as u64;

@@ -26,6 +26,10 @@
 //! budget, so an optimisation spread over budgeted calls ends bit for bit
 //! where one call ends.
 
+// The block and envelope loops index rows and columns as the matrix
+// algebra writes them.
+#![allow(clippy::needless_range_loop)]
+
 use crate::geometry::{wrap_angle, Pose};
 use crate::mapping::scan_match::relative_motion;
 

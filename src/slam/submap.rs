@@ -10,6 +10,7 @@ use super::loop_search::LoopGrid;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::{FilterSettings, TiledGrid};
+use crate::sensors::Scan;
 
 /// Most cells across a submap's grid (its tiles are allocated only where
 /// beams reach).
@@ -27,6 +28,9 @@ pub struct Submap {
     pub last: usize,
     pub grid: Option<TiledGrid>,
     pub finished: Option<LoopGrid>,
+    /// The box its scans' poses and beam ends span (world, metres): the
+    /// only cells a finished grid is read over.
+    bounds: [f64; 4],
 }
 
 impl Submap {
@@ -46,7 +50,27 @@ impl Submap {
             last: anchor,
             grid: Some(TiledGrid::new(geometry, filter, side * side)?),
             finished: None,
+            bounds: [pose.x, pose.y, pose.x, pose.y],
         })
+    }
+
+    /// Widens the box to `scan` at its pose, each beam cut at `reach`
+    /// metres (the insertion's cap; a no-return clears no further).
+    pub fn cover(&mut self, scan: &Scan, reach: f64) {
+        let p = scan.pose();
+        let b = &mut self.bounds;
+        let mut widen = |x: f64, y: f64| {
+            b[0] = b[0].min(x);
+            b[1] = b[1].min(y);
+            b[2] = b[2].max(x);
+            b[3] = b[3].max(y);
+        };
+        widen(p.x, p.y);
+        for (r, a) in scan.ranges().iter().zip(scan.bearings()) {
+            let r = if r.is_finite() { r.min(reach) } else { reach };
+            let (s, c) = (p.theta + a).sin_cos();
+            widen(p.x + c * r, p.y + s * r);
+        }
     }
 
     /// The grid kept as bytes over the box of its known cells; the grid
@@ -57,10 +81,24 @@ impl Submap {
         };
         let g = *grid.geometry();
         let (w, h) = (g.width(), g.height());
+        // The box's cells, a cell and the wall's thickness wider.
+        let res = g.resolution();
+        let [ox, oy] = g.origin();
+        let cell =
+            |v: f64, o: f64, n: usize| (((v - o) / res).floor().max(0.0) as usize).min(n - 1);
+        let pad = 0.5;
+        let (cx0, cy0) = (
+            cell(self.bounds[0] - pad, ox, w),
+            cell(self.bounds[1] - pad, oy, h),
+        );
+        let (cx1, cy1) = (
+            cell(self.bounds[2] + pad, ox, w),
+            cell(self.bounds[3] + pad, oy, h),
+        );
         let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
         let mut known = Vec::new();
-        for iy in 0..h {
-            for ix in 0..w {
+        for iy in cy0..=cy1 {
+            for ix in cx0..=cx1 {
                 if grid.updates_at(ix, iy).is_some_and(|u| u > 0) {
                     x0 = x0.min(ix);
                     y0 = y0.min(iy);
@@ -93,8 +131,6 @@ impl Submap {
                 known.push(byte);
             }
         }
-        let res = g.resolution();
-        let [ox, oy] = g.origin();
         self.finished = Some(LoopGrid {
             origin: [ox + x0 as f64 * res, oy + y0 as f64 * res],
             resolution: res,
