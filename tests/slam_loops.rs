@@ -156,3 +156,63 @@ fn a_corridor_loop_with_drift_closes_and_one_seed_gives_one_path() {
     };
     assert_eq!(bits(b.poses()), bits(again.poses()));
 }
+
+/// The ring's scans as a log: the true poses as its reference, no
+/// odometry of its own (so the sources dead-reckon from the seed).
+fn ring_log(scans: &[Scan]) -> occgrid::sensors::ScanLog {
+    let mut log = occgrid::sensors::ScanLog::new("scan");
+    for (k, s) in scans.iter().enumerate() {
+        let record = occgrid::sensors::ScanRecord {
+            origin: k + 1,
+            stamp: None,
+            pose: s.pose(),
+            odometry: None,
+            ranges: s.ranges(),
+            first_bearing: s.bearings()[0],
+            bearing_step: s.bearings()[1] - s.bearings()[0],
+            max_range: Some(20.0),
+        };
+        log.push(&record, usize::MAX).unwrap();
+    }
+    log
+}
+
+/// A real-log pane at SLAM poses ends with the map of every scan at the
+/// final, optimised poses: bit for bit the map inserted afresh at them
+/// (its map was rebuilt after each optimisation, not left at the poses
+/// each scan was first put at).
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
+)]
+fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
+    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::mapping::insertion::ScanInserter;
+    use occgrid::poses::PoseSourceKind;
+    let world = ring_world();
+    let truth = route();
+    let log = ring_log(&scans(&world, &truth));
+    let settings = LogMapSettings {
+        poses: PoseSourceKind::Slam,
+        model: LogCellModel::LogOdds,
+        ..LogMapSettings::default()
+    };
+    let mut pane = LogPane::new(log.clone(), settings).unwrap();
+    let progress = pane.advance(usize::MAX);
+    assert!(progress.finished && pane.failure().is_none());
+    let optimised = pane.poses().to_vec();
+    let mut fresh = pane.grid().to_dense().unwrap();
+    fresh.reset();
+    let mut inserter = ScanInserter::new(settings.scan_insertion()).unwrap();
+    for (k, pose) in optimised.iter().enumerate() {
+        let scan = log.scan(k).unwrap().with_pose(*pose).unwrap();
+        inserter.insert(&mut fresh, &scan, 20.0);
+    }
+    let built = pane.grid().to_dense().unwrap();
+    assert_eq!(built.log_odds(), fresh.log_odds());
+    // And the poses moved after they were first found: dead reckoning
+    // wandered, and the loop pulled them back.
+    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
+    assert!(rms(&optimised, &truth) < 0.5 * rms(&odometry, &truth));
+}

@@ -11,7 +11,7 @@
 //! motion between them; loop closures and the optimiser move the nodes.
 //!
 //! Every `LOOP_EVERY`-th scan is searched against the finished submaps
-//! near it ([`LoopGrid::search`]), within a window that grows with the
+//! near it ([`super::loop_search::LoopGrid::search`]), within a window that grows with the
 //! distance travelled since the last closure (the drift the odometry and
 //! the local matching may have gathered). A match above the least score
 //! is only a candidate: it becomes an edge once a second candidate of a
