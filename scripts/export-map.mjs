@@ -2,7 +2,7 @@
 // under Node and writes it as a ROS map_server pair:
 //
 //   npm run export-map -- LOG OUT_PREFIX [--resolution M]
-//     [--poses corrected|dead-reckoning|scan-matched|odometry] [--seed N]
+//     [--poses corrected|dead-reckoning|scan-matched|odometry|slam] [--seed N]
 //     [--scan-topic T] [--odom-topic T]
 //     [--model hit-counting|log-odds|hit-miss-odds]
 //
@@ -23,7 +23,10 @@
 // map); `--poses scan-matched` starts from the same dead reckoning (or from
 // the log's own odometry, where its odometry fields differ from its
 // corrected poses) and corrects each scan's pose by matching the scan
-// against the map built so far, before integrating it. `--model` chooses
+// against the map built so far, before integrating it; `--poses slam` starts
+// from the same odometry, matches each scan against a submap of recent scans,
+// closes loops against finished submaps and optimises the pose graph (the map
+// is built again at the optimised poses, which poses.tsv holds). `--model` chooses
 // what a cell believes: hit-counting (the default: GMapping's hits and
 // visits), log-odds (Table 9.2's filter with the chapter's clamp) or
 // hit-miss-odds (Cartographer's odds tables).
@@ -38,7 +41,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { loadCore } from './lib/load-core.mjs';
 
-const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched|odometry] [--seed N] [--model hit-counting|log-odds|hit-miss-odds] [--scan-topic T] [--odom-topic T]';
+const USAGE = 'usage: npm run export-map -- LOG OUT_PREFIX [--resolution M] [--no-return-reach M] [--walls incidence|table-9.2] [--poses corrected|dead-reckoning|scan-matched|odometry|slam] [--seed N] [--model hit-counting|log-odds|hit-miss-odds] [--scan-topic T] [--odom-topic T]';
 
 /**
  * A number option's value: the text as given must be a decimal number
@@ -95,7 +98,7 @@ function parseArgs(argv) {
       settings.walls = text;
     } else if (is(a, '--poses')) {
       let text;
-      [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning, scan-matched or odometry');
+      [text, i] = optionText(argv, i, '--poses', 'corrected, dead-reckoning, scan-matched, odometry or slam');
       // The core names the field and the value it refuses.
       settings.poses = text;
     } else if (is(a, '--scan-topic')) {
@@ -170,7 +173,7 @@ async function main() {
     const c = session.counts(0);
     console.log(JSON.stringify({
       log, warning: read.warning ?? undefined, poses: settings.poses ?? 'corrected', model: state.settings.model,
-      seed: ['dead-reckoning', 'scan-matched'].includes(settings.poses) ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
+      seed: ['dead-reckoning', 'scan-matched', 'slam'].includes(settings.poses) ? (settings.seed ?? core.RealLogSession.defaultSettings().seed) : undefined, scans: built.scansTotal, beams: built.beams, cell_updates: built.cellUpdates,
       width: g.width, height: g.height, resolution: g.resolution, origin: [g.originX, g.originY],
       // Memory follows what the beams reached: cells allocated in tiles, of the bounding box.
       cells_allocated: built.cellsAllocated, bytes_allocated: built.bytesAllocated, cells: built.cells,

@@ -12,6 +12,7 @@
 //! * [`grid`] — the log-odds map (Table 9.1's state), entropy, Brier score, counts.
 //! * [`inverse`] — inverse sensor models: Table 9.2 and the learned one (§9.3).
 //! * [`mapping`] — traversal, the one scan insertion of a log, the literal sweep, MAP search (Table 9.3), joint, fusion (eq. 9.9), scan matching.
+//! * [`slam`] — submaps, loop search by branch and bound, the pose graph and its optimiser.
 //! * [`poses`] — pose sources: where each scan of a log is put (the log's own poses, dead reckoning, scan matching).
 //! * [`render`] — the gray ramp and the incremental map view.
 //! * [`io`] — logs in (one reader per format behind one interface, CARMEN's first), ROS `map_server` maps out.
@@ -35,6 +36,7 @@ pub mod poses;
 pub mod render;
 pub mod scenes;
 pub mod sensors;
+pub mod slam;
 pub mod world;
 
 #[cfg(target_arch = "wasm32")]

@@ -9,9 +9,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// Lowest first; `bindings` may use everything.
-const LAYERS: [&str; 14] = [
-    "error", "geometry", "world", "sensors", "scenes", "grid", "inverse", "mapping", "poses",
-    "render", "io", "apps", "bench", "bindings",
+const LAYERS: [&str; 15] = [
+    "error", "geometry", "world", "sensors", "scenes", "grid", "inverse", "mapping", "slam",
+    "poses", "render", "io", "apps", "bench", "bindings",
 ];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {

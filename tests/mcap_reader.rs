@@ -18,7 +18,10 @@ fn bad_magic_is_refused_with_the_bytes_found() {
     let (mut bag, _) = robot_bag(&BagSpec::default());
     bag[5] = b'9';
     let e = refusal(bag);
-    assert!(e.contains("magic bytes") && e.contains("first 8 bytes"), "{e}");
+    assert!(
+        e.contains("magic bytes") && e.contains("first 8 bytes"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -27,7 +30,10 @@ fn a_length_past_the_end_of_a_whole_file_is_refused_by_record_and_byte() {
     // The Header record at byte 8: its length made huge.
     bag[9..17].copy_from_slice(&(1u64 << 60).to_le_bytes());
     let e = refusal(bag);
-    assert!(e.contains("Header record at byte 8") && e.contains("runs past"), "{e}");
+    assert!(
+        e.contains("Header record at byte 8") && e.contains("runs past"),
+        "{e}"
+    );
     // A string inside a record that claims more than the record holds.
     let mut w = Writer::new(Compression::Unchunked);
     w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
@@ -36,7 +42,10 @@ fn a_length_past_the_end_of_a_whole_file_is_refused_by_record_and_byte() {
     let name_len = schema_at + 9 + 2;
     bag[name_len..name_len + 4].copy_from_slice(&u32::MAX.to_le_bytes());
     let e = refusal(bag);
-    assert!(e.contains(&format!("Schema record at byte {schema_at}")) && e.contains("name"), "{e}");
+    assert!(
+        e.contains(&format!("Schema record at byte {schema_at}")) && e.contains("name"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -45,13 +54,21 @@ fn a_crc_mismatch_is_refused_for_a_chunk_and_the_summary() {
     w.lie_chunk_crc = Some(0x1234_5678);
     w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
     let e = refusal(w.finish(false));
-    assert!(e.contains("Chunk record at byte") && e.contains("fails its CRC") && e.contains("0x12345678"), "{e}");
+    assert!(
+        e.contains("Chunk record at byte")
+            && e.contains("fails its CRC")
+            && e.contains("0x12345678"),
+        "{e}"
+    );
     let (mut bag, _) = robot_bag(&BagSpec::default());
     let n = bag.len();
     // The last byte of the summary section's Statistics record.
     bag[n - 8 - 29 - 1] ^= 0xff;
     let e = refusal(bag);
-    assert!(e.contains("Footer record at byte") && e.contains("fails its CRC"), "{e}");
+    assert!(
+        e.contains("Footer record at byte") && e.contains("fails its CRC"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -62,13 +79,19 @@ fn a_chunk_bomb_is_refused_before_inflating_or_at_its_stated_size() {
         w.lie_chunk_size = Some(1 << 40);
         w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
         let e = refusal(w.finish(false));
-        assert!(e.contains("uncompressed_size 1099511627776 is over"), "{compression:?}: {e}");
+        assert!(
+            e.contains("uncompressed_size 1099511627776 is over"),
+            "{compression:?}: {e}"
+        );
         // States 10 bytes and inflates to more: cut at 11.
         let mut w = Writer::new(compression);
         w.lie_chunk_size = Some(10);
         w.schema(1, "sensor_msgs/msg/LaserScan", &"#\n".repeat(1 << 20));
         let e = refusal(w.finish(false));
-        assert!(e.contains("inflate past the uncompressed_size of 10 bytes"), "{compression:?}: {e}");
+        assert!(
+            e.contains("inflate past the uncompressed_size of 10 bytes"),
+            "{compression:?}: {e}"
+        );
     }
 }
 
@@ -79,9 +102,17 @@ fn a_schema_that_lies_about_its_fields_is_refused_at_its_first_message() {
     let lying = laser_scan_def().replace("float32 range_min\nfloat32 range_max\n", "");
     w.schema(1, "sensor_msgs/msg/LaserScan", &lying);
     w.channel(1, 1, "/scan");
-    w.message(1, 1.0, &laser_scan(false, 1.0, "laser", 0.0, 0.1, 8.0, &[1.0; 10]));
+    w.message(
+        1,
+        1.0,
+        &laser_scan(false, 1.0, "laser", 0.0, 0.1, 8.0, &[1.0; 10]),
+    );
     let e = refusal(w.finish(false));
-    assert!(e.contains("Message record at byte") && e.contains("its schema defines sensor_msgs/LaserScan as"), "{e}");
+    assert!(
+        e.contains("Message record at byte")
+            && e.contains("its schema defines sensor_msgs/LaserScan as"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -89,9 +120,16 @@ fn a_million_element_ranges_array_is_refused_by_count() {
     let mut w = Writer::new(Compression::Zstd);
     w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
     w.channel(1, 1, "/scan");
-    w.message(1, 1.0, &laser_scan(false, 1.0, "laser", 0.0, 1e-5, 8.0, &vec![1.0; 1_000_000]));
+    w.message(
+        1,
+        1.0,
+        &laser_scan(false, 1.0, "laser", 0.0, 1e-5, 8.0, &vec![1.0; 1_000_000]),
+    );
     let e = refusal(w.finish(false));
-    assert!(e.contains("ranges: 1000000 elements, more than the 10000"), "{e}");
+    assert!(
+        e.contains("ranges: 1000000 elements, more than the 10000"),
+        "{e}"
+    );
     // A count past the message's end, without the readings.
     let mut w = Writer::new(Compression::Unchunked);
     w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
@@ -111,12 +149,20 @@ fn stamps_running_backwards_are_refused_by_message() {
         ..BagSpec::default()
     });
     let e = refusal(bag);
-    assert!(e.contains("runs backwards") && e.contains("topic \"/scan\""), "{e}");
+    assert!(
+        e.contains("runs backwards") && e.contains("topic \"/scan\""),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_bag_cut_short_keeps_the_scans_before_the_cut_with_a_warning() {
-    for compression in [Compression::Unchunked, Compression::None, Compression::Zstd, Compression::Lz4] {
+    for compression in [
+        Compression::Unchunked,
+        Compression::None,
+        Compression::Zstd,
+        Compression::Lz4,
+    ] {
         let spec = BagSpec {
             compression,
             scans: 40,
@@ -132,9 +178,16 @@ fn a_bag_cut_short_keeps_the_scans_before_the_cut_with_a_warning() {
             }
         };
         let w = progress.warning.unwrap();
-        assert!(w.contains(&format!("it ends at byte {cut}")), "{compression:?}: {w}");
+        assert!(
+            w.contains(&format!("it ends at byte {cut}")),
+            "{compression:?}: {w}"
+        );
         let scans = source.scans();
-        assert!(scans.len() > 5 && scans.len() < 40, "{compression:?}: {}", scans.len());
+        assert!(
+            scans.len() > 5 && scans.len() < 40,
+            "{compression:?}: {}",
+            scans.len()
+        );
         for (p, t) in scans.poses().iter().zip(&truth) {
             assert!((p.x - t[0]).abs() < 1e-6, "{compression:?}");
         }
@@ -164,7 +217,10 @@ fn a_data_section_crc_mismatch_is_refused_at_the_data_end_record() {
     let at = bag.windows(6).position(|w| w == b"occgri").unwrap();
     bag[at] = b'O';
     let e = refusal(bag);
-    assert!(e.contains("Data End record at byte") && e.contains("fails its CRC"), "{e}");
+    assert!(
+        e.contains("Data End record at byte") && e.contains("fails its CRC"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -178,5 +234,8 @@ fn a_footer_whose_summary_points_into_the_data_is_refused() {
     let footer = n - 8 - 29;
     bag[footer + 9..footer + 17].copy_from_slice(&8u64.to_le_bytes());
     let e = refusal(bag);
-    assert!(e.contains("Header record at byte 8") && e.contains("summary_start points at it"), "{e}");
+    assert!(
+        e.contains("Header record at byte 8") && e.contains("summary_start points at it"),
+        "{e}"
+    );
 }

@@ -12,7 +12,11 @@ use occgrid::io::{open_log, read_log, LogBudget, LogFormat};
 use occgrid::poses::{PoseSourceKind, SourceSettings};
 use occgrid::sensors::ScanLog;
 
-fn read_all(bytes: Vec<u8>, scan: Option<&str>, odom: Option<&str>) -> occgrid::Result<(ScanLog, Option<String>)> {
+fn read_all(
+    bytes: Vec<u8>,
+    scan: Option<&str>,
+    odom: Option<&str>,
+) -> occgrid::Result<(ScanLog, Option<String>)> {
     let mut source = open_log(bytes, LogBudget::default())?;
     assert_eq!(source.format(), LogFormat::Mcap);
     source.choose_topics(scan.map(Into::into), odom.map(Into::into))?;
@@ -36,7 +40,12 @@ fn assert_at_truth(scans: &ScanLog, truth: &[[f64; 3]]) {
 
 #[test]
 fn every_storage_and_byte_order_places_the_scans_at_the_truth() {
-    for compression in [Compression::Unchunked, Compression::None, Compression::Zstd, Compression::Lz4] {
+    for compression in [
+        Compression::Unchunked,
+        Compression::None,
+        Compression::Zstd,
+        Compression::Lz4,
+    ] {
         for big_endian in [false, true] {
             for summary in [false, true] {
                 let spec = BagSpec {
@@ -67,7 +76,10 @@ fn a_chain_and_a_yawed_mount_move_the_laser_off_the_odometry() {
     assert_at_truth(&scans, &truth);
     let m = scans.mount();
     // base_footprint → base_link (0.05 m ahead) → laser.
-    assert!((m.x - 0.35).abs() < 1e-9 && (m.y - 0.1).abs() < 1e-9 && (m.theta - 0.7).abs() < 1e-9, "{m:?}");
+    assert!(
+        (m.x - 0.35).abs() < 1e-9 && (m.y - 0.1).abs() < 1e-9 && (m.theta - 0.7).abs() < 1e-9,
+        "{m:?}"
+    );
 }
 
 #[test]
@@ -93,13 +105,24 @@ fn other_topic_names_map_and_several_topics_need_a_choice() {
     };
     let (bag, truth) = robot_bag(&spec);
     let e = read_all(bag.clone(), None, None).unwrap_err().to_string();
-    assert!(e.contains("\"/front/scan\" (\"sensor_msgs/msg/LaserScan\", 12 messages)") && e.contains("\"/rear/scan\"") && e.contains("scan_topic"), "{e}");
+    assert!(
+        e.contains("\"/front/scan\" (\"sensor_msgs/msg/LaserScan\", 12 messages)")
+            && e.contains("\"/rear/scan\"")
+            && e.contains("scan_topic"),
+        "{e}"
+    );
     let (scans, _) = read_all(bag.clone(), Some("/rear/scan"), None).unwrap();
     assert_at_truth(&scans, &truth);
     let e = read_all(bag, Some("/nope"), None).unwrap_err().to_string();
-    assert!(e.contains("\"/nope\"") && e.contains("\"/wheel/odom\" (\"nav_msgs/msg/Odometry\""), "{e}");
+    assert!(
+        e.contains("\"/nope\"") && e.contains("\"/wheel/odom\" (\"nav_msgs/msg/Odometry\""),
+        "{e}"
+    );
     // Without a summary the choice is refused once the messages are read.
-    let (bag, _) = robot_bag(&BagSpec { summary: false, ..spec });
+    let (bag, _) = robot_bag(&BagSpec {
+        summary: false,
+        ..spec
+    });
     let e = read_all(bag, None, None).unwrap_err().to_string();
     assert!(e.contains("2 sensor_msgs/msg/LaserScan topics"), "{e}");
 }
@@ -111,7 +134,12 @@ fn a_bag_without_laser_scans_is_refused_with_its_topics() {
         ..BagSpec::default()
     });
     let e = read_all(bag, None, None).unwrap_err().to_string();
-    assert!(e.contains("no sensor_msgs/msg/LaserScan topic") && e.contains("\"/odom\" (\"nav_msgs/msg/Odometry\"") && e.contains("\"/tf_static\""), "{e}");
+    assert!(
+        e.contains("no sensor_msgs/msg/LaserScan topic")
+            && e.contains("\"/odom\" (\"nav_msgs/msg/Odometry\"")
+            && e.contains("\"/tf_static\""),
+        "{e}"
+    );
 }
 
 #[test]
@@ -136,7 +164,10 @@ fn rep_117_readings_are_no_returns_at_range_max_and_a_negative_step_is_kept() {
     assert!(scan.bearings()[1] < scan.bearings()[0]);
     // NaN and 0.01 m (below range_min 0.05 m): 2 of each 5 beams.
     let w = warning.unwrap();
-    assert!(w.contains(&format!("{} readings are no measurement", 2 * 18 * 12)), "{w}");
+    assert!(
+        w.contains(&format!("{} readings are no measurement", 2 * 18 * 12)),
+        "{w}"
+    );
 }
 
 #[test]
@@ -149,7 +180,12 @@ fn scans_without_odometry_around_them_are_skipped_by_name_or_refused() {
     assert_at_truth(&scans, &truth);
     let w = warning.unwrap();
     // Messages: the static transforms, then scan 0.
-    assert!(w.contains("3 scans with no odometry around their stamps are skipped (the first is message 2)"), "{w}");
+    assert!(
+        w.contains(
+            "3 scans with no odometry around their stamps are skipped (the first is message 2)"
+        ),
+        "{w}"
+    );
     let (bag, _) = robot_bag(&BagSpec {
         odom_from: 12,
         ..BagSpec::default()
@@ -189,12 +225,20 @@ fn a_scan_frame_no_transform_reaches_is_refused_naming_both_frames() {
     for k in 0..3 {
         let t = 10.0 + k as f64;
         w.message(2, t - 0.5, &odometry(false, t - 0.5, "base_link", [0.0; 3]));
-        w.message(1, t, &laser_scan(false, t, "lidar\u{7}", 0.0, 0.1, 8.0, &[1.0; 5]));
+        w.message(
+            1,
+            t,
+            &laser_scan(false, t, "lidar\u{7}", 0.0, 0.1, 8.0, &[1.0; 5]),
+        );
         w.message(2, t + 0.5, &odometry(false, t + 0.5, "base_link", [0.0; 3]));
     }
-    let e = read_all(w.finish(true), None, None).unwrap_err().to_string();
+    let e = read_all(w.finish(true), None, None)
+        .unwrap_err()
+        .to_string();
     assert!(
-        e.contains("no frame \"base_link\"") && e.contains("frame \"lidar?\"") && e.contains("static transforms: none"),
+        e.contains("no frame \"base_link\"")
+            && e.contains("frame \"lidar?\"")
+            && e.contains("static transforms: none"),
         "{e}"
     );
 }

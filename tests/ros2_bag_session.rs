@@ -46,5 +46,8 @@ fn a_bag_maps_at_its_odometry_and_scan_matched_alone() {
 fn a_bag_at_corrected_poses_is_refused_by_name() {
     let mut s = session(PoseSourceKind::Corrected);
     let e = read_and_build(&mut s).unwrap_err().to_string();
-    assert!(e.contains("the pose source corrected does not apply"), "{e}");
+    assert!(
+        e.contains("the pose source corrected does not apply"),
+        "{e}"
+    );
 }

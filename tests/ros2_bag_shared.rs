@@ -36,7 +36,8 @@ fn gunzip(bytes: &[u8]) -> Vec<u8> {
 
 #[test]
 fn intel_perfect_bag_puts_each_scan_at_the_corrected_logs_laser_pose() {
-    let (Some(bag), Some(log)) = (read("intel-perfect.mcap"), read("intel-corrected.log.gz")) else {
+    let (Some(bag), Some(log)) = (read("intel-perfect.mcap"), read("intel-corrected.log.gz"))
+    else {
         return;
     };
     let t = Instant::now();
@@ -49,11 +50,19 @@ fn intel_perfect_bag_puts_each_scan_at_the_corrected_logs_laser_pose() {
     let mut worst = (0.0f64, 0.0f64);
     for (a, b) in scans.poses().iter().zip(carmen.poses()) {
         worst.0 = worst.0.max((a.x - b.x).hypot(a.y - b.y));
-        worst.1 = worst.1.max(occgrid::geometry::wrap_angle(a.theta - b.theta).abs());
+        worst.1 = worst
+            .1
+            .max(occgrid::geometry::wrap_angle(a.theta - b.theta).abs());
     }
-    assert!(worst.0 < 1e-3 && worst.1 < 1e-3, "worst pose difference {worst:?}");
+    assert!(
+        worst.0 < 1e-3 && worst.1 < 1e-3,
+        "worst pose difference {worst:?}"
+    );
     let m = scans.mount();
-    assert!((m.x - 0.20).abs() < 1e-9 && (m.y + 0.05).abs() < 1e-9, "mount {m:?}");
+    assert!(
+        (m.x - 0.20).abs() < 1e-9 && (m.y + 0.05).abs() < 1e-9,
+        "mount {m:?}"
+    );
 }
 
 #[test]

@@ -877,6 +877,6 @@ export class RealLogPanel {
   exportMap() {
     if (!this.session || !this.geometry) return;
     const stem = this.session.exportStem(MAIN, this.name);
-    return exportMap(this.root, stem, () => this.session.exportMap(MAIN, stem), 'export: ');
+    return exportMap(this.root, stem, () => this.session.exportMap(MAIN, stem, this.name), 'export: ');
   }
 }

@@ -91,7 +91,11 @@ impl RealLogSession {
     /// topic), each a string, or `undefined` / `null` for the bag's only
     /// one.
     #[wasm_bindgen(js_name = chooseTopics)]
-    pub fn choose_topics(&mut self, scan_topic: JsValue, odom_topic: JsValue) -> Result<(), JsError> {
+    pub fn choose_topics(
+        &mut self,
+        scan_topic: JsValue,
+        odom_topic: JsValue,
+    ) -> Result<(), JsError> {
         let topic = |field: &str, v: &JsValue| -> Result<Option<String>, JsError> {
             if v.is_undefined() || v.is_null() {
                 Ok(None)

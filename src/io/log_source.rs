@@ -133,7 +133,11 @@ pub trait LogSource {
     /// has topics (a ROS 2 bag: its LaserScan and its Odometry topic);
     /// `None` leaves the reader to take the only one. A format without
     /// topics refuses a name.
-    fn choose_topics(&mut self, scan_topic: Option<String>, odom_topic: Option<String>) -> Result<()> {
+    fn choose_topics(
+        &mut self,
+        scan_topic: Option<String>,
+        odom_topic: Option<String>,
+    ) -> Result<()> {
         match scan_topic.or(odom_topic) {
             None => Ok(()),
             Some(t) => Err(OccError::State(format!(

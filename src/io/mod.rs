@@ -8,8 +8,8 @@ pub mod gzip;
 pub mod log_source;
 pub mod map_server;
 pub mod mcap;
-pub mod ros2;
 mod open;
+pub mod ros2;
 
 pub use log_source::{LoadProgress, LogBudget, LogFormat, LogSource, MAX_KEPT_BYTES};
 pub use open::{open_log, read_log};

@@ -2,8 +2,8 @@
 //! knows every format's reader ([`open_log`]).
 
 use super::carmen;
-use super::ros2;
 use super::log_source::{LogBudget, LogFormat, LogSource};
+use super::ros2;
 use crate::error::Result;
 use crate::sensors::ScanLog;
 use std::io::Cursor;

@@ -11,6 +11,7 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     menu: "corrected (the log\u{2019}s)",
     caption: &["Corrected poses (the log\u{2019}s own)"],
     described: None,
+    provenance: &["corrected (the log's own poses)"],
     export_suffix: None,
     beside: &[],
 };

@@ -18,6 +18,10 @@ pub(super) const INFO: SourceInfo = SourceInfo {
         "dead-reckoning (seed ",
         "): the log's motion with the odometry noise of Table 5.6, not its corrected poses",
     ]),
+    provenance: &[
+        "dead-reckoning (odometry simulated: the log's motion with Table 5.6's noise, seed ",
+        ")",
+    ],
     export_suffix: Some("dead-reckoning"),
     beside: &[PoseSourceKind::Corrected],
 };

@@ -12,6 +12,8 @@
 //!   ([`crate::mapping::scan_match`]);
 //! - `odometry`: the log's own odometry (a ROS 2 bag's), where it has
 //!   some;
+//! - `slam`: scan matching against submaps with loops closed and a pose
+//!   graph optimised ([`crate::slam`]);
 //! - `matched_path`: that source with a map of its own, for a caller
 //!   without one.
 //!
@@ -27,11 +29,13 @@ mod dead_reckoning;
 mod matched_path;
 mod odometry;
 mod scan_matched;
+mod slam;
 
 pub use matched_path::{MatchedPath, StepReport};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
+pub use slam::Slam;
 
 use crate::error::{invalid, Result};
 use crate::geometry::Pose;
@@ -96,6 +100,13 @@ pub trait PoseSource {
     fn matching(&self) -> Option<&ScanMatching> {
         None
     }
+
+    /// Raised each time the poses of scans already located change (a
+    /// SLAM source's optimisation): a map built at the old poses must be
+    /// built again. Sources whose poses never change once found stay at 0.
+    fn revision(&self) -> u64 {
+        0
+    }
 }
 
 /// What a source is started with besides the log.
@@ -136,6 +147,11 @@ pub enum PoseSourceKind {
     /// stamp), where it has odometry of its own.
     #[serde(rename = "odometry")]
     Odometry,
+    /// SLAM: dead reckoning (or the log's own odometry) matched against
+    /// submaps of recent scans, loops closed and the pose graph optimised
+    /// ([`crate::slam`]).
+    #[serde(rename = "slam")]
+    Slam,
 }
 
 /// What the registry knows of one pose source.
@@ -152,6 +168,10 @@ pub struct SourceInfo {
     /// its YAML; the seed written between the pieces), or `None` for the
     /// log's own.
     pub described: Option<&'static [&'static str]>,
+    /// How the poses were found, for the provenance lines of an exported
+    /// map's YAML (the seed written between the pieces): a simulated
+    /// odometry says so, with its seed.
+    pub provenance: &'static [&'static str],
     /// What an exported map's file name adds for these poses
     /// (`intel-dead-reckoning-map`), or `None` for the log's own.
     pub export_suffix: Option<&'static str>,
@@ -162,14 +182,21 @@ pub struct SourceInfo {
 
 impl PoseSourceKind {
     /// Every source, in the order a page lists them.
-    pub const ALL: [PoseSourceKind; 4] = [
+    pub const ALL: [PoseSourceKind; 5] = [
         Self::Corrected,
         Self::DeadReckoning,
         Self::ScanMatched,
         Self::Odometry,
+        Self::Slam,
     ];
     /// The names a page and the CLI use, in the order of [`Self::ALL`].
-    pub const NAMES: [&'static str; 4] = ["corrected", "dead-reckoning", "scan-matched", "odometry"];
+    pub const NAMES: [&'static str; 5] = [
+        "corrected",
+        "dead-reckoning",
+        "scan-matched",
+        "odometry",
+        "slam",
+    ];
 
     /// The registry entry of this source.
     pub fn info(self) -> &'static SourceInfo {
@@ -178,6 +205,7 @@ impl PoseSourceKind {
             Self::DeadReckoning => &dead_reckoning::INFO,
             Self::ScanMatched => &scan_matched::INFO,
             Self::Odometry => &odometry::INFO,
+            Self::Slam => &slam::INFO,
         }
     }
 
@@ -205,6 +233,12 @@ impl PoseSourceKind {
         Some(with_seed(self.info().described?, seed))
     }
 
+    /// How these poses were found, with `seed` where the source draws
+    /// from one ([`SourceInfo::provenance`]).
+    pub fn provenance(self, seed: u64) -> String {
+        with_seed(self.info().provenance, seed)
+    }
+
     /// The panes a session shows when the reader maps at `chosen`: that
     /// source's map first (the one operated: hover, zoom, export), then
     /// the maps of the sources it is compared with.
@@ -223,6 +257,7 @@ impl PoseSourceKind {
             Self::DeadReckoning => Box::new(dead_reckoning::DeadReckoning::new(log, settings)),
             Self::ScanMatched => Box::new(scan_matched::ScanMatching::start(log, settings)?),
             Self::Odometry => Box::new(odometry::OwnOdometry::new(log, settings)?),
+            Self::Slam => Box::new(slam::Slam::start(log, settings)?),
         })
     }
 

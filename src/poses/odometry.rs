@@ -14,9 +14,8 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     name: "odometry",
     menu: "odometry (the log\u{2019}s own)",
     caption: &["Odometry (the log\u{2019}s own)"],
-    described: Some(&[
-        "odometry: the log's own odometry, not corrected poses",
-    ]),
+    described: Some(&["odometry: the log's own odometry, not corrected poses"]),
+    provenance: &["odometry (the log's own odometry, as recorded)"],
     export_suffix: Some("odometry"),
     beside: &[],
 };

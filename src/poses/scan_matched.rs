@@ -24,6 +24,10 @@ pub(super) const INFO: SourceInfo = SourceInfo {
     ]),
     // The corrected map for comparison, and the dead-reckoned one it
     // started from (the same seed).
+    provenance: &[
+        "scan-matched (from odometry simulated with Table 5.6's noise, seed ",
+        ", or the log's own odometry where it differs from its corrected poses)",
+    ],
     export_suffix: Some("scan-matched"),
     beside: &[PoseSourceKind::Corrected, PoseSourceKind::DeadReckoning],
 };

@@ -118,7 +118,10 @@ impl Writer {
         let (name, stored) = match self.compression {
             Compression::Zstd => (
                 "zstd",
-                ruzstd::encoding::compress_to_vec(&records[..], ruzstd::encoding::CompressionLevel::Fastest),
+                ruzstd::encoding::compress_to_vec(
+                    &records[..],
+                    ruzstd::encoding::CompressionLevel::Fastest,
+                ),
             ),
             Compression::Lz4 => {
                 let mut enc = lz4_flex::frame::FrameEncoder::new(Vec::new());
@@ -130,7 +133,12 @@ impl Writer {
         let mut b = Vec::new();
         b.extend_from_slice(&0u64.to_le_bytes());
         b.extend_from_slice(&0u64.to_le_bytes());
-        b.extend_from_slice(&self.lie_chunk_size.unwrap_or(records.len() as u64).to_le_bytes());
+        b.extend_from_slice(
+            &self
+                .lie_chunk_size
+                .unwrap_or(records.len() as u64)
+                .to_le_bytes(),
+        );
         b.extend_from_slice(&self.lie_chunk_crc.unwrap_or(crc32(&records)).to_le_bytes());
         string(&mut b, name);
         b.extend_from_slice(&(stored.len() as u64).to_le_bytes());
@@ -246,14 +254,21 @@ impl Cdr {
     /// A position and the quaternion of a yaw.
     pub fn planar(&mut self, p: [f64; 3]) -> &mut Self {
         let (s, c) = (p[2] / 2.0).sin_cos();
-        self.f64(p[0]).f64(p[1]).f64(0.3).f64(0.0).f64(0.0).f64(s).f64(c)
+        self.f64(p[0])
+            .f64(p[1])
+            .f64(0.3)
+            .f64(0.0)
+            .f64(0.0)
+            .f64(s)
+            .f64(c)
     }
     pub fn bytes(&self) -> Vec<u8> {
         self.out.clone()
     }
 }
 
-pub const HEADER_DEF: &str = "================================================================================
+pub const HEADER_DEF: &str =
+    "================================================================================
 MSG: std_msgs/Header
 builtin_interfaces/Time stamp
 string frame_id
@@ -306,7 +321,15 @@ Quaternion rotation
 }
 
 /// A LaserScan's CDR.
-pub fn laser_scan(big: bool, t: f64, frame: &str, first: f32, step: f32, max: f32, ranges: &[f32]) -> Vec<u8> {
+pub fn laser_scan(
+    big: bool,
+    t: f64,
+    frame: &str,
+    first: f32,
+    step: f32,
+    max: f32,
+    ranges: &[f32],
+) -> Vec<u8> {
     let mut c = Cdr::new(big);
     c.header(t, frame)
         .f32(first)
@@ -346,7 +369,11 @@ pub fn transforms(big: bool, t: f64, links: &[(&str, &str, [f64; 3])]) -> Vec<u8
 
 pub fn compose(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     let (s, c) = a[2].sin_cos();
-    [a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2]]
+    [
+        a[0] + c * b[0] - s * b[1],
+        a[1] + s * b[0] + c * b[1],
+        a[2] + b[2],
+    ]
 }
 
 /// What a test bag holds.
@@ -423,18 +450,37 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
         id += 1;
     }
     let tf_static = id;
-    w.channel(tf_static, 3, if spec.mount_on_tf { "/tf" } else { "/tf_static" });
+    w.channel(
+        tf_static,
+        3,
+        if spec.mount_on_tf {
+            "/tf"
+        } else {
+            "/tf_static"
+        },
+    );
     let t0 = (spec.stamp)(0);
     let foot = [0.05, 0.0, 0.0];
     let (child, whole) = if spec.chain {
         w.message(
             tf_static,
             t0,
-            &transforms(big, t0, &[("base_link", "laser", spec.mount), ("base_footprint", "base_link", foot)]),
+            &transforms(
+                big,
+                t0,
+                &[
+                    ("base_link", "laser", spec.mount),
+                    ("base_footprint", "base_link", foot),
+                ],
+            ),
         );
         ("base_footprint", compose(foot, spec.mount))
     } else {
-        w.message(tf_static, t0, &transforms(big, t0, &[("base_link", "laser", spec.mount)]));
+        w.message(
+            tf_static,
+            t0,
+            &transforms(big, t0, &[("base_link", "laser", spec.mount)]),
+        );
         ("base_link", spec.mount)
     };
     let mut truth = Vec::new();
@@ -451,7 +497,11 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
         let ranges: Vec<f32> = (0..spec.beams).map(|i| (spec.range)(k, i)).collect();
         let first = -spec.step * (spec.beams as f32 - 1.0) / 2.0;
         for &s in &scan_ids {
-            w.message(s, t, &laser_scan(big, t, "laser", first, spec.step, 8.0, &ranges));
+            w.message(
+                s,
+                t,
+                &laser_scan(big, t, "laser", first, spec.step, 8.0, &ranges),
+            );
         }
         if k >= spec.odom_from {
             truth.push(compose(base_at(t), whole));

@@ -125,7 +125,7 @@ test('Map Weaver’s real-log attributes keep to the core’s table, names and m
   assert.deepEqual(r.models.map((c) => [c.value, c.caption]), [
     ['hit-counting', 'hit counting (GMapping)'], ['log-odds', 'log odds (Table 9.2)'], ['hit-miss-odds', 'hit/miss odds (Cartographer)'],
   ]);
-  assert.deepEqual(r.poses.map((c) => c.value), ['corrected', 'dead-reckoning', 'scan-matched', 'odometry']);
+  assert.deepEqual(r.poses.map((c) => c.value), ['corrected', 'dead-reckoning', 'scan-matched', 'odometry', 'slam']);
   // Each menu lists the session's default first (the attributes' defaults,
   // widgets/lib/defaults.js, are checked against it in constants.test.mjs).
   const d = logs.RealLogSession.defaultSettings();

@@ -89,6 +89,11 @@ pub struct LogPane {
     pub(super) cursor: Option<(usize, usize)>,
     /// The map's counts as exported, kept per tile (`view.rs`).
     pub(super) tally: TileTally,
+    /// The source's revision the map is built at ([`PoseSource::revision`]).
+    revision: u64,
+    /// The work of maps built at poses since revised, so that a build's
+    /// work only grows.
+    earlier_work: u64,
 }
 
 /// What a pose source of a pane is started with under `settings`.
@@ -217,6 +222,8 @@ impl LogPane {
                 let t = map_server::cut_thresholds(model.trinary_cut());
                 TileTally::new(t.occupied_above(), t.free_below())
             },
+            revision: 0,
+            earlier_work: 0,
         })
     }
 
@@ -285,6 +292,22 @@ impl LogPane {
         self.source.reset();
         self.failure = None;
         self.done = 0;
+        self.revision = self.source.revision();
+        self.earlier_work = 0;
+    }
+
+    /// The map built again from the first scan to scan `k` (excluded) at
+    /// the source's revised poses.
+    fn rebuild_before(&mut self, k: usize) {
+        self.revision = self.source.revision();
+        self.earlier_work = self.progress().work - self.source.work();
+        self.map.reset();
+        for j in 0..k {
+            let laser_max = self.scans.max_range(j).unwrap_or(f64::INFINITY);
+            if let Some(scan) = self.scan_at_pose(j) {
+                self.map.insert(&mut self.inserter, &scan, laser_max);
+            }
+        }
     }
 
     /// Heads the build for `scans` integrated scans (a scrub position).
@@ -343,6 +366,9 @@ impl LogPane {
                 let located =
                     self.source
                         .locate(k, &scan, laser_max, self.map.grid().as_match_map());
+                if located.is_ok() && self.source.revision() != self.revision {
+                    self.rebuild_before(k);
+                }
                 match located {
                     Ok(pose) => placed_at(scan, pose),
                     Err(e) => {
@@ -398,7 +424,8 @@ impl LogPane {
             work: work.cell_updates
                 + work.cells_visited / VISITS_PER_UNIT
                 + self.grid().cells_allocated() as u64 * UNITS_PER_NEW_CELL
-                + self.source.work(),
+                + self.source.work()
+                + self.earlier_work,
             beams: work.beams,
             finished: self.done == self.target,
             cells_allocated: self.grid().cells_allocated(),

@@ -36,27 +36,10 @@ impl Provenance<'_> {
         };
         format!(
             "# log: {log}\n# pose source: {}\n# cell model: {}\n# cells drawn: {drawn}\n# settings other than the defaults: {}\n",
-            pose_source(self.source, self.settings.seed),
+            self.source.provenance(self.settings.seed),
             cell_model(self.model, self.settings.clamp),
             changed_settings(self.settings),
         )
-    }
-}
-
-/// The pose source in words; dead reckoning and scan matching say that
-/// their odometry was simulated, and with which seed.
-fn pose_source(source: PoseSourceKind, seed: u64) -> String {
-    let name = source.name();
-    #[allow(unreachable_patterns)] // sources added later read as their name
-    match source {
-        PoseSourceKind::Corrected => format!("{name} (the log's own poses)"),
-        PoseSourceKind::DeadReckoning => format!(
-            "{name} (odometry simulated: the log's motion with Table 5.6's noise, seed {seed})"
-        ),
-        PoseSourceKind::ScanMatched => format!(
-            "{name} (from odometry simulated with Table 5.6's noise, seed {seed}, or the log's own odometry where it differs from its corrected poses)"
-        ),
-        _ => name.to_string(),
     }
 }
 

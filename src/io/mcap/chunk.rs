@@ -103,9 +103,7 @@ impl Inflating {
                         input.at = input.end;
                         Codec::Stored
                     }
-                    Err(_) => {
-                        return Err(malformed(CHUNK, place, "its records are no zstd frame"))
-                    }
+                    Err(_) => return Err(malformed(CHUNK, place, "its records are no zstd frame")),
                 }
             }
             "lz4" => Codec::Lz4(Lz4Frames::default()),
@@ -135,7 +133,13 @@ impl Inflating {
     pub fn step(&mut self, step: usize) -> Result<bool> {
         let place = Place::File(self.chunk);
         let from = self.out.len();
-        let broken = |why: &str| malformed(CHUNK, place, format_args!("its records do not inflate: {why}"));
+        let broken = |why: &str| {
+            malformed(
+                CHUNK,
+                place,
+                format_args!("its records do not inflate: {why}"),
+            )
+        };
         // One byte past the declared size is let through, to see a chunk
         // that inflates to more than it says.
         let room = (self.declared + 1).saturating_sub(from as u64);
@@ -144,12 +148,14 @@ impl Inflating {
             Codec::Stored => {
                 let input = &mut self.input;
                 let n = step.min(input.end - input.at);
-                self.out.extend_from_slice(&input.bytes[input.at..input.at + n]);
+                self.out
+                    .extend_from_slice(&input.bytes[input.at..input.at + n]);
                 input.at += n;
                 input.at == input.end
             }
             Codec::Zstd(frame) => {
-                let decoded = frame.decode_blocks(&mut self.input, BlockDecodingStrategy::UptoBytes(step));
+                let decoded =
+                    frame.decode_blocks(&mut self.input, BlockDecodingStrategy::UptoBytes(step));
                 if let Some(bytes) = frame.collect() {
                     self.out.extend_from_slice(&bytes);
                 }
@@ -170,7 +176,12 @@ impl Inflating {
             }
             Codec::Lz4(frames) => {
                 let input = &mut self.input;
-                match frames.step(&input.bytes[..input.end], &mut input.at, &mut self.out, from + step) {
+                match frames.step(
+                    &input.bytes[..input.end],
+                    &mut input.at,
+                    &mut self.out,
+                    from + step,
+                ) {
                     Ok(done) => done,
                     Err(_) if self.cut => true,
                     Err(why) => return Err(broken(why)),
@@ -182,7 +193,10 @@ impl Inflating {
             return Err(malformed(
                 CHUNK,
                 place,
-                format_args!("its records inflate past the uncompressed_size of {} bytes", self.declared),
+                format_args!(
+                    "its records inflate past the uncompressed_size of {} bytes",
+                    self.declared
+                ),
             ));
         }
         self.digest.update(&self.out[from..]);
@@ -197,7 +211,10 @@ impl Inflating {
             return Err(malformed(
                 CHUNK,
                 place,
-                format_args!("its records inflate to {len} bytes, not the uncompressed_size of {}", self.declared),
+                format_args!(
+                    "its records inflate to {len} bytes, not the uncompressed_size of {}",
+                    self.declared
+                ),
             ));
         }
         let digest = std::mem::replace(&mut self.digest, CRC32.digest());

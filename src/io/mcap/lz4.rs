@@ -54,7 +54,10 @@ impl Lz4Frames {
             *at += 4;
             if size == 0 {
                 if frame.content_checksum {
-                    *at = at.checked_add(4).filter(|&e| e <= input.len()).ok_or("the content checksum is cut")?;
+                    *at = at
+                        .checked_add(4)
+                        .filter(|&e| e <= input.len())
+                        .ok_or("the content checksum is cut")?;
                 }
                 self.frame = None;
                 continue;
@@ -67,7 +70,10 @@ impl Lz4Frames {
             let block = input.get(*at..*at + len).ok_or("a block past the end")?;
             *at += len;
             if frame.block_checksum {
-                *at = at.checked_add(4).filter(|&e| e <= input.len()).ok_or("a block checksum is cut")?;
+                *at = at
+                    .checked_add(4)
+                    .filter(|&e| e <= input.len())
+                    .ok_or("a block checksum is cut")?;
             }
             if stored {
                 out.extend_from_slice(block);

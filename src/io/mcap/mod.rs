@@ -42,8 +42,8 @@
 
 mod chunk;
 mod lz4;
-mod records;
 mod reader;
+mod records;
 
 pub use chunk::MAX_CHUNK_BYTES;
 pub use reader::{Event, McapReader, Summary, MAGIC};

@@ -218,7 +218,11 @@ impl McapReader {
         while at < b.len() {
             let place = Place::File((base + at) as u64);
             let (op, body) = Self::record(b, at).ok_or_else(|| {
-                malformed(b[at], place, "its length runs past the summary section's end")
+                malformed(
+                    b[at],
+                    place,
+                    "its length runs past the summary section's end",
+                )
             })?;
             let mut f = Fields::new(op, place, body);
             match op {
@@ -227,7 +231,11 @@ impl McapReader {
                 records::STATISTICS => summary.counts = Some(channel_message_counts(&mut f)?),
                 // A summary holds schemas, channels, statistics and
                 // indexes: a footer whose summary_start points at data lies.
-                records::HEADER | records::MESSAGE | records::CHUNK | records::DATA_END | records::FOOTER => {
+                records::HEADER
+                | records::MESSAGE
+                | records::CHUNK
+                | records::DATA_END
+                | records::FOOTER => {
                     return Err(malformed(
                         op,
                         place,
@@ -316,7 +324,10 @@ impl McapReader {
                         return Err(malformed(
                             out[at],
                             place,
-                            format_args!("its length runs past the end of the chunk's {} bytes of records", out.len()),
+                            format_args!(
+                                "its length runs past the end of the chunk's {} bytes of records",
+                                out.len()
+                            ),
                         ));
                     };
                     let next = at + RECORD_HEAD + body.len();
@@ -403,7 +414,9 @@ impl McapReader {
                 ));
             }
             if op == records::CHUNK {
-                return self.start_chunk(at, &b[at + RECORD_HEAD..end], most_chunk, true).map(|_| None);
+                return self
+                    .start_chunk(at, &b[at + RECORD_HEAD..end], most_chunk, true)
+                    .map(|_| None);
             }
             self.at = end;
             return Ok(self.cut_top(at, Some(op)));
@@ -495,7 +508,9 @@ impl McapReader {
             return Err(malformed(
                 records::CHUNK,
                 place,
-                format_args!("records: a length of {len} bytes, past the record's end ({left} bytes left)"),
+                format_args!(
+                    "records: a length of {len} bytes, past the record's end ({left} bytes left)"
+                ),
             ));
         }
         let to = from + len.min(left) as usize;

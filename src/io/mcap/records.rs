@@ -123,15 +123,21 @@ impl<'a> Fields<'a> {
     }
 
     pub fn u16(&mut self, field: &str) -> Result<u16, OccError> {
-        Ok(u16::from_le_bytes(self.take(field, 2)?.try_into().unwrap_or([0; 2])))
+        Ok(u16::from_le_bytes(
+            self.take(field, 2)?.try_into().unwrap_or([0; 2]),
+        ))
     }
 
     pub fn u32(&mut self, field: &str) -> Result<u32, OccError> {
-        Ok(u32::from_le_bytes(self.take(field, 4)?.try_into().unwrap_or([0; 4])))
+        Ok(u32::from_le_bytes(
+            self.take(field, 4)?.try_into().unwrap_or([0; 4]),
+        ))
     }
 
     pub fn u64(&mut self, field: &str) -> Result<u64, OccError> {
-        Ok(u64::from_le_bytes(self.take(field, 8)?.try_into().unwrap_or([0; 8])))
+        Ok(u64::from_le_bytes(
+            self.take(field, 8)?.try_into().unwrap_or([0; 8]),
+        ))
     }
 
     /// A string: a `u32` length, then UTF-8.

@@ -8,11 +8,11 @@
 use super::frames::{compose, odometry_at, pose, StaticTree};
 use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
+use super::table::{IdTable, MAX_IDS};
 use crate::error::{OccError, Result};
 use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource};
 use crate::io::mcap::{quoted, Channel, Event, McapReader, Place, Schema};
 use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
-use super::table::{IdTable, MAX_IDS};
 
 /// What a bag calls the records [`ScanRecord::origin`] counts.
 const UNIT: &str = "message";
@@ -61,7 +61,9 @@ struct PendingScan {
 enum Stage {
     Reading,
     /// Placing scan `next` of the kept ones.
-    Placing { next: usize },
+    Placing {
+        next: usize,
+    },
     Done,
 }
 
@@ -136,7 +138,8 @@ impl BagLoader {
     pub fn choose_topics(&mut self, choice: TopicChoice) -> Result<()> {
         if self.messages > 0 || self.reader.records() > 0 {
             return Err(OccError::State(
-                "the topics are chosen before the bag is read: open it again to choose others".into(),
+                "the topics are chosen before the bag is read: open it again to choose others"
+                    .into(),
             ));
         }
         self.choice = choice;
@@ -169,7 +172,9 @@ impl BagLoader {
         if self.schemas.insert(s.id, s) {
             Ok(())
         } else {
-            Err(OccError::State(format!("the bag defines more than {MAX_IDS} schemas")))
+            Err(OccError::State(format!(
+                "the bag defines more than {MAX_IDS} schemas"
+            )))
         }
     }
 
@@ -203,7 +208,9 @@ impl BagLoader {
         if self.channels.insert(c.id, info) {
             Ok(())
         } else {
-            Err(OccError::State(format!("the bag defines more than {MAX_IDS} channels")))
+            Err(OccError::State(format!(
+                "the bag defines more than {MAX_IDS} channels"
+            )))
         }
     }
 
@@ -269,8 +276,18 @@ impl BagLoader {
                 }
             }
             let choice = self.choice.clone();
-            let scan = self.pick(Kind::LaserScan, choice.scan_topic.as_deref(), "scan_topic", "sensor_msgs/msg/LaserScan")?;
-            self.pick(Kind::Odometry, choice.odom_topic.as_deref(), "odom_topic", "nav_msgs/msg/Odometry")?;
+            let scan = self.pick(
+                Kind::LaserScan,
+                choice.scan_topic.as_deref(),
+                "scan_topic",
+                "sensor_msgs/msg/LaserScan",
+            )?;
+            self.pick(
+                Kind::Odometry,
+                choice.odom_topic.as_deref(),
+                "odom_topic",
+                "nav_msgs/msg/Odometry",
+            )?;
             self.scan_channel = Some(scan);
             for c in self.channels.values_mut() {
                 c.count = 0;
@@ -281,7 +298,10 @@ impl BagLoader {
 
     /// A message's refusal: its number, topic, place and why.
     fn bad_message(&self, channel: u16, place: Place, why: impl std::fmt::Display) -> OccError {
-        let topic = self.channels.get(channel).map_or("?".into(), |c| quoted(&c.topic));
+        let topic = self
+            .channels
+            .get(channel)
+            .map_or("?".into(), |c| quoted(&c.topic));
         OccError::State(format!(
             "the bag's Message record at {place} (message {}, topic {topic}) cannot be read: {why}",
             self.messages
@@ -291,7 +311,11 @@ impl BagLoader {
     fn message(&mut self, channel: u16, place: Place, data: &[u8]) -> Result<()> {
         self.messages += 1;
         let Some(info) = self.channels.get_mut(channel) else {
-            return Err(self.bad_message(channel, place, format_args!("its channel {channel} has no Channel record before it")));
+            return Err(self.bad_message(
+                channel,
+                place,
+                format_args!("its channel {channel} has no Channel record before it"),
+            ));
         };
         info.count += 1;
         let Some(kind) = info.kind else {
@@ -306,26 +330,39 @@ impl BagLoader {
                 }
                 wanted
             }
-            Kind::Odometry => self.choice.odom_topic.as_deref().is_none_or(|t| t == info.topic),
+            Kind::Odometry => self
+                .choice
+                .odom_topic
+                .as_deref()
+                .is_none_or(|t| t == info.topic),
             Kind::Transforms => true,
         };
         if !wanted {
             return Ok(());
         }
         if let Some(why) = &info.refused {
-            let why = format!("{} ({}): {why}", quoted(&info.topic), quoted(&info.type_name));
+            let why = format!(
+                "{} ({}): {why}",
+                quoted(&info.topic),
+                quoted(&info.type_name)
+            );
             return Err(self.bad_message(channel, place, why));
         }
         let topic_is_static = info.topic.ends_with("tf_static");
         match kind {
             Kind::LaserScan => {
-                let scan = LaserScan::decode(data).map_err(|why| self.bad_message(channel, place, why))?;
+                let scan =
+                    LaserScan::decode(data).map_err(|why| self.bad_message(channel, place, why))?;
                 self.keep_scan(scan, channel, place)
             }
             Kind::Odometry => {
-                let odom = Odometry::decode(data).map_err(|why| self.bad_message(channel, place, why))?;
+                let odom =
+                    Odometry::decode(data).map_err(|why| self.bad_message(channel, place, why))?;
                 if self.odometry.get(channel).is_none()
-                    && !self.odometry.insert(channel, (Vec::new(), odom.frame.clone(), odom.child.clone()))
+                    && !self.odometry.insert(
+                        channel,
+                        (Vec::new(), odom.frame.clone(), odom.child.clone()),
+                    )
                 {
                     return Err(self.bad_message(channel, place, "too many odometry topics"));
                 }
@@ -339,19 +376,27 @@ impl BagLoader {
                     }
                 }
                 if entry.0.try_reserve(1).is_err() {
-                    return Err(self.bad_message(channel, place, "out of memory keeping the odometry"));
+                    return Err(self.bad_message(
+                        channel,
+                        place,
+                        "out of memory keeping the odometry",
+                    ));
                 }
                 entry.0.push((odom.stamp, odom.pose));
                 Ok(())
             }
             Kind::Transforms => {
-                let transforms = decode_transforms(data).map_err(|why| self.bad_message(channel, place, why))?;
+                let transforms =
+                    decode_transforms(data).map_err(|why| self.bad_message(channel, place, why))?;
                 for t in transforms {
                     if topic_is_static {
                         self.tree.add(&t.parent, &t.child, t.pose);
                     } else if t.parent != "map" {
                         self.moving_tree.add(&t.parent, &t.child, t.pose);
-                    } else if t.parent == "map" && self.map_links.len() < 8 && !self.map_links.contains(&quoted(&t.child)) {
+                    } else if t.parent == "map"
+                        && self.map_links.len() < 8
+                        && !self.map_links.contains(&quoted(&t.child))
+                    {
                         self.map_links.push(quoted(&t.child));
                     }
                 }
@@ -368,7 +413,10 @@ impl BagLoader {
     fn keep_scan(&mut self, scan: LaserScan, channel: u16, place: Place) -> Result<()> {
         if let Some(last) = self.last_scan_stamp {
             if scan.stamp < last {
-                let why = format!("its stamp {} s runs backwards, before the {} s of the scan before it", scan.stamp, last);
+                let why = format!(
+                    "its stamp {} s runs backwards, before the {} s of the scan before it",
+                    scan.stamp, last
+                );
                 return Err(self.bad_message(channel, place, why));
             }
         }
@@ -423,8 +471,18 @@ impl BagLoader {
     /// in each scan frame.
     fn prepare_placing(&mut self) -> Result<()> {
         let choice = self.choice.clone();
-        let scan = self.pick(Kind::LaserScan, choice.scan_topic.as_deref(), "scan_topic", "sensor_msgs/msg/LaserScan")?;
-        let odom = self.pick(Kind::Odometry, choice.odom_topic.as_deref(), "odom_topic", "nav_msgs/msg/Odometry")?;
+        let scan = self.pick(
+            Kind::LaserScan,
+            choice.scan_topic.as_deref(),
+            "scan_topic",
+            "sensor_msgs/msg/LaserScan",
+        )?;
+        let odom = self.pick(
+            Kind::Odometry,
+            choice.odom_topic.as_deref(),
+            "odom_topic",
+            "nav_msgs/msg/Odometry",
+        )?;
         if self.scan_channel != Some(scan) || self.pending.is_empty() {
             return Err(self.no_scans());
         }
@@ -496,7 +554,12 @@ impl BagLoader {
             };
             self.scans
                 .push(&record, self.budget.kept_bytes)
-                .map_err(|why| OccError::State(format!("the bag's Message record at {} (message {}) cannot be kept: {why}", p.place, p.origin)))?;
+                .map_err(|why| {
+                    OccError::State(format!(
+                        "the bag's Message record at {} (message {}) cannot be kept: {why}",
+                        p.place, p.origin
+                    ))
+                })?;
         }
         if end == self.pending.len() && self.scans.is_empty() {
             let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
@@ -510,7 +573,11 @@ impl BagLoader {
     }
 
     fn finish(&mut self) {
-        let mount = self.placing.as_ref().and_then(|(_, m)| m.first().copied()).unwrap_or_default();
+        let mount = self
+            .placing
+            .as_ref()
+            .and_then(|(_, m)| m.first().copied())
+            .unwrap_or_default();
         self.scans.set_mount(pose(mount));
         self.scans.set_pose_kinds(LogPoseKinds {
             reference: false,
@@ -591,7 +658,10 @@ impl BagLoader {
             ));
         }
         if self.mount_from_tf {
-            parts.push("the laser's mount is read from /tf (its last transform), as /tf_static gives none".into());
+            parts.push(
+                "the laser's mount is read from /tf (its last transform), as /tf_static gives none"
+                    .into(),
+            );
         }
         if !self.map_links.is_empty() {
             parts.push(format!(
@@ -648,7 +718,17 @@ impl LogSource for BagLoader {
         ))
     }
 
-    fn choose_topics(&mut self, scan_topic: Option<String>, odom_topic: Option<String>) -> Result<()> {
-        BagLoader::choose_topics(self, TopicChoice { scan_topic, odom_topic })
+    fn choose_topics(
+        &mut self,
+        scan_topic: Option<String>,
+        odom_topic: Option<String>,
+    ) -> Result<()> {
+        BagLoader::choose_topics(
+            self,
+            TopicChoice {
+                scan_topic,
+                odom_topic,
+            },
+        )
     }
 }

@@ -20,7 +20,10 @@ impl<'a> Cdr<'a> {
     /// A reader of `data`, its encapsulation header checked.
     pub fn new(data: &'a [u8]) -> Result<Self, CdrError> {
         if data.len() < 4 {
-            return Err(format!("{} bytes, too short for CDR's 4-byte encapsulation header", data.len()));
+            return Err(format!(
+                "{} bytes, too short for CDR's 4-byte encapsulation header",
+                data.len()
+            ));
         }
         let little = match (data[0], data[1]) {
             (0, 0) => false,
@@ -88,7 +91,9 @@ impl<'a> Cdr<'a> {
     pub fn count(&mut self, field: &str, size: usize, most: usize) -> Result<usize, CdrError> {
         let n = self.u32(field)? as usize;
         if n > most {
-            return Err(format!("{field}: {n} elements, more than the {most} it may have"));
+            return Err(format!(
+                "{field}: {n} elements, more than the {most} it may have"
+            ));
         }
         let left = self.body.len() - self.at;
         if n.saturating_mul(size) > left {

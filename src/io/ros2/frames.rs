@@ -40,7 +40,9 @@ impl StaticTree {
                 l.1 = parent.to_string();
                 l.2 = pose;
             }
-            None if !full => self.links.push((child.to_string(), parent.to_string(), pose)),
+            None if !full => self
+                .links
+                .push((child.to_string(), parent.to_string(), pose)),
             None => {}
         }
     }
@@ -68,7 +70,13 @@ impl StaticTree {
             .links
             .iter()
             .take(20)
-            .map(|(c, p, _)| format!("{} \u{2192} {}", crate::io::mcap::quoted(p), crate::io::mcap::quoted(c)))
+            .map(|(c, p, _)| {
+                format!(
+                    "{} \u{2192} {}",
+                    crate::io::mcap::quoted(p),
+                    crate::io::mcap::quoted(c)
+                )
+            })
             .collect();
         if links.is_empty() {
             "none".into()

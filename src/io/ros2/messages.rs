@@ -85,13 +85,18 @@ impl LaserScan {
         for _ in 0..n {
             ranges.push(c.f32("ranges")? as f64);
         }
-        for (field, v) in [("angle_min", angle_min), ("angle_increment", angle_increment)] {
+        for (field, v) in [
+            ("angle_min", angle_min),
+            ("angle_increment", angle_increment),
+        ] {
             if !v.is_finite() {
                 return Err(format!("{field} = {v} is not a finite angle"));
             }
         }
         if !(range_min.is_finite() && range_min >= 0.0) {
-            return Err(format!("range_min = {range_min} is not a range (0 or more metres)"));
+            return Err(format!(
+                "range_min = {range_min} is not a range (0 or more metres)"
+            ));
         }
         if !(range_max.is_finite() && range_max > range_min) {
             return Err(format!(

@@ -57,7 +57,12 @@ pub const DEFINITIONS: &[(&str, &[(&str, &str)])] = &[
     ),
     (
         "geometry_msgs/Quaternion",
-        &[("float64", "x"), ("float64", "y"), ("float64", "z"), ("float64", "w")],
+        &[
+            ("float64", "x"),
+            ("float64", "y"),
+            ("float64", "z"),
+            ("float64", "w"),
+        ],
     ),
     (
         "geometry_msgs/TwistWithCovariance",

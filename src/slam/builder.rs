@@ -1,0 +1,363 @@
+//! SLAM scan by scan ([`SlamBuilder`]): the local trajectory, matched
+//! against submaps, and the pose graph over it, closed at loops and
+//! optimised.
+//!
+//! Two frames, as in Hess et al. 2016: the local frame, where each scan is
+//! predicted from the one before by the odometry, matched against the
+//! growing submap ([`crate::mapping::scan_match::ScanMatcher`]) and
+//! inserted into it, and which no optimisation ever changes; and the
+//! global frame of the pose graph's nodes, one per scan, what the source
+//! hands out. A scan's node starts at the node before moved by the local
+//! motion between them; loop closures and the optimiser move the nodes.
+//!
+//! Every `LOOP_EVERY`-th scan is searched against the finished submaps
+//! near it ([`super::loop_search::LoopGrid::search`]), within a window that grows with the
+//! distance travelled since the last closure (the drift the odometry and
+//! the local matching may have gathered). A match above the least score
+//! is only a candidate: it becomes an edge once a second candidate of a
+//! scan shortly before agrees with it (the two scans' placements differ as
+//! the local trajectory says: a pairwise consistency check in the spirit
+//! of Olson 2009, "Recognizing places using spectrally clustered local
+//! matches"). The graph is optimised when closures have been added, every
+//! `OPTIMIZE_EVERY` scans and at the last scan; every optimisation raises
+//! the revision, which tells a map built at the old poses to rebuild.
+
+use super::loop_search::LoopWindow;
+use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
+use super::submap::Submap;
+use crate::error::Result;
+use crate::geometry::{wrap_angle, Pose};
+use crate::inverse::HandCraftedParams;
+use crate::mapping::insertion::{ScanInserter, ScanInsertion};
+use crate::mapping::scan_match::{
+    compose, relative_motion, MatchReport, MatchSettings, Prediction, ScanMatcher, ScanPoints,
+};
+use crate::mapping::walls::WallModel;
+use crate::sensors::odometry::OdometryParams;
+use crate::sensors::Scan;
+
+/// Scans per submap.
+pub const SUBMAP_SCANS: usize = 20;
+/// Every how many scans a loop is searched for.
+pub const LOOP_EVERY: usize = 2;
+/// Scans after closures were added before the graph is optimised.
+pub const OPTIMIZE_EVERY: usize = 20;
+/// The least loop-search score (mean probability of a scan's cells) of a
+/// candidate closure.
+pub const LOOP_MIN_SCORE: f64 = 0.62;
+/// Metres and radians of the loop window with no distance travelled, and
+/// what each metre travelled since the last closure adds, and the most.
+const WINDOW_BASE: [f64; 2] = [1.0, 0.10];
+const WINDOW_PER_METRE: [f64; 2] = [0.05, 0.004];
+const WINDOW_MAX: [f64; 2] = [8.0, 0.5];
+/// Scans of the same stretch as the scan searched, not searched: their
+/// submaps agree with the local trajectory already.
+const RECENT_SCANS: usize = 3 * SUBMAP_SCANS;
+/// How far apart two candidates' placements may be (metres, radians) and
+/// still agree, and how many scans back a partner is looked for.
+const AGREEMENT: [f64; 2] = [0.25, 0.05];
+const AGREEMENT_SCANS: usize = 12;
+/// Spreads of an accepted local match and of a loop closure (metres,
+/// metres, radians).
+const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
+const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
+/// Points kept for loop search: one every this many cells.
+const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
+
+/// A loop-search match waiting for a partner.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    scan: usize,
+    edge: Edge,
+    /// Where the match puts the scan in the global frame.
+    placed: Pose,
+}
+
+/// The SLAM state over one log.
+#[derive(Debug, Clone)]
+pub struct SlamBuilder {
+    odometry: Vec<Pose>,
+    noise: OdometryParams,
+    resolution: f64,
+    matcher: ScanMatcher,
+    inserter: ScanInserter,
+    /// Local-frame pose of each scan located.
+    local: Vec<Pose>,
+    pub graph: PoseGraph,
+    submaps: Vec<Submap>,
+    candidates: Vec<Candidate>,
+    /// Metres travelled since the last closure.
+    since_closure: f64,
+    /// Closures added since the last optimisation.
+    pending: usize,
+    last_optimized: usize,
+    revision: u64,
+    closures: usize,
+    work: u64,
+    /// What the last local match found.
+    last_match: MatchReport,
+    points: ScanPoints,
+    loop_points: Vec<[f64; 2]>,
+}
+
+impl SlamBuilder {
+    /// SLAM from `odometry` (one pose per scan) with its `noise`, matching
+    /// with `settings` on submaps of `resolution`.
+    pub fn new(
+        odometry: Vec<Pose>,
+        noise: OdometryParams,
+        settings: MatchSettings,
+        resolution: f64,
+    ) -> Result<Self> {
+        let insertion = ScanInsertion {
+            model: HandCraftedParams::laser(settings.max_range),
+            // As the real-log maps clear along a no-return (5 m).
+            no_return_reach: 5.0,
+            walls: WallModel::Incidence,
+            between_beams: false,
+        };
+        Ok(Self {
+            matcher: ScanMatcher::for_resolution(settings, resolution)?,
+            inserter: ScanInserter::new(insertion)?,
+            odometry,
+            noise,
+            resolution,
+            local: Vec::new(),
+            graph: PoseGraph::default(),
+            submaps: Vec::new(),
+            candidates: Vec::new(),
+            since_closure: 0.0,
+            pending: 0,
+            last_optimized: 0,
+            revision: 0,
+            closures: 0,
+            work: 0,
+            last_match: MatchReport::unmatched(Pose {
+                x: 0.0,
+                y: 0.0,
+                theta: 0.0,
+            }),
+            points: ScanPoints::default(),
+            loop_points: Vec::new(),
+        })
+    }
+
+    /// Scans located so far.
+    pub fn located(&self) -> usize {
+        self.local.len()
+    }
+
+    /// The global pose of each scan located.
+    pub fn poses(&self) -> &[Pose] {
+        &self.graph.nodes
+    }
+
+    /// Raised by every optimisation that moved located scans.
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// Loop closures in the graph (switched off or not).
+    pub fn closures(&self) -> usize {
+        self.closures
+    }
+
+    /// What the last local match found.
+    pub fn last_match(&self) -> &MatchReport {
+        &self.last_match
+    }
+
+    /// Work since the start besides the local matches, in cell updates.
+    pub fn work(&self) -> u64 {
+        self.work
+    }
+
+    /// The odometry this builder starts from.
+    pub fn odometry(&self) -> &[Pose] {
+        &self.odometry
+    }
+
+    /// Locates the next scan (`scan`, its own pose ignored; `laser_max`
+    /// its laser's maximum range): its global pose.
+    pub fn add_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        let k = self.local.len();
+        let settings = *self.matcher.settings();
+        let prediction = match (k, self.odometry.get(k)) {
+            (_, None) => Prediction::at(scan.pose(), &settings),
+            (0, Some(o)) => Prediction::at(*o, &settings),
+            (_, Some(o)) => Prediction::from_odometry(
+                &self.local[k - 1],
+                &self.odometry[k - 1],
+                o,
+                &self.noise,
+                &settings,
+            ),
+        };
+        // Matched against the older growing submap.
+        let report = match self
+            .submaps
+            .iter()
+            .find(|s| s.grid.is_some() && s.scans > 0)
+        {
+            Some(Submap {
+                grid: Some(grid), ..
+            }) if k > 0 => self
+                .matcher
+                .match_scan(grid, scan, laser_max, &prediction)?,
+            _ => MatchReport::unmatched(prediction.pose),
+        };
+        self.last_match = report;
+        let local = report.pose;
+        self.local.push(local);
+        self.insert(k, scan, &local, laser_max)?;
+        // The node and its edge to the one before.
+        if k == 0 {
+            self.graph.nodes.push(local);
+        } else {
+            let motion = relative_motion(&self.local[k - 1], &local);
+            self.since_closure += motion[0].hypot(motion[1]);
+            let node = compose(&self.graph.nodes[k - 1], motion);
+            self.graph.nodes.push(node);
+            let sigma = if report.accepted {
+                MATCH_SIGMA
+            } else {
+                [
+                    prediction.position_spread,
+                    prediction.position_spread,
+                    prediction.heading_spread,
+                ]
+            };
+            self.graph
+                .edges
+                .push(Edge::new(k - 1, k, motion, sigma, false));
+        }
+        if k.is_multiple_of(LOOP_EVERY) {
+            self.search_loops(k, scan, laser_max);
+        }
+        let last = k + 1 == self.odometry.len();
+        if self.pending > 0 && (k >= self.last_optimized + OPTIMIZE_EVERY || last) {
+            self.optimize();
+        }
+        Ok(self.graph.nodes[k])
+    }
+
+    /// Inserts scan `k` at `local` into the growing submaps, finishing the
+    /// full one and starting the next halfway.
+    fn insert(&mut self, k: usize, scan: &Scan, local: &Pose, laser_max: f64) -> Result<()> {
+        let growing = self.submaps.iter().filter(|s| s.grid.is_some()).count();
+        let newest_half = self
+            .submaps
+            .last()
+            .is_none_or(|s| s.scans >= SUBMAP_SCANS / 2);
+        if growing < 2 && newest_half {
+            let reach = self.matcher.settings().max_range + 5.0;
+            self.submaps
+                .push(Submap::start(k, local, reach, self.resolution)?);
+        }
+        let placed = scan.with_pose(*local)?;
+        let reach = self.matcher.settings().max_range.min(laser_max);
+        for s in self.submaps.iter_mut().filter(|s| s.grid.is_some()) {
+            s.cover(&placed, reach);
+            if let Some(grid) = s.grid.as_mut() {
+                let stats = self.inserter.insert(grid, &placed, laser_max);
+                self.work += stats.cells_updated as u64;
+            }
+            s.scans += 1;
+            s.last = k;
+            if s.scans >= SUBMAP_SCANS {
+                s.finish();
+                if let Some(g) = &s.finished {
+                    self.work += (g.width * g.height) as u64 / 4;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The loop window after `distance` metres since the last closure.
+    fn window(distance: f64) -> LoopWindow {
+        let w = |i: usize| (WINDOW_BASE[i] + WINDOW_PER_METRE[i] * distance).min(WINDOW_MAX[i]);
+        LoopWindow {
+            linear: w(0),
+            angular: w(1),
+            min_score: LOOP_MIN_SCORE,
+        }
+    }
+
+    /// Searches scan `k` against the finished submaps near it.
+    fn search_loops(&mut self, k: usize, scan: &Scan, laser_max: f64) {
+        let window = Self::window(self.since_closure);
+        let here = self.graph.nodes[k];
+        self.points.fill(scan, laser_max, self.matcher.settings());
+        self.points.thinned(
+            LOOP_POINT_SPACING_CELLS * self.resolution,
+            &mut self.loop_points,
+        );
+        let mut best: Option<(f64, Candidate)> = None;
+        for s in &self.submaps {
+            let Some(grid) = &s.finished else { continue };
+            if s.last + RECENT_SCANS > k {
+                continue;
+            }
+            // Near: one of its scans within the window and a few metres.
+            let near = (s.anchor..=s.last).any(|j| {
+                let p = &self.graph.nodes[j];
+                (p.x - here.x).hypot(p.y - here.y) <= window.linear + 5.0
+            });
+            if !near {
+                continue;
+            }
+            let anchor_local = self.local[s.anchor];
+            let anchor_global = self.graph.nodes[s.anchor];
+            let predicted = compose(&anchor_local, relative_motion(&anchor_global, &here));
+            let (found, work) = grid.search(&self.loop_points, &predicted, &window);
+            self.work += work / 8;
+            let Some(found) = found else { continue };
+            if best.as_ref().is_some_and(|(b, _)| *b >= found.score) {
+                continue;
+            }
+            let measurement = relative_motion(&anchor_local, &found.pose);
+            let placed = compose(&anchor_global, measurement);
+            best = Some((
+                found.score,
+                Candidate {
+                    scan: k,
+                    edge: Edge::new(s.anchor, k, measurement, LOOP_SIGMA, true),
+                    placed,
+                },
+            ));
+        }
+        let Some((_, candidate)) = best else { return };
+        // A partner: an earlier candidate whose placement agrees with this
+        // one's as the local trajectory says.
+        self.candidates.retain(|c| c.scan + AGREEMENT_SCANS >= k);
+        let partner = self.candidates.iter().rposition(|c| {
+            let by_matches = relative_motion(&c.placed, &candidate.placed);
+            let by_local = relative_motion(&self.local[c.scan], &self.local[k]);
+            (by_matches[0] - by_local[0]).hypot(by_matches[1] - by_local[1]) <= AGREEMENT[0]
+                && wrap_angle(by_matches[2] - by_local[2]).abs() <= AGREEMENT[1]
+        });
+        match partner {
+            Some(i) => {
+                let first = self.candidates.remove(i);
+                for c in [first, candidate] {
+                    self.graph.edges.push(c.edge);
+                    self.closures += 1;
+                    self.pending += 1;
+                }
+                self.since_closure = 0.0;
+            }
+            None => self.candidates.push(candidate),
+        }
+    }
+
+    /// Optimises the graph in one call and raises the revision.
+    fn optimize(&mut self) {
+        let mut optimizer = Optimizer::new(RobustSettings::default());
+        optimizer.run(&mut self.graph);
+        self.work += optimizer.work() / 8;
+        self.pending = 0;
+        self.last_optimized = self.local.len();
+        self.revision += 1;
+    }
+}

@@ -1,0 +1,332 @@
+//! Loop closure search: a scan matched against a finished submap over a
+//! wide window by branch and bound (Olson 2009, "Real-time correlative
+//! scan matching"; Hess et al. 2016, "Real-time loop closure in 2D LIDAR
+//! SLAM", Algorithm 3), then refined to a fraction of a cell.
+//!
+//! The submap's cells are kept as occupancy probabilities in bytes
+//! ([`LoopGrid`]: unknown cells score 0, so a scan placed over unexplored
+//! space earns nothing). For a search, precomputed grids of depth `h` hold
+//! at each cell the highest value of the `2^h x 2^h` cells from it
+//! (Hess et al. 2016, eq. 14): a candidate offset covering `2^h` offsets in
+//! x and y scores at most what its points read there, an upper bound of
+//! every offset below it, and branches whose bound is under the best score
+//! found (or the least score accepted) are never scored.
+//!
+//! The headings are searched every `δθ`, the step that moves the farthest
+//! point by about one cell (Hess et al. 2016, eq. 7); the best candidate is
+//! then refined on bilinear reads of the same bytes, a quarter cell and a
+//! quarter heading step at a time.
+
+use crate::geometry::Pose;
+
+/// Depth of the coarsest precomputed grid (cells of `2^7` = 128 cells: 6.4 m
+/// at 5 cm).
+const DEPTH: usize = 7;
+
+/// A finished submap's cells for loop search: occupancy probabilities as
+/// bytes (255 certain), unknown cells 0, over the box of its known cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopGrid {
+    /// World coordinates of the corner of cell `(0, 0)`.
+    pub origin: [f64; 2],
+    pub resolution: f64,
+    pub width: usize,
+    pub height: usize,
+    pub cells: Vec<u8>,
+}
+
+/// What a search found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoopMatch {
+    /// The scan's pose in the submap's frame.
+    pub pose: Pose,
+    /// Mean probability of its points' cells, 0 to 1.
+    pub score: f64,
+    /// Candidates scored.
+    pub candidates: u64,
+}
+
+/// The search window around a predicted pose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoopWindow {
+    /// Metres either way in x and y.
+    pub linear: f64,
+    /// Radians either way.
+    pub angular: f64,
+    /// The least score a match is accepted with.
+    pub min_score: f64,
+}
+
+impl LoopGrid {
+    /// The bytes of a grid, world-to-byte rows bottom first.
+    fn value(&self, ix: i64, iy: i64, level: &[u8]) -> u32 {
+        if ix < 0 || iy < 0 || ix >= self.width as i64 || iy >= self.height as i64 {
+            return 0;
+        }
+        level[iy as usize * self.width + ix as usize] as u32
+    }
+
+    /// The grids of depth `1..=DEPTH`: each cell the highest of the
+    /// `2^h x 2^h` cells from it, by a sliding maximum along rows then
+    /// columns of the grid one depth up (`2^(h-1)` apart).
+    fn precompute(&self) -> Vec<Vec<u8>> {
+        let (w, h) = (self.width, self.height);
+        let mut levels: Vec<Vec<u8>> = Vec::with_capacity(DEPTH);
+        for depth in 1..=DEPTH {
+            let prev = levels.last().unwrap_or(&self.cells);
+            let shift = 1usize << (depth - 1);
+            let mut rows = vec![0u8; w * h];
+            for y in 0..h {
+                for x in 0..w {
+                    let a = prev[y * w + x];
+                    let b = if x + shift < w {
+                        prev[y * w + x + shift]
+                    } else {
+                        0
+                    };
+                    rows[y * w + x] = a.max(b);
+                }
+            }
+            let mut out = vec![0u8; w * h];
+            for y in 0..h {
+                for x in 0..w {
+                    let a = rows[y * w + x];
+                    let b = if y + shift < h {
+                        rows[(y + shift) * w + x]
+                    } else {
+                        0
+                    };
+                    out[y * w + x] = a.max(b);
+                }
+            }
+            levels.push(out);
+        }
+        levels
+    }
+
+    /// Bilinear read of the bytes at world `(x, y)`, 0 to 1.
+    fn bilinear(&self, x: f64, y: f64) -> f64 {
+        let fx = (x - self.origin[0]) / self.resolution - 0.5;
+        let fy = (y - self.origin[1]) / self.resolution - 0.5;
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let (ix, iy) = (x0 as i64, y0 as i64);
+        let v = |dx: i64, dy: i64| self.value(ix + dx, iy + dy, &self.cells) as f64;
+        let bottom = v(0, 0) * (1.0 - tx) + v(1, 0) * tx;
+        let top = v(0, 1) * (1.0 - tx) + v(1, 1) * tx;
+        (bottom * (1.0 - ty) + top * ty) / 255.0
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Searches `points` (sensor frame) around `predicted` (in this
+    /// submap's frame) within `window`: the best match scoring at least
+    /// the window's least score, or `None`.
+    pub fn search(
+        &self,
+        points: &[[f64; 2]],
+        predicted: &Pose,
+        window: &LoopWindow,
+    ) -> (Option<LoopMatch>, u64) {
+        if points.is_empty() || self.cells.is_empty() {
+            return (None, 0);
+        }
+        let res = self.resolution;
+        let reach = points
+            .iter()
+            .map(|p| p[0].hypot(p[1]))
+            .fold(0.0, f64::max)
+            .max(res);
+        // The heading step that moves the farthest point by a cell.
+        let dtheta = (1.0 - res * res / (2.0 * reach * reach))
+            .clamp(-1.0, 1.0)
+            .acos()
+            .max(1e-4);
+        let headings = (window.angular / dtheta).ceil() as i64;
+        let wxy = (window.linear / res).ceil() as i64;
+        let levels = self.precompute();
+        let top = 1i64 << DEPTH;
+        let mut work = (self.cells.len() * DEPTH * 4) as u64;
+        let mut candidates = 0u64;
+        let n = points.len() as f64;
+        let min_total = window.min_score * 255.0 * n;
+        let mut best: Option<(f64, i64, i64, i64)> = None; // (sum, heading, dx, dy)
+        let mut cells: Vec<(i64, i64)> = Vec::with_capacity(points.len());
+        for hi in -headings..=headings {
+            let theta = predicted.theta + hi as f64 * dtheta;
+            let (s, c) = theta.sin_cos();
+            cells.clear();
+            for p in points {
+                let x = predicted.x + c * p[0] - s * p[1];
+                let y = predicted.y + s * p[0] + c * p[1];
+                cells.push((
+                    ((x - self.origin[0]) / res).floor() as i64,
+                    ((y - self.origin[1]) / res).floor() as i64,
+                ));
+            }
+            let score = |depth: usize, dx: i64, dy: i64| -> u64 {
+                let level: &[u8] = if depth == 0 {
+                    &self.cells
+                } else {
+                    &levels[depth - 1]
+                };
+                // A window starting left of (below) the grid but reaching
+                // into it is bounded by the grid's first column (row),
+                // whose window holds its part.
+                let reach = 1i64 << depth;
+                let pull = |v: i64| if v < 0 && v > -reach { 0 } else { v };
+                cells
+                    .iter()
+                    .map(|&(x, y)| self.value(pull(x + dx), pull(y + dy), level) as u64)
+                    .sum()
+            };
+            // Roots: offsets every 2^DEPTH cells over the window.
+            let mut stack: Vec<(u64, usize, i64, i64)> = Vec::new();
+            let mut roots = Vec::new();
+            let mut y = -wxy;
+            while y <= wxy {
+                let mut x = -wxy;
+                while x <= wxy {
+                    roots.push((score(DEPTH, x, y), DEPTH, x, y));
+                    candidates += 1;
+                    x += top;
+                }
+                y += top;
+            }
+            // Lowest first on the stack, so the best is taken first.
+            roots.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
+            stack.extend(roots);
+            while let Some((bound, depth, x, y)) = stack.pop() {
+                let beaten = best.is_some_and(|b| bound as f64 <= b.0);
+                if beaten || (bound as f64) < min_total {
+                    continue;
+                }
+                if depth == 0 {
+                    best = Some((bound as f64, hi, x, y));
+                    continue;
+                }
+                let half = 1i64 << (depth - 1);
+                let mut children = Vec::with_capacity(4);
+                for (cx, cy) in [(x, y), (x + half, y), (x, y + half), (x + half, y + half)] {
+                    if cx > wxy || cy > wxy {
+                        continue;
+                    }
+                    children.push((score(depth - 1, cx, cy), depth - 1, cx, cy));
+                    candidates += 1;
+                }
+                children.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
+                stack.extend(children);
+            }
+        }
+        work += candidates * points.len() as u64;
+        let Some((_, hi, dx, dy)) = best else {
+            return (None, work);
+        };
+        let coarse = Pose {
+            x: predicted.x + dx as f64 * res,
+            y: predicted.y + dy as f64 * res,
+            theta: predicted.theta + hi as f64 * dtheta,
+        };
+        let (pose, score, refined) = self.refine(points, coarse, res, dtheta);
+        work += refined * points.len() as u64;
+        (
+            Some(LoopMatch {
+                pose,
+                score,
+                candidates: candidates + refined,
+            }),
+            work,
+        )
+    }
+
+    /// The best of the poses a quarter cell and a quarter heading step
+    /// apart around `start`, twice, on bilinear reads.
+    fn refine(&self, points: &[[f64; 2]], start: Pose, res: f64, dtheta: f64) -> (Pose, f64, u64) {
+        let mean = |pose: &Pose| {
+            let (s, c) = pose.theta.sin_cos();
+            points
+                .iter()
+                .map(|p| self.bilinear(pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]))
+                .sum::<f64>()
+                / points.len() as f64
+        };
+        let mut best = (start, mean(&start));
+        let mut scored = 1u64;
+        let (mut step, mut turn) = (0.5 * res, 0.5 * dtheta);
+        for _ in 0..3 {
+            let centre = best.0;
+            for i in -1i32..=1 {
+                for j in -1i32..=1 {
+                    for k in -1i32..=1 {
+                        if i == 0 && j == 0 && k == 0 {
+                            continue;
+                        }
+                        let pose = Pose {
+                            x: centre.x + i as f64 * step,
+                            y: centre.y + j as f64 * step,
+                            theta: centre.theta + k as f64 * turn,
+                        };
+                        let v = mean(&pose);
+                        scored += 1;
+                        if v > best.1 {
+                            best = (pose, v);
+                        }
+                    }
+                }
+            }
+            step *= 0.5;
+            turn *= 0.5;
+        }
+        (best.0, best.1, scored)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An L of walls found again 0.4 m and 3° off.
+    #[test]
+    fn branch_and_bound_finds_an_offset_corner() {
+        let (w, h, res) = (200usize, 200usize, 0.05);
+        let mut cells = vec![0u8; w * h];
+        for i in 20..180 {
+            cells[20 * w + i] = 250;
+            cells[i * w + 20] = 250;
+        }
+        let grid = LoopGrid {
+            origin: [0.0, 0.0],
+            resolution: res,
+            width: w,
+            height: h,
+            cells,
+        };
+        // Points of the two walls seen from (5, 5), heading 0.
+        let mut points = Vec::new();
+        for i in 0..60 {
+            let t = 1.025 + i as f64 * 0.1;
+            points.push([t - 5.0, 1.025 - 5.0]);
+            points.push([1.025 - 5.0, t - 5.0]);
+        }
+        let predicted = Pose {
+            x: 5.4,
+            y: 4.7,
+            theta: 0.05,
+        };
+        let window = LoopWindow {
+            linear: 1.0,
+            angular: 0.1,
+            min_score: 0.5,
+        };
+        let (found, _) = grid.search(&points, &predicted, &window);
+        let found = found.expect("a match");
+        assert!(
+            (found.pose.x - 5.0).abs() < 0.03 && (found.pose.y - 5.0).abs() < 0.03,
+            "{found:?}"
+        );
+        assert!(found.pose.theta.abs() < 0.01, "{found:?}");
+    }
+}

@@ -1,0 +1,440 @@
+//! A pose graph on SE(2) and its optimiser ([`PoseGraph`], [`Optimizer`]):
+//! one node per scan, one edge per measured relative pose (a local match
+//! between consecutive scans, a loop closure between a scan and the first
+//! scan of a submap), each edge weighted by a diagonal information matrix
+//! (Grisetti et al. 2010, "A tutorial on graph-based SLAM", eq. 15–30).
+//!
+//! The optimiser is Gauss–Newton with the first node held fixed (the
+//! gauge). Loop edges are robust: Huber's loss, by iteratively reweighted
+//! least squares, and a loop edge whose error stays past a gate once the
+//! graph has converged is switched off and the graph optimised again
+//! without it (a hard form of the switchable constraints of Sünderhauf and
+//! Protzel 2012): a wrong closure bends the graph less than a right one,
+//! and a right one agrees with the rest once the graph has bent.
+//!
+//! The linear system is solved by a Cholesky factorisation of our own,
+//! over the envelope (skyline) of the matrix in the nodes' order: a chain
+//! of consecutive scans is a band of 3 x 3 blocks, and a loop edge between
+//! scans `i < j` widens only the rows of node `j` back to node `i`, so the
+//! factor has no fill outside that envelope (George and Liu 1981,
+//! "Computer solution of large sparse positive definite systems", ch. 4).
+//! No dependency: nothing is added to the wasm but this file's code.
+//!
+//! Work is counted in multiply–adds of the factorisation and the
+//! assembly, so a caller can bound a call ([`Optimizer::run_within`]);
+//! every iteration is the same arithmetic in the same order whatever the
+//! budget, so an optimisation spread over budgeted calls ends bit for bit
+//! where one call ends.
+
+// The block and envelope loops index rows and columns as the matrix
+// algebra writes them.
+#![allow(clippy::needless_range_loop)]
+
+use crate::geometry::{wrap_angle, Pose};
+use crate::mapping::scan_match::relative_motion;
+
+/// A measured relative pose between two nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    pub from: usize,
+    pub to: usize,
+    /// `to` as seen from `from`: `(forward, left, turn)`
+    /// ([`relative_motion`]).
+    pub measurement: [f64; 3],
+    /// The diagonal of the information matrix, in `from`'s frame:
+    /// `1 / σ²` of forward, left and turn.
+    pub information: [f64; 3],
+    /// True for a loop closure: Huber's loss and the gate apply.
+    pub robust: bool,
+    /// False once the gate has switched the edge off.
+    pub active: bool,
+}
+
+impl Edge {
+    /// An edge measured as `measurement` with spreads `sigma` (metres,
+    /// metres, radians).
+    pub fn new(
+        from: usize,
+        to: usize,
+        measurement: [f64; 3],
+        sigma: [f64; 3],
+        robust: bool,
+    ) -> Self {
+        Self {
+            from,
+            to,
+            measurement,
+            information: sigma.map(|s| 1.0 / (s * s)),
+            robust,
+            active: true,
+        }
+    }
+
+    /// The error of this edge at `nodes`, and its Mahalanobis length.
+    fn error(&self, nodes: &[Pose]) -> ([f64; 3], f64) {
+        let r = relative_motion(&nodes[self.from], &nodes[self.to]);
+        let e = [
+            r[0] - self.measurement[0],
+            r[1] - self.measurement[1],
+            wrap_angle(r[2] - self.measurement[2]),
+        ];
+        let chi2: f64 = (0..3).map(|i| e[i] * e[i] * self.information[i]).sum();
+        (e, chi2.sqrt())
+    }
+}
+
+/// The robust loss's settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobustSettings {
+    /// Huber's threshold, in standard deviations of the edge.
+    pub huber: f64,
+    /// A loop edge still this many standard deviations off once the graph
+    /// has converged is switched off.
+    pub gate: f64,
+    /// Most Gauss–Newton iterations per round (a round ends earlier when
+    /// no node moves by more than `tolerance`).
+    pub max_iterations: usize,
+    /// Metres (and radians): the largest step of a converged round.
+    pub tolerance: f64,
+}
+
+impl Default for RobustSettings {
+    fn default() -> Self {
+        Self {
+            huber: 1.0,
+            gate: 6.0,
+            max_iterations: 12,
+            tolerance: 1e-5,
+        }
+    }
+}
+
+/// Nodes and edges.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PoseGraph {
+    pub nodes: Vec<Pose>,
+    pub edges: Vec<Edge>,
+}
+
+impl PoseGraph {
+    /// The loop edges the gate has switched off.
+    pub fn switched_off(&self) -> usize {
+        self.edges.iter().filter(|e| e.robust && !e.active).count()
+    }
+
+    /// Half the sum of the squared robust errors: what the optimiser lowers.
+    pub fn cost(&self, robust: &RobustSettings) -> f64 {
+        self.edges
+            .iter()
+            .filter(|e| e.active)
+            .map(|e| {
+                let (_, chi) = e.error(&self.nodes);
+                if e.robust && chi > robust.huber {
+                    robust.huber * (chi - 0.5 * robust.huber)
+                } else {
+                    0.5 * chi * chi
+                }
+            })
+            .sum()
+    }
+}
+
+/// Where an optimisation is: the iteration of the round, and the work so far.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Optimizer {
+    settings: RobustSettings,
+    iteration: usize,
+    finished: bool,
+    /// Multiply–adds since the start.
+    work: u64,
+    /// Iterations over all rounds.
+    pub iterations: usize,
+    /// A factorisation that failed (a graph not pinned down): the round
+    /// ended there, the nodes as the last good step left them.
+    pub failed: bool,
+}
+
+impl Optimizer {
+    pub fn new(settings: RobustSettings) -> Self {
+        Self {
+            settings,
+            ..Self::default()
+        }
+    }
+
+    pub fn is_finished(&self) -> bool {
+        self.finished
+    }
+
+    /// Multiply–adds spent so far.
+    pub fn work(&self) -> u64 {
+        self.work
+    }
+
+    /// Runs to the end, in one call.
+    pub fn run(&mut self, graph: &mut PoseGraph) {
+        while !self.run_within(graph, 0) {}
+    }
+
+    /// Runs whole iterations until this call's work reaches `budget`
+    /// (at least one iteration, when any is left): true once finished.
+    pub fn run_within(&mut self, graph: &mut PoseGraph, budget: u64) -> bool {
+        let start = self.work;
+        while !self.finished {
+            self.iterate(graph);
+            if self.work - start >= budget {
+                break;
+            }
+        }
+        self.finished
+    }
+
+    /// One Gauss–Newton iteration, or the gate at the end of a round.
+    fn iterate(&mut self, graph: &mut PoseGraph) {
+        if graph.nodes.len() < 2 {
+            self.finished = true;
+            return;
+        }
+        let step = if self.iteration < self.settings.max_iterations {
+            self.iteration += 1;
+            self.iterations += 1;
+            let mut system = System::assemble(graph, &self.settings);
+            self.work += system.work;
+            let solved = system.solve();
+            self.work += system.work;
+            match solved {
+                Some(dx) => {
+                    let mut largest: f64 = 0.0;
+                    for (k, node) in graph.nodes.iter_mut().enumerate().skip(1) {
+                        let d = &dx[3 * (k - 1)..3 * k];
+                        node.x += d[0];
+                        node.y += d[1];
+                        node.theta = wrap_angle(node.theta + d[2]);
+                        largest = largest.max(d[0].abs()).max(d[1].abs()).max(d[2].abs());
+                    }
+                    largest
+                }
+                None => {
+                    self.failed = true;
+                    0.0
+                }
+            }
+        } else {
+            0.0
+        };
+        if step > self.settings.tolerance {
+            return;
+        }
+        // A round converged: the worst loop edge past the gate is switched
+        // off, and the graph optimised again.
+        let worst = graph
+            .edges
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.robust && e.active)
+            .map(|(i, e)| (i, e.error(&graph.nodes).1))
+            .filter(|&(_, chi)| chi > self.settings.gate)
+            .fold(None, |best: Option<(usize, f64)>, (i, chi)| match best {
+                Some((_, b)) if b >= chi => best,
+                _ => Some((i, chi)),
+            });
+        self.work += graph.edges.len() as u64;
+        match worst {
+            Some((i, _)) if !self.failed => {
+                graph.edges[i].active = false;
+                self.iteration = 0;
+            }
+            _ => self.finished = true,
+        }
+    }
+}
+
+/// The normal equations `H dx = -b` over nodes `1..n` (node 0 fixed), `H`
+/// stored by rows over its envelope.
+struct System {
+    /// First column of each row's envelope.
+    first: Vec<usize>,
+    /// Where each row starts in `values`.
+    start: Vec<usize>,
+    values: Vec<f64>,
+    b: Vec<f64>,
+    /// Multiply–adds of the last assembly or solve.
+    work: u64,
+}
+
+impl System {
+    fn assemble(graph: &PoseGraph, robust: &RobustSettings) -> Self {
+        let n = graph.nodes.len() - 1;
+        let dim = 3 * n;
+        // Each node's row reaches back to its lowest neighbour.
+        let mut lowest: Vec<usize> = (0..n).collect();
+        for e in graph.edges.iter().filter(|e| e.active) {
+            let (a, b) = (e.from.min(e.to), e.from.max(e.to));
+            if a >= 1 && a != b {
+                lowest[b - 1] = lowest[b - 1].min(a - 1);
+            }
+        }
+        let mut first = Vec::with_capacity(dim);
+        let mut start = Vec::with_capacity(dim + 1);
+        let mut total = 0;
+        for r in 0..dim {
+            let f = 3 * lowest[r / 3];
+            first.push(f);
+            start.push(total);
+            total += r + 1 - f;
+        }
+        start.push(total);
+        let mut s = Self {
+            first,
+            start,
+            values: vec![0.0; total],
+            b: vec![0.0; dim],
+            work: 0,
+        };
+        for e in graph.edges.iter().filter(|e| e.active) {
+            s.add_edge(e, &graph.nodes, robust);
+        }
+        s.work = graph.edges.len() as u64 * 60 + total as u64;
+        s
+    }
+
+    fn at(&mut self, r: usize, c: usize) -> &mut f64 {
+        let (r, c) = if c > r { (c, r) } else { (r, c) };
+        &mut self.values[self.start[r] + c - self.first[r]]
+    }
+
+    fn add_edge(&mut self, e: &Edge, nodes: &[Pose], robust: &RobustSettings) {
+        let (err, chi) = e.error(nodes);
+        let weight = if e.robust && chi > robust.huber {
+            robust.huber / chi
+        } else {
+            1.0
+        };
+        let omega = e.information.map(|w| w * weight);
+        let (pi, pj) = (&nodes[e.from], &nodes[e.to]);
+        let (s, c) = pi.theta.sin_cos();
+        let (dx, dy) = (pj.x - pi.x, pj.y - pi.y);
+        // d(error)/d(from) and d(error)/d(to), rows the error's components.
+        let a = [
+            [-c, -s, -s * dx + c * dy],
+            [s, -c, -c * dx - s * dy],
+            [0.0, 0.0, -1.0],
+        ];
+        let bj = [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]];
+        let blocks = [(e.from, a), (e.to, bj)];
+        for &(ni, ji) in &blocks {
+            if ni == 0 {
+                continue;
+            }
+            let oi = 3 * (ni - 1);
+            for p in 0..3 {
+                let g: f64 = (0..3).map(|k| ji[k][p] * omega[k] * err[k]).sum();
+                self.b[oi + p] += g;
+            }
+            for &(nj, jj) in &blocks {
+                if nj == 0 || nj > ni {
+                    continue;
+                }
+                let oj = 3 * (nj - 1);
+                for p in 0..3 {
+                    for q in 0..3 {
+                        if ni == nj && q > p {
+                            continue;
+                        }
+                        let h: f64 = (0..3).map(|k| ji[k][p] * omega[k] * jj[k][q]).sum();
+                        *self.at(oi + p, oj + q) += h;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Factors `H = L Lᵀ` in place over the envelope and solves for the
+    /// step; `None` when `H` is not positive definite.
+    fn solve(&mut self) -> Option<Vec<f64>> {
+        let dim = self.b.len();
+        let mut work = 0u64;
+        for r in 0..dim {
+            let fr = self.first[r];
+            for c in fr..=r {
+                let fc = self.first[c];
+                let k0 = fr.max(fc);
+                let (rs, cs) = (self.start[r], self.start[c]);
+                let mut sum = self.values[rs + c - fr];
+                for k in k0..c {
+                    sum -= self.values[rs + k - fr] * self.values[cs + k - fc];
+                }
+                work += (c - k0) as u64 + 1;
+                if c < r {
+                    sum /= self.values[cs + c - fc];
+                } else if sum > 0.0 && sum.is_finite() {
+                    sum = sum.sqrt();
+                } else {
+                    self.work = work;
+                    return None;
+                }
+                self.values[rs + c - fr] = sum;
+            }
+        }
+        // L y = -b, then Lᵀ x = y.
+        let mut y: Vec<f64> = self.b.iter().map(|v| -v).collect();
+        for r in 0..dim {
+            let (fr, rs) = (self.first[r], self.start[r]);
+            let mut sum = y[r];
+            for k in fr..r {
+                sum -= self.values[rs + k - fr] * y[k];
+            }
+            y[r] = sum / self.values[rs + r - fr];
+        }
+        for r in (0..dim).rev() {
+            let (fr, rs) = (self.first[r], self.start[r]);
+            y[r] /= self.values[rs + r - fr];
+            let xr = y[r];
+            for k in fr..r {
+                y[k] -= self.values[rs + k - fr] * xr;
+            }
+        }
+        self.work = work + 2 * self.values.len() as u64;
+        Some(y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_envelope_cholesky_solves_a_chain_with_a_loop() {
+        // Three nodes in a line, measured exactly, the last two started off.
+        let mut g = PoseGraph {
+            nodes: vec![
+                Pose {
+                    x: 0.0,
+                    y: 0.0,
+                    theta: 0.0,
+                },
+                Pose {
+                    x: 1.3,
+                    y: 0.2,
+                    theta: 0.1,
+                },
+                Pose {
+                    x: 1.7,
+                    y: -0.4,
+                    theta: -0.2,
+                },
+            ],
+            edges: vec![
+                Edge::new(0, 1, [1.0, 0.0, 0.0], [0.1, 0.1, 0.05], false),
+                Edge::new(1, 2, [1.0, 0.0, 0.0], [0.1, 0.1, 0.05], false),
+                Edge::new(0, 2, [2.0, 0.0, 0.0], [0.1, 0.1, 0.05], true),
+            ],
+        };
+        Optimizer::new(RobustSettings::default()).run(&mut g);
+        assert!(
+            (g.nodes[2].x - 2.0).abs() < 1e-6 && g.nodes[2].y.abs() < 1e-6,
+            "{:?}",
+            g.nodes
+        );
+    }
+}

@@ -1,0 +1,163 @@
+//! The pose graph's optimiser: a small graph whose answer is known, one
+//! optimisation spread over budgeted calls against one call, bit for bit,
+//! and a wrong closure between twin corridors switched off while a right
+//! one closes the loop.
+
+use occgrid::geometry::Pose;
+use occgrid::mapping::scan_match::relative_motion;
+use occgrid::slam::{Edge, Optimizer, PoseGraph, RobustSettings};
+
+fn pose(x: f64, y: f64, theta: f64) -> Pose {
+    Pose { x, y, theta }
+}
+
+/// A loop round a 10 x 4 m block (two long sides: the twin corridors),
+/// one pose every metre, heading along the way.
+fn ring() -> Vec<Pose> {
+    let mut out = Vec::new();
+    for i in 0..10 {
+        out.push(pose(i as f64, 0.0, 0.0));
+    }
+    for i in 0..4 {
+        out.push(pose(10.0, i as f64, std::f64::consts::FRAC_PI_2));
+    }
+    for i in 0..10 {
+        out.push(pose(10.0 - i as f64, 4.0, std::f64::consts::PI));
+    }
+    for i in 0..4 {
+        out.push(pose(0.0, 4.0 - i as f64, -std::f64::consts::FRAC_PI_2));
+    }
+    out
+}
+
+/// The ring's chain, each link measured with a small systematic turn (the
+/// drift), and the nodes started where the drifting links put them.
+fn drifting(truth: &[Pose]) -> PoseGraph {
+    let mut edges = Vec::new();
+    let mut nodes = vec![truth[0]];
+    for k in 1..truth.len() {
+        let mut m = relative_motion(&truth[k - 1], &truth[k]);
+        m[2] += 0.01;
+        edges.push(Edge::new(k - 1, k, m, [0.05, 0.05, 0.02], false));
+        let last = nodes[k - 1];
+        nodes.push(occgrid::mapping::scan_match::compose(&last, m));
+    }
+    PoseGraph { nodes, edges }
+}
+
+fn rms(a: &[Pose], b: &[Pose]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p.x - q.x).powi(2) + (p.y - q.y).powi(2))
+        .sum();
+    (sum / a.len() as f64).sqrt()
+}
+
+#[test]
+fn the_optimiser_finds_a_small_graph_whose_answer_is_known() {
+    // Exact measurements of every link and two closures, nodes started off:
+    // the answer is the truth.
+    let truth = ring();
+    let mut g = drifting(&truth);
+    for e in g.edges.iter_mut() {
+        e.measurement = relative_motion(&truth[e.from], &truth[e.to]);
+    }
+    let n = truth.len();
+    g.edges.push(Edge::new(
+        0,
+        n - 1,
+        relative_motion(&truth[0], &truth[n - 1]),
+        [0.05, 0.05, 0.02],
+        true,
+    ));
+    g.edges.push(Edge::new(
+        5,
+        20,
+        relative_motion(&truth[5], &truth[20]),
+        [0.05, 0.05, 0.02],
+        true,
+    ));
+    let before = rms(&g.nodes, &truth);
+    let mut o = Optimizer::new(RobustSettings::default());
+    o.run(&mut g);
+    assert!(o.is_finished() && !o.failed);
+    assert!(before > 0.3, "the start is off: {before}");
+    assert!(rms(&g.nodes, &truth) < 1e-6, "{}", rms(&g.nodes, &truth));
+    assert_eq!(g.switched_off(), 0);
+}
+
+#[test]
+fn budgeted_optimisation_equals_one_call_bit_for_bit() {
+    let truth = ring();
+    let mut one = drifting(&truth);
+    let n = truth.len();
+    one.edges.push(Edge::new(
+        0,
+        n - 1,
+        relative_motion(&truth[0], &truth[n - 1]),
+        [0.05, 0.05, 0.02],
+        true,
+    ));
+    let mut sliced = one.clone();
+    let mut o = Optimizer::new(RobustSettings::default());
+    o.run(&mut one);
+    let mut s = Optimizer::new(RobustSettings::default());
+    let mut calls = 0;
+    while !s.run_within(&mut sliced, 1) {
+        calls += 1;
+        assert!(calls < 10_000, "the budgeted optimisation ends");
+    }
+    assert!(calls > 2, "spread over several calls: {calls}");
+    assert_eq!(s.work(), o.work());
+    for (a, b) in one.nodes.iter().zip(&sliced.nodes) {
+        assert_eq!(
+            [a.x.to_bits(), a.y.to_bits(), a.theta.to_bits()],
+            [b.x.to_bits(), b.y.to_bits(), b.theta.to_bits()]
+        );
+    }
+    assert!(rms(&one.nodes, &truth) < rms(&drifting(&truth).nodes, &truth));
+}
+
+#[test]
+fn a_wrong_closure_between_twin_corridors_is_switched_off_and_the_loop_still_closes() {
+    let truth = ring();
+    let n = truth.len();
+    let mut g = drifting(&truth);
+    let before = rms(&g.nodes, &truth);
+    // Two right closures where the end meets the start; a wrong one that
+    // puts scan 19 of the upper corridor where its twin below (4 m away,
+    // alike) is: on scan 5 of the lower corridor.
+    g.edges.push(Edge::new(
+        0,
+        n - 1,
+        relative_motion(&truth[0], &truth[n - 1]),
+        [0.05, 0.05, 0.01],
+        true,
+    ));
+    g.edges.push(Edge::new(
+        1,
+        n - 2,
+        relative_motion(&truth[1], &truth[n - 2]),
+        [0.05, 0.05, 0.01],
+        true,
+    ));
+    let wrong = relative_motion(
+        &truth[5],
+        &pose(truth[19].x, truth[19].y - 4.0, truth[19].theta),
+    );
+    g.edges
+        .push(Edge::new(5, 19, wrong, [0.05, 0.05, 0.01], true));
+    let mut o = Optimizer::new(RobustSettings::default());
+    o.run(&mut g);
+    let after = rms(&g.nodes, &truth);
+    assert!(
+        !g.edges.last().unwrap().active,
+        "the wrong closure is switched off"
+    );
+    assert_eq!(g.switched_off(), 1, "and only it");
+    assert!(
+        after < 0.25 * before && after < 0.1,
+        "before {before}, after {after}"
+    );
+}

@@ -1,0 +1,72 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! SLAM on the shared logs, natively: a measurement, not a check (run with
+//! `cargo test --release --test slam_logs -- --ignored --nocapture`;
+//! `SLAM_LOGS` a comma-separated list of log file names, `SLAM_SEED` the
+//! seed, `SLAM_OUT` a folder the poses are written to as `NAME.poses.tsv`).
+
+use occgrid::apps::real_log::LogMapSettings;
+use occgrid::poses::{match_settings, PoseSourceKind, SourceSettings};
+use occgrid::sensors::odometry::OdometryParams;
+
+use occgrid::grid::{FilterSettings, TiledGrid};
+use occgrid::io::carmen::read_scans;
+use occgrid::sensors::ScanLog;
+
+/// A log of ../shared/datasets (or `OCCGRID_DATASETS`), by file name.
+fn scans(name: &str) -> ScanLog {
+    let dir: std::path::PathBuf = std::env::var_os("OCCGRID_DATASETS")
+        .map(Into::into)
+        .unwrap_or_else(|| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    read_scans(std::fs::File::open(dir.join(name)).unwrap()).unwrap()
+}
+
+#[test]
+#[ignore = "a measurement: every shared log mapped by SLAM"]
+fn slam_on_the_shared_logs() {
+    let names = std::env::var("SLAM_LOGS")
+        .unwrap_or_else(|_| "intel,freiburg-101,fhw,aces,freiburg-campus,infinite-corridor".into());
+    let seed: u64 = std::env::var("SLAM_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let out =
+        std::env::var("SLAM_OUT").unwrap_or_else(|_| std::env::temp_dir().display().to_string());
+    for name in names.split(',') {
+        let log = scans(&format!("{name}-corrected.log.gz"));
+        let s = LogMapSettings::default();
+        let settings = SourceSettings {
+            seed,
+            noise: OdometryParams::WHEELS,
+            matching: match_settings(s.range_cap),
+            resolution: s.resolution,
+        };
+        let started = std::time::Instant::now();
+        let mut source = PoseSourceKind::Slam.start(&log, &settings).unwrap();
+        // The source keeps its own submaps: the map it is handed is not read.
+        let geometry =
+            occgrid::geometry::GridGeometry::new(64, 64, s.resolution, 0.0, 0.0).unwrap();
+        let filter = FilterSettings {
+            prior: 0.5,
+            clamp: s.clamp,
+        };
+        let empty = TiledGrid::new(geometry, filter, 64 * 64).unwrap();
+        for k in 0..log.len() {
+            let scan = log.scan(k).unwrap();
+            let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);
+            source.locate(k, &scan, laser_max, &empty).unwrap();
+        }
+        let seconds = started.elapsed().as_secs_f64();
+        let mut tsv = String::from("# scan x y theta\n");
+        for (k, p) in source.poses().iter().enumerate() {
+            tsv.push_str(&format!("{k}\t{}\t{}\t{}\n", p.x, p.y, p.theta));
+        }
+        let path = format!("{out}/{name}.poses.tsv");
+        std::fs::write(&path, tsv).unwrap();
+        println!(
+            "{name}: {} scans, revision {}, {seconds:.1} s, {path}",
+            log.len(),
+            source.revision()
+        );
+        assert_eq!(source.poses().len(), log.len());
+    }
+}

@@ -1,0 +1,218 @@
+#![cfg(not(target_arch = "wasm32"))]
+//! SLAM on a built world: a ring corridor driven once round and on past
+//! the start, from dead reckoning that drifts, closes its loop (the path
+//! ends far nearer the truth than dead reckoning); the same seed gives the
+//! same poses bit for bit. (Run in release: `cargo test --release --test
+//! slam_loops`.)
+
+use occgrid::geometry::{GridGeometry, Pose};
+use occgrid::mapping::scan_match::MatchSettings;
+use occgrid::sensors::lidar::Lidar;
+use occgrid::sensors::odometry::OdometryParams;
+use occgrid::sensors::Scan;
+use occgrid::slam::SlamBuilder;
+use occgrid::world::{Rect, World};
+use rand::rngs::StdRng;
+use rand::SeedableRng;
+
+/// A 3 m wide corridor round a 18 x 8 m block, with doorway posts and
+/// cupboards along its outer wall at uneven spacing (a corridor without
+/// them pins nothing along its length).
+fn ring_world() -> World {
+    let g = GridGeometry::new(540, 340, 0.05, 0.0, 0.0).unwrap();
+    let mut boxes = vec![
+        Rect::new(0.5, 0.5, 26.5, 1.0),
+        Rect::new(0.5, 16.0, 26.5, 16.5),
+        Rect::new(0.5, 0.5, 1.0, 16.5),
+        Rect::new(26.0, 0.5, 26.5, 16.5),
+        Rect::new(4.0, 4.0, 22.5, 12.5),
+    ];
+    let posts = [2.3, 5.1, 6.0, 9.7, 13.2, 14.0, 17.9, 20.4, 24.1];
+    for (i, &x) in posts.iter().enumerate() {
+        let depth = 0.3 + 0.15 * (i % 3) as f64;
+        boxes.push(Rect::new(x, 1.0, x + 0.4, 1.0 + depth));
+        boxes.push(Rect::new(x + 0.7, 16.0 - depth, x + 1.1, 16.0));
+    }
+    for (i, &y) in [3.1, 6.4, 8.0, 11.5, 13.9].iter().enumerate() {
+        let depth = 0.3 + 0.2 * (i % 2) as f64;
+        boxes.push(Rect::new(1.0, y, 1.0 + depth, y + 0.5));
+        boxes.push(Rect::new(26.0 - depth, y + 0.6, 26.0, y + 1.0));
+    }
+    World::from_boxes(g, &boxes)
+}
+
+/// Round the corridor's middle line once, anticlockwise, and on along the
+/// first side again: a step of 0.3 m, corners turned in place.
+fn route() -> Vec<Pose> {
+    let corners: [(f64, f64); 6] = [
+        (2.5, 2.5),
+        (24.5, 2.5),
+        (24.5, 14.2),
+        (2.5, 14.2),
+        (2.5, 2.5),
+        (12.0, 2.5),
+    ];
+    let mut out = Vec::new();
+    let mut heading = 0.0;
+    for w in corners.windows(2) {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        let to = (y1 - y0).atan2(x1 - x0);
+        let turn = occgrid::geometry::wrap_angle(to - heading);
+        for i in 1..=4 {
+            out.push(Pose {
+                x: x0,
+                y: y0,
+                theta: heading + turn * i as f64 / 4.0,
+            });
+        }
+        heading = to;
+        let length = (x1 - x0).hypot(y1 - y0);
+        let steps = (length / 0.3).round() as usize;
+        for i in 1..=steps {
+            let t = i as f64 / steps as f64;
+            out.push(Pose {
+                x: x0 + t * (x1 - x0),
+                y: y0 + t * (y1 - y0),
+                theta: heading,
+            });
+        }
+    }
+    out
+}
+
+/// Dead reckoning that drifts as worn wheels do: a tenth of a degree of
+/// heading a metre on top of the usual noise.
+const DRIFTING: OdometryParams = OdometryParams {
+    heading_drift: 0.0035,
+    ..OdometryParams::WHEELS
+};
+
+fn scans(world: &World, truth: &[Pose]) -> Vec<Scan> {
+    let lidar = Lidar {
+        beams: 360,
+        z_max: 20.0,
+        sigma: 0.01,
+        first_bearing: 0.0,
+    };
+    let mut rng = StdRng::seed_from_u64(7);
+    let mut ranges = Vec::new();
+    truth
+        .iter()
+        .map(|p| {
+            lidar.scan_into(world, p, &mut rng, &mut ranges);
+            Scan::new(*p, ranges.clone(), lidar.bearings()).unwrap()
+        })
+        .collect()
+}
+
+fn slam(odometry: &[Pose], scans: &[Scan]) -> SlamBuilder {
+    let mut b =
+        SlamBuilder::new(odometry.to_vec(), DRIFTING, MatchSettings::default(), 0.05).unwrap();
+    for s in scans {
+        b.add_scan(s, 20.0).unwrap();
+    }
+    b
+}
+
+fn rms(a: &[Pose], b: &[Pose]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p.x - q.x).powi(2) + (p.y - q.y).powi(2))
+        .sum();
+    (sum / a.len() as f64).sqrt()
+}
+
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "276 scans mapped twice: minutes unoptimised, run with --release"
+)]
+fn a_corridor_loop_with_drift_closes_and_one_seed_gives_one_path() {
+    let world = ring_world();
+    let truth = route();
+    let scans = scans(&world, &truth);
+    let odometry = DRIFTING.dead_reckon_path(&truth, 3);
+    let before = rms(&odometry, &truth);
+    let b = slam(&odometry, &scans);
+    let after = rms(b.poses(), &truth);
+    eprintln!(
+        "{} scans: dead reckoning {before:.3} m, slam {after:.3} m, {} closures",
+        truth.len(),
+        b.closures()
+    );
+    assert!(before > 0.5, "the dead reckoning drifts: {before}");
+    assert!(b.closures() > 0 && b.revision() > 0, "the loop is closed");
+    assert!(
+        after < 0.2 * before && after < 0.15,
+        "before {before}, after {after}"
+    );
+    // Same seed, same poses, bit for bit.
+    let again = slam(&odometry, &scans);
+    let bits = |p: &[Pose]| {
+        p.iter()
+            .flat_map(|q| [q.x.to_bits(), q.y.to_bits(), q.theta.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(b.poses()), bits(again.poses()));
+}
+
+/// The ring's scans as a log: the true poses as its reference, no
+/// odometry of its own (so the sources dead-reckon from the seed).
+fn ring_log(scans: &[Scan]) -> occgrid::sensors::ScanLog {
+    let mut log = occgrid::sensors::ScanLog::new("scan");
+    for (k, s) in scans.iter().enumerate() {
+        let record = occgrid::sensors::ScanRecord {
+            origin: k + 1,
+            stamp: None,
+            pose: s.pose(),
+            odometry: None,
+            ranges: s.ranges(),
+            first_bearing: s.bearings()[0],
+            bearing_step: s.bearings()[1] - s.bearings()[0],
+            max_range: Some(20.0),
+        };
+        log.push(&record, usize::MAX).unwrap();
+    }
+    log
+}
+
+/// A real-log pane at SLAM poses ends with the map of every scan at the
+/// final, optimised poses: bit for bit the map inserted afresh at them
+/// (its map was rebuilt after each optimisation, not left at the poses
+/// each scan was first put at).
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
+)]
+fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
+    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::mapping::insertion::ScanInserter;
+    use occgrid::poses::PoseSourceKind;
+    let world = ring_world();
+    let truth = route();
+    let log = ring_log(&scans(&world, &truth));
+    let settings = LogMapSettings {
+        poses: PoseSourceKind::Slam,
+        model: LogCellModel::LogOdds,
+        ..LogMapSettings::default()
+    };
+    let mut pane = LogPane::new(log.clone(), settings).unwrap();
+    let progress = pane.advance(usize::MAX);
+    assert!(progress.finished && pane.failure().is_none());
+    let optimised = pane.poses().to_vec();
+    let mut fresh = pane.grid().to_dense().unwrap();
+    fresh.reset();
+    let mut inserter = ScanInserter::new(settings.scan_insertion()).unwrap();
+    for (k, pose) in optimised.iter().enumerate() {
+        let scan = log.scan(k).unwrap().with_pose(*pose).unwrap();
+        inserter.insert(&mut fresh, &scan, 20.0);
+    }
+    let built = pane.grid().to_dense().unwrap();
+    assert_eq!(built.log_odds(), fresh.log_odds());
+    // And the poses moved after they were first found: dead reckoning
+    // wandered, and the loop pulled them back.
+    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
+    assert!(rms(&optimised, &truth) < 0.5 * rms(&odometry, &truth));
+}
