@@ -47,7 +47,8 @@ export function modelNote() {
     'makes it white. Log odds is the chapter’s filter (Table 9.1 with Table 9.2’s l_occ and l_free and the clamp): one return makes a ',
     'cell black and four beams are needed to make one white. Hit/miss odds is Cartographer’s probability grid (Hess et al. 2016): a hit ',
     'multiplies a cell’s odds by odds(0.55), a miss by odds(0.49), within [0.1, 0.9], through lookup tables; its misses are so weak ',
-    'that little of the floor passes the export’s free threshold (0.196). Under every model a beam is as wide as the beams’ spacing ',
+    'that little of the floor would pass map_server’s free threshold (0.196), so its map is drawn, counted and exported free below ',
+    'p 0.5 and occupied above it, as the exported YAML says. Under every model a beam is as wide as the beams’ spacing ',
     '(Table 9.2’s β), so floor between two beams, nearer than both readings, is free too. Choose a second model to see both maps of ',
     'the same log side by side.');
 }
