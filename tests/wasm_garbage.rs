@@ -641,16 +641,41 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     assert!(s.render_view(num(0.0)).unwrap() != 0);
     let c = s.counts(num(0.0)).unwrap();
     assert!(get(&c, "occupied").as_f64().unwrap() > 0.0);
-    s.export_map(num(0.0), "../../etc/passwd\n".into()).unwrap();
-    s.export_map(num(0.0), JsValue::NULL).unwrap();
-    s.export_map(num(0.0), JsValue::UNDEFINED).unwrap();
-    s.export_map(num(0.0), "lab".into()).unwrap();
+    s.export_map(num(0.0), "../../etc/passwd\n".into(), JsValue::UNDEFINED)
+        .unwrap();
+    s.export_map(num(0.0), JsValue::NULL, JsValue::UNDEFINED)
+        .unwrap();
+    s.export_map(num(0.0), JsValue::UNDEFINED, JsValue::UNDEFINED)
+        .unwrap();
+    s.export_map(num(0.0), "lab".into(), JsValue::UNDEFINED)
+        .unwrap();
     refused(
-        s.export_map(num(0.0), JsValue::from_f64(7.0)),
+        s.export_map(num(0.0), JsValue::from_f64(7.0), JsValue::UNDEFINED),
         &["name", "7"],
     );
-    refused(s.export_map(num(0.0), Object::new().into()), &["name"]);
-    refused(s.export_map(num(1.0), JsValue::NULL), &["pane", "1"]);
+    refused(
+        s.export_map(num(0.0), Object::new().into(), JsValue::UNDEFINED),
+        &["name"],
+    );
+    refused(
+        s.export_map(num(1.0), JsValue::NULL, JsValue::UNDEFINED),
+        &["pane", "1"],
+    );
+    // The log's name is a string or nothing; a hostile one is quoted in
+    // the YAML's comments, never a line of its own.
+    let pair = s
+        .export_map(num(0.0), "lab".into(), "x.log\nimage: /etc/passwd".into())
+        .unwrap();
+    let yaml = get(&pair, "yaml").as_string().unwrap();
+    assert!(
+        !yaml.lines().any(|l| l.starts_with("image: /etc")),
+        "{yaml}"
+    );
+    s.export_map(num(0.0), "lab".into(), JsValue::NULL).unwrap();
+    refused(
+        s.export_map(num(0.0), "lab".into(), JsValue::from_f64(7.0)),
+        &["logFile", "7"],
+    );
     let bytes = |b: &[u8]| JsValue::from(js_sys::Uint8Array::from(b));
     zip_map_pair("".into(), bytes(&[]), "".into()).unwrap();
     zip_map_pair("\u{0}\n..".into(), bytes(&[1, 2, 3]), "image: x\n".into()).unwrap();
