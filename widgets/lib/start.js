@@ -28,6 +28,11 @@ import { showError, startTurn, whenVisible } from './ui.js';
 export async function startWidget(element, spec, { build, withCore, whenSeen, ahead = false, landing = null }) {
   await startTurn();
   if (!element.isConnected || !firstConnection(element, spec)) return;
+  // What the page wrote inside the element is its fallback, shown while no
+  // widget runs: a host that sends no CORS header loads no module at all,
+  // so no code of ours could say why (README, "A course page on another
+  // origin"). The widget replaces it.
+  element.replaceChildren();
   build();
   landLink(element, landing);
   try {
