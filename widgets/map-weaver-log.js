@@ -206,6 +206,9 @@ export class RealLogPanel {
     this.fileInput = el('input', { type: 'file', id: fileId, name: 'log-file', accept: '.log,.gz,.clf,.txt,.mcap,application/gzip,text/plain' });
     this.fileInput.addEventListener('change', () => {
       const file = this.fileInput.files?.[0];
+      // Emptied once taken, so that choosing the same file again (after
+      // another log, or to start over) is a change the input reports.
+      this.fileInput.value = '';
       if (file) this.loadFile(file);
     });
     this.datasetMenu = select('Log on this server', [['', 'choose a log…']], '', (v) => v && this.loadUrl(v), { name: 'dataset' });
