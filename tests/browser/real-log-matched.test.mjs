@@ -141,7 +141,7 @@ test('log-poses accepts scan-matched and says so among the choices of a bad valu
   });
   const box = page.locator('#sm > .occgrid-attribute-error');
   await box.waitFor();
-  assert.match(await box.textContent(), /invalid log-poses: "matched" \(expected one of "corrected", "dead-reckoning", "scan-matched"\)/);
+  assert.match(await box.textContent(), /invalid log-poses: "matched" \(expected one of "corrected", "dead-reckoning", "scan-matched", "odometry", "slam"\)/);
   await page.evaluate(() => document.getElementById('sm').setAttribute('log-poses', 'scan-matched'));
   await page.waitForFunction(() => !document.querySelector('#sm > .occgrid-attribute-error'));
   await page.waitForFunction(() => document.querySelector('#sm .map-weaver-log select[name=poses]')?.value === 'scan-matched');

@@ -135,7 +135,7 @@ test('log-poses and log-seed are checked like the other attributes and set the p
   });
   const box = page.locator('#dr > .occgrid-attribute-error');
   await box.waitFor();
-  assert.match(await box.textContent(), /invalid log-poses: "gps" \(expected one of "corrected", "dead-reckoning", "scan-matched", "odometry"\)/);
+  assert.match(await box.textContent(), /invalid log-poses: "gps" \(expected one of "corrected", "dead-reckoning", "scan-matched", "odometry", "slam"\)/);
   assert.match(await box.textContent(), /invalid log-seed: "-3"/);
   await page.evaluate(() => {
     const w = document.getElementById('dr');
