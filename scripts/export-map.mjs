@@ -16,8 +16,8 @@
 // grid covers the log's poses and readings, Table 9.2 with W1's weights and
 // clamp, no-returns clearing 5 m (--no-return-reach), free evidence that
 // stops at the wall a beam grazes (--walls incidence; table-9.2 for the
-// chapter's model), 0.05 m cells (--resolution), at the log's corrected
-// poses; `--poses dead-reckoning` maps it at dead-reckoned ones instead (the
+// chapter's model), 0.05 m cells (--resolution), at the log's own poses (a
+// CARMEN log's corrected poses, a bag's odometry); `--poses dead-reckoning` maps it at dead-reckoned ones instead (the
 // log's motion increments with Table 5.6's odometry noise, integrated from
 // the first pose), the noise drawn from `--seed` (default 1; one seed, one
 // map); `--poses scan-matched` starts from the same dead reckoning (or from
@@ -30,7 +30,8 @@
 // what a cell believes: hit-counting (the default: GMapping's hits and
 // visits), log-odds (Table 9.2's filter with the chapter's clamp) or
 // hit-miss-odds (Cartographer's odds tables).
-// A bag (BAG.mcap) is mapped at its own odometry (`--poses odometry`) or
+// A bag (BAG.mcap) is mapped at its own odometry (`--poses odometry`, the
+// default for a bag without --poses) or
 // scan-matched from it; it has no corrected poses unless it says so, and
 // dead reckoning does not apply to it (the core refuses a source that does
 // not apply, by name). Its poses.tsv holds the laser's pose in the
@@ -144,6 +145,8 @@ async function main() {
   const { core } = await loadCore({ logs: true });
   const session = new core.RealLogSession(bytes);
   try {
+    // Without --poses, the log's own: a CARMEN log's corrected poses, a bag's odometry.
+    settings.poses ??= session.ownPoses();
     session.configure(settings);
     if (topics.scan !== undefined || topics.odom !== undefined) session.chooseTopics(topics.scan, topics.odom);
     // Each call reads a bounded step (scans, lines, bytes): loop to the end.

@@ -51,3 +51,85 @@ fn a_bag_at_corrected_poses_is_refused_by_name() {
         "{e}"
     );
 }
+
+/// A bag of two LaserScan topics and one Odometry topic, `scans` each.
+fn two_scan_topics(summary: bool) -> Vec<u8> {
+    robot_bag(&BagSpec {
+        scans: 6,
+        scan_topics: vec!["/front_scan", "/rear_scan"],
+        summary,
+        ..BagSpec::default()
+    })
+    .0
+}
+
+#[test]
+fn a_bag_with_two_scan_topics_offers_them_and_maps_the_one_chosen() {
+    for summary in [true, false] {
+        let bag = two_scan_topics(summary);
+        let mut s = RealLogSession::new(bag.clone());
+        s.configure(LogMapSettings {
+            poses: PoseSourceKind::Odometry,
+            ..LogMapSettings::default()
+        })
+        .unwrap();
+        assert!(read_and_build(&mut s).is_err(), "summary {summary}");
+        let state = s.state();
+        let topics = state.topics.expect("the read wants a topic choice");
+        let scans: Vec<(&str, &str, u64)> = topics
+            .scan_topics
+            .iter()
+            .map(|t| (t.topic.as_str(), t.type_name.as_str(), t.messages))
+            .collect();
+        assert_eq!(
+            scans,
+            [
+                ("/front_scan", "sensor_msgs/msg/LaserScan", 6),
+                ("/rear_scan", "sensor_msgs/msg/LaserScan", 6)
+            ],
+            "summary {summary}"
+        );
+        assert_eq!(topics.odom_topics.len(), 1);
+        assert_eq!(topics.odom_topics[0].topic, "/odom");
+        assert_eq!(topics.odom_topics[0].type_name, "nav_msgs/msg/Odometry");
+        assert!(topics.odom_topics[0].messages > 0);
+
+        // Opened again with a topic named: no choice wanted, and it maps.
+        s.open(bag, "two.mcap");
+        assert_eq!(s.state().topics, None);
+        s.choose_topics(Some("/rear_scan".into()), None).unwrap();
+        read_and_build(&mut s).unwrap();
+        let state = s.state();
+        assert_eq!(state.topics, None);
+        assert_eq!(state.scans_done, 6, "summary {summary}");
+    }
+}
+
+#[test]
+fn a_refusal_other_than_a_topic_choice_offers_no_topics() {
+    let mut s = session(PoseSourceKind::Corrected);
+    assert!(read_and_build(&mut s).is_err());
+    assert_eq!(s.state().topics, None);
+    let mut s = RealLogSession::new(b"\x89MCAP0\r\nnot a bag at all".to_vec());
+    assert!(s.read(10).is_err());
+    assert_eq!(s.state().topics, None);
+}
+
+#[test]
+fn a_bag_is_mapped_at_its_own_odometry_and_a_carmen_log_at_its_corrected_poses() {
+    let (bag, _) = robot_bag(&BagSpec::default());
+    let mut s = RealLogSession::new(bag);
+    assert_eq!(s.own_poses(), Some(PoseSourceKind::Odometry));
+    // What a page does for a reader who named no poses: the log's own.
+    s.configure(LogMapSettings {
+        poses: s.own_poses().unwrap(),
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    read_and_build(&mut s).unwrap();
+    assert_eq!(s.state().panes[0].poses, PoseSourceKind::Odometry);
+    assert_eq!(s.own_poses(), None, "read: no log being read");
+    let carmen = b"FLASER 3 1.0 1.0 1.0 0 0 0 0 0 0 1 host 0\n".to_vec();
+    let s = RealLogSession::new(carmen);
+    assert_eq!(s.own_poses(), Some(PoseSourceKind::Corrected));
+}

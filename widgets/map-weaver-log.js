@@ -30,6 +30,7 @@ import { settingsControls } from './lib/log-controls.js';
 import { drawViews, dpr, paintPane } from './lib/log-view.js';
 import { floatingReadout, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
+import { topicChooser } from './lib/topic-chooser.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -148,6 +149,8 @@ export class RealLogPanel {
     this.trace = []; // each call into the core during the last load, timed, for tests
     // The settings the controls show (the core's in force once a log is mapped).
     this.settings = { ...core.RealLogSession.defaultSettings(), ...pick(settings) };
+    // Poses other than the default are the reader's; else each log is mapped at its own (a bag at its odometry).
+    this.posesChosen = this.settings.poses !== core.RealLogSession.defaultSettings().poses;
     this.dataset = null; // the /datasets/ log shown or read, null for a file of the reader's own
     this.fetches = 0;
     this.buildDom();
@@ -215,6 +218,7 @@ export class RealLogPanel {
     this.datasetMenu.root.hidden = true;
 
     this.controls = settingsControls(this);
+    this.topicChooser = topicChooser();
 
     this.progress = el('progress', { class: 'map-weaver-log-progress', max: 1, value: 0, 'aria-label': 'reading and mapping progress' });
     this.status = el('p', { class: 'map-weaver-log-status occgrid-readout', 'aria-live': 'polite' }, 'No log loaded yet.');
@@ -254,6 +258,7 @@ export class RealLogPanel {
       el('div', { class: 'map-weaver-log-source occgrid-controls', role: 'group', 'aria-label': 'log to map', dataset: { controls: 'log-source' } },
         el('div', { class: 'occgrid-control' }, el('label', { for: fileId }, 'Open a CARMEN log'), this.fileInput),
         this.datasetMenu.root),
+      this.topicChooser.root,
       el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },
         Object.values(this.controls).map((c) => c.root)),
       this.progress, this.status, this.timing,
@@ -322,10 +327,11 @@ export class RealLogPanel {
    * it: the core reads and maps, the panel shows its state. Timed from the
    * reader's choice, file reading included.
    */
-  async load(name, getBytes) {
+  async load(name, getBytes, topics = null) {
     const t0 = performance.now();
     const ticket = ++this.fetches;
     clearError(this.root);
+    this.topicChooser.hide();
     this.timing.textContent = '';
     this.trace = [];
     let bytes;
@@ -342,13 +348,17 @@ export class RealLogPanel {
     try {
       if (this.session) this.session.open(bytes, name);
       else this.session = new this.core.RealLogSession(bytes, name);
+      if (topics) this.session.chooseTopics(topics.scan, topics.odom);
     } catch (e) {
       return void showError(this.root, e, `${name}: `);
     }
+    const own = this.posesChosen ? null : this.session.ownPoses();
+    if (own && own !== this.settings.poses) { this.settings = { ...this.settings, poses: own }; this.syncControls(); if (!first) this.applySettings(); }
     // The first log makes the session: it takes the panel's settings.
     if (first) this.applySettings();
     this.trace.push(['copy', performance.now() - t]);
     this.reading = name;
+    this.opened = { name, bytes }; // kept until read, for a bag's topic choice
     this.job = { kind: 'load', name, t0 };
     this.readBudget = 128;
     this.show(this.session.state());
@@ -440,6 +450,8 @@ export class RealLogPanel {
       // Settings that make no map of the log: the ones in force stay, and the controls show them.
       if (planning) { this.settings = pick(state.settings); this.job = null; this.syncControls(); }
       showError(this.root, e, planning ? 'settings: ' : `${this.reading}: `);
+      const { name, bytes } = this.opened ?? {};
+      if (state.topics && bytes) this.topicChooser.show(state.topics, (choice) => this.load(name, async () => bytes, choice));
       if (state.state === 'awaiting-settings') this.layout();
       return;
     }
@@ -451,6 +463,7 @@ export class RealLogPanel {
     if (report.finished) {
       // The whole log is read and its panes set up: the maps are this log's.
       this.name = this.reading;
+      this.opened = null;
       if (this.job) this.job.readMs = performance.now() - this.job.t0;
       this.layout();
     }
@@ -820,6 +833,7 @@ export class RealLogPanel {
 
   /** A control moved: the core takes the settings at once (or refuses them by name), and its state is the rebuild's from then on. */
   change(patch) {
+    if ('poses' in patch) this.posesChosen = true;
     this.settings = { ...this.settings, ...patch };
     if (!this.session) return;
     const before = this.state?.panes.length ? this.geometry : null;

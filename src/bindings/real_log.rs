@@ -108,6 +108,14 @@ impl RealLogSession {
         Ok(self.session.choose_topics(scan, odom)?)
     }
 
+    /// The poses the log just opened is mapped at when the reader names
+    /// none (`corrected` for a CARMEN log, `odometry` for a ROS 2 bag), or
+    /// `undefined` once it is read.
+    #[wasm_bindgen(js_name = ownPoses)]
+    pub fn own_poses(&self) -> Option<String> {
+        self.session.own_poses().map(|k| k.name().to_string())
+    }
+
     /// Reads up to `maxScans` more scans (a whole number; `Infinity` for
     /// the rest of the log) and returns `{ records, recordName, scans,
     /// beams, bytesRead, bytesTotal, finished, warning }` (`recordName` is
@@ -135,7 +143,10 @@ impl RealLogSession {
 
     /// The one state a panel renders: `{ state, error, progress, read,
     /// scansDone, scansTarget, scansTotal, cellUpdates, beams, finished,
-    /// panes: [{ poses, caption, scansDone, ... }], settings, limits }`,
+    /// panes: [{ poses, caption, scansDone, ... }], topics, settings, limits
+    /// }` (`topics`, after a bag's read refused for want of a topic
+    /// choice: `{ scanTopics, odomTopics }`, each `[{ topic, type,
+    /// messages }]`; else `null`),
     /// `state` one of idle, reading, awaiting-settings, building, done,
     /// failed.
     pub fn state(&self) -> Result<JsValue, JsError> {

@@ -7,6 +7,7 @@
 //! sniffer and of `open_log`.
 
 use crate::error::{OccError, Result};
+use crate::poses::PoseSourceKind;
 use crate::sensors::ScanLog;
 
 /// What a log may cost, checked as it is read.
@@ -106,6 +107,41 @@ impl LogFormat {
     }
 }
 
+impl LogFormat {
+    /// The poses a log of this format is mapped at when the reader names
+    /// none: a CARMEN log's corrected poses, a bag's own odometry (a bag
+    /// carries no corrected poses; docs/ARCHITECTURE.md, "Pose sources
+    /// and log formats").
+    pub fn own_poses(self) -> PoseSourceKind {
+        match self {
+            Self::Carmen => PoseSourceKind::Corrected,
+            Self::Mcap => PoseSourceKind::Odometry,
+        }
+    }
+}
+
+/// One topic of a log that has topics (a ROS 2 bag): its name, message
+/// type and message count.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct LogTopic {
+    pub topic: String,
+    #[serde(rename = "type")]
+    pub type_name: String,
+    pub messages: u64,
+}
+
+/// The topics a read was refused for want of a choice between (a bag with
+/// several LaserScan or Odometry topics and none named): every topic of
+/// each kind, for a page to offer.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TopicChoices {
+    /// The LaserScan topics, one of which is mapped.
+    pub scan_topics: Vec<LogTopic>,
+    /// The Odometry topics, one of which places the scans.
+    pub odom_topics: Vec<LogTopic>,
+}
+
 /// The first bytes of an MCAP file (a ROS 2 bag); the rest of its magic
 /// is checked by its reader, which names a mismatch.
 const MCAP_MAGIC: &[u8] = b"\x89MCAP";
@@ -145,5 +181,11 @@ pub trait LogSource {
                 super::mcap::quoted(&t)
             ))),
         }
+    }
+    /// After a refused read, the topics it wanted a choice between (the
+    /// read named no topic of a kind the file holds several of, or one it
+    /// does not hold), or `None`: a format without topics never wants one.
+    fn topic_choices(&self) -> Option<TopicChoices> {
+        None
     }
 }

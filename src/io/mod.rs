@@ -11,5 +11,7 @@ pub mod mcap;
 mod open;
 pub mod ros2;
 
-pub use log_source::{LoadProgress, LogBudget, LogFormat, LogSource, MAX_KEPT_BYTES};
+pub use log_source::{
+    LoadProgress, LogBudget, LogFormat, LogSource, LogTopic, TopicChoices, MAX_KEPT_BYTES,
+};
 pub use open::{open_log, read_log};

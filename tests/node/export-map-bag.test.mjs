@@ -23,6 +23,8 @@ function run(...args) {
   return { status: r.status, stdout: r.stdout, stderr: r.stderr };
 }
 
+let atOdometry = null; // the first test's export at --poses odometry
+
 test('intel-perfect.mcap at its odometry maps like the corrected Intel log', { skip }, () => {
   const fromBag = run(bag, path.join(dir, 'bag'), '--poses', 'odometry', '--scan-topic', '/scan', '--odom-topic=/odom');
   assert.equal(fromBag.status, 0, fromBag.stderr);
@@ -30,6 +32,9 @@ test('intel-perfect.mcap at its odometry maps like the corrected Intel log', { s
   assert.equal(fromLog.status, 0, fromLog.stderr);
   const a = JSON.parse(fromBag.stdout);
   const b = JSON.parse(fromLog.stdout);
+  atOdometry = a;
+  // Without --poses, the CARMEN log is mapped at its own corrected poses.
+  assert.equal(b.poses, 'corrected');
   assert.equal(a.poses, 'odometry');
   assert.equal(a.scans, b.scans);
   for (const key of ['occupied', 'free', 'unknown']) {
@@ -53,4 +58,14 @@ test('a bag refuses corrected and dead-reckoning poses by name, and a topic it l
   assert.equal(r.status, 1);
   assert.match(r.stderr, /scan_topic "\/front_scan" is no sensor_msgs\/msg\/LaserScan topic/, r.stderr);
   assert.match(r.stderr, /"\/odom" \("nav_msgs\/msg\/Odometry", \d+ messages\)/, r.stderr);
+});
+
+test('a bag without --poses is mapped at its own odometry, the map --poses odometry makes', { skip }, () => {
+  const r = run(bag, path.join(dir, 'default'));
+  assert.equal(r.status, 0, r.stderr);
+  const a = JSON.parse(r.stdout);
+  assert.equal(a.poses, 'odometry');
+  const b = atOdometry ?? JSON.parse(run(bag, path.join(dir, 'odometry'), '--poses', 'odometry').stdout);
+  assert.deepEqual(fs.readFileSync(a.pgm), fs.readFileSync(b.pgm));
+  assert.equal(fs.readFileSync(a.poses_tsv, 'utf8'), fs.readFileSync(b.poses_tsv, 'utf8'));
 });

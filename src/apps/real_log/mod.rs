@@ -132,6 +132,10 @@ pub struct SessionState {
     pub finished: bool,
     /// The panes, the one the reader operates first.
     pub panes: Vec<PaneState>,
+    /// The topics a refused read wanted a choice between (a bag with
+    /// several LaserScan or Odometry topics and none named), for the page
+    /// to offer; `None` otherwise.
+    pub topics: Option<crate::io::TopicChoices>,
     /// The settings in force and the limits their controls keep to.
     pub settings: LogMapSettings,
     pub limits: SettingLimits,
@@ -233,6 +237,7 @@ impl RealLogSession {
             beams: panes.iter().map(|p| p.progress.beams).sum(),
             finished: !panes.is_empty() && panes.iter().all(|p| p.progress.finished),
             panes,
+            topics: self.topic_choices.clone(),
             settings,
             limits: SettingLimits::at(settings.resolution)
                 .expect("checked settings have a positive resolution"),

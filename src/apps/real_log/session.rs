@@ -15,7 +15,8 @@ use super::SessionState;
 use crate::error::{invalid, OccError, Result};
 use crate::grid::storage::DEFAULT_TILE_BUDGET_CELLS;
 use crate::inverse::HandCrafted;
-use crate::io::{open_log, LoadProgress, LogBudget, LogSource};
+use crate::io::{open_log, LoadProgress, LogBudget, LogSource, TopicChoices};
+use crate::poses::PoseSourceKind;
 use crate::mapping::reach::ExtentBox;
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::ScanLog;
@@ -120,6 +121,8 @@ pub struct RealLogSession {
     pub(super) budget_cells: usize,
     /// The most work finding a pane's poses may cost ([`MAX_POSE_WORK`]).
     pub(super) pose_work: u64,
+    /// The topics a refused read wanted a choice between (a bag's).
+    pub(super) topic_choices: Option<TopicChoices>,
 }
 
 impl Default for RealLogSession {
@@ -146,6 +149,7 @@ impl RealLogSession {
             after_read: false,
             budget_cells: DEFAULT_TILE_BUDGET_CELLS,
             pose_work: MAX_POSE_WORK,
+            topic_choices: None,
         }
     }
 
@@ -193,6 +197,7 @@ impl RealLogSession {
         self.pending = None;
         self.read_failure = None;
         self.read_report = None;
+        self.topic_choices = None;
         let (model, reach) = self.extent_key();
         self.read_extent = Some((model, reach, ExtentBox::new(reach)));
         match open_log(bytes, self.budget) {
@@ -218,6 +223,13 @@ impl RealLogSession {
             Some(loader) => loader.choose_topics(scan_topic, odom_topic),
             None => Err(OccError::State("no log to read: open one first".into())),
         }
+    }
+
+    /// The poses the log being read is mapped at when the reader names
+    /// none ([`crate::io::LogFormat::own_poses`]), or `None` without a log
+    /// being read.
+    pub fn own_poses(&self) -> Option<PoseSourceKind> {
+        self.loader.as_ref().map(|l| l.format().own_poses())
     }
 
     /// Reads up to `max_scans` more laser lines (and at most the reader's
@@ -426,7 +438,7 @@ impl RealLogSession {
 
     /// Frees the file and the scans read, and keeps `e` for later calls.
     fn read_failed(&mut self, e: OccError) -> OccError {
-        self.loader = None;
+        self.topic_choices = self.loader.take().and_then(|l| l.topic_choices());
         self.read_extent = None;
         self.planning = None;
         self.read_failure = Some(e.clone());

@@ -10,7 +10,7 @@ use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
 use super::table::{IdTable, MAX_IDS};
 use crate::error::{OccError, Result};
-use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource};
+use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource, LogTopic, TopicChoices};
 use crate::io::mcap::{quoted, Channel, Event, McapReader, Place, Schema};
 use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
 
@@ -153,6 +153,24 @@ impl BagLoader {
             .iter()
             .map(|(_, c)| (c.topic.clone(), c.type_name.clone(), c.count))
             .collect()
+    }
+
+    /// The topics of `kind`, and whether a read wants a choice between
+    /// them: several, and `chosen` none of them.
+    fn choices_of(&self, kind: Kind, chosen: Option<&str>) -> (Vec<LogTopic>, bool) {
+        let topics: Vec<LogTopic> = self
+            .channels
+            .iter()
+            .filter(|(_, c)| c.kind == Some(kind))
+            .map(|(_, c)| LogTopic {
+                topic: c.topic.clone(),
+                type_name: c.type_name.clone(),
+                messages: c.count,
+            })
+            .collect();
+        let named = chosen.is_some_and(|t| topics.iter().any(|c| c.topic == t));
+        let wanted = topics.len() > 1 && !named;
+        (topics, wanted)
     }
 
     fn topic_list(&self) -> String {
@@ -716,6 +734,17 @@ impl LogSource for BagLoader {
             "the bag has no sensor_msgs/msg/LaserScan messages to map: it holds {}",
             self.topic_list()
         ))
+    }
+
+    fn topic_choices(&self) -> Option<TopicChoices> {
+        let (scan_topics, scan_wanted) =
+            self.choices_of(Kind::LaserScan, self.choice.scan_topic.as_deref());
+        let (odom_topics, odom_wanted) =
+            self.choices_of(Kind::Odometry, self.choice.odom_topic.as_deref());
+        (scan_wanted || odom_wanted).then_some(TopicChoices {
+            scan_topics,
+            odom_topics,
+        })
     }
 
     fn choose_topics(
