@@ -25,7 +25,7 @@
 import { el, slider, select, button, showError, clearError, ensureStyles, fixed, nextId, whenVisible } from './lib/ui.js';
 import { exportMap, followResize } from './lib/pane.js';
 import { listedLogs } from './lib/dataset-listing.js';
-import { modelNote } from './lib/log-models.js';
+import { modelNote, readingCaption } from './lib/log-models.js';
 import { settingsControls } from './lib/log-controls.js';
 import { drawViews, dpr, paintPane } from './lib/log-view.js';
 import { floatingReadout, mapStage, placeReadout } from './lib/cell-pointer.js';
@@ -265,18 +265,7 @@ export class RealLogPanel {
       this.switcher.root, this.stage, mapLegend(), this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
       this.readout, this.counts, modelNote(),
-      el('p', { class: 'occgrid-caption' },
-        'A CARMEN log’s FLASER and ROBOTLASER1 lines are read with their corrected poses, a ROS 2 bag’s scans with its own odometry; ',
-        'the map covers every pose and every cell a beam marks or clears, plus a metre. Each beam is traced cell by cell (Table 9.1) with the inverse model ',
-        'of Table 9.2: l_occ within α/2 of the reading, l_free in front of it; a reading at or beyond z_max is a ',
-        'no-return that only clears, out to the no-return reach, and only where the returns on both sides of it (at most 5° apart) saw free space; ',
-        'a beam that reads beyond a surface its neighbours on both sides end on frees only what they do (glass, a grazed doorway). Near walls, free evidence stops where a beam ',
-        'grazing a wall enters its band of cells (res / sin of the incidence), so long logs keep their walls; choose ',
-        'Table 9.2 to see them wear away. Scrub back and the map is rebuilt from the first scan. ',
-        'Poses: the log’s are corrected (the pose oracle); its odometry fields repeat them, so dead reckoning makes its own: ',
-        'each motion between two scans, split into rotate, translate, rotate, gets the odometry noise of Table 5.6 (and the drift ',
-        'of slightly unequal wheels) drawn from the seed, and the noisy motions are added up from the first pose. The ',
-        'dead-reckoned map is drawn beside the corrected one: its walls double and its corridors bend. Scan-matched poses start from the same dead reckoning and move each scan to where it best fits the map built so far, before integrating it (while it builds, the scan’s returns are drawn where the match put them and a gray robot where the odometry predicted it); the corrected and dead-reckoned maps are drawn beside it. SLAM poses match each scan against a submap of recent scans, search finished submaps for loops, and optimise the pose graph when one closes; the map is then rebuilt at the new poses.'));
+      readingCaption());
 
     const drag = (on) => (e) => {
       e.preventDefault();
