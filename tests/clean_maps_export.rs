@@ -165,8 +165,15 @@ fn an_open_square_with_few_returns_keeps_the_robot_s_path_free() {
         };
         let mut pane = LogPane::new(read_scans(&bytes[..]).unwrap(), settings).unwrap();
         pane.advance(usize::MAX);
-        let pgm = read_pgm(&pane.export_map(None).pgm).unwrap();
+        let pair = pane.export_map(None);
+        let pgm = read_pgm(&pair.pgm).unwrap();
         let g = pane.grid().geometry();
+        assert!(
+            pair.yaml
+                .contains("# free cells rest on: the laser's own cell at every scan"),
+            "{}",
+            pair.yaml
+        );
         let returns = pgm.pixels.iter().filter(|&&p| p == PGM_OCCUPIED).count();
         assert!(returns > 0, "{model:?}: the posts are drawn");
         for pose in pane.poses() {
