@@ -115,3 +115,71 @@ fn the_cut_a_model_is_drawn_at_is_the_one_its_yaml_names() {
     }
     assert_eq!(LogCellModel::HitMissOdds.trinary_cut(), Some((0.5, 0.5)));
 }
+
+/// The range from `(x, y)` along `angle` to a post of radius 0.1 m at
+/// `(cx, cy)`, if the beam meets it.
+fn to_post(x: f64, y: f64, angle: f64, (cx, cy): (f64, f64)) -> Option<f64> {
+    let (s, c) = angle.sin_cos();
+    let (dx, dy) = (cx - x, cy - y);
+    let along = dx * c + dy * s;
+    let off2 = dx * dx + dy * dy - along * along;
+    let r2 = 0.1 * 0.1;
+    (along > 0.0 && off2 <= r2).then(|| along - (r2 - off2).sqrt())
+}
+
+/// A robot crossing an open square outdoors at 0.5 m a scan: a row of
+/// posts 4 m to its left returns a few beams of each scan, every other
+/// beam sees open sky (a no-return past the range cap).
+fn open_square_log() -> Vec<u8> {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let posts: Vec<(f64, f64)> = (0..8).map(|k| (k as f64 * 2.0, 4.0)).collect();
+    let scans: Vec<_> = (0..24)
+        .map(|k| {
+            let (x, y, theta) = (k as f64 * 0.5, 0.0, 0.0);
+            let ranges = (0..180)
+                .map(|i| {
+                    let a = theta - FRAC_PI_2 + i as f64 * PI / 179.0;
+                    posts
+                        .iter()
+                        .filter_map(|&p| to_post(x, y, a, p))
+                        .fold(81.9, f64::min)
+                })
+                .collect();
+            (x, y, theta, ranges)
+        })
+        .collect();
+    flaser_log(&scans)
+}
+
+/// Outdoors, where most beams return nothing and no-returns clear
+/// nothing, each pose's cell rests on the few returns' lines alone: one
+/// weak miss per scan. The laser stood in that cell, so every model
+/// draws it free.
+#[test]
+fn an_open_square_with_few_returns_keeps_the_robot_s_path_free() {
+    let bytes = open_square_log();
+    for model in LogCellModel::ALL {
+        let settings = LogMapSettings {
+            model,
+            ..LogMapSettings::default()
+        };
+        let mut pane = LogPane::new(read_scans(&bytes[..]).unwrap(), settings).unwrap();
+        pane.advance(usize::MAX);
+        let pair = pane.export_map(None);
+        let pgm = read_pgm(&pair.pgm).unwrap();
+        let g = pane.grid().geometry();
+        assert!(
+            pair.yaml
+                .contains("# free cells rest on: the laser's own cell at every scan"),
+            "{}",
+            pair.yaml
+        );
+        let returns = pgm.pixels.iter().filter(|&&p| p == PGM_OCCUPIED).count();
+        assert!(returns > 0, "{model:?}: the posts are drawn");
+        for pose in pane.poses() {
+            let (ix, iy) = g.world_to_cell(pose.x, pose.y).unwrap();
+            let gray = pgm.at(ix, pgm.height - 1 - iy).unwrap();
+            assert_eq!(gray, PGM_FREE, "{model:?} at ({}, {})", pose.x, pose.y);
+        }
+    }
+}

@@ -3,7 +3,9 @@
 //! Table 9.2's model with the range cap as `z_max` (or the laser's own
 //! shorter maximum range), the beams' bands of evidence that stop at the
 //! wall a beam grazes ([`beam_bands`]), and the ray traversal of Table 9.1
-//! ([`RayMapper`]), with the space between beams when asked for.
+//! ([`RayMapper`]), with the space between beams when asked for; and,
+//! with the free space that rests on evidence ([`WallModel::Incidence`]),
+//! the cell the laser stood in ([`LASER_CELL_EVIDENCE`]).
 
 use crate::error::{self, invalid, Result};
 use crate::grid::{CellModel, Grid, Store};
@@ -11,6 +13,19 @@ use crate::inverse::{HandCrafted, HandCraftedParams};
 use crate::mapping::traversal::{BeamBand, RayMapper, ScanStats};
 use crate::mapping::walls::{beam_bands, WallModel};
 use crate::sensors::Scan;
+
+/// The evidence given to the cell the laser stood in at each scan, under
+/// [`WallModel::Incidence`]: the laser was there, so the cell held free
+/// space, the strongest free evidence there is; every cell model takes it
+/// as far as it goes (the log-odds filter to its clamp, a counting cell
+/// one visit without a hit, the hit/miss odds one miss). Without it the
+/// robot's own path rests on the beams that cross it: where no-returns
+/// clear nothing (outdoors, where most beams see open sky) that is a few
+/// returns' free lines per scan, too weak for the log-odds filter to
+/// cross `map_server`'s free threshold (Table 9.2's `l_free` of -0.4 needs
+/// four, `logit(0.196)` being -1.41), so a planner finds the robot standing
+/// in unknown space. One cell per scan: no cost a scan's beams would feel.
+pub const LASER_CELL_EVIDENCE: f32 = f32::MIN;
 
 /// How a scan is written into the map: Table 9.2's model (its `z_max` the
 /// range cap), how far a no-return clears, how free evidence ends before
@@ -132,7 +147,20 @@ impl ScanInserter {
         );
         let p = model.params();
         let evidence = ((p.l_free - p.l0) as f32, (p.l_occ - p.l0) as f32);
-        self.mapper
-            .integrate_bands_between(grid, scan, &self.bands, evidence, ins.between_beams)
+        let mut stats = self.mapper.integrate_bands_between(
+            grid,
+            scan,
+            &self.bands,
+            evidence,
+            ins.between_beams,
+        );
+        if ins.walls == WallModel::Incidence {
+            let pose = scan.pose();
+            if let Some((ix, iy)) = grid.geometry().world_to_cell(pose.x, pose.y) {
+                grid.apply_at(ix, iy, LASER_CELL_EVIDENCE);
+                stats.cells_updated += 1;
+            }
+        }
+        stats
     }
 }

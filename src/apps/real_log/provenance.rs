@@ -1,13 +1,14 @@
 //! How an exported map was made, in comment lines of its YAML that
 //! `map_server` ignores: the log's file name, the pose source (for
 //! simulated odometry, that it was simulated and with which seed), the
-//! cell model and where the image draws its cells, and every setting that
-//! differs from the defaults (docs/ARCHITECTURE.md, "Real logs"). The file
+//! cell model and where the image draws its cells, what the free cells
+//! rest on, and every setting that differs from the defaults (docs/ARCHITECTURE.md, "Real logs"). The file
 //! alone then says what a reader is looking at.
 
 use super::settings::{LogCellModel, LogMapSettings, HIT_RATIO};
 use crate::grid::HitMissOdds;
 use crate::io::map_server::{FREE_THRESH, OCCUPIED_THRESH};
+use crate::mapping::neighbour_support::MAX_NO_RETURN_GAP;
 use crate::mapping::walls::WallModel;
 use crate::poses::PoseSourceKind;
 
@@ -35,9 +36,10 @@ impl Provenance<'_> {
             ),
         };
         format!(
-            "# log: {log}\n# pose source: {}\n# cell model: {}\n# cells drawn: {drawn}\n# settings other than the defaults: {}\n",
+            "# log: {log}\n# pose source: {}\n# cell model: {}\n# cells drawn: {drawn}\n# free cells rest on: {}\n# settings other than the defaults: {}\n",
             self.source.provenance(self.settings.seed),
             cell_model(self.model, self.settings.clamp),
+            free_evidence(self.settings.walls),
             changed_settings(self.settings),
         )
     }
@@ -61,6 +63,21 @@ fn cell_model(model: LogCellModel, clamp: f64) -> String {
                 "{name} (Cartographer's odds: hit {}, miss {}, within [{}, {}])",
                 m.p_hit, m.p_miss, m.p_min, m.p_max
             )
+        }
+    }
+}
+
+/// What a free cell of the map rests on under `walls`: a reader of the
+/// image learns which of its white cells a beam saw and which the robot
+/// stood in (`mapping::insertion`, `mapping::neighbour_support`).
+fn free_evidence(walls: WallModel) -> String {
+    match walls {
+        WallModel::Incidence => format!(
+            "the laser's own cell at every scan (the robot stood there), and each beam's line short of its return where its neighbours' returns do not contradict it; a no-return clears only between returns at most {:.0} degrees apart, as far as both saw free",
+            MAX_NO_RETURN_GAP.to_degrees()
+        ),
+        WallModel::Table92 => {
+            "every beam's line up to its reading (Table 9.2 as printed), a no-return's out to the no-return reach".into()
         }
     }
 }
@@ -179,6 +196,25 @@ mod tests {
             "{text}"
         );
         assert!(text.lines().all(|l| l.starts_with("# ")), "{text}");
+        assert!(
+            text.contains("# free cells rest on: the laser's own cell at every scan"),
+            "{text}"
+        );
+        assert!(text.contains("at most 5 degrees apart"), "{text}");
+    }
+
+    /// The chapter's recipe says its free cells are every beam's line.
+    #[test]
+    fn the_chapter_s_recipe_names_what_its_free_cells_rest_on() {
+        let s = LogMapSettings {
+            walls: WallModel::Table92,
+            ..LogMapSettings::default()
+        };
+        let text = comments(None, PoseSourceKind::Corrected, &s);
+        assert!(
+            text.contains("# free cells rest on: every beam's line up to its reading"),
+            "{text}"
+        );
     }
 
     #[test]
