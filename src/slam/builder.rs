@@ -20,7 +20,10 @@
 //! of Olson 2009, "Recognizing places using spectrally clustered local
 //! matches"). The graph is optimised when closures have been added, every
 //! `OPTIMIZE_EVERY` scans and at the last scan; every optimisation raises
-//! the revision, which tells a map built at the old poses to rebuild.
+//! the revision, which tells a map built at the old poses to rebuild. An
+//! optimisation may run in slices of bounded work
+//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::optimize_within`]): the
+//! next scan waits for it, so the poses are bit for bit those of one call.
 
 use super::loop_search::LoopWindow;
 use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
@@ -91,6 +94,8 @@ pub struct SlamBuilder {
     /// Closures added since the last optimisation.
     pending: usize,
     last_optimized: usize,
+    /// The optimisation under way, when one runs in slices.
+    optimizing: Option<Optimizer>,
     revision: u64,
     closures: usize,
     work: u64,
@@ -129,6 +134,7 @@ impl SlamBuilder {
             since_closure: 0.0,
             pending: 0,
             last_optimized: 0,
+            optimizing: None,
             revision: 0,
             closures: 0,
             work: 0,
@@ -167,9 +173,15 @@ impl SlamBuilder {
         &self.last_match
     }
 
-    /// Work since the start besides the local matches, in cell updates.
+    /// Work since the start besides the local matches, in cell updates
+    /// (an optimisation under way counted as far as it has got).
     pub fn work(&self) -> u64 {
-        self.work
+        self.work + self.optimizing.as_ref().map_or(0, |o| o.work() / 8)
+    }
+
+    /// Whether an optimisation is under way ([`Self::optimize_within`]).
+    pub fn is_optimizing(&self) -> bool {
+        self.optimizing.is_some()
     }
 
     /// The odometry this builder starts from.
@@ -178,8 +190,21 @@ impl SlamBuilder {
     }
 
     /// Locates the next scan (`scan`, its own pose ignored; `laser_max`
-    /// its laser's maximum range): its global pose.
+    /// its laser's maximum range) and runs the optimisation it calls for
+    /// to the end: its global pose.
     pub fn add_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        let k = self.local.len();
+        self.locate_scan(scan, laser_max)?;
+        self.optimize_within(u64::MAX);
+        Ok(self.graph.nodes[k])
+    }
+
+    /// Locates the next scan as [`Self::add_scan`] does, but only starts
+    /// the optimisation it calls for ([`Self::optimize_within`] runs it):
+    /// its global pose before that optimisation. An optimisation still
+    /// under way is first run to its end.
+    pub fn locate_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        self.optimize_within(u64::MAX);
         let k = self.local.len();
         let settings = *self.matcher.settings();
         let prediction = match (k, self.odometry.get(k)) {
@@ -236,7 +261,9 @@ impl SlamBuilder {
         }
         let last = k + 1 == self.odometry.len();
         if self.pending > 0 && (k >= self.last_optimized + OPTIMIZE_EVERY || last) {
-            self.optimize();
+            self.optimizing = Some(Optimizer::new(RobustSettings::default()));
+            self.pending = 0;
+            self.last_optimized = self.local.len();
         }
         Ok(self.graph.nodes[k])
     }
@@ -351,13 +378,21 @@ impl SlamBuilder {
         }
     }
 
-    /// Optimises the graph in one call and raises the revision.
-    fn optimize(&mut self) {
-        let mut optimizer = Optimizer::new(RobustSettings::default());
-        optimizer.run(&mut self.graph);
+    /// Runs the optimisation under way for whole iterations until this
+    /// call's work reaches `budget` (in cell updates, at least one
+    /// iteration: [`Optimizer::run_within`]); once it has converged the
+    /// revision rises. True when no optimisation is left under way.
+    pub fn optimize_within(&mut self, budget: u64) -> bool {
+        let Some(optimizer) = self.optimizing.as_mut() else {
+            return true;
+        };
+        // The optimiser counts multiply–adds, eight to a cell update.
+        if !optimizer.run_within(&mut self.graph, budget.saturating_mul(8)) {
+            return false;
+        }
         self.work += optimizer.work() / 8;
-        self.pending = 0;
-        self.last_optimized = self.local.len();
+        self.optimizing = None;
         self.revision += 1;
+        true
     }
 }
