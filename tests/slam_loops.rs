@@ -284,6 +284,9 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
             .collect::<Vec<_>>()
     };
     assert!(one_call.revision() > 1, "optimised more than once");
+    // The pane says how many loop closures were found.
+    assert!(one_call.closures() > 0);
+    assert_eq!(pane.progress().loop_closures, Some(one_call.closures()));
     assert_eq!(bits(pane.poses()), bits(one_call.poses()));
     let mut fresh = pane.grid().to_dense().unwrap();
     fresh.reset();

@@ -108,6 +108,12 @@ pub trait PoseSource {
         0
     }
 
+    /// The loop closures a source that closes loops (SLAM) has found so
+    /// far; `None` for one that closes none.
+    fn loop_closures(&self) -> Option<usize> {
+        None
+    }
+
     /// Whether work on the poses already located is under way (a SLAM
     /// source's optimisation): the next scan waits until it is done.
     fn settling(&self) -> bool {

@@ -111,6 +111,10 @@ impl PoseSource for Slam {
         Ok(pose)
     }
 
+    fn loop_closures(&self) -> Option<usize> {
+        Some(self.builder.closures())
+    }
+
     fn settling(&self) -> bool {
         self.builder.is_optimizing()
     }

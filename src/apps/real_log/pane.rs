@@ -56,6 +56,9 @@ pub struct BuildProgress {
     pub cells_allocated: usize,
     pub bytes_allocated: usize,
     pub cells: usize,
+    /// Loop closures the pose source has found (SLAM), `None` for a
+    /// source that closes no loops.
+    pub loop_closures: Option<usize>,
 }
 
 /// A map of a log at one pose source, built a few scans at a time towards
@@ -481,6 +484,7 @@ impl LogPane {
             cells_allocated: self.grid().cells_allocated(),
             bytes_allocated: self.grid().bytes_allocated(),
             cells: self.grid().geometry().len(),
+            loop_closures: self.source.loop_closures(),
         }
     }
 
