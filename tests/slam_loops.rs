@@ -219,8 +219,8 @@ fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
 
 /// A SLAM pane built in calls of a bounded budget, as the page builds it:
 /// no call's work passes the budget by more than one step's (a scan
-/// located and inserted, one optimiser iteration, or a scan inserted again
-/// at revised poses), though the loop's optimisations each move every
+/// located and inserted, a submap searched for a loop, one optimiser
+/// iteration, or a scan inserted again at revised poses), though the loop's optimisations each move every
 /// scan; and the result is the one-call build's: the poses bit for bit
 /// those of SLAM run scan by scan with each optimisation in one call, the
 /// map the map of every scan at them.
@@ -233,10 +233,10 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
     use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
     use occgrid::mapping::insertion::ScanInserter;
     use occgrid::poses::{match_settings, PoseSourceKind};
-    /// About 30 ms of work natively (10 to 16 ns a unit: budget.rs), above
-    /// the most one step of this log costs (a scan searched for loops
-    /// against the submaps of the whole ring, 2.5e6 at the most).
-    const BUDGET: u64 = 3_000_000;
+    /// About 12 ms of work natively (10 to 16 ns a unit: budget.rs), above
+    /// the most one step of this log costs (a scan of 360 beams matched
+    /// and inserted, a submap searched for a loop, an optimiser iteration).
+    const BUDGET: u64 = 1_000_000;
     let world = ring_world();
     let truth = route();
     let log = ring_log(&scans(&world, &truth));

@@ -116,12 +116,12 @@ impl PoseSource for Slam {
     }
 
     fn settling(&self) -> bool {
-        self.builder.is_optimizing()
+        self.builder.is_settling()
     }
 
     fn settle_within(&mut self, budget: u64) -> bool {
         let revision = self.builder.revision();
-        let done = self.builder.optimize_within(budget);
+        let done = self.builder.settle_within(budget);
         if self.builder.revision() != revision {
             self.take_poses();
         }
