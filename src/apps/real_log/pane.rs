@@ -354,8 +354,8 @@ impl LogPane {
     /// integrated when any is left (and `max_scans` is not 0).
     ///
     /// A step of a source that revises its poses (SLAM) may instead be a
-    /// submap of its loop search, an optimiser iteration, or a scan of the map built again at the
-    /// revised poses: `max_scans` counts steps.
+    /// submap of its loop search, an optimiser iteration, or a scan of the
+    /// map built again at the revised poses: `max_scans` counts steps.
     pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
         let start = self.progress().work;
         let mut steps = 0;
