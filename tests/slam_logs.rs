@@ -70,3 +70,44 @@ fn slam_on_the_shared_logs() {
         assert_eq!(source.poses().len(), log.len());
     }
 }
+
+/// A real-log pane at SLAM poses built in calls of a fixed budget, as the
+/// page builds it: the longest call, in work and in time (run with `cargo
+/// test --release --test slam_logs -- --ignored --nocapture`; `SLAM_LOGS`
+/// as above, `SLAM_BUDGET` the units of work a call, 2e6 unless given).
+#[test]
+#[ignore = "a measurement: the longest build call of a SLAM pane"]
+fn slam_pane_build_calls_on_the_shared_logs() {
+    use occgrid::apps::real_log::LogPane;
+    let names = std::env::var("SLAM_LOGS").unwrap_or_else(|_| "intel".into());
+    let budget: u64 = std::env::var("SLAM_BUDGET")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2_000_000);
+    for name in names.split(',') {
+        let log = scans(&format!("{name}-corrected.log.gz"));
+        let settings = LogMapSettings {
+            poses: PoseSourceKind::Slam,
+            ..LogMapSettings::default()
+        };
+        let mut pane = LogPane::new(log, settings).unwrap();
+        let (mut calls, mut longest_work, mut longest_ms, mut total_ms) = (0, 0u64, 0f64, 0f64);
+        loop {
+            let before = pane.progress().work;
+            let started = std::time::Instant::now();
+            let p = pane.advance_within(usize::MAX, budget);
+            let ms = started.elapsed().as_secs_f64() * 1e3;
+            calls += 1;
+            longest_work = longest_work.max(p.work - before);
+            longest_ms = longest_ms.max(ms);
+            total_ms += ms;
+            if p.finished || pane.failure().is_some() {
+                break;
+            }
+        }
+        println!(
+            "{name}: {calls} calls of {budget} units, the longest {longest_work} units, {longest_ms:.1} ms; {:.1} s in all",
+            total_ms / 1e3
+        );
+    }
+}

@@ -216,3 +216,84 @@ fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
     let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
     assert!(rms(&optimised, &truth) < 0.5 * rms(&odometry, &truth));
 }
+
+/// A SLAM pane built in calls of a bounded budget, as the page builds it:
+/// no call's work passes the budget by more than one step's (a scan
+/// located and inserted, a submap searched for a loop, one optimiser
+/// iteration, or a scan inserted again at revised poses), though the loop's optimisations each move every
+/// scan; and the result is the one-call build's: the poses bit for bit
+/// those of SLAM run scan by scan with each optimisation in one call, the
+/// map the map of every scan at them.
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
+)]
+fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
+    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::mapping::insertion::ScanInserter;
+    use occgrid::poses::{match_settings, PoseSourceKind};
+    /// About 12 ms of work natively (10 to 16 ns a unit: budget.rs), above
+    /// the most one step of this log costs (a scan of 360 beams matched
+    /// and inserted, a submap searched for a loop, an optimiser iteration).
+    const BUDGET: u64 = 1_000_000;
+    let world = ring_world();
+    let truth = route();
+    let log = ring_log(&scans(&world, &truth));
+    let settings = LogMapSettings {
+        poses: PoseSourceKind::Slam,
+        model: LogCellModel::LogOdds,
+        ..LogMapSettings::default()
+    };
+    let mut pane = LogPane::new(log.clone(), settings).unwrap();
+    let (mut calls, mut longest, mut rebuilt) = (0usize, 0u64, false);
+    let mut last_done = 0;
+    loop {
+        let before = pane.progress().work;
+        let p = pane.advance_within(usize::MAX, BUDGET);
+        assert!(pane.failure().is_none());
+        calls += 1;
+        longest = longest.max(p.work - before);
+        rebuilt |= p.scans_done < last_done;
+        last_done = p.scans_done;
+        if p.finished {
+            break;
+        }
+    }
+    eprintln!("{calls} calls, the longest {longest} units of a budget of {BUDGET}");
+    assert!(rebuilt, "the map was built again at revised poses");
+    assert!(
+        longest < 2 * BUDGET,
+        "a call did {longest} units of work, its budget {BUDGET}"
+    );
+    // The poses of SLAM run with every optimisation in one call.
+    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
+    let mut one_call = SlamBuilder::new(
+        odometry,
+        OdometryParams::WHEELS,
+        match_settings(settings.range_cap),
+        settings.resolution,
+    )
+    .unwrap();
+    for k in 0..log.len() {
+        one_call.add_scan(&log.scan(k).unwrap(), 20.0).unwrap();
+    }
+    let bits = |p: &[Pose]| {
+        p.iter()
+            .flat_map(|q| [q.x.to_bits(), q.y.to_bits(), q.theta.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    assert!(one_call.revision() > 1, "optimised more than once");
+    // The pane says how many loop closures were found.
+    assert!(one_call.closures() > 0);
+    assert_eq!(pane.progress().loop_closures, Some(one_call.closures()));
+    assert_eq!(bits(pane.poses()), bits(one_call.poses()));
+    let mut fresh = pane.grid().to_dense().unwrap();
+    fresh.reset();
+    let mut inserter = ScanInserter::new(settings.scan_insertion()).unwrap();
+    for (k, pose) in pane.poses().iter().enumerate() {
+        let scan = log.scan(k).unwrap().with_pose(*pose).unwrap();
+        inserter.insert(&mut fresh, &scan, 20.0);
+    }
+    assert_eq!(pane.grid().to_dense().unwrap().log_odds(), fresh.log_odds());
+}

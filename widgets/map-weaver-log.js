@@ -708,7 +708,7 @@ export class RealLogPanel {
     if (p.finished) {
       this.status.textContent =
         `${count(p.scansDone)} of ${count(p.scansTotal)} scans, ${count(p.beams)} beams, ${count(p.cellUpdates)} cell updates · ` +
-        `map ${count(width)} × ${count(height)} cells at ${resolution} m`;
+        `map ${count(width)} × ${count(height)} cells at ${resolution} m${p.loopClosures == null ? '' : ` · ${count(p.loopClosures)} loop closures`}`;
     }
     // The thresholds are the exported YAML's (the core sends them with the
     // counts): the figures are what map_server would load from the file.

@@ -107,6 +107,26 @@ pub trait PoseSource {
     fn revision(&self) -> u64 {
         0
     }
+
+    /// The loop closures a source that closes loops (SLAM) has found so
+    /// far; `None` for one that closes none.
+    fn loop_closures(&self) -> Option<usize> {
+        None
+    }
+
+    /// Whether work on the poses already located is under way (a SLAM
+    /// source's optimisation): the next scan waits until it is done.
+    fn settling(&self) -> bool {
+        false
+    }
+
+    /// That work for at most about `budget` units (at least one bounded
+    /// step of it); the revision rises once it has changed the poses.
+    /// True when none is left.
+    fn settle_within(&mut self, budget: u64) -> bool {
+        let _ = budget;
+        true
+    }
 }
 
 /// What a source is started with besides the log.

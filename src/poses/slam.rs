@@ -5,7 +5,9 @@
 //! ([`crate::slam`]). It keeps its own submaps: the map it is handed is
 //! not read. After an optimisation the poses of earlier scans change, and
 //! the revision ([`PoseSource::revision`]) rises: a map built at the old
-//! poses is built again.
+//! poses is built again. An optimisation runs in slices of bounded work
+//! ([`PoseSource::settle_within`]), its poses handed out only once it has
+//! converged.
 
 use super::{
     PoseSource, PoseSourceKind, ScanMatching, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN,
@@ -61,6 +63,12 @@ impl Slam {
         })
     }
 
+    /// The graph's poses handed out (once an optimisation has converged).
+    fn take_poses(&mut self) {
+        let found = self.builder.poses();
+        self.poses[..found.len()].copy_from_slice(found);
+    }
+
     /// The SLAM state: its graph, closures, revision.
     pub fn builder(&self) -> &SlamBuilder {
         &self.builder
@@ -93,15 +101,31 @@ impl PoseSource for Slam {
             )));
         }
         let revision = self.builder.revision();
-        let pose = self.builder.add_scan(scan, laser_max)?;
+        let pose = self.builder.locate_scan(scan, laser_max)?;
         self.match_work += super::match_work(self.builder.last_match());
-        let found = self.builder.poses();
         if self.builder.revision() != revision {
-            self.poses[..found.len()].copy_from_slice(found);
+            self.take_poses();
         } else if let Some(p) = self.poses.get_mut(k) {
             *p = pose;
         }
         Ok(pose)
+    }
+
+    fn loop_closures(&self) -> Option<usize> {
+        Some(self.builder.closures())
+    }
+
+    fn settling(&self) -> bool {
+        self.builder.is_settling()
+    }
+
+    fn settle_within(&mut self, budget: u64) -> bool {
+        let revision = self.builder.revision();
+        let done = self.builder.settle_within(budget);
+        if self.builder.revision() != revision {
+            self.take_poses();
+        }
+        done
     }
 
     fn plan_poses<'a>(&'a self, log: &'a ScanLog) -> (&'a [Pose], f64) {

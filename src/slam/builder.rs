@@ -20,7 +20,10 @@
 //! of Olson 2009, "Recognizing places using spectrally clustered local
 //! matches"). The graph is optimised when closures have been added, every
 //! `OPTIMIZE_EVERY` scans and at the last scan; every optimisation raises
-//! the revision, which tells a map built at the old poses to rebuild.
+//! the revision, which tells a map built at the old poses to rebuild. An
+//! optimisation may run in slices of bounded work
+//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::settle_within`]): the
+//! next scan waits for it, so the poses are bit for bit those of one call.
 
 use super::loop_search::LoopWindow;
 use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
@@ -73,6 +76,17 @@ struct Candidate {
     placed: Pose,
 }
 
+/// A loop search under way: scan `scan`'s points against the finished
+/// submaps from `next` on, the best match so far.
+#[derive(Debug, Clone)]
+struct LoopSearch {
+    scan: usize,
+    window: LoopWindow,
+    here: Pose,
+    next: usize,
+    best: Option<(f64, Candidate)>,
+}
+
 /// The SLAM state over one log.
 #[derive(Debug, Clone)]
 pub struct SlamBuilder {
@@ -91,6 +105,10 @@ pub struct SlamBuilder {
     /// Closures added since the last optimisation.
     pending: usize,
     last_optimized: usize,
+    /// The loop search under way, when one runs in slices.
+    searching: Option<LoopSearch>,
+    /// The optimisation under way, when one runs in slices.
+    optimizing: Option<Optimizer>,
     revision: u64,
     closures: usize,
     work: u64,
@@ -129,6 +147,8 @@ impl SlamBuilder {
             since_closure: 0.0,
             pending: 0,
             last_optimized: 0,
+            searching: None,
+            optimizing: None,
             revision: 0,
             closures: 0,
             work: 0,
@@ -167,9 +187,16 @@ impl SlamBuilder {
         &self.last_match
     }
 
-    /// Work since the start besides the local matches, in cell updates.
+    /// Work since the start besides the local matches, in cell updates
+    /// (an optimisation under way counted as far as it has got).
     pub fn work(&self) -> u64 {
-        self.work
+        self.work + self.optimizing.as_ref().map_or(0, |o| o.work() / 8)
+    }
+
+    /// Whether a loop search or an optimisation is under way
+    /// ([`Self::settle_within`]).
+    pub fn is_settling(&self) -> bool {
+        self.searching.is_some() || self.optimizing.is_some()
     }
 
     /// The odometry this builder starts from.
@@ -178,8 +205,22 @@ impl SlamBuilder {
     }
 
     /// Locates the next scan (`scan`, its own pose ignored; `laser_max`
-    /// its laser's maximum range): its global pose.
+    /// its laser's maximum range) and runs the optimisation it calls for
+    /// to the end: its global pose.
     pub fn add_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        let k = self.local.len();
+        self.locate_scan(scan, laser_max)?;
+        self.settle_within(u64::MAX);
+        Ok(self.graph.nodes[k])
+    }
+
+    /// Locates the next scan as [`Self::add_scan`] does, but only starts
+    /// the loop search and the optimisation it calls for
+    /// ([`Self::settle_within`] runs them): its global pose before that
+    /// optimisation. A search or optimisation still under way is first
+    /// run to its end.
+    pub fn locate_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        self.settle_within(u64::MAX);
         let k = self.local.len();
         let settings = *self.matcher.settings();
         let prediction = match (k, self.odometry.get(k)) {
@@ -232,13 +273,21 @@ impl SlamBuilder {
                 .push(Edge::new(k - 1, k, motion, sigma, false));
         }
         if k.is_multiple_of(LOOP_EVERY) {
-            self.search_loops(k, scan, laser_max);
-        }
-        let last = k + 1 == self.odometry.len();
-        if self.pending > 0 && (k >= self.last_optimized + OPTIMIZE_EVERY || last) {
-            self.optimize();
+            self.start_loop_search(k, scan, laser_max);
+        } else {
+            self.start_due_optimization(k);
         }
         Ok(self.graph.nodes[k])
+    }
+
+    /// Starts the optimisation due after scan `k`, if one is.
+    fn start_due_optimization(&mut self, k: usize) {
+        let last = k + 1 == self.odometry.len();
+        if self.pending > 0 && (k >= self.last_optimized + OPTIMIZE_EVERY || last) {
+            self.optimizing = Some(Optimizer::new(RobustSettings::default()));
+            self.pending = 0;
+            self.last_optimized = self.local.len();
+        }
     }
 
     /// Inserts scan `k` at `local` into the growing submaps, finishing the
@@ -284,17 +333,33 @@ impl SlamBuilder {
         }
     }
 
-    /// Searches scan `k` against the finished submaps near it.
-    fn search_loops(&mut self, k: usize, scan: &Scan, laser_max: f64) {
-        let window = Self::window(self.since_closure);
-        let here = self.graph.nodes[k];
+    /// Starts the search of scan `k` against the finished submaps near
+    /// it ([`Self::search_step`] goes through them).
+    fn start_loop_search(&mut self, k: usize, scan: &Scan, laser_max: f64) {
         self.points.fill(scan, laser_max, self.matcher.settings());
         self.points.thinned(
             LOOP_POINT_SPACING_CELLS * self.resolution,
             &mut self.loop_points,
         );
-        let mut best: Option<(f64, Candidate)> = None;
-        for s in &self.submaps {
+        self.searching = Some(LoopSearch {
+            scan: k,
+            window: Self::window(self.since_closure),
+            here: self.graph.nodes[k],
+            next: 0,
+            best: None,
+        });
+    }
+
+    /// The search under way against its next finished submap near the
+    /// scan (a bounded step); once every submap is searched, its closures
+    /// kept and the optimisation due started.
+    fn search_step(&mut self) {
+        let Some(mut search) = self.searching.take() else {
+            return;
+        };
+        let (k, here, window) = (search.scan, search.here, search.window);
+        while let Some(s) = self.submaps.get(search.next) {
+            search.next += 1;
             let Some(grid) = &s.finished else { continue };
             if s.last + RECENT_SCANS > k {
                 continue;
@@ -312,24 +377,37 @@ impl SlamBuilder {
             let predicted = compose(&anchor_local, relative_motion(&anchor_global, &here));
             let (found, work) = grid.search(&self.loop_points, &predicted, &window);
             self.work += work / 8;
-            let Some(found) = found else { continue };
-            if best.as_ref().is_some_and(|(b, _)| *b >= found.score) {
-                continue;
+            if let Some(found) = found {
+                if search.best.as_ref().is_none_or(|(b, _)| *b < found.score) {
+                    let measurement = relative_motion(&anchor_local, &found.pose);
+                    let placed = compose(&anchor_global, measurement);
+                    search.best = Some((
+                        found.score,
+                        Candidate {
+                            scan: k,
+                            edge: Edge::new(s.anchor, k, measurement, LOOP_SIGMA, true),
+                            placed,
+                        },
+                    ));
+                }
             }
-            let measurement = relative_motion(&anchor_local, &found.pose);
-            let placed = compose(&anchor_global, measurement);
-            best = Some((
-                found.score,
-                Candidate {
-                    scan: k,
-                    edge: Edge::new(s.anchor, k, measurement, LOOP_SIGMA, true),
-                    placed,
-                },
-            ));
+            // One submap searched a step.
+            break;
         }
-        let Some((_, candidate)) = best else { return };
-        // A partner: an earlier candidate whose placement agrees with this
-        // one's as the local trajectory says.
+        if search.next < self.submaps.len() {
+            self.searching = Some(search);
+            return;
+        }
+        if let Some((_, candidate)) = search.best {
+            self.keep_agreeing(k, candidate);
+        }
+        self.start_due_optimization(k);
+    }
+
+    /// Scan `k`'s best loop match: an edge with its partner, an earlier
+    /// candidate whose placement agrees with this one's as the local
+    /// trajectory says, or a candidate waiting for one.
+    fn keep_agreeing(&mut self, k: usize, candidate: Candidate) {
         self.candidates.retain(|c| c.scan + AGREEMENT_SCANS >= k);
         let partner = self.candidates.iter().rposition(|c| {
             let by_matches = relative_motion(&c.placed, &candidate.placed);
@@ -351,13 +429,31 @@ impl SlamBuilder {
         }
     }
 
-    /// Optimises the graph in one call and raises the revision.
-    fn optimize(&mut self) {
-        let mut optimizer = Optimizer::new(RobustSettings::default());
-        optimizer.run(&mut self.graph);
-        self.work += optimizer.work() / 8;
-        self.pending = 0;
-        self.last_optimized = self.local.len();
-        self.revision += 1;
+    /// Runs the loop search under way a submap a step, then the
+    /// optimisation whole iterations at a time ([`Optimizer::run_within`]),
+    /// until this call's work reaches `budget` (in cell updates; at least
+    /// one step); once the optimisation has converged the revision rises.
+    /// True when neither is left under way.
+    pub fn settle_within(&mut self, budget: u64) -> bool {
+        let start = self.work();
+        loop {
+            let spent = self.work() - start;
+            if self.searching.is_some() {
+                self.search_step();
+            } else if let Some(optimizer) = self.optimizing.as_mut() {
+                // The optimiser counts multiply–adds, eight to a cell update.
+                let left = budget.saturating_sub(spent).saturating_mul(8);
+                if optimizer.run_within(&mut self.graph, left) {
+                    self.work += optimizer.work() / 8;
+                    self.optimizing = None;
+                    self.revision += 1;
+                }
+            } else {
+                return true;
+            }
+            if self.work() - start >= budget {
+                return !self.is_settling();
+            }
+        }
     }
 }

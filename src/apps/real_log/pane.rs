@@ -56,6 +56,9 @@ pub struct BuildProgress {
     pub cells_allocated: usize,
     pub bytes_allocated: usize,
     pub cells: usize,
+    /// Loop closures the pose source has found (SLAM), `None` for a
+    /// source that closes no loops.
+    pub loop_closures: Option<usize>,
 }
 
 /// A map of a log at one pose source, built a few scans at a time towards
@@ -83,7 +86,11 @@ pub struct LogPane {
     inserter: ScanInserter,
     /// The bytes of tiles the allocator was grown for ([`reserve_ahead`]).
     reserved: usize,
+    /// Scans located by the source.
     done: usize,
+    /// Scans in the map (`0..inserted`): fewer than `done` while the map
+    /// is built again at revised poses, a scan a step.
+    inserted: usize,
     target: usize,
     /// The keyboard cursor's image cell `(col, row)`, if any.
     pub(super) cursor: Option<(usize, usize)>,
@@ -216,6 +223,7 @@ impl LogPane {
             inserter,
             reserved: 0,
             done: 0,
+            inserted: 0,
             target,
             cursor: None,
             tally: {
@@ -292,22 +300,25 @@ impl LogPane {
         self.source.reset();
         self.failure = None;
         self.done = 0;
+        self.inserted = 0;
         self.revision = self.source.revision();
         self.earlier_work = 0;
     }
 
-    /// The map built again from the first scan to scan `k` (excluded) at
-    /// the source's revised poses.
-    fn rebuild_before(&mut self, k: usize) {
+    /// The source's poses revised: the map is emptied, to be built again
+    /// from the first scan at them a scan a step ([`Self::integrate_next`]),
+    /// so that no step holds the whole rebuild.
+    fn follow_revision(&mut self) {
         self.revision = self.source.revision();
         self.earlier_work = self.progress().work - self.source.work();
         self.map.reset();
-        for j in 0..k {
-            let laser_max = self.scans.max_range(j).unwrap_or(f64::INFINITY);
-            if let Some(scan) = self.scan_at_pose(j) {
-                self.map.insert(&mut self.inserter, &scan, laser_max);
-            }
-        }
+        self.inserted = 0;
+    }
+
+    /// Whether the map shows the target's scans at the source's final
+    /// word on their poses: nothing left to locate, settle or rebuild.
+    fn caught_up(&self) -> bool {
+        self.done >= self.target && self.inserted == self.done && !self.source.settling()
     }
 
     /// Heads the build for `scans` integrated scans (a scrub position).
@@ -341,11 +352,16 @@ impl LogPane {
     /// in an office), so a page sizing the next call from the last one's
     /// duration keeps every call near its time slice. At least one scan is
     /// integrated when any is left (and `max_scans` is not 0).
+    ///
+    /// A step of a source that revises its poses (SLAM) may instead be a
+    /// submap of its loop search, an optimiser iteration, or a scan of the
+    /// map built again at the revised poses: `max_scans` counts steps.
     pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
-        let end = self.target.min(self.done.saturating_add(max_scans));
         let start = self.progress().work;
-        while self.done < end && self.failure.is_none() {
+        let mut steps = 0;
+        while steps < max_scans && !self.caught_up() && self.failure.is_none() {
             self.integrate_next();
+            steps += 1;
             if self.progress().work - start >= max_cells {
                 break;
             }
@@ -354,9 +370,31 @@ impl LogPane {
         self.progress()
     }
 
-    /// Integrates scan `done` at the pose its source finds for it, and
-    /// moves on.
+    /// One step of bounded work: while the map is built again at revised
+    /// poses, its next scan; while the source settles its poses, a slice of
+    /// that (one optimiser iteration); otherwise scan `done` located by its
+    /// source and inserted where the source put it.
     pub(super) fn integrate_next(&mut self) {
+        if self.inserted < self.done {
+            let k = self.inserted;
+            if let Some(scan) = self.scan_at_pose(k) {
+                if !self.insert(k, &scan) {
+                    return;
+                }
+            }
+            self.inserted += 1;
+            return;
+        }
+        if self.source.settling() {
+            self.source.settle_within(0);
+            if self.source.revision() != self.revision {
+                self.follow_revision();
+            }
+            return;
+        }
+        if self.done >= self.target {
+            return;
+        }
         let k = self.done;
         let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
         // The scan is read from the log once: its source locates it, and
@@ -366,9 +404,6 @@ impl LogPane {
                 let located =
                     self.source
                         .locate(k, &scan, laser_max, self.map.grid().as_match_map());
-                if located.is_ok() && self.source.revision() != self.revision {
-                    self.rebuild_before(k);
-                }
                 match located {
                     Ok(pose) => placed_at(scan, pose),
                     Err(e) => {
@@ -379,22 +414,40 @@ impl LogPane {
             }
             None => None,
         };
+        if self.source.revision() != self.revision {
+            // Every scan so far, this one too, is inserted again at the
+            // revised poses in the steps that follow.
+            self.done += 1;
+            self.follow_revision();
+            return;
+        }
         if let Some(scan) = placed {
-            self.reserved = reserve_ahead(self.grid().bytes_allocated(), self.reserved);
-            self.map.insert(&mut self.inserter, &scan, laser_max);
-            if self.grid().refused() {
-                let needed = self.tiles_reached();
-                let grid = self.grid();
-                self.failure = Some(OccError::State(budget_message(
-                    grid.geometry(),
-                    needed,
-                    self.budget_cells,
-                    grid.bytes_per_cell(),
-                )));
+            if !self.insert(k, &scan) {
                 return;
             }
         }
         self.done += 1;
+        self.inserted = self.done;
+    }
+
+    /// Inserts scan `k`, `scan` where it is placed: false (and the build's
+    /// failure said) when its beams reach past the tile budget.
+    fn insert(&mut self, k: usize, scan: &Scan) -> bool {
+        let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+        self.reserved = reserve_ahead(self.grid().bytes_allocated(), self.reserved);
+        self.map.insert(&mut self.inserter, scan, laser_max);
+        if self.grid().refused() {
+            let needed = self.tiles_reached();
+            let grid = self.grid();
+            self.failure = Some(OccError::State(budget_message(
+                grid.geometry(),
+                needed,
+                self.budget_cells,
+                grid.bytes_per_cell(),
+            )));
+            return false;
+        }
+        true
     }
 
     /// Scan `k` at this pane's pose for it.
@@ -416,7 +469,7 @@ impl LogPane {
     pub fn progress(&self) -> BuildProgress {
         let work = self.map.work();
         BuildProgress {
-            scans_done: self.done,
+            scans_done: self.inserted,
             scans_target: self.target,
             scans_total: self.scans.len(),
             cell_updates: work.cell_updates,
@@ -427,10 +480,11 @@ impl LogPane {
                 + self.source.work()
                 + self.earlier_work,
             beams: work.beams,
-            finished: self.done == self.target,
+            finished: self.caught_up(),
             cells_allocated: self.grid().cells_allocated(),
             bytes_allocated: self.grid().bytes_allocated(),
             cells: self.grid().geometry().len(),
+            loop_closures: self.source.loop_closures(),
         }
     }
 
