@@ -232,7 +232,8 @@ fn cpu_ns() -> u64 {
 /// The million-scan log read and built natively in calls of the page's
 /// first budget (run with `SCANS=1000000 cargo test --release --test
 /// real_log_pose_budget -- --ignored --nocapture`; `WRITE=PATH` keeps the
-/// log): the longest read and build calls, in CPU time.
+/// log; `POSES=scan-matched,corrected` measures those sources only): the
+/// longest read and build calls, in CPU time.
 #[test]
 #[ignore = "a measurement"]
 fn one_beam_log_calls_measured() {
@@ -248,7 +249,11 @@ fn one_beam_log_calls_measured() {
     if let Ok(path) = std::env::var("WRITE") {
         std::fs::write(path, &bytes).unwrap();
     }
+    let chosen = std::env::var("POSES").unwrap_or_default();
     for poses in PoseSourceKind::ALL {
+        if !chosen.is_empty() && !chosen.split(',').any(|n| n == poses.name()) {
+            continue;
+        }
         let mut s = RealLogSession::new(bytes.clone());
         s.configure(settings(poses)).unwrap();
         let t = Instant::now();

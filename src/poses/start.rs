@@ -27,7 +27,7 @@ enum Path {
     /// odometry (`own` true).
     Copy { own: bool, poses: Vec<Pose> },
     /// Seeded dead reckoning of the log's reference poses.
-    DeadReckoned(DeadReckoner),
+    DeadReckoned(Box<DeadReckoner>),
 }
 
 /// A pose source being started over a log, a bounded number of poses per
@@ -53,7 +53,8 @@ impl PoseSourceKind {
             own,
             poses: Vec::new(),
         };
-        let dead_reckoned = || Path::DeadReckoned(DeadReckoner::new(settings.noise, settings.seed));
+        let dead_reckoned =
+            || Path::DeadReckoned(Box::new(DeadReckoner::new(settings.noise, settings.seed)));
         // The odometry a matcher corrects: the log's own, or dead reckoning
         // ([`super::ScanMatching::odometry_of`]).
         let corrected_odometry = || match log.odometry() {

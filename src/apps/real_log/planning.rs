@@ -22,7 +22,7 @@ use std::sync::Arc;
 enum Phase {
     /// Starting its pose source: its path made a bounded number of poses
     /// per call ([`SourceStart`]).
-    Start(SourceStart),
+    Start(Box<SourceStart>),
     /// Growing the box of its poses and beams, a scan at a time.
     Extent(ExtentBox),
     /// Its bounding box passes the tile budget: counting the tiles its
@@ -131,7 +131,7 @@ impl PanePlanning {
                     source: None,
                     model,
                     phase: match start {
-                        Ok(start) => Phase::Start(start),
+                        Ok(start) => Phase::Start(Box::new(start)),
                         Err(e) => Phase::Failed(e),
                     },
                 }
@@ -192,7 +192,7 @@ impl PanePlanning {
     /// could cost more than the budget finding its poses). A pane whose
     /// plan walks the log's own poses (a scan-matched one too, with room
     /// for drift) takes the box grown as the log was read.
-    fn started(&self, start: SourceStart) -> (Option<Box<dyn PoseSource>>, Phase) {
+    fn started(&self, start: Box<SourceStart>) -> (Option<Box<dyn PoseSource>>, Phase) {
         let scans = &self.scans;
         let source = start.finish(scans).and_then(|source| {
             check_pose_work(scans, source.as_ref(), self.pose_work)?;
