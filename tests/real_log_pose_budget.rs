@@ -103,7 +103,8 @@ fn a_log_whose_matching_passes_the_budget_is_refused_by_its_figure_and_the_budge
 }
 
 /// Reads `session` to its end in calls of `max_scans`: the most work a
-/// call reported, the work of all of them, and the error of the last.
+/// call reported, the work of all of them (a refused call's as the read's
+/// report keeps it), and the error of the last.
 fn read_in_calls(session: &mut RealLogSession, max_scans: usize) -> (usize, usize, Option<String>) {
     let (mut longest, mut total) = (0, 0);
     loop {
@@ -115,7 +116,11 @@ fn read_in_calls(session: &mut RealLogSession, max_scans: usize) -> (usize, usiz
                     return (longest, total, None);
                 }
             }
-            Err(e) => return (longest, total, Some(e.to_string())),
+            // A refusal's call keeps its work in the read's report.
+            Err(e) => {
+                let last = session.state().read.map_or(0, |r| r.work);
+                return (longest.max(last), total + last, Some(e.to_string()));
+            }
         }
     }
 }
