@@ -10,7 +10,7 @@ use log_support::flaser_log;
 use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, CONFIGURE_SCANS};
 use occgrid::grid::storage::TILE_CELLS;
 use occgrid::io::carmen::read_scans;
-use occgrid::poses::PoseSourceKind;
+use occgrid::poses::{PoseSourceKind, COPIES_PER_UNIT};
 
 /// A robot driving 60 m along the diagonal with a 180-beam laser of 3 m
 /// readings (and a no-return in each scan): a map whose bounding box is
@@ -61,9 +61,11 @@ fn every_read_call_stays_within_its_budget_and_the_tile_walk_comes_after_the_las
         works.iter().all(|&w| w <= n as u64),
         "a call did more than {n} scans of work: {works:?}"
     );
-    // Every scan read once (its share of the extent grown with it), and
-    // walked once more on the grid of tiles: the walk was done, and spread.
-    assert_eq!(works.iter().sum::<u64>(), 2 * scans as u64, "{works:?}");
+    // Every scan read once (its share of the extent grown with it), its
+    // pose copied for the pane's source, and walked once more on the grid
+    // of tiles: the walk was done, and spread.
+    let copied = scans.div_ceil(COPIES_PER_UNIT) as u64;
+    assert_eq!(works.iter().sum::<u64>(), 2 * scans as u64 + copied, "{works:?}");
     assert_eq!(session.stage(), Stage::Building);
 
     // The pane is the one a whole-log plan makes, and builds the same map.
@@ -163,10 +165,11 @@ fn new_settings_plan_the_panes_in_bounded_calls_while_the_old_maps_stay() {
     assert_eq!(session.pane(0).unwrap().counts(), old_counts);
     let works = plan_all(&mut session, n);
     assert!(works.iter().all(|&w| w <= n as u64), "{works:?}");
-    // The extent walk and the tile walk, CONFIGURE_SCANS of them in
-    // configure itself.
+    // The poses copied for the pane's source, the extent walk and the tile
+    // walk, CONFIGURE_SCANS of them in configure itself.
     let total = works.iter().sum::<u64>() + CONFIGURE_SCANS as u64;
-    assert_eq!(total, 2 * scans as u64, "{works:?}");
+    let copied = scans.div_ceil(COPIES_PER_UNIT) as u64;
+    assert_eq!(total, 2 * scans as u64 + copied, "{works:?}");
     assert_eq!(session.stage(), Stage::Building);
 
     let log = read_scans(&bytes[..]).unwrap();
@@ -223,10 +226,17 @@ fn a_scan_matched_pane_is_planned_in_the_read_s_bounded_calls_too() {
     session.configure(settings).unwrap();
     let works = read_all(&mut session, n);
     assert!(works.iter().all(|&w| w <= n as u64), "{works:?}");
-    // Read once; the tiles of the scan-matched and the corrected panes
-    // (both boxes grown as the lines were read), then the dead-reckoned
-    // pane's box and tiles: every walk counted in some call's work.
-    assert_eq!(works.iter().sum::<u64>(), 5 * scans as u64, "{works:?}");
+    // Read once; the scan-matched pane's odometry dead-reckoned and copied,
+    // its tiles; the corrected pane's poses copied, its tiles (both boxes
+    // grown as the lines were read); then the dead-reckoned pane's path,
+    // box and tiles: every walk and every pose made counted in some call's
+    // work.
+    let copied = scans.div_ceil(COPIES_PER_UNIT) as u64;
+    assert_eq!(
+        works.iter().sum::<u64>(),
+        7 * scans as u64 + 2 * copied,
+        "{works:?}"
+    );
     let log = read_scans(&bytes[..]).unwrap();
     let whole = LogPane::with_tile_budget(log, settings, BUDGET_CELLS).unwrap();
     assert_eq!(session.geometry(0).unwrap(), whole.geometry());

@@ -102,6 +102,89 @@ fn a_log_whose_matching_passes_the_budget_is_refused_by_its_figure_and_the_budge
     assert_eq!(s.state().scans_done, scans);
 }
 
+/// Reads `session` to its end in calls of `max_scans`: the most work a
+/// call reported, the work of all of them (a refused call's as the read's
+/// report keeps it), and the error of the last.
+fn read_in_calls(session: &mut RealLogSession, max_scans: usize) -> (usize, usize, Option<String>) {
+    let (mut longest, mut total) = (0, 0);
+    loop {
+        match session.read(max_scans) {
+            Ok(r) => {
+                longest = longest.max(r.work);
+                total += r.work;
+                if r.progress.finished {
+                    return (longest, total, None);
+                }
+            }
+            // A refusal's call keeps its work in the read's report.
+            Err(e) => {
+                let last = session.state().read.map_or(0, |r| r.work);
+                return (longest.max(last), total + last, Some(e.to_string()));
+            }
+        }
+    }
+}
+
+/// When the last line is read, every pane's pose source is started: the
+/// dead-reckoned paths integrated, the log's poses copied. That is work
+/// of the read's calls too, within each call's budget, whatever the log's
+/// length: the call that read the last line made every pose of every
+/// pane at once (at a million one-beam scans, 194 ms natively, 548 ms in
+/// the page). Every pose made is counted: the work reported covers the
+/// lines read, the two dead-reckoned paths (the scan-matched pane's and
+/// the dead-reckoned one's) and the dead-reckoned pane's walk of its
+/// extent.
+#[test]
+fn no_read_call_starts_every_pose_of_a_long_log() {
+    let scans = 10_000;
+    let bytes = one_beam_log(scans);
+    for max_scans in [1, 97, 4096] {
+        let mut s = RealLogSession::new(bytes.clone());
+        s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
+        let (longest, total, error) = read_in_calls(&mut s, max_scans);
+        assert_eq!(error, None);
+        assert!(longest <= max_scans, "a call of {max_scans} scans worked {longest}");
+        assert!(
+            total >= 4 * scans,
+            "{total} units reported for {scans} scans read, two paths dead-reckoned and one walked"
+        );
+        assert_eq!(s.panes().len(), 3);
+        assert_eq!(s.stage(), Stage::Building);
+    }
+    // New settings plan in bounded calls too.
+    let mut s = RealLogSession::new(bytes);
+    read_in_calls(&mut s, 4096);
+    s.configure(settings(PoseSourceKind::DeadReckoning)).unwrap();
+    let mut calls = 0;
+    while s.stage() == Stage::Planning {
+        let r = s.plan(300).unwrap();
+        assert!(r.work <= 300, "a plan call of 300 scans worked {}", r.work);
+        calls += 1;
+    }
+    assert!(calls * 300 >= 2 * scans, "{calls} calls");
+    assert_eq!(s.panes().len(), 2);
+}
+
+/// A pane refused for what finding its poses could cost is refused before
+/// its path is made, and the panes after it are not planned: the read of
+/// a refused log costs its lines and little more (the dead-reckoned pane
+/// beside the refused scan-matched one walked every scan again).
+#[test]
+fn a_refused_pane_stops_the_plan() {
+    let scans = 2000;
+    let budget = MAX_POSE_WORK / (MILLION / scans) as u64;
+    let mut s = RealLogSession::with_pose_work_budget(one_beam_log(scans), budget);
+    s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
+    let (_, total, error) = read_in_calls(&mut s, 1 << 16);
+    let error = error.expect("scan matching is refused");
+    assert!(error.contains("\"scan-matched\" over 2000 scans"), "{error}");
+    assert!(
+        total < scans + scans / 10,
+        "{total} units to read {scans} scans and refuse them"
+    );
+    assert_eq!(s.stage(), Stage::AwaitingSettings);
+}
+
 /// A candidate of the search costs a unit at least, whatever its points:
 /// a one-beam scan's match was counted at an eighth of a unit per
 /// candidate, and a build call of such scans ran twice as long per unit
@@ -154,7 +237,8 @@ fn cpu_ns() -> u64 {
 /// The million-scan log read and built natively in calls of the page's
 /// first budget (run with `SCANS=1000000 cargo test --release --test
 /// real_log_pose_budget -- --ignored --nocapture`; `WRITE=PATH` keeps the
-/// log): the longest read and build calls, in CPU time.
+/// log; `POSES=scan-matched,corrected` measures those sources only): the
+/// longest read and build calls, in CPU time.
 #[test]
 #[ignore = "a measurement"]
 fn one_beam_log_calls_measured() {
@@ -170,7 +254,11 @@ fn one_beam_log_calls_measured() {
     if let Ok(path) = std::env::var("WRITE") {
         std::fs::write(path, &bytes).unwrap();
     }
+    let chosen = std::env::var("POSES").unwrap_or_default();
     for poses in PoseSourceKind::ALL {
+        if !chosen.is_empty() && !chosen.split(',').any(|n| n == poses.name()) {
+            continue;
+        }
         let mut s = RealLogSession::new(bytes.clone());
         s.configure(settings(poses)).unwrap();
         let t = Instant::now();

@@ -1,7 +1,7 @@
 //! The log's own reference poses: the corrected path another estimator
 //! computed, which the chapter's maps assume as the pose oracle.
 
-use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
+use super::{PoseSource, PoseSourceKind, SourceInfo};
 use crate::geometry::Pose;
 use crate::sensors::ScanLog;
 
@@ -23,10 +23,9 @@ pub struct Corrected {
 }
 
 impl Corrected {
-    pub(super) fn new(log: &ScanLog, _: &SourceSettings) -> Self {
-        Self {
-            poses: log.poses().to_vec(),
-        }
+    /// The source over `poses`, a copy of the log's own.
+    pub(super) fn of_path(poses: Vec<Pose>) -> Self {
+        Self { poses }
     }
 }
 
@@ -37,5 +36,11 @@ impl PoseSource for Corrected {
 
     fn poses(&self) -> &[Pose] {
         &self.poses
+    }
+
+    /// The log's own poses, which these are (so that a plan sees, without
+    /// comparing them, that it walks the log's poses).
+    fn plan_poses<'a>(&'a self, log: &'a ScanLog) -> (&'a [Pose], f64) {
+        (log.poses(), 0.0)
     }
 }

@@ -5,9 +5,8 @@
 //! ([`crate::sensors::odometry::OdometryParams::dead_reckon_path`]). The
 //! chapter's "pose oracle off" on a real building.
 
-use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
+use super::{PoseSource, PoseSourceKind, SourceInfo};
 use crate::geometry::Pose;
-use crate::sensors::ScanLog;
 
 pub(super) const INFO: SourceInfo = SourceInfo {
     kind: PoseSourceKind::DeadReckoning,
@@ -33,10 +32,10 @@ pub struct DeadReckoning {
 }
 
 impl DeadReckoning {
-    pub(super) fn new(log: &ScanLog, settings: &SourceSettings) -> Self {
-        Self {
-            poses: settings.noise.dead_reckon_path(log.poses(), settings.seed),
-        }
+    /// The source over `poses`, dead-reckoned by the caller
+    /// ([`crate::sensors::odometry::DeadReckoner`]).
+    pub(super) fn of_path(poses: Vec<Pose>) -> Self {
+        Self { poses }
     }
 }
 

@@ -30,12 +30,14 @@ mod matched_path;
 mod odometry;
 mod scan_matched;
 mod slam;
+mod start;
 
 pub use matched_path::{MatchedPath, StepReport};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
 pub use slam::Slam;
+pub use start::{SourceStart, COPIES_PER_UNIT};
 
 use crate::error::{invalid, Result};
 use crate::geometry::Pose;
@@ -270,15 +272,9 @@ impl PoseSourceKind {
 
     /// This source over `log` (one pose per scan). (Apart from the
     /// registry's words, which pages read without the code of a source.)
+    /// Started at once: [`Self::starting`] run to its end.
     pub fn start(self, log: &ScanLog, settings: &SourceSettings) -> Result<Box<dyn PoseSource>> {
-        self.check_applies(log)?;
-        Ok(match self {
-            Self::Corrected => Box::new(corrected::Corrected::new(log, settings)),
-            Self::DeadReckoning => Box::new(dead_reckoning::DeadReckoning::new(log, settings)),
-            Self::ScanMatched => Box::new(scan_matched::ScanMatching::start(log, settings)?),
-            Self::Odometry => Box::new(odometry::OwnOdometry::new(log, settings)?),
-            Self::Slam => Box::new(slam::Slam::start(log, settings)?),
-        })
+        self.starting(log, settings)?.finish(log)
     }
 
     /// Whether this source can place `log`'s scans: the log's reference

@@ -4,7 +4,7 @@
 //! they differ from its corrected poses. The map lies in the odometry
 //! frame, where every source over the log starts.
 
-use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
+use super::{PoseSource, PoseSourceKind, SourceInfo};
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::sensors::ScanLog;
@@ -27,17 +27,19 @@ pub struct OwnOdometry {
 }
 
 impl OwnOdometry {
-    /// The source over `log`: an error naming the source when the log
-    /// carries no odometry of its own.
-    pub(super) fn new(log: &ScanLog, _: &SourceSettings) -> Result<Self> {
-        let poses = log.odometry().ok_or_else(|| {
-            OccError::State(
-                "the pose source odometry does not apply: the log carries no odometry of its own (its odometry fields repeat its corrected poses)".into(),
-            )
-        })?;
-        Ok(Self {
-            poses: poses.to_vec(),
-        })
+    /// The source over `poses`, a copy of the log's own odometry.
+    pub(super) fn of_path(poses: Vec<Pose>) -> Self {
+        Self { poses }
+    }
+}
+
+/// An error naming the source when `log` carries no odometry of its own.
+pub(super) fn check_has_odometry(log: &ScanLog) -> Result<()> {
+    match log.odometry() {
+        Some(_) => Ok(()),
+        None => Err(OccError::State(
+            "the pose source odometry does not apply: the log carries no odometry of its own (its odometry fields repeat its corrected poses)".into(),
+        )),
     }
 }
 

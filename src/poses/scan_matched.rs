@@ -6,7 +6,7 @@
 //! only then integrated there. The first scan is put at the first
 //! odometry pose: the path starts where the log does.
 
-use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings};
+use super::{PoseSource, PoseSourceKind, SourceInfo};
 use crate::error::Result;
 use crate::geometry::Pose;
 use crate::mapping::scan_match::{MatchMap, MatchReport, MatchSettings, Prediction, ScanMatcher};
@@ -93,6 +93,19 @@ pub fn match_work_bound(settings: &MatchSettings, resolution: f64) -> (u64, u64)
     (per_scan, per_point)
 }
 
+/// The most [`match_work`] matching every scan of `log` but the first may
+/// cost under `settings` on a map of `resolution` metres per cell, each
+/// at the most [`match_work_bound`] allows with as many points as it has
+/// beams (at most `maxPoints`): known before the path it corrects is.
+pub(super) fn path_work_bound(settings: &MatchSettings, resolution: f64, log: &ScanLog) -> u64 {
+    let (per_scan, per_point) = match_work_bound(settings, resolution);
+    let matched = log.len().saturating_sub(1) as u64;
+    let points = (log.beams() as u64).min(matched.saturating_mul(settings.max_points as u64));
+    matched
+        .saturating_mul(per_scan)
+        .saturating_add(points.saturating_mul(per_point))
+}
+
 /// The matcher's settings for a map whose range cap is `range_cap`
 /// metres: the defaults, with points matched out to the cap at most (a
 /// return past it marks nothing on the map, so it has nothing to fit).
@@ -134,27 +147,28 @@ impl ScanMatching {
         settings: MatchSettings,
         resolution: f64,
     ) -> Result<Self> {
-        Ok(Self {
-            matcher: ScanMatcher::for_resolution(settings, resolution)?,
-            poses: odometry.clone(),
+        let matcher = ScanMatcher::for_resolution(settings, resolution)?;
+        let poses = odometry.clone();
+        Ok(Self::of_path(matcher, (odometry, poses), noise, resolution))
+    }
+
+    /// Matching with `matcher` (checked at `resolution`) from `odometry`,
+    /// `poses` a copy of it (the poses found so far: none yet).
+    pub(super) fn of_path(
+        matcher: ScanMatcher,
+        (odometry, poses): (Vec<Pose>, Vec<Pose>),
+        noise: OdometryParams,
+        resolution: f64,
+    ) -> Self {
+        Self {
+            matcher,
+            poses,
             odometry,
             noise,
             last: None,
             work: 0,
             resolution,
-        })
-    }
-
-    /// The source over `log`: its odometry (or dead reckoning), the
-    /// settings' noise and matcher.
-    pub(super) fn start(log: &ScanLog, settings: &SourceSettings) -> Result<Self> {
-        let odometry = Self::odometry_of(log, settings.seed, &settings.noise);
-        Self::new(
-            odometry,
-            settings.noise,
-            settings.matching,
-            settings.resolution,
-        )
+        }
     }
 
     /// The odometry a path over `log` corrects: the log's own when it has
@@ -246,13 +260,7 @@ impl PoseSource for ScanMatching {
     /// Every scan but the first matched at the most [`match_work_bound`]
     /// allows, with as many points as it has beams (at most `maxPoints`).
     fn work_bound(&self, log: &ScanLog) -> u64 {
-        let (per_scan, per_point) = match_work_bound(self.matcher.settings(), self.resolution);
-        let matched = log.len().saturating_sub(1) as u64;
-        let points = (log.beams() as u64)
-            .min(matched.saturating_mul(self.matcher.settings().max_points as u64));
-        matched
-            .saturating_mul(per_scan)
-            .saturating_add(points.saturating_mul(per_point))
+        path_work_bound(self.matcher.settings(), self.resolution, log)
     }
 
     fn reset(&mut self) {

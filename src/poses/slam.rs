@@ -10,7 +10,7 @@
 //! converged.
 
 use super::{
-    PoseSource, PoseSourceKind, ScanMatching, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN,
+    PoseSource, PoseSourceKind, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN,
 };
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
@@ -47,8 +47,9 @@ pub struct Slam {
 }
 
 impl Slam {
-    pub(super) fn start(log: &ScanLog, settings: &SourceSettings) -> Result<Self> {
-        let odometry = ScanMatching::odometry_of(log, settings.seed, &settings.noise);
+    /// SLAM from `odometry` (one pose per scan: the log's own, or dead
+    /// reckoning, [`super::ScanMatching::odometry_of`], made by the caller).
+    pub(super) fn from_odometry(odometry: Vec<Pose>, settings: &SourceSettings) -> Result<Self> {
         let builder = SlamBuilder::new(
             odometry.clone(),
             settings.noise,

@@ -47,18 +47,9 @@ impl OdometryParams {
     /// poses ([`Self::dead_reckon`]), the noise drawn from a generator
     /// seeded with `seed` (one seed, one path).
     pub fn dead_reckon_path(&self, truth: &[Pose], seed: u64) -> Vec<Pose> {
-        let mut rng = StdRng::seed_from_u64(seed);
-        let mut out = Vec::with_capacity(truth.len());
-        let Some(&first) = truth.first() else {
-            return out;
-        };
-        out.push(first);
-        let mut estimate = first;
-        for w in truth.windows(2) {
-            estimate = self.dead_reckon(&estimate, &w[0], &w[1], &mut rng);
-            out.push(estimate);
-        }
-        out
+        let mut path = DeadReckoner::new(*self, seed);
+        path.extend(truth, usize::MAX);
+        path.into_path()
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -108,5 +99,72 @@ impl OdometryParams {
             y: estimate.y + trans_hat * heading.sin(),
             theta: wrap_angle(heading + rot2_hat),
         }
+    }
+}
+
+/// A dead-reckoned path ([`OdometryParams::dead_reckon_path`]) integrated a
+/// bounded number of poses at a time, so that a caller with a budget per
+/// call (a page's real-log session) can follow a log of any length: the
+/// same seed gives the same path, bit for bit, however it is cut.
+#[derive(Debug, Clone)]
+pub struct DeadReckoner {
+    params: OdometryParams,
+    rng: StdRng,
+    path: Vec<Pose>,
+}
+
+impl DeadReckoner {
+    /// A path not yet begun, its noise drawn from `seed`.
+    pub fn new(params: OdometryParams, seed: u64) -> Self {
+        Self {
+            params,
+            rng: StdRng::seed_from_u64(seed),
+            path: Vec::new(),
+        }
+    }
+
+    /// Integrates up to `max_poses` more poses of the path of `truth` (the
+    /// same poses at every call); returns how many.
+    pub fn extend(&mut self, truth: &[Pose], max_poses: usize) -> usize {
+        let k0 = self.path.len();
+        let end = truth.len().min(k0.saturating_add(max_poses));
+        if k0 >= end {
+            return 0;
+        }
+        // Room for the whole path at once: no call copies the poses before.
+        self.path.reserve_exact(truth.len() - k0);
+        for k in k0..end {
+            let pose = match k.checked_sub(1).and_then(|j| self.path.get(j)) {
+                // The first pose is the truth's; each after it is the one
+                // before advanced by the noisy increment.
+                None => truth[k],
+                Some(estimate) => {
+                    self.params
+                        .dead_reckon(estimate, &truth[k - 1], &truth[k], &mut self.rng)
+                }
+            };
+            self.path.push(pose);
+        }
+        end - k0
+    }
+
+    /// The poses integrated so far.
+    pub fn len(&self) -> usize {
+        self.path.len()
+    }
+
+    /// True before the first pose.
+    pub fn is_empty(&self) -> bool {
+        self.path.is_empty()
+    }
+
+    /// The path integrated so far.
+    pub fn path(&self) -> &[Pose] {
+        &self.path
+    }
+
+    /// The path integrated so far, taken.
+    pub fn into_path(self) -> Vec<Pose> {
+        self.path
     }
 }

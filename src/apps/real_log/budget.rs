@@ -11,7 +11,7 @@ use crate::geometry::{GridGeometry, Pose};
 use crate::grid::storage::{mebibytes, tiles_of, TILE_CELLS, TILE_SIDE};
 use crate::inverse::HandCrafted;
 use crate::mapping::reach::{covering_grid, tiles_reached, BeamReach};
-use crate::poses::PoseSource;
+use crate::poses::{PoseSource, PoseSourceKind};
 use crate::sensors::{Scan, ScanLog};
 
 /// Cells visited that cost about one cell update (a verdict gathered, 15
@@ -247,14 +247,24 @@ pub(super) fn grid_of_extent(
 /// work finding the poses of `scans` ([`MAX_POSE_WORK`] unless a test
 /// says otherwise), naming the source, the figure and the budget.
 pub(super) fn check_pose_work(scans: &ScanLog, source: &dyn PoseSource, budget: u64) -> Result<()> {
-    let bound = source.work_bound(scans);
+    check_pose_bound(scans, source.kind(), source.work_bound(scans), budget)
+}
+
+/// Refuses a pane of source `kind` whose poses could cost `bound` units of
+/// work to find over `scans`, past `budget` ([`check_pose_work`]).
+pub(super) fn check_pose_bound(
+    scans: &ScanLog,
+    kind: PoseSourceKind,
+    bound: u64,
+    budget: u64,
+) -> Result<()> {
     if bound <= budget {
         return Ok(());
     }
     let n = scans.len() as u64;
     Err(invalid(
         "poses",
-        format!("\"{}\" over {n} scans", source.kind().name()),
+        format!("\"{}\" over {n} scans", kind.name()),
         format!(
             "a log whose poses cost at most {budget} units of work (cell updates) to find: \
              these {n} scans could cost up to {bound} ({} a scan); \

@@ -5,21 +5,24 @@
 //! logs").
 
 use super::budget::{
-    at_pose, beam_reach, budget_refusal, budget_tiles, check_pose_work, every_tile_fits,
-    grid_of_extent, no_scans, scan_model, FitSearch,
+    at_pose, beam_reach, budget_refusal, budget_tiles, check_pose_bound, check_pose_work,
+    every_tile_fits, grid_of_extent, no_scans, scan_model, FitSearch,
 };
 use super::pane::{source_settings, LogPane};
 use super::settings::{CheckedSettings, LogCellModel};
 use crate::error::{OccError, Result};
 use crate::geometry::GridGeometry;
 use crate::mapping::reach::{ExtentBox, TileReach};
-use crate::poses::{PoseSource, PoseSourceKind};
+use crate::poses::{PoseSource, PoseSourceKind, SourceStart};
 use crate::sensors::odometry::OdometryParams;
 use crate::sensors::ScanLog;
 use std::sync::Arc;
 
 /// Where one pane's plan stands.
 enum Phase {
+    /// Starting its pose source: its path made a bounded number of poses
+    /// per call ([`SourceStart`]).
+    Start(Box<SourceStart>),
     /// Growing the box of its poses and beams, a scan at a time.
     Extent(ExtentBox),
     /// Its bounding box passes the tile budget: counting the tiles its
@@ -54,8 +57,9 @@ struct CandidateWalk {
     scans: usize,
 }
 
-/// One pane of a plan: its pose source (`None` when it could not start:
-/// the phase then says why) and cell model, and its phase.
+/// One pane of a plan: its pose source (`None` while it is started, or
+/// when it could not start: the phase then says why) and cell model, and
+/// its phase.
 struct PlannedPane {
     kind: PoseSourceKind,
     source: Option<Box<dyn PoseSource>>,
@@ -64,18 +68,27 @@ struct PlannedPane {
 }
 
 /// The panes of a log just read, planned in calls of bounded work (scans
-/// walked), so that no call of the page's read walks every scan
-/// (docs/ARCHITECTURE.md, "Real logs"): each pane's extent (already grown
+/// walked, poses made), so that no call of the page's read walks every
+/// scan or makes every pose (docs/ARCHITECTURE.md, "Real logs"): each
+/// pane's pose source, started a bounded number of poses at a time
+/// ([`SourceStart`]), its extent (already grown
 /// as the lines were read, for the log's own poses), then, when its
 /// bounding box passes the tile budget, the tiles its beams reach, and
 /// when those pass it, the finest resolution that fits. Panes of one pose
 /// source share one walk. The panes it makes, and its refusals, are the
-/// ones [`LogPane::plan`] makes, cell for cell and word for word.
+/// ones [`LogPane::plan`] makes, cell for cell and word for word. Once a
+/// pane is refused, the panes after it are not planned: the plan's answer
+/// is that refusal.
 pub(super) struct PanePlanning {
     scans: Arc<ScanLog>,
     settings: CheckedSettings,
     odometry: OdometryParams,
     budget_cells: usize,
+    /// The most work finding a pane's poses may cost.
+    pose_work: u64,
+    /// The box of every scan at its own poses, grown as the log was read:
+    /// the extent of a pane whose plan walks those poses.
+    read_extent: Option<ExtentBox>,
     panes: Vec<PlannedPane>,
 }
 
@@ -103,27 +116,24 @@ impl PanePlanning {
             .enumerate()
             .filter(|(i, (kind, _))| *i == 0 || kind.applies(&scans))
             .map(|(_, (kind, model))| {
-                let source = kind
-                    .start(&scans, &source_settings(settings, odometry))
-                    .and_then(|source| {
-                        check_pose_work(&scans, source.as_ref(), pose_work)?;
-                        Ok(source)
+                // A source whose work is bounded before its path is made
+                // (a matcher's) is refused before it is made.
+                let start = kind
+                    .starting(&scans, &source_settings(settings, odometry))
+                    .and_then(|start| {
+                        if let Some(bound) = start.work_bound(&scans) {
+                            check_pose_bound(&scans, kind, bound, pose_work)?;
+                        }
+                        Ok(start)
                     });
-                // A pane whose plan walks the log's own poses (a
-                // scan-matched one too, with room for drift) takes the box
-                // grown as the log was read.
-                let phase = match (&source, &read_extent) {
-                    (Err(e), _) => Phase::Failed(e.clone()),
-                    (Ok(source), Some(e)) if source.plan_poses(&scans).0 == scans.poses() => {
-                        Phase::Extent(e.clone())
-                    }
-                    _ => Phase::Extent(ExtentBox::new(s.no_return_reach)),
-                };
                 PlannedPane {
                     kind,
-                    source: source.ok(),
+                    source: None,
                     model,
-                    phase,
+                    phase: match start {
+                        Ok(start) => Phase::Start(Box::new(start)),
+                        Err(e) => Phase::Failed(e),
+                    },
                 }
             })
             .collect();
@@ -132,53 +142,110 @@ impl PanePlanning {
             settings: *settings,
             odometry,
             budget_cells,
+            pose_work,
+            read_extent,
             panes,
         }
     }
 
-    /// Walks at most `max_scans` scans of the plan (a pane whose walk is
-    /// done moves on to its next phase without one); returns the scans
-    /// walked.
+    /// Works at most `max_scans` units of the plan: scans walked, and
+    /// poses of the panes' sources made ([`SourceStart::step`]'s units; a
+    /// pane whose walk is done moves on to its next phase without one);
+    /// returns the units worked.
     pub(super) fn step(&mut self, max_scans: usize) -> usize {
         let mut walked = 0;
         for i in 0..self.panes.len() {
-            // A pane of a source planned before it takes that plan.
-            let (before, rest) = self.panes.split_at_mut(i);
-            let pane = &mut rest[0];
-            if !pane.phase.is_done() {
-                let twin = before.iter().find(|p| p.kind == pane.kind);
-                match twin.map(|p| &p.phase) {
-                    Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
-                    Some(Phase::Refused(g, n, r)) => pane.phase = Phase::Refused(*g, *n, *r),
-                    Some(Phase::Failed(e)) => pane.phase = Phase::Failed(e.clone()),
-                    _ => {}
-                }
+            // The plan's answer is the first refusal: nothing after it is
+            // planned.
+            if self.panes[..i].iter().any(|p| p.phase.is_refusal()) {
+                break;
             }
-            while self.advance(i, walked < max_scans) {
-                walked += 1;
+            loop {
+                self.take_twin_plan(i);
+                match self.advance(i, max_scans.saturating_sub(walked)) {
+                    Some(units) => walked += units,
+                    None => break,
+                }
             }
         }
         walked
     }
 
-    /// Moves pane `i`'s plan on: through the phases whose walk is done,
-    /// then, if `may_walk`, one scan of its walk. True when a scan was
-    /// walked.
-    fn advance(&mut self, i: usize, may_walk: bool) -> bool {
+    /// Pane `i`, once its source is started, takes the plan of a pane of
+    /// the same source before it, once that is done.
+    fn take_twin_plan(&mut self, i: usize) {
+        let (before, rest) = self.panes.split_at_mut(i);
+        let pane = &mut rest[0];
+        if pane.phase.is_done() || pane.source.is_none() {
+            return;
+        }
+        let twin = before.iter().find(|p| p.kind == pane.kind);
+        match twin.map(|p| &p.phase) {
+            Some(Phase::Ready(g, n)) => pane.phase = Phase::Ready(*g, *n),
+            Some(Phase::Refused(g, n, r)) => pane.phase = Phase::Refused(*g, *n, *r),
+            Some(Phase::Failed(e)) => pane.phase = Phase::Failed(e.clone()),
+            _ => {}
+        }
+    }
+
+    /// Pane `i`'s source, started: its phase from here (refused when it
+    /// could cost more than the budget finding its poses). A pane whose
+    /// plan walks the log's own poses (a scan-matched one too, with room
+    /// for drift) takes the box grown as the log was read.
+    fn started(&self, start: Box<SourceStart>) -> (Option<Box<dyn PoseSource>>, Phase) {
+        let scans = &self.scans;
+        let source = start.finish(scans).and_then(|source| {
+            check_pose_work(scans, source.as_ref(), self.pose_work)?;
+            Ok(source)
+        });
+        match source {
+            Err(e) => (None, Phase::Failed(e)),
+            Ok(source) => {
+                // (The same poses, not equal ones: no walk to compare them.)
+                let own = std::ptr::eq(source.plan_poses(scans).0, scans.poses());
+                let extent = match &self.read_extent {
+                    Some(e) if own => e.clone(),
+                    _ => ExtentBox::new(self.settings.settings().no_return_reach),
+                };
+                (Some(source), Phase::Extent(extent))
+            }
+        }
+    }
+
+    /// Moves pane `i`'s plan on, within `units` of work: its source's
+    /// start a step (or, once its path is made, the source taken), or
+    /// through the phases whose walk is done, then one scan of its walk.
+    /// The units worked, or `None` when it cannot move on within `units`.
+    fn advance(&mut self, i: usize, units: usize) -> Option<usize> {
+        if let Phase::Start(start) = &mut self.panes[i].phase {
+            if !start.is_done(&self.scans) {
+                return (units > 0).then(|| start.step(&self.scans, units));
+            }
+            let placeholder = Phase::Extent(ExtentBox::new(0.0));
+            let Phase::Start(start) = std::mem::replace(&mut self.panes[i].phase, placeholder)
+            else {
+                return None;
+            };
+            let (source, phase) = self.started(start);
+            let pane = &mut self.panes[i];
+            (pane.source, pane.phase) = (source, phase);
+            return Some(0);
+        }
+        let may_walk = units > 0;
         let (scans, c, budget) = (&self.scans, &self.settings, self.budget_cells);
         let pane = &mut self.panes[i];
         // The poses the walks put the scans at (a scan-matched pane's are
         // the log's own: the matched path stays near them), and the room
         // its grid leaves for drift around them.
         let Some(source) = &pane.source else {
-            return false;
+            return None;
         };
         let (poses, drift) = source.plan_poses(scans);
         loop {
             match &mut pane.phase {
                 Phase::Extent(e) if e.scans() < scans.len() => {
                     if !may_walk {
-                        return false;
+                        return None;
                     }
                     let k = e.scans();
                     // (A scan at a pose that is not finite is left out, as
@@ -187,7 +254,7 @@ impl PanePlanning {
                         Some(scan) => e.add(&scan, &scan_model(c, scans, k)),
                         None => e.skip(),
                     }
-                    return true;
+                    return Some(1);
                 }
                 Phase::Extent(e) => {
                     let bounds = e.bounds();
@@ -200,13 +267,13 @@ impl PanePlanning {
                 }
                 Phase::Tiles(_, _, tiles, k) if *k < scans.len() => {
                     if !may_walk {
-                        return false;
+                        return None;
                     }
                     if let Some(scan) = poses.get(*k).and_then(|&p| at_pose(scans, *k, p)) {
                         tiles.add(&scan, beam_reach(c));
                     }
                     *k += 1;
-                    return true;
+                    return Some(1);
                 }
                 Phase::Tiles(_, g, tiles, _) if tiles.count() <= budget_tiles(budget) => {
                     pane.phase = Phase::Ready(*g, Some(tiles.count()))
@@ -247,28 +314,39 @@ impl PanePlanning {
                     }
                     Some(w) if w.scans < scans.len() => {
                         if !may_walk {
-                            return false;
+                            return None;
                         }
                         let k = w.scans;
                         if let Some(scan) = poses.get(k).and_then(|&p| at_pose(scans, k, p)) {
                             w.tiles.add(&scan, beam_reach(&w.settings));
                         }
                         w.scans += 1;
-                        return true;
+                        return Some(1);
                     }
                     Some(w) if w.tiles.count() <= budget_tiles(budget) => {
                         pane.phase = Phase::Refused(*grid, *needed, Some(w.resolution))
                     }
                     Some(_) => *walk = None,
                 },
-                Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_) => return false,
+                Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_) | Phase::Start(_) => {
+                    return None
+                }
             }
         }
     }
 
-    /// True once every pane's plan is walked.
+    /// True once every pane's plan is walked, or a pane is refused after
+    /// panes whose plans are (the plan's answer is then that refusal).
     pub(super) fn finished(&self) -> bool {
-        self.panes.iter().all(|p| p.phase.is_done())
+        for pane in &self.panes {
+            if !pane.phase.is_done() {
+                return false;
+            }
+            if pane.phase.is_refusal() {
+                return true;
+            }
+        }
+        true
     }
 
     /// The scans the log has.
@@ -285,6 +363,7 @@ impl PanePlanning {
             odometry,
             budget_cells,
             panes,
+            ..
         } = self;
         panes
             .into_iter()
@@ -294,7 +373,7 @@ impl PanePlanning {
                     Phase::Ready(grid, _) => (grid, None),
                     Phase::Refused(grid, needed, fits) => (grid, Some((needed, fits))),
                     // (Not reached once the plan is finished.)
-                    Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
+                    Phase::Start(_) | Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
                         return LogPane::plan(
                             Arc::clone(&scans),
                             (p.kind, p.model),
@@ -339,5 +418,10 @@ impl Phase {
             self,
             Phase::Ready(..) | Phase::Refused(..) | Phase::Failed(_)
         )
+    }
+
+    /// True when the pane is refused (its settings make no map of the log).
+    fn is_refusal(&self) -> bool {
+        matches!(self, Phase::Refused(..) | Phase::Failed(_))
     }
 }

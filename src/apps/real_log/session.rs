@@ -36,7 +36,9 @@ pub struct ReadReport {
     pub bytes_total: usize,
     /// The call's work, in scans: the scans it read (each scan's share of
     /// the map's extent is grown as it is read) and the scans its planning
-    /// of the panes walked; at most the call's `max_scans`, or 1.
+    /// of the panes walked, and the poses it made starting their sources
+    /// ([`crate::poses::SourceStart::step`]'s units); at most the call's
+    /// `max_scans`, or 1.
     pub work: usize,
 }
 
