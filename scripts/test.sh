@@ -17,6 +17,11 @@ echo "== native: cargo test"
 cargo test --quiet
 # The benchmark runner is no test target: make sure it still compiles.
 cargo check --quiet --benches
+# SLAM's loop tests map hundreds of scans: seconds optimised, minutes
+# without (they are ignored in the debug run above). Whole-program
+# optimisation is for the shipped wasm, not for a test run.
+CARGO_PROFILE_RELEASE_LTO=false CARGO_PROFILE_RELEASE_CODEGEN_UNITS=16 \
+  cargo test --release --quiet --test slam_loops
 
 echo "== wasm: wasm-pack test --node"
 wasm-pack --log-level warn test --node -- --features bench
