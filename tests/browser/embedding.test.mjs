@@ -235,7 +235,7 @@ test('bad values of the workbench’s and the real-log mode’s attributes are r
   const messages = {
     reading: /invalid reading: "9" \(expected a number from 0\.2 to 8 m in steps of 0\.05\)/,
     zoom: /invalid zoom: "maybe" \(expected "on" or "off"\)/,
-    log: /invalid log: "\.\.\/secret\.log" \(expected the file name of a CARMEN log in the server’s \/datasets\/, such as "intel-corrected\.log\.gz"\)/,
+    log: /invalid log: "\.\.\/secret\.log" \(expected the file name of a CARMEN log or a ROS 2 bag in the server’s \/datasets\/, such as "intel-corrected\.log\.gz" or "intel-perfect\.mcap"\)/,
     resolution: /invalid log-resolution: "0\.07" \(expected one of "0\.025", "0\.05", "0\.1", "0\.2"\)/,
   };
   const benchBox = bench.locator(':scope > .occgrid-attribute-error');
