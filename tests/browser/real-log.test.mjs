@@ -339,9 +339,9 @@ test('the menu offers the logs of /datasets/ and loads the one picked', async ()
   const menu = page.locator('.map-weaver-log select[name=dataset]');
   await menu.waitFor({ state: 'visible' });
   const options = await menu.locator('option').evaluateAll((os) => os.map((o) => o.value));
-  // Every log the folder holds, whatever logs it holds (the menu lists them
-  // in the order its README names them).
-  const logs = fs.readdirSync(DATASETS).filter((f) => f.endsWith('.log.gz')).sort();
+  // Every log and bag the folder holds, whatever it holds (the menu lists
+  // them in the order its README names them).
+  const logs = fs.readdirSync(DATASETS).filter((f) => f.endsWith('.log.gz') || f.endsWith('.mcap')).sort();
   assert.ok(logs.includes('intel-corrected.log.gz'), `the Intel log is in ${DATASETS}`);
   assert.equal(options[0], '', 'the menu starts with its prompt');
   assert.deepEqual(options.slice(1).sort(), logs);
