@@ -8,7 +8,8 @@ bash scripts/setup.sh --browser
 
 # Any warning fails the run: clippy on every target, natively and for the
 # wasm build with the benchmark entry points, and rustdoc's links.
-echo "== lints: cargo clippy, cargo doc"
+echo "== lints: cargo fmt, cargo clippy, cargo doc"
+cargo fmt --all --check
 cargo clippy --quiet --all-targets -- -D warnings
 cargo clippy --quiet --target wasm32-unknown-unknown --all-targets --features bench -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --quiet --no-deps

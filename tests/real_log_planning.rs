@@ -65,7 +65,11 @@ fn every_read_call_stays_within_its_budget_and_the_tile_walk_comes_after_the_las
     // pose copied for the pane's source, and walked once more on the grid
     // of tiles: the walk was done, and spread.
     let copied = scans.div_ceil(COPIES_PER_UNIT) as u64;
-    assert_eq!(works.iter().sum::<u64>(), 2 * scans as u64 + copied, "{works:?}");
+    assert_eq!(
+        works.iter().sum::<u64>(),
+        2 * scans as u64 + copied,
+        "{works:?}"
+    );
     assert_eq!(session.stage(), Stage::Building);
 
     // The pane is the one a whole-log plan makes, and builds the same map.

@@ -143,7 +143,10 @@ fn no_read_call_starts_every_pose_of_a_long_log() {
         s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
         let (longest, total, error) = read_in_calls(&mut s, max_scans);
         assert_eq!(error, None);
-        assert!(longest <= max_scans, "a call of {max_scans} scans worked {longest}");
+        assert!(
+            longest <= max_scans,
+            "a call of {max_scans} scans worked {longest}"
+        );
         assert!(
             total >= 4 * scans,
             "{total} units reported for {scans} scans read, two paths dead-reckoned and one walked"
@@ -154,7 +157,8 @@ fn no_read_call_starts_every_pose_of_a_long_log() {
     // New settings plan in bounded calls too.
     let mut s = RealLogSession::new(bytes);
     read_in_calls(&mut s, 4096);
-    s.configure(settings(PoseSourceKind::DeadReckoning)).unwrap();
+    s.configure(settings(PoseSourceKind::DeadReckoning))
+        .unwrap();
     let mut calls = 0;
     while s.stage() == Stage::Planning {
         let r = s.plan(300).unwrap();
@@ -177,7 +181,10 @@ fn a_refused_pane_stops_the_plan() {
     s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
     let (_, total, error) = read_in_calls(&mut s, 1 << 16);
     let error = error.expect("scan matching is refused");
-    assert!(error.contains("\"scan-matched\" over 2000 scans"), "{error}");
+    assert!(
+        error.contains("\"scan-matched\" over 2000 scans"),
+        "{error}"
+    );
     assert!(
         total < scans + scans / 10,
         "{total} units to read {scans} scans and refuse them"

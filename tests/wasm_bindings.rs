@@ -102,7 +102,9 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
     let b = s.build_slice(JsValue::from_f64(f64::INFINITY)).unwrap();
     assert_eq!(get(&b, "scansDone").as_f64(), Some(2.0));
-    let pair = s.export_map(JsValue::from_f64(0.0), "lab".into(), JsValue::UNDEFINED).unwrap();
+    let pair = s
+        .export_map(JsValue::from_f64(0.0), "lab".into(), JsValue::UNDEFINED)
+        .unwrap();
     assert!(get(&pair, "yaml")
         .as_string()
         .unwrap()

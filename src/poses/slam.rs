@@ -9,9 +9,7 @@
 //! ([`PoseSource::settle_within`]), its poses handed out only once it has
 //! converged.
 
-use super::{
-    PoseSource, PoseSourceKind, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN,
-};
+use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN};
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::mapping::scan_match::MatchMap;

@@ -373,7 +373,10 @@ impl PanePlanning {
                     Phase::Ready(grid, _) => (grid, None),
                     Phase::Refused(grid, needed, fits) => (grid, Some((needed, fits))),
                     // (Not reached once the plan is finished.)
-                    Phase::Start(_) | Phase::Extent(_) | Phase::Tiles(..) | Phase::Search { .. } => {
+                    Phase::Start(_)
+                    | Phase::Extent(_)
+                    | Phase::Tiles(..)
+                    | Phase::Search { .. } => {
                         return LogPane::plan(
                             Arc::clone(&scans),
                             (p.kind, p.model),

@@ -10,7 +10,9 @@ use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
 use super::table::{IdTable, MAX_IDS};
 use crate::error::{OccError, Result};
-use crate::io::log_source::{LoadProgress, LogBudget, LogFormat, LogSource, LogTopic, TopicChoices};
+use crate::io::log_source::{
+    LoadProgress, LogBudget, LogFormat, LogSource, LogTopic, TopicChoices,
+};
 use crate::io::mcap::{quoted, Channel, Event, McapReader, Place, Schema};
 use crate::sensors::{LogPoseKinds, ScanLog, ScanRecord};
 
