@@ -48,6 +48,7 @@ import {
 } from './lib/map-weaver-words.js';
 import { followCellPointer, placeReadout } from './lib/cell-pointer.js';
 import { showComparison, showPaneReadout } from './lib/map-weaver-readouts.js';
+import { brierMap } from './lib/brier-map.js';
 
 const SPEEDS = [0.25, 0.5, 1, 2, 4, 8];
 /**
@@ -98,6 +99,7 @@ class MapWeaverElement extends HTMLElement {
     autoplay: { type: flag(), default: 'on', doc: 'play when first scrolled into view (never under prefers-reduced-motion)' },
     scans: { type: whole(0, 1_000_000), default: '0', doc: 'scans integrated before the first frame (the run stops at its last lap)' },
     mode: { type: oneOf(['sim', 'log']), default: 'sim', doc: 'the simulated apartment or the real-log panel' },
+    'brier-map': { type: flag(), default: 'off', doc: 'show, under the maps, where each is closer to the ground truth: the per-cell Brier difference (exercise 8)' },
     situation: { type: oneOf(['lap', 'ghost-watch']), default: 'lap', doc: 'the robot’s lap, or exercise 5’s ghost watch: the robot parked in the corridor while the person stands by the kitchen door, then leaves' },
     ...paneSpec('left', 0),
     ...paneSpec('right', 1),
@@ -181,6 +183,7 @@ class MapWeaverElement extends HTMLElement {
       this.speedSelect.input.value = String(value);
     } else if (!this.limits) return; // read again once the core's bounds are in
     else if (name === 'person') this.setPerson(value);
+    else if (name === 'brier-map') this.showBrierMap(value);
     else if (name === 'mode') this.setMode(value);
     else if (name === 'map-width') {
       resetPaneSizes(this.panes);
@@ -206,6 +209,7 @@ class MapWeaverElement extends HTMLElement {
       scans: this.reading ? this.reading.scans : this.values.scans,
       mode: this.mode,
       'map-width': this.values['map-width'],
+      'brier-map': this.brierMap.on ? 'on' : 'off',
       controls: formatControls(this.values.controls, GROUPS),
     };
     SIDES.forEach((side, k) => {
@@ -271,6 +275,7 @@ class MapWeaverElement extends HTMLElement {
     this.hover = el('p', { class: 'occgrid-readout map-weaver-hover', 'aria-live': 'polite', hidden: true }, HOVER_HINT);
     this.hoverHint = el('p', { class: 'occgrid-caption map-weaver-hover-hint' }, HOVER_HINT);
     this.comparison = el('p', { class: 'occgrid-readout map-weaver-comparison', hidden: true });
+    this.brierMap = brierMap((on) => this.setAttribute('brier-map', on ? 'on' : 'off'));
     this.entropyBox = el('div', { class: 'map-weaver-chart map-weaver-entropy-chart', role: 'img', 'aria-label': 'Map entropy over time: no scans yet.' });
 
     const playback = [
@@ -286,6 +291,7 @@ class MapWeaverElement extends HTMLElement {
       this.status,
       el('div', { class: 'map-weaver-panes' }, this.panes.map((p) => p.root)),
       this.comparison,
+      this.brierMap.root,
       this.hoverHint,
       this.entropyBox,
       el('p', { class: 'occgrid-caption' },
@@ -427,6 +433,12 @@ class MapWeaverElement extends HTMLElement {
       color: ROBOT_COLOR, radius: 4, tick: o.tick * s, lineWidth: 2.5, truth: o.truth, ringRadius: 6, ringWidth: 1.5,
     }));
     return layers;
+  }
+
+  /** Shows or hides the per-cell Brier difference under the maps. */
+  showBrierMap(on) {
+    this.brierMap.set(on);
+    this.draw(true);
   }
 
   /** Sizes the canvases to their panes (hi-DPI) and redraws. */
@@ -579,6 +591,7 @@ class MapWeaverElement extends HTMLElement {
     if (!this.options.panes) return;
     this.personToggle.input.checked = this.options.person;
     this.situationSelect.input.value = this.values.situation;
+    if (this.brierMap.on !== this.values['brier-map']) this.brierMap.set(this.values['brier-map']);
     this.speedSelect.input.value = String(this.options.speed);
     for (const p of this.panes) {
       const o = this.options.panes[p.k];
@@ -747,6 +760,7 @@ class MapWeaverElement extends HTMLElement {
         this.drawCharts(r);
       }
       showComparison(this.comparison, r);
+      this.brierMap.draw(this.weaver, this.memory, r, this.panes[0].cssW, this.limits.brierColours, charts);
       this.readCursor();
     } catch (e) {
       showError(this, e);

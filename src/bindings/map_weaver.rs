@@ -15,9 +15,8 @@ pub struct MapWeaver(Weaver);
 
 #[wasm_bindgen]
 extern "C" {
-    /// The page's monotonic clock (browsers and Node both have one).
-    /// Declared with `catch`: it is called while the run is borrowed, and
-    /// an exception unwinding through the core would leave it so.
+    /// The page's monotonic clock, declared with `catch`: an exception
+    /// unwinding through the core, which holds the run borrowed, would leave it so.
     #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
     fn performance_now() -> Result<f64, JsValue>;
 }
@@ -41,8 +40,7 @@ impl MapWeaver {
         Ok(MapWeaver(weaver))
     }
 
-    /// Pane `pane`'s map size in cells, `[width, height]` (a pane at 0.05 m
-    /// has four times the cells of one at 0.10 m).
+    /// Pane `pane`'s map size in cells, `[width, height]`.
     #[wasm_bindgen(js_name = paneSize)]
     pub fn pane_size(&self, pane: JsValue) -> Result<Vec<usize>, JsError> {
         let g = self.0.pane_geometry(pane_from_js(&pane)?)?;
@@ -116,10 +114,18 @@ impl MapWeaver {
         Ok(self.0.check_fast_forward(index_from_js("scans", &scans)?)?)
     }
 
-    /// Address of pane `pane`'s RGBA pixels (width x height x 4, north up)
-    /// in wasm memory, as of the last scan.
+    /// Address of pane `pane`'s RGBA pixels (north up) as of the last scan.
     pub fn pixels(&self, pane: JsValue) -> Result<usize, JsError> {
         Ok(self.0.view(pane_from_js(&pane)?)?.rgba().as_ptr() as usize)
+    }
+
+    /// Address of the per-cell Brier difference image (RGBA, north up),
+    /// drawn now; 0 when the panes map different cells.
+    #[wasm_bindgen(js_name = brierPixels)]
+    pub fn brier_pixels(&mut self) -> usize {
+        self.0
+            .draw_brier_difference()
+            .map_or(0, |px| px.as_ptr() as usize)
     }
 
     /// `{ scans, scansPerLap, lap, time, done, person, frameMs, panes: [...] }`.
@@ -213,12 +219,10 @@ impl MapWeaver {
         Ok(self.0.reset()?)
     }
 
-    /// Records one frame's duration (milliseconds, measured by the page
-    /// around its calls into the core) for the "ms per frame" readout.
+    /// Records one frame's duration (ms, timed by the page) for the readout.
     #[wasm_bindgen(js_name = recordFrameMs)]
     pub fn record_frame_ms(&mut self, ms: JsValue) -> Result<(), JsError> {
-        // A frame's duration: NaN, a negative or an endless one is no
-        // measurement, and would skew the median the readout shows.
+        // NaN, a negative or an endless duration would skew the median.
         let ms = crate::error::non_negative("ms", number_from_js("ms", &ms)?)?;
         self.0.record_frame_ms(ms);
         Ok(())

@@ -295,6 +295,18 @@ impl MapScores {
     pub fn brier_all(&self) -> f64 {
         self.sq_sum_all / self.truth.len() as f64
     }
+    /// Each cell's squared error `(p - truth)^2`, row-major like the map.
+    pub fn squared_errors(&self) -> &[f64] {
+        &self.sq_error
+    }
+    /// The ground truth each cell is scored against (`true` = occupied).
+    pub fn truth(&self) -> &[bool] {
+        &self.truth
+    }
+    /// Whether each cell counts in the Brier region.
+    pub fn region(&self) -> &[bool] {
+        &self.in_region
+    }
 }
 
 #[cfg(test)]

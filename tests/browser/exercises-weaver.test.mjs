@@ -190,3 +190,43 @@ test('exercise 8: the map that forgets l0 scores worse by Brier, and the widget 
   assert.deepEqual(errors, []);
   await close();
 });
+
+test('exercise 8: the link shows where each map is closer to the truth, cell by cell, and the cells add up to the two Brier scores', async () => {
+  const { page, errors, close, w } = await openExercise(8);
+  await rebuilt(page, 653);
+  const view = w.locator('.map-weaver-brier-map');
+  const canvas = view.locator('canvas');
+  await canvas.waitFor({ state: 'visible' });
+  const brier = async (side) => Number(await w.locator(`.map-weaver-${side} .map-weaver-brier`).textContent());
+  const [kept, forgot] = [await brier('left'), await brier('right')];
+  const d = await view.evaluate((n) => ({ ...n.dataset }));
+  const [mean, left, right, tied, region] = ['mean', 'leftCloser', 'rightCloser', 'tied', 'region'].map((k) => Number(d[k]));
+  console.log(`exercise 8 per-cell: left closer in ${left}, right in ${right}, alike ${tied} of ${region}; mean ${mean} against ${forgot} - ${kept}`);
+  // The printed scores are rounded to four places: their gap to within 1e-4.
+  assert.ok(Math.abs(mean - (forgot - kept)) <= 1e-4 + 1e-12, `${mean} vs ${forgot} - ${kept}`);
+  assert.equal(left + right + tied, region);
+  assert.ok(left > right && right > 0, `${left} vs ${right}`);
+  assert.match(await view.locator('.map-weaver-brier-map-counts').textContent(), /left map is closer to the truth in [\d,]+ cells/);
+  // Drawn: the canvas holds both colours, in proportion to the counts.
+  const hues = await canvas.evaluate((c) => {
+    const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let blue = 0;
+    let red = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      const [r, g, b] = [px[i], px[i + 1], px[i + 2]];
+      if (b > r + 40 && b > g) blue++;
+      else if (r > b + 40 && r > g) red++;
+    }
+    return { blue, red };
+  });
+  assert.ok(hues.blue > 0 && hues.red > 0 && hues.blue > hues.red, JSON.stringify(hues));
+  // On screen at 1280x800 once the reader scrolls to it, and the switch hides it.
+  await canvas.scrollIntoViewIfNeeded();
+  const box = await canvas.boundingBox();
+  assert.ok(box.width > 100 && box.y >= 0 && box.y + box.height <= 800, JSON.stringify(box));
+  await view.getByRole('checkbox').uncheck();
+  await canvas.waitFor({ state: 'hidden' });
+  assert.equal(await w.evaluate((n) => n.getAttribute('brier-map')), 'off');
+  assert.deepEqual(errors, []);
+  await close();
+});

@@ -327,6 +327,7 @@ impl WeaverBuild {
             panes,
             frame_ms: RecentTimes::default(),
             clock,
+            brier_pixels: Vec::new(),
             settings,
         })
     }

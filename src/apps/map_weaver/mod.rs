@@ -20,6 +20,7 @@
 //! within its frames. What a run may be set to, and the limits the widget
 //! shows, are in `settings.rs`.
 
+mod brier_map;
 mod building;
 mod compare;
 mod ghosts;
@@ -34,6 +35,7 @@ mod timing;
 /// The evidence-strength wrapper lives with the inverse models; named here
 /// too for the benchmark workloads that replay Map Weaver's panes.
 pub use crate::inverse::Scaled;
+pub use brier_map::BrierDifference;
 pub use building::{BuildReport, WeaverBuild};
 pub use compare::{L0Drift, MapDifference};
 pub use ghosts::GhostReadout;
@@ -76,6 +78,9 @@ pub struct Weaver {
     frame_ms: RecentTimes,
     /// Times each pane's scans when set.
     clock: Option<Clock>,
+    /// The per-cell Brier difference image, drawn on request
+    /// ([`Weaver::draw_brier_difference`]).
+    brier_pixels: Vec<u8>,
 }
 
 impl Weaver {

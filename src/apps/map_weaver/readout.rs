@@ -4,6 +4,7 @@
 //! the robot and beams over each map, the tracked cells, and the choices
 //! of each pane's menus. The page formats these numbers; it computes none.
 
+use super::brier_map::BrierDifference;
 use super::compare::{L0Drift, MapDifference};
 use super::ghosts::GhostReadout;
 use super::pane::Pane;
@@ -96,6 +97,9 @@ pub struct Readout {
     /// The drift of a pane that forgets `l0` beside one that does not
     /// (exercise 8).
     pub l0_drift: Option<L0Drift>,
+    /// Where each map is closer to the truth, cell by cell, when both map
+    /// the same cells (exercise 8).
+    pub brier_difference: Option<BrierDifference>,
     /// What each pane's beam and resolution menus offer in this run.
     pub choices: PaneChoices,
 }
@@ -243,6 +247,7 @@ impl Weaver {
             ],
             difference: self.map_difference(),
             l0_drift: self.l0_drift(),
+            brier_difference: self.brier_difference(),
             choices: self.choices(),
         }
     }

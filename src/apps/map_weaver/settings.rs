@@ -473,6 +473,8 @@ pub struct WeaverLimits {
     /// this).
     pub max_lidar_beams: usize,
     pub max_fast_forward_work: u64,
+    /// The colours of the per-cell Brier difference image, for its legend.
+    pub brier_colours: super::brier_map::BrierColours,
     /// The chapter's run: the attributes' defaults.
     pub defaults: WeaverDefaults,
 }
@@ -498,6 +500,7 @@ impl WeaverLimits {
             pane_resolutions: PANE_RESOLUTIONS,
             max_lidar_beams: crate::sensors::lidar::MAX_BEAMS,
             max_fast_forward_work: MAX_FAST_FORWARD_WORK,
+            brier_colours: super::brier_map::BrierColours::SHOWN,
             defaults: {
                 let d = WeaverSettings::default();
                 WeaverDefaults {
