@@ -233,6 +233,8 @@ fn learn_inverse() {
 fn main() {
     let only = std::env::args().skip(1).find(|a| !a.starts_with('-'));
     let run = |name: &str| only.as_deref().is_none_or(|o| name.contains(o));
+    // Minutes per log: run only when named.
+    let named = |name: &str| only.as_deref() == Some(name);
     if run("intel-full") {
         intel_full();
     }
@@ -254,8 +256,11 @@ fn main() {
     if run("learn-inverse") {
         learn_inverse();
     }
-    if run("scan-match") {
-        scan_match();
+    if named("scan-match") {
+        recovered_poses(PoseSourceKind::ScanMatched, "scan-match");
+    }
+    if named("slam") {
+        recovered_poses(PoseSourceKind::Slam, "slam");
     }
     if run("real-logs") {
         real_logs();
@@ -357,29 +362,36 @@ fn trajectory_errors(
     (ate, rt / pairs, (rr / pairs).to_degrees())
 }
 
-/// W8 `scan-match`: every log of the datasets folder at the real-log
-/// defaults (5 cm), its poses found by scan matching from seeded dead
-/// reckoning (seed 1) in the scan-matched pane the page drives: the time
-/// of each scan's match and integration (median and largest) and of the
-/// whole log, beside the plain build at the corrected poses, with the
-/// trajectory's errors against the corrected poses for dead reckoning and
-/// for scan matching.
-fn scan_match() {
+/// W8 `scan-match` and `slam`: every log of the datasets folder at the
+/// real-log defaults (5 cm), its poses found by `kind` from seeded dead
+/// reckoning (the seeds of `OCCGRID_SEEDS`, comma-separated, 1 when
+/// unset; `OCCGRID_LOG` keeps the logs whose file name contains it) in
+/// the pane the page drives: the time of each build call (one scan
+/// located and integrated, a loop search or an optimisation step;
+/// median and largest) and of the whole log, beside the plain build at
+/// the corrected poses, with the trajectory's errors against the
+/// corrected poses for dead reckoning and for the source, and for SLAM
+/// the loops closed.
+fn recovered_poses(kind: PoseSourceKind, workload: &str) {
     use occgrid::apps::real_log::{LogMapSettings, LogPane};
+    use occgrid::poses::ScanMatching;
+    use occgrid::sensors::odometry::OdometryParams;
+    let only = std::env::var("OCCGRID_LOG").unwrap_or_default();
+    let seeds: Vec<u64> = std::env::var("OCCGRID_SEEDS")
+        .unwrap_or_else(|_| "1".into())
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect();
     let Ok(dir) = std::fs::read_dir(datasets()) else {
-        return eprintln!("skipping scan-match: cannot read the datasets folder");
+        return eprintln!("skipping {workload}: cannot read the datasets folder");
     };
     let mut logs: Vec<_> = dir
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.to_string_lossy().ends_with(".log.gz"))
+        .filter(|p| p.to_string_lossy().contains(&only))
         .collect();
     logs.sort();
     let s = LogMapSettings::default();
-    let matched_settings = LogMapSettings {
-        poses: PoseSourceKind::ScanMatched,
-        seed: 1,
-        ..s
-    };
     for path in logs {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         let Ok(bytes) = std::fs::read(&path) else {
@@ -394,28 +406,39 @@ fn scan_match() {
             plain.push(t.elapsed().as_secs_f64() * 1e3);
         }
         let truth = scans.poses().to_vec();
-        let mut pane = LogPane::new(scans.clone(), matched_settings).expect("default settings");
-        let mut steps = Vec::new();
-        let t = Instant::now();
-        while !pane.progress().finished {
+        for &seed in &seeds {
+            let settings = LogMapSettings {
+                poses: kind,
+                seed,
+                ..s
+            };
+            let mut pane = LogPane::new(scans.clone(), settings).expect("default settings");
+            let mut steps = Vec::new();
             let t = Instant::now();
-            pane.advance(1);
-            steps.push(t.elapsed().as_secs_f64() * 1e3);
+            while !pane.progress().finished {
+                let t = Instant::now();
+                pane.advance(1);
+                steps.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+            let total = t.elapsed().as_secs_f64() * 1e3;
+            assert!(pane.failure().is_none(), "the tile budget holds");
+            let largest = steps.iter().copied().fold(0.0, f64::max);
+            let dr = ScanMatching::odometry_of(&scans, seed, &OdometryParams::WHEELS);
+            let (dr_ate, dr_rpe, dr_rpe_deg) = trajectory_errors(&dr, &truth);
+            let (ate, rpe, rpe_deg) = trajectory_errors(pane.poses(), &truth);
+            let p = pane.progress();
+            let loops = p
+                .loop_closures
+                .map_or(String::new(), |n| format!(",\"loops_closed\":{n}"));
+            println!(
+                "{{\"workload\":\"{workload}\",\"runtime\":\"native\",\"log\":\"{name}\",\"seed\":{seed},\"scans\":{},\"step_median_ms\":{:.3},\"step_max_ms\":{:.2},\"poses_and_map_ms\":{total:.1},\"plain_build_ms\":{:.1},\"source_work_share\":{:.3}{loops},\"dead_reckoning\":{{\"ate_aligned_m\":{dr_ate:.3},\"rpe_m\":{dr_rpe:.4},\"rpe_deg\":{dr_rpe_deg:.3}}},\"{}\":{{\"ate_aligned_m\":{ate:.3},\"rpe_m\":{rpe:.4},\"rpe_deg\":{rpe_deg:.3}}}}}",
+                scans.len(),
+                median(steps.clone()),
+                largest,
+                median(plain.clone()),
+                1.0 - p.cell_updates as f64 / p.work.max(1) as f64,
+                kind.name(),
+            );
         }
-        let total = t.elapsed().as_secs_f64() * 1e3;
-        assert!(pane.failure().is_none(), "the tile budget holds");
-        let largest = steps.iter().copied().fold(0.0, f64::max);
-        let dr = pane.matched_odometry().expect("a scan-matched pane");
-        let (dr_ate, dr_rpe, dr_rpe_deg) = trajectory_errors(dr, &truth);
-        let (ate, rpe, rpe_deg) = trajectory_errors(pane.poses(), &truth);
-        let p = pane.progress();
-        println!(
-            "{{\"workload\":\"scan-match\",\"runtime\":\"native\",\"log\":\"{name}\",\"scans\":{},\"step_median_ms\":{:.3},\"step_max_ms\":{:.2},\"match_and_map_ms\":{total:.1},\"plain_build_ms\":{:.1},\"match_work_share\":{:.3},\"dead_reckoning\":{{\"ate_aligned_m\":{dr_ate:.3},\"rpe_m\":{dr_rpe:.4},\"rpe_deg\":{dr_rpe_deg:.3}}},\"scan_matched\":{{\"ate_aligned_m\":{ate:.3},\"rpe_m\":{rpe:.4},\"rpe_deg\":{rpe_deg:.3}}}}}",
-            scans.len(),
-            median(steps),
-            largest,
-            median(plain),
-            1.0 - p.cell_updates as f64 / p.work.max(1) as f64
-        );
     }
 }
