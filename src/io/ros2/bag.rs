@@ -86,22 +86,42 @@ pub struct BagLoader {
     moving_tree: StaticTree,
     /// True when the mount came from `/tf`.
     mount_from_tf: bool,
-    /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
-    map_links: Vec<String>,
+    /// The transforms of `/tf` from the `map` frame: per child frame (at
+    /// most [`MAX_MAP_LINKS`]), its poses in `map` by stamp.
+    map_links: Vec<(String, Samples)>,
     frames: Vec<String>,
     pending: Vec<PendingScan>,
     ranges: Vec<f32>,
     last_scan_stamp: Option<f64>,
     messages: usize,
+    /// Readings dropped by REP 117: NaN (invalid), and `-inf` or below
+    /// `range_min` (too close); scans with no other reading, skipped.
     invalid_readings: usize,
+    close_readings: usize,
+    unmeasured_scans: usize,
     skipped: (usize, Option<usize>),
-    /// The odometry chosen and the laser's mount in each scan frame.
-    placing: Option<(u16, Vec<[f64; 3]>)>,
+    /// The odometry chosen, the laser's mount in each scan frame, and the
+    /// odometry frame's pose in `map` ([`MapLink`]) where the bag has one.
+    placing: Option<(u16, Vec<[f64; 3]>, Option<MapLink>)>,
+    /// Scans outside the stamps of the `map` transforms (their nearest
+    /// taken).
+    map_held: usize,
     stage: Stage,
     scans: ScanLog,
     failure: Option<OccError>,
     summary_used: bool,
 }
+
+/// Stamped planar poses, sorted by stamp once read.
+type Samples = Vec<(f64, [f64; 3])>;
+
+/// The most child frames of `map` kept (a bag has one: its odometry frame).
+const MAX_MAP_LINKS: usize = 8;
+
+/// How the odometry frame lies in `map`: the `/tf` link from `map` (its
+/// index in the kept links; `None` where `/tf_static` gives `map` itself),
+/// then the fixed chain from that link's child to the odometry frame.
+type MapLink = (Option<usize>, [f64; 3]);
 
 /// Bytes kept per pending scan besides its ranges.
 const PENDING_BYTES: usize = std::mem::size_of::<PendingScan>();
@@ -126,6 +146,9 @@ impl BagLoader {
             last_scan_stamp: None,
             messages: 0,
             invalid_readings: 0,
+            close_readings: 0,
+            unmeasured_scans: 0,
+            map_held: 0,
             skipped: (0, None),
             placing: None,
             stage: Stage::Reading,
@@ -413,11 +436,24 @@ impl BagLoader {
                         self.tree.add(&t.parent, &t.child, t.pose);
                     } else if t.parent != "map" {
                         self.moving_tree.add(&t.parent, &t.child, t.pose);
-                    } else if t.parent == "map"
-                        && self.map_links.len() < 8
-                        && !self.map_links.contains(&quoted(&t.child))
-                    {
-                        self.map_links.push(quoted(&t.child));
+                    } else {
+                        let links = &mut self.map_links;
+                        let i = match links.iter().position(|l| l.0 == t.child) {
+                            Some(i) => i,
+                            None if links.len() < MAX_MAP_LINKS => {
+                                links.push((t.child, Vec::new()));
+                                links.len() - 1
+                            }
+                            None => continue,
+                        };
+                        if links[i].1.try_reserve(1).is_err() {
+                            return Err(self.bad_message(
+                                channel,
+                                place,
+                                "out of memory keeping the map-frame transforms",
+                            ));
+                        }
+                        self.map_links[i].1.push((t.stamp, t.pose));
                     }
                 }
                 Ok(())
@@ -427,9 +463,11 @@ impl BagLoader {
 
     /// Keeps a scan's readings by REP 117: `+inf` and readings past
     /// `range_max` are no-returns (kept at `range_max`, which the store
-    /// reads as the laser's maximum); `-inf`, NaN and readings below
-    /// `range_min` are not measurements and are kept as no-returns too,
-    /// and counted.
+    /// reads as the laser's maximum: they clear); `-inf` and readings below
+    /// `range_min` (an object too close to measure) and NaN (invalid) say
+    /// nothing of the cells along the beam, so they are dropped (kept as
+    /// NaN, the store's "no measurement", [`ScanRecord::ranges`]) and
+    /// counted; a scan with no other reading is skipped.
     fn keep_scan(&mut self, scan: LaserScan, channel: u16, place: Place) -> Result<()> {
         if let Some(last) = self.last_scan_stamp {
             if scan.stamp < last {
@@ -455,16 +493,25 @@ impl BagLoader {
         }
         let max = scan.range_max as f32;
         let range_from = self.ranges.len();
+        let dropped = self.invalid_readings + self.close_readings;
         for &r in &scan.ranges {
-            let kept = if r.is_nan() || r < scan.range_min {
+            let kept = if r.is_nan() {
                 self.invalid_readings += 1;
-                max
+                f32::NAN
+            } else if r < scan.range_min || r < 0.0 {
+                self.close_readings += 1;
+                f32::NAN
             } else if r > scan.range_max {
                 max
             } else {
                 r as f32
             };
             self.ranges.push(kept);
+        }
+        if beams > 0 && self.invalid_readings + self.close_readings - dropped == beams {
+            self.ranges.truncate(range_from);
+            self.unmeasured_scans += 1;
+            return Ok(());
         }
         let frame = match self.frames.iter().position(|f| *f == scan.frame) {
             Some(i) => i,
@@ -506,7 +553,7 @@ impl BagLoader {
         if self.scan_channel != Some(scan) || self.pending.is_empty() {
             return Err(self.no_scans());
         }
-        let Some((samples, _, child)) = self.odometry.get(odom) else {
+        let Some((samples, odom_frame, child)) = self.odometry.get(odom) else {
             return Err(OccError::State(format!(
                 "the bag's odometry topic {} has no messages: the scans cannot be placed",
                 quoted(self.channels.get(odom).map_or("", |c| c.topic.as_str()))
@@ -537,13 +584,28 @@ impl BagLoader {
             })?;
             mounts.push(mount);
         }
-        self.placing = Some((odom, mounts));
+        // The odometry frame in `map`: a `/tf` link from `map` to it or to
+        // a frame the static transforms (else `/tf`'s last) lead from to
+        // it, or `map` itself in `/tf_static`.
+        let chain = |from: &str| {
+            (self.tree.pose_of(from, odom_frame))
+                .or_else(|| self.moving_tree.pose_of(from, odom_frame))
+        };
+        let map_link = (self.map_links.iter().enumerate())
+            .find_map(|(i, (c, _))| chain(c).map(|p| (Some(i), p)))
+            .or_else(|| self.tree.pose_of("map", odom_frame).map(|p| (None, p)));
+        if let Some((Some(i), _)) = map_link {
+            // Stamps in order for the interpolation (a `/tf` topic may
+            // interleave publishers).
+            self.map_links[i].1.sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        self.placing = Some((odom, mounts, map_link));
         Ok(())
     }
 
     /// Places up to `most` more scans; true once all are.
     fn place(&mut self, next: usize, most: usize) -> Result<usize> {
-        let Some((odom, mounts)) = &self.placing else {
+        let Some((odom, mounts, map_link)) = &self.placing else {
             return Ok(self.pending.len());
         };
         let Some((samples, _, _)) = self.odometry.get(*odom) else {
@@ -557,7 +619,27 @@ impl BagLoader {
                 self.skipped.1.get_or_insert(p.origin);
                 continue;
             };
-            let laser = pose(compose(at, mounts[p.frame]));
+            let laser = compose(at, mounts[p.frame]);
+            // The corrected pose: the odometry frame's pose in `map` at the
+            // scan's stamp (interpolated as the odometry is, as tf2 looks a
+            // transform up; the nearest outside their stamps), then the
+            // odometry's laser pose in it.
+            let corrected = map_link.map(|(link, chain)| {
+                let in_map = link.map_or([0.0; 3], |i| {
+                    let samples = &self.map_links[i].1;
+                    odometry_at(samples, p.stamp).unwrap_or_else(|| {
+                        self.map_held += 1;
+                        let first = samples[0];
+                        if p.stamp < first.0 {
+                            first
+                        } else {
+                            samples[samples.len() - 1]
+                        }
+                        .1
+                    })
+                });
+                compose(compose(in_map, chain), laser)
+            });
             let ranges: Vec<f64> = self.ranges[p.range_from..p.range_from + p.beams]
                 .iter()
                 .map(|&r| r as f64)
@@ -565,8 +647,8 @@ impl BagLoader {
             let record = ScanRecord {
                 origin: p.origin,
                 stamp: Some(p.stamp),
-                pose: laser,
-                odometry: Some(laser),
+                pose: pose(corrected.unwrap_or(laser)),
+                odometry: Some(pose(laser)),
                 ranges: &ranges,
                 first_bearing: p.first,
                 bearing_step: p.step,
@@ -596,16 +678,22 @@ impl BagLoader {
         let mount = self
             .placing
             .as_ref()
-            .and_then(|(_, m)| m.first().copied())
+            .and_then(|(_, m, _)| m.first().copied())
             .unwrap_or_default();
         self.scans.set_mount(pose(mount));
         self.scans.set_pose_kinds(LogPoseKinds {
-            reference: false,
+            reference: self.corrected(),
             odometry: true,
         });
         self.pending = Vec::new();
         self.ranges = Vec::new();
         self.stage = Stage::Done;
+    }
+
+    /// True when the scans have corrected poses: the bag gives the odometry
+    /// frame's pose in `map`.
+    fn corrected(&self) -> bool {
+        matches!(self.placing, Some((_, _, Some(_))))
     }
 
     fn fail(&mut self, e: OccError) -> OccError {
@@ -666,10 +754,22 @@ impl BagLoader {
         if let Some(w) = self.reader.warning() {
             parts.push(w.to_string());
         }
-        if self.invalid_readings > 0 {
+        if self.invalid_readings + self.close_readings > 0 {
             parts.push(format!(
-                "{} readings are no measurement by REP 117 (NaN, -inf or below range_min) and are kept as no-returns",
-                self.invalid_readings
+                "by REP 117, {} readings too close to measure (-inf or below range_min) and {} invalid ones (NaN) are dropped",
+                self.close_readings, self.invalid_readings
+            ));
+        }
+        if self.unmeasured_scans > 0 {
+            parts.push(format!(
+                "{} scans with no reading left are skipped",
+                self.unmeasured_scans
+            ));
+        }
+        if self.map_held > 0 {
+            parts.push(format!(
+                "{} scans lie outside the stamps of the map \u{2192} odometry transforms and take the nearest",
+                self.map_held
             ));
         }
         if let (n, Some(first)) = self.skipped {
@@ -683,10 +783,11 @@ impl BagLoader {
                     .into(),
             );
         }
-        if !self.map_links.is_empty() {
+        if !self.map_links.is_empty() && !self.corrected() {
+            let links: Vec<String> = self.map_links.iter().map(|l| quoted(&l.0)).collect();
             parts.push(format!(
-                "the bag's map-frame transforms (map \u{2192} {}) are not read: its scans are mapped at odometry poses",
-                self.map_links.join(", map \u{2192} ")
+                "the bag's map-frame transforms (map \u{2192} {}) lead to no odometry frame: its scans have no corrected poses",
+                links.join(", map \u{2192} ")
             ));
         }
         (!parts.is_empty()).then(|| parts.join(". "))
