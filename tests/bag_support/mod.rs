@@ -46,6 +46,9 @@ pub struct Writer {
     pub lie_chunk_crc: Option<u32>,
     /// A chunk's stated uncompressed size replaced by this, when set.
     pub lie_chunk_size: Option<u64>,
+    /// Skippable LZ4 frames (magic, size, bytes) written before and after
+    /// each lz4 chunk's frame, when set.
+    pub lz4_skippable: Option<Vec<u8>>,
 }
 
 impl Writer {
@@ -65,6 +68,7 @@ impl Writer {
             counts: BTreeMap::new(),
             lie_chunk_crc: None,
             lie_chunk_size: None,
+            lz4_skippable: None,
         }
     }
 
@@ -124,9 +128,12 @@ impl Writer {
                 ),
             ),
             Compression::Lz4 => {
-                let mut enc = lz4_flex::frame::FrameEncoder::new(Vec::new());
+                let skip = self.lz4_skippable.clone().unwrap_or_default();
+                let mut enc = lz4_flex::frame::FrameEncoder::new(skip.clone());
                 std::io::Write::write_all(&mut enc, &records).unwrap();
-                ("lz4", enc.finish().unwrap())
+                let mut frames = enc.finish().unwrap();
+                frames.extend_from_slice(&skip);
+                ("lz4", frames)
             }
             _ => ("", records.clone()),
         };

@@ -87,7 +87,7 @@ pub struct BagLoader {
     /// True when the mount came from `/tf`.
     mount_from_tf: bool,
     /// The transforms of `/tf` from the `map` frame: per child frame (at
-    /// most [`MAX_MAP_LINKS`]), its poses in `map` by stamp.
+    /// most [`MAX_MAP_LINKS`]), its poses in `map`, in stamp order.
     map_links: Vec<(String, Samples)>,
     frames: Vec<String>,
     pending: Vec<PendingScan>,
@@ -446,6 +446,12 @@ impl BagLoader {
                             }
                             None => continue,
                         };
+                        // Kept in time order, for the interpolation: a
+                        // transform stamped before its link's last is
+                        // passed over.
+                        if links[i].1.last().is_some_and(|l| t.stamp < l.0) {
+                            continue;
+                        }
                         if links[i].1.try_reserve(1).is_err() {
                             return Err(self.bad_message(
                                 channel,
@@ -594,11 +600,6 @@ impl BagLoader {
         let map_link = (self.map_links.iter().enumerate())
             .find_map(|(i, (c, _))| chain(c).map(|p| (Some(i), p)))
             .or_else(|| self.tree.pose_of("map", odom_frame).map(|p| (None, p)));
-        if let Some((Some(i), _)) = map_link {
-            // Stamps in order for the interpolation (a `/tf` topic may
-            // interleave publishers).
-            self.map_links[i].1.sort_by(|a, b| a.0.total_cmp(&b.0));
-        }
         self.placing = Some((odom, mounts, map_link));
         Ok(())
     }
