@@ -329,18 +329,15 @@ impl ScanLog {
     /// could put one at a pose that is not, which the sessions check).
     pub fn scan(&self, k: usize) -> Option<Scan> {
         let (ranges, [first, step], pose) = self.raw(k)?;
-        if ranges.iter().any(|r| r.is_nan()) {
-            // Beams of no measurement ([`ScanRecord::ranges`]) left out.
-            let (ranges, bearings) = ranges
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| !r.is_nan())
-                .map(|(i, &r)| (r as f64, first + i as f64 * step))
-                .unzip();
-            return Scan::new(pose, ranges, bearings).ok();
-        }
-        let ranges = ranges.iter().map(|&r| r as f64).collect();
-        Scan::uniform(pose, ranges, first, step).ok()
+        // Beam `i` at `first + i * step`, as [`Scan::uniform`] puts it; a
+        // beam of no measurement ([`ScanRecord::ranges`]) left out.
+        let (ranges, bearings) = ranges
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| !r.is_nan())
+            .map(|(i, &r)| (r as f64, first + i as f64 * step))
+            .unzip();
+        Scan::new(pose, ranges, bearings).ok()
     }
 
     /// The box `[min_x, min_y, max_x, max_y]` (metres) holding every laser

@@ -757,14 +757,8 @@ impl BagLoader {
         }
         if self.invalid_readings + self.close_readings > 0 {
             parts.push(format!(
-                "by REP 117, {} readings too close to measure (-inf or below range_min) and {} invalid ones (NaN) are dropped",
-                self.close_readings, self.invalid_readings
-            ));
-        }
-        if self.unmeasured_scans > 0 {
-            parts.push(format!(
-                "{} scans with no reading left are skipped",
-                self.unmeasured_scans
+                "by REP 117, {} readings too close to measure (-inf or below range_min) and {} invalid ones (NaN) are dropped, and {} scans left with none skipped",
+                self.close_readings, self.invalid_readings, self.unmeasured_scans
             ));
         }
         if self.map_held > 0 {
