@@ -331,13 +331,15 @@ impl ScanLog {
         let (ranges, [first, step], pose) = self.raw(k)?;
         // Beam `i` at `first + i * step`, as [`Scan::uniform`] puts it; a
         // beam of no measurement ([`ScanRecord::ranges`]) left out.
-        let (ranges, bearings) = ranges
-            .iter()
-            .enumerate()
-            .filter(|(_, r)| !r.is_nan())
-            .map(|(i, &r)| (r as f64, first + i as f64 * step))
-            .unzip();
-        Scan::new(pose, ranges, bearings).ok()
+        let mut kept = Vec::with_capacity(ranges.len());
+        let mut bearings = Vec::with_capacity(ranges.len());
+        for (i, &r) in ranges.iter().enumerate() {
+            if !r.is_nan() {
+                kept.push(r as f64);
+                bearings.push(first + i as f64 * step);
+            }
+        }
+        Scan::new(pose, kept, bearings).ok()
     }
 
     /// The box `[min_x, min_y, max_x, max_y]` (metres) holding every laser

@@ -593,13 +593,14 @@ impl BagLoader {
         // The odometry frame in `map`: a `/tf` link from `map` to it or to
         // a frame the static transforms (else `/tf`'s last) lead from to
         // it, or `map` itself in `/tf_static`.
-        let chain = |from: &str| {
-            (self.tree.pose_of(from, odom_frame))
-                .or_else(|| self.moving_tree.pose_of(from, odom_frame))
-        };
-        let map_link = (self.map_links.iter().enumerate())
-            .find_map(|(i, (c, _))| chain(c).map(|p| (Some(i), p)))
-            .or_else(|| self.tree.pose_of("map", odom_frame).map(|p| (None, p)));
+        let mut map_link = self.tree.pose_of("map", odom_frame).map(|p| (None, p));
+        for (i, (link, _)) in self.map_links.iter().enumerate() {
+            let chain = self.tree.pose_of(link, odom_frame);
+            if let Some(p) = chain.or(self.moving_tree.pose_of(link, odom_frame)) {
+                map_link = Some((Some(i), p));
+                break;
+            }
+        }
         self.placing = Some((odom, mounts, map_link));
         Ok(())
     }
@@ -627,17 +628,13 @@ impl BagLoader {
             // odometry's laser pose in it.
             let corrected = map_link.map(|(link, chain)| {
                 let in_map = link.map_or([0.0; 3], |i| {
+                    // Outside the transforms' stamps, the nearest: the
+                    // stamp moved to the first or the last.
                     let samples = &self.map_links[i].1;
-                    odometry_at(samples, p.stamp).unwrap_or_else(|| {
-                        self.map_held += 1;
-                        let first = samples[0];
-                        if p.stamp < first.0 {
-                            first
-                        } else {
-                            samples[samples.len() - 1]
-                        }
-                        .1
-                    })
+                    let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
+                    let t = p.stamp.max(first).min(last);
+                    self.map_held += usize::from(t != p.stamp);
+                    odometry_at(samples, t).unwrap_or_default()
                 });
                 compose(compose(in_map, chain), laser)
             });
@@ -779,10 +776,14 @@ impl BagLoader {
             );
         }
         if !self.map_links.is_empty() && !self.corrected() {
-            let links: Vec<String> = self.map_links.iter().map(|l| quoted(&l.0)).collect();
+            let mut links = String::new();
+            for (link, _) in &self.map_links {
+                links += ", map \u{2192} ";
+                links += &quoted(link);
+            }
             parts.push(format!(
-                "the bag's map-frame transforms (map \u{2192} {}) lead to no odometry frame: its scans have no corrected poses",
-                links.join(", map \u{2192} ")
+                "the bag's map-frame transforms ({}) lead to no odometry frame: its scans have no corrected poses",
+                &links[2..]
             ));
         }
         (!parts.is_empty()).then(|| parts.join(". "))

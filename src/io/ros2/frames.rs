@@ -4,7 +4,9 @@
 
 use crate::geometry::{wrap_angle, Pose};
 
-/// `a` then `b` (`b` given in `a`'s frame).
+/// `a` then `b` (`b` given in `a`'s frame). Not inlined: a few calls per
+/// scan, and each inlined copy costs the wasm its size.
+#[inline(never)]
 pub fn compose(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     let (s, c) = a[2].sin_cos();
     [
