@@ -3,8 +3,9 @@
 //! `/tf`, directly or through a static link to the odometry's frame) has
 //! corrected poses: each scan's odometry pose composed after the
 //! transform interpolated at its stamp (the nearest outside their stamps,
-//! named). Such a bag maps at `corrected`, its own poses once read; a bag
-//! without one still refuses `corrected` by name.
+//! named). Such a bag maps at `corrected`, its own poses once read, and
+//! at dead reckoning of them; a bag without one still refuses `corrected`
+//! by name.
 
 mod bag_support;
 
@@ -81,6 +82,9 @@ fn map_to_odom_on_tf_gives_each_scan_a_corrected_pose_at_its_stamp() {
     assert_eq!(source.poses(), scans.poses());
     let odometry = PoseSourceKind::Odometry.start(&scans, &settings()).unwrap();
     assert_eq!(odometry.poses(), scans.odometry().unwrap());
+    // As a CARMEN log with corrected poses and raw odometry: dead reckoning
+    // adds its noise to the corrected path's motion.
+    assert!(PoseSourceKind::DeadReckoning.applies(&scans));
 }
 
 #[test]
