@@ -5,7 +5,7 @@
 //! transforms gathered), then the scans placed, each at the odometry
 //! interpolated at its stamp and moved by the laser's mount.
 
-use super::frames::{compose, odometry_at, pose, StaticTree};
+use super::frames::{compose, odometry_at, pose, MapLink, MapLinks, StaticTree};
 use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
 use super::table::{IdTable, MAX_IDS};
@@ -86,9 +86,8 @@ pub struct BagLoader {
     moving_tree: StaticTree,
     /// True when the mount came from `/tf`.
     mount_from_tf: bool,
-    /// The transforms of `/tf` from the `map` frame: per child frame (at
-    /// most [`MAX_MAP_LINKS`]), its poses in `map`, in stamp order.
-    map_links: Vec<(String, Samples)>,
+    /// The transforms of `/tf` from the `map` frame.
+    map_links: MapLinks,
     frames: Vec<String>,
     pending: Vec<PendingScan>,
     ranges: Vec<f32>,
@@ -112,17 +111,6 @@ pub struct BagLoader {
     summary_used: bool,
 }
 
-/// Stamped planar poses, sorted by stamp once read.
-type Samples = Vec<(f64, [f64; 3])>;
-
-/// The most child frames of `map` kept (a bag has one: its odometry frame).
-const MAX_MAP_LINKS: usize = 8;
-
-/// How the odometry frame lies in `map`: the `/tf` link from `map` (its
-/// index in the kept links; `None` where `/tf_static` gives `map` itself),
-/// then the fixed chain from that link's child to the odometry frame.
-type MapLink = (Option<usize>, [f64; 3]);
-
 /// Bytes kept per pending scan besides its ranges.
 const PENDING_BYTES: usize = std::mem::size_of::<PendingScan>();
 
@@ -139,7 +127,7 @@ impl BagLoader {
             tree: StaticTree::default(),
             moving_tree: StaticTree::default(),
             mount_from_tf: false,
-            map_links: Vec::new(),
+            map_links: MapLinks::default(),
             frames: Vec::new(),
             pending: Vec::new(),
             ranges: Vec::new(),
@@ -436,30 +424,12 @@ impl BagLoader {
                         self.tree.add(&t.parent, &t.child, t.pose);
                     } else if t.parent != "map" {
                         self.moving_tree.add(&t.parent, &t.child, t.pose);
-                    } else {
-                        let links = &mut self.map_links;
-                        let i = match links.iter().position(|l| l.0 == t.child) {
-                            Some(i) => i,
-                            None if links.len() < MAX_MAP_LINKS => {
-                                links.push((t.child, Vec::new()));
-                                links.len() - 1
-                            }
-                            None => continue,
-                        };
-                        // Kept in time order, for the interpolation: a
-                        // transform stamped before its link's last is
-                        // passed over.
-                        if links[i].1.last().is_some_and(|l| t.stamp < l.0) {
-                            continue;
-                        }
-                        if links[i].1.try_reserve(1).is_err() {
-                            return Err(self.bad_message(
-                                channel,
-                                place,
-                                "out of memory keeping the map-frame transforms",
-                            ));
-                        }
-                        self.map_links[i].1.push((t.stamp, t.pose));
+                    } else if !self.map_links.add(t.child, t.stamp, t.pose) {
+                        return Err(self.bad_message(
+                            channel,
+                            place,
+                            "out of memory keeping the map-frame transforms",
+                        ));
                     }
                 }
                 Ok(())
@@ -593,14 +563,7 @@ impl BagLoader {
         // The odometry frame in `map`: a `/tf` link from `map` to it or to
         // a frame the static transforms (else `/tf`'s last) lead from to
         // it, or `map` itself in `/tf_static`.
-        let mut map_link = self.tree.pose_of("map", odom_frame).map(|p| (None, p));
-        for (i, (link, _)) in self.map_links.iter().enumerate() {
-            let chain = self.tree.pose_of(link, odom_frame);
-            if let Some(p) = chain.or(self.moving_tree.pose_of(link, odom_frame)) {
-                map_link = Some((Some(i), p));
-                break;
-            }
-        }
+        let map_link = (self.map_links).link_to(odom_frame, &self.tree, &self.moving_tree);
         self.placing = Some((odom, mounts, map_link));
         Ok(())
     }
@@ -626,17 +589,10 @@ impl BagLoader {
             // scan's stamp (interpolated as the odometry is, as tf2 looks a
             // transform up; the nearest outside their stamps), then the
             // odometry's laser pose in it.
-            let corrected = map_link.map(|(link, chain)| {
-                let in_map = link.map_or([0.0; 3], |i| {
-                    // Outside the transforms' stamps, the nearest: the
-                    // stamp moved to the first or the last.
-                    let samples = &self.map_links[i].1;
-                    let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
-                    let t = p.stamp.max(first).min(last);
-                    self.map_held += usize::from(t != p.stamp);
-                    odometry_at(samples, t).unwrap_or_default()
-                });
-                compose(compose(in_map, chain), laser)
+            let corrected = map_link.map(|link| {
+                let (in_map, held) = self.map_links.at(link, p.stamp);
+                self.map_held += usize::from(held);
+                compose(in_map, laser)
             });
             let ranges: Vec<f64> = self.ranges[p.range_from..p.range_from + p.beams]
                 .iter()
@@ -776,14 +732,9 @@ impl BagLoader {
             );
         }
         if !self.map_links.is_empty() && !self.corrected() {
-            let mut links = String::new();
-            for (link, _) in &self.map_links {
-                links += ", map \u{2192} ";
-                links += &quoted(link);
-            }
             parts.push(format!(
                 "the bag's map-frame transforms ({}) lead to no odometry frame: its scans have no corrected poses",
-                &links[2..]
+                self.map_links.describe()
             ));
         }
         (!parts.is_empty()).then(|| parts.join(". "))
