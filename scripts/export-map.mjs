@@ -32,10 +32,12 @@
 // hit-miss-odds (Cartographer's odds tables).
 // A bag (BAG.mcap) is mapped at its own odometry (`--poses odometry`, the
 // default for a bag without --poses) or
-// scan-matched from it; it has no corrected poses unless it says so, and
-// dead reckoning does not apply to it (the core refuses a source that does
-// not apply, by name). Its poses.tsv holds the laser's pose in the
-// odometry frame. A bag with several LaserScan or Odometry topics needs
+// scan-matched from it; it has corrected poses only when it carries a
+// `map → odom` transform (then `--poses corrected` applies, and is the
+// default without --poses), and otherwise neither corrected nor dead
+// reckoning applies to it (the core refuses a source that does not apply,
+// by name). Its poses.tsv holds the laser's pose in the odometry frame
+// (the map frame at corrected poses). A bag with several LaserScan or Odometry topics needs
 // `--scan-topic` / `--odom-topic`; without them the core's refusal lists
 // the bag's topics, types and message counts.
 import fs from 'node:fs';
@@ -146,6 +148,7 @@ async function main() {
   const session = new core.RealLogSession(bytes);
   try {
     // Without --poses, the log's own: a CARMEN log's corrected poses, a bag's odometry.
+    const posesGiven = settings.poses !== undefined;
     settings.poses ??= session.ownPoses();
     session.configure(settings);
     if (topics.scan !== undefined || topics.odom !== undefined) session.chooseTopics(topics.scan, topics.odom);
@@ -153,6 +156,18 @@ async function main() {
     let read;
     do read = session.read(1 << 30); while (!read.finished);
     if (read.warning) console.error(`export-map: warning: ${read.warning}`);
+    // Without --poses, the read log's own: a bag's corrected poses when its
+    // read found a map → odom transform.
+    const own = session.ownPoses();
+    if (!posesGiven && own && own !== settings.poses) {
+      settings.poses = own;
+      session.configure(settings);
+      // A longer log's new panes are planned over calls of their own.
+      if (session.state().state === 'planning') {
+        let planned;
+        do planned = session.plan(1 << 30); while (!planned.finished);
+      }
+    }
     // Pane 0 is the map at the chosen poses (a dead-reckoned or
     // scan-matched run also builds the maps the page shows beside it).
     let state;

@@ -239,3 +239,54 @@ fn a_footer_whose_summary_points_into_the_data_is_refused() {
         "{e}"
     );
 }
+
+/// A bag of three scans in `base_link`, the odometry's child frame, in lz4
+/// chunks with `skip` (skippable frames) before and after each chunk's
+/// frame.
+fn lz4_bag(skip: Option<Vec<u8>>) -> Vec<u8> {
+    use bag_support::{odometry, odometry_def};
+    let mut w = Writer::new(Compression::Lz4);
+    w.lz4_skippable = skip;
+    w.schema(1, "sensor_msgs/msg/LaserScan", &laser_scan_def());
+    w.schema(2, "nav_msgs/msg/Odometry", &odometry_def());
+    w.channel(1, 1, "/scan");
+    w.channel(2, 2, "/odom");
+    for k in 0..3 {
+        let t = 10.0 + k as f64;
+        let at = |t: f64| [t, 0.5 * t, 0.1];
+        w.message(
+            2,
+            t - 0.5,
+            &odometry(false, t - 0.5, "base_link", at(t - 0.5)),
+        );
+        let ranges = [1.0 + k as f32, 2.0, 3.0];
+        w.message(
+            1,
+            t,
+            &laser_scan(false, t, "base_link", 0.0, 0.1, 8.0, &ranges),
+        );
+        w.message(
+            2,
+            t + 0.5,
+            &odometry(false, t + 0.5, "base_link", at(t + 0.5)),
+        );
+    }
+    w.finish(true)
+}
+
+#[test]
+fn lz4_skippable_frames_are_passed_over_and_one_cut_short_is_refused() {
+    let plain = read_log(lz4_bag(None)).unwrap();
+    assert_eq!(plain.len(), 3);
+    for magic in [0x184d_2a50u32, 0x184d_2a5f] {
+        let mut skip = magic.to_le_bytes().to_vec();
+        skip.extend_from_slice(&5u32.to_le_bytes());
+        skip.extend_from_slice(b"notes");
+        let skipped = read_log(lz4_bag(Some(skip))).unwrap();
+        assert_eq!(skipped, plain, "magic {magic:#x}");
+    }
+    let mut cut = 0x184d_2a53u32.to_le_bytes().to_vec();
+    cut.extend_from_slice(&0xffff_fff0u32.to_le_bytes());
+    let e = refusal(lz4_bag(Some(cut)));
+    assert!(e.contains("a skippable frame past the end"), "{e}");
+}

@@ -143,13 +143,16 @@ fn a_bag_without_laser_scans_is_refused_with_its_topics() {
 }
 
 #[test]
-fn rep_117_readings_are_no_returns_at_range_max_and_a_negative_step_is_kept() {
+fn rep_117_no_returns_clear_at_range_max_and_too_close_or_invalid_readings_are_dropped() {
     let spec = BagSpec {
-        range: |_, i| match i % 5 {
-            0 => f32::INFINITY,
-            1 => f32::NAN,
-            2 => 9.5,
-            3 => 0.01,
+        range: |k, i| match (k, i % 6) {
+            // Scan 0 measures nothing: skipped.
+            (0, _) => f32::NEG_INFINITY,
+            (_, 0) => f32::INFINITY,
+            (_, 1) => f32::NAN,
+            (_, 2) => 9.5,
+            (_, 3) => 0.01,
+            (_, 4) => f32::NEG_INFINITY,
             _ => 2.0,
         },
         step: -0.01,
@@ -157,15 +160,26 @@ fn rep_117_readings_are_no_returns_at_range_max_and_a_negative_step_is_kept() {
     };
     let (bag, _) = robot_bag(&spec);
     let (scans, warning) = read_all(bag, None, None).unwrap();
+    assert_eq!(scans.len(), 11);
     let scan = scans.scan(0).unwrap();
-    let r = scan.ranges();
     assert_eq!(scans.max_range(0), Some(8.0));
-    assert_eq!(&r[..5], &[8.0, 8.0, 8.0, 8.0, 2.0]);
-    assert!(scan.bearings()[1] < scan.bearings()[0]);
-    // NaN and 0.01 m (below range_min 0.05 m): 2 of each 5 beams.
+    // +inf and 9.5 m (past range_max 8 m) are no-returns at range_max;
+    // NaN, 0.01 m (below range_min 0.05 m) and -inf leave no beam.
+    assert_eq!(scan.len(), 3 * 15);
+    assert_eq!(&scan.ranges()[..3], &[8.0, 8.0, 2.0]);
+    let first = scan.bearings()[0];
+    for (j, i) in [0usize, 2, 5, 6].into_iter().enumerate() {
+        let expected = first + i as f64 * f64::from(-0.01f32);
+        assert!((scan.bearings()[j] - expected).abs() < 1e-9, "beam {i}");
+    }
+    // Too close: two of each six beams of 11 scans, and all 90 of scan 0.
     let w = warning.unwrap();
     assert!(
-        w.contains(&format!("{} readings are no measurement", 2 * 18 * 12)),
+        w.contains(&format!(
+            "by REP 117, {} readings too close to measure (-inf or below range_min) and {} invalid ones (NaN) are dropped, and 1 scans left with none skipped",
+            2 * 15 * 11 + 90,
+            15 * 11
+        )),
         "{w}"
     );
 }

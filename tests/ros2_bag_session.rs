@@ -128,7 +128,11 @@ fn a_bag_is_mapped_at_its_own_odometry_and_a_carmen_log_at_its_corrected_poses()
     .unwrap();
     read_and_build(&mut s).unwrap();
     assert_eq!(s.state().panes[0].poses, PoseSourceKind::Odometry);
-    assert_eq!(s.own_poses(), None, "read: no log being read");
+    assert_eq!(
+        s.own_poses(),
+        Some(PoseSourceKind::Odometry),
+        "read: the read bag's own, odometry without a map \u{2192} odom transform"
+    );
     let carmen = b"FLASER 3 1.0 1.0 1.0 0 0 0 0 0 0 1 host 0\n".to_vec();
     let s = RealLogSession::new(carmen);
     assert_eq!(s.own_poses(), Some(PoseSourceKind::Corrected));

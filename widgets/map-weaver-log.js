@@ -448,6 +448,9 @@ export class RealLogPanel {
     this.trace.push([planning ? 'plan' : 'read', ms, n, report.work]);
     // Sized by the work done (scans read, or walked to plan the panes).
     this.readBudget = nextChunk(n, ms, Math.max(1, report.work));
+    // The read log's own poses, unless the reader chose: a bag's corrected ones when its read found a map → odom transform.
+    const own = report.finished && !this.posesChosen ? this.session.ownPoses() : null;
+    if (own && own !== this.settings.poses) { this.settings = { ...this.settings, poses: own }; this.syncControls(); this.applySettings(); }
     const state = this.session.state();
     if (report.finished) {
       // The whole log is read and its panes set up: the maps are this log's.

@@ -109,9 +109,11 @@ impl LogFormat {
 
 impl LogFormat {
     /// The poses a log of this format is mapped at when the reader names
-    /// none: a CARMEN log's corrected poses, a bag's own odometry (a bag
-    /// carries no corrected poses; docs/ARCHITECTURE.md, "Pose sources
-    /// and log formats").
+    /// none, before it is read: a CARMEN log's corrected poses, a bag's
+    /// own odometry (a bag carries corrected poses only with a `map →
+    /// odom` transform, which its read finds: then
+    /// [`PoseSourceKind::own_of`] the read log; docs/ARCHITECTURE.md,
+    /// "Pose sources and log formats").
     pub fn own_poses(self) -> PoseSourceKind {
         match self {
             Self::Carmen => PoseSourceKind::Corrected,

@@ -277,6 +277,20 @@ impl PoseSourceKind {
         self.starting(log, settings)?.finish(log)
     }
 
+    /// The poses a read log is mapped at when the reader names none: its
+    /// corrected poses where it carries reference poses (a CARMEN log, and
+    /// a ROS 2 bag with a `map → odom` transform, as a localiser or SLAM
+    /// recorded it: the best poses the log has, as a CARMEN log's corrected
+    /// path is), else its own odometry.
+    pub fn own_of(log: &ScanLog) -> Self {
+        let kinds = log.pose_kinds();
+        if kinds.odometry && !kinds.reference {
+            Self::Odometry
+        } else {
+            Self::Corrected
+        }
+    }
+
     /// Whether this source can place `log`'s scans: the log's reference
     /// poses for `corrected`, and for `dead-reckoning`, which adds its
     /// noise to their motion (a log with odometry of its own and no
@@ -290,7 +304,7 @@ impl PoseSourceKind {
         let kinds = log.pose_kinds();
         let why = match self {
             Self::Corrected if !kinds.reference => {
-                "the log carries no reference (corrected) poses, only its own odometry: map it at odometry or scan-matched"
+                "the log carries no reference (corrected) poses, only its own odometry (a ROS 2 bag has them only with a map \u{2192} odom transform): map it at odometry or scan-matched"
             }
             Self::DeadReckoning if !kinds.reference => {
                 "the log carries real odometry and no reference poses to add noise to; map it at odometry"

@@ -31,7 +31,10 @@ pub struct ScanRecord<'a> {
     /// The laser pose by the log's own odometry, when the record has one.
     pub odometry: Option<Pose>,
     /// Ranges, metres; beam `i` lies at `first_bearing + i * bearing_step`
-    /// from the pose's heading.
+    /// from the pose's heading. A NaN is no measurement at that bearing (a
+    /// ROS 2 bag's too-close or invalid reading, REP 117): kept in its
+    /// place, and left out of the scan [`ScanLog::scan`] gives back, so
+    /// that it neither marks nor clears a cell.
     pub ranges: &'a [f64],
     pub first_bearing: f64,
     pub bearing_step: f64,
@@ -195,7 +198,7 @@ impl ScanLog {
         if let Some(i) = record
             .ranges
             .iter()
-            .position(|&r| !(r >= 0.0 && (r as f32).is_finite()))
+            .position(|&r| !(r.is_nan() || r >= 0.0 && (r as f32).is_finite()))
         {
             let r = record.ranges[i];
             return Some(format!(
@@ -209,7 +212,7 @@ impl ScanLog {
         let finite = [p.x, p.y, p.theta, record.bearing_step, last]
             .iter()
             .all(|v| v.is_finite());
-        if record.ranges.is_empty() {
+        if record.ranges.iter().all(|r| r.is_nan()) {
             Some("the scan has no beams".into())
         } else if !finite {
             Some("the scan's pose or angles are not finite numbers".into())
@@ -326,8 +329,17 @@ impl ScanLog {
     /// could put one at a pose that is not, which the sessions check).
     pub fn scan(&self, k: usize) -> Option<Scan> {
         let (ranges, [first, step], pose) = self.raw(k)?;
-        let ranges = ranges.iter().map(|&r| r as f64).collect();
-        Scan::uniform(pose, ranges, first, step).ok()
+        // Beam `i` at `first + i * step`, as [`Scan::uniform`] puts it; a
+        // beam of no measurement ([`ScanRecord::ranges`]) left out.
+        let mut kept = Vec::with_capacity(ranges.len());
+        let mut bearings = Vec::with_capacity(ranges.len());
+        for (i, &r) in ranges.iter().enumerate() {
+            if !r.is_nan() {
+                kept.push(r as f64);
+                bearings.push(first + i as f64 * step);
+            }
+        }
+        Scan::new(pose, kept, bearings).ok()
     }
 
     /// The box `[min_x, min_y, max_x, max_y]` (metres) holding every laser

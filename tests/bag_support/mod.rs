@@ -46,6 +46,9 @@ pub struct Writer {
     pub lie_chunk_crc: Option<u32>,
     /// A chunk's stated uncompressed size replaced by this, when set.
     pub lie_chunk_size: Option<u64>,
+    /// Skippable LZ4 frames (magic, size, bytes) written before and after
+    /// each lz4 chunk's frame, when set.
+    pub lz4_skippable: Option<Vec<u8>>,
 }
 
 impl Writer {
@@ -65,6 +68,7 @@ impl Writer {
             counts: BTreeMap::new(),
             lie_chunk_crc: None,
             lie_chunk_size: None,
+            lz4_skippable: None,
         }
     }
 
@@ -124,9 +128,12 @@ impl Writer {
                 ),
             ),
             Compression::Lz4 => {
-                let mut enc = lz4_flex::frame::FrameEncoder::new(Vec::new());
+                let skip = self.lz4_skippable.clone().unwrap_or_default();
+                let mut enc = lz4_flex::frame::FrameEncoder::new(skip.clone());
                 std::io::Write::write_all(&mut enc, &records).unwrap();
-                ("lz4", enc.finish().unwrap())
+                let mut frames = enc.finish().unwrap();
+                frames.extend_from_slice(&skip);
+                ("lz4", frames)
             }
             _ => ("", records.clone()),
         };
@@ -400,6 +407,15 @@ pub struct BagSpec {
     pub odom_from: usize,
     /// The mount's transforms on `/tf` instead of `/tf_static`.
     pub mount_on_tf: bool,
+    /// `map → odom` transforms on `/tf` (the odometry's frame in `map` at
+    /// a time, [`map_odom_at`]) at these stamps: none when empty.
+    pub map_stamps: Vec<f64>,
+    /// The child frame of those transforms (`odom`, the odometry's frame,
+    /// unless another is named).
+    pub map_child: &'static str,
+    /// With a `map_child` other than `odom`: `/tf_static`'s link from it
+    /// to `odom`, or none.
+    pub map_via: Option<[f64; 3]>,
 }
 
 impl Default for BagSpec {
@@ -419,6 +435,9 @@ impl Default for BagSpec {
             stamp: |k| 1_700_000_000.0 + k as f64 * 0.5,
             odom_from: 0,
             mount_on_tf: false,
+            map_stamps: Vec::new(),
+            map_child: "odom",
+            map_via: None,
         }
     }
 }
@@ -427,6 +446,13 @@ impl Default for BagSpec {
 pub fn base_at(t: f64) -> [f64; 3] {
     let u = t - 1_700_000_000.0;
     [1.0 + 0.4 * u, -2.0 + 0.1 * u, 0.3 + 0.05 * u]
+}
+
+/// The odometry frame's pose in `map` at `t`: linear in time, so that
+/// interpolating between two transforms recovers it.
+pub fn map_odom_at(t: f64) -> [f64; 3] {
+    let u = t - 1_700_000_000.0;
+    [0.5 - 0.02 * u, 1.5 + 0.03 * u, -0.2 + 0.01 * u]
 }
 
 /// The bag and each scan's laser pose (odometry frame).
@@ -461,6 +487,13 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
     );
     let t0 = (spec.stamp)(0);
     let foot = [0.05, 0.0, 0.0];
+    if let Some(via) = spec.map_via {
+        w.message(
+            tf_static,
+            t0,
+            &transforms(big, t0, &[(spec.map_child, "odom", via)]),
+        );
+    }
     let (child, whole) = if spec.chain {
         w.message(
             tf_static,
@@ -483,6 +516,11 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
         );
         ("base_link", spec.mount)
     };
+    let tf = id + 1;
+    if !spec.map_stamps.is_empty() {
+        w.channel(tf, 3, "/tf");
+    }
+    let mut map_stamps = spec.map_stamps.iter().copied().peekable();
     let mut truth = Vec::new();
     let odom = |w: &mut Writer, t: f64| {
         for &o in &odom_ids {
@@ -494,6 +532,13 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
             odom(&mut w, (spec.stamp)(k) - 0.1);
         }
         let t = (spec.stamp)(k);
+        while let Some(m) = map_stamps.next_if(|&m| m <= t + 0.5) {
+            w.message(
+                tf,
+                m,
+                &transforms(big, m, &[("map", spec.map_child, map_odom_at(m))]),
+            );
+        }
         let ranges: Vec<f32> = (0..spec.beams).map(|i| (spec.range)(k, i)).collect();
         let first = -spec.step * (spec.beams as f32 - 1.0) / 2.0;
         for &s in &scan_ids {
@@ -508,6 +553,13 @@ pub fn robot_bag(spec: &BagSpec) -> (Vec<u8>, Vec<[f64; 3]>) {
             odom(&mut w, t + 0.0002);
             odom(&mut w, t + 0.25);
         }
+    }
+    for m in map_stamps {
+        w.message(
+            tf,
+            m,
+            &transforms(big, m, &[("map", spec.map_child, map_odom_at(m))]),
+        );
     }
     (w.finish(spec.summary), truth)
 }

@@ -3,8 +3,10 @@
 // topics is refused until the reader chooses one, the chooser lists each
 // topic with its type and message count, and the bag maps once a topic is
 // picked; a bag opened at the panel's defaults is mapped at its own
-// odometry (a bag has no corrected poses), and a CARMEN log opened after it
-// at its corrected poses again.
+// odometry (a bag without a map → odom transform has no corrected poses),
+// and a CARMEN log opened after it at its corrected poses again; a bag with
+// map → odom on /tf is mapped at its corrected poses once read, and a bag
+// without one after it at its odometry again.
 import { test, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { openPage, shutdown } from './harness.mjs';
@@ -93,10 +95,11 @@ function planar(c, [x, y, th]) {
 /**
  * A bag of a robot driving a straight line in a square room: `scanTopics`
  * LaserScan topics (the same scans on each), one `/odom`, the laser on
- * `/tf_static`; records unchunked, no summary (the reader does not need
- * one).
+ * `/tf_static`, and with `mapOdom` a `map → odom` transform on `/tf`
+ * before each scan; records unchunked, no summary (the reader does not
+ * need one).
  */
-function robotBag(scanTopics, scans = 8) {
+function robotBag(scanTopics, scans = 8, mapOdom = false) {
   const out = new Bytes().raw(MAGIC);
   const record = (op, body) => out.raw([op]).u64(body.b.length).raw(body.b);
   record(0x01, new Bytes().str('ros2').str('occgrid browser tests'));
@@ -108,6 +111,8 @@ function robotBag(scanTopics, scans = 8) {
   const tfId = odomId + 1;
   channel(odomId, 2, '/odom');
   channel(tfId, 3, '/tf_static');
+  const tfMovingId = tfId + 1;
+  if (mapOdom) channel(tfMovingId, 3, '/tf');
   const message = (id, t, c) => record(0x05, new Bytes().u16(id).u32(0).u64(Math.round(t * 1e9)).u64(Math.round(t * 1e9)).raw(c.b));
   const t0 = 1_700_000_000;
   const tf = new Bytes(true).u32(1);
@@ -125,6 +130,11 @@ function robotBag(scanTopics, scans = 8) {
   odom(t0 - 0.1);
   for (let k = 0; k < scans; k++) {
     const t = t0 + 0.5 * k;
+    if (mapOdom) {
+      const m = new Bytes(true).u32(1);
+      planar(header(m, t, 'map').cdrStr('odom'), [1.5, -0.5, 0.1]);
+      message(tfMovingId, t, m);
+    }
     const [x] = base(t);
     // A 10 m square room around the path, centred on the origin.
     const ranges = [];
@@ -214,6 +224,25 @@ test('a bag at the defaults maps at its odometry; a CARMEN log after it at its c
   const log = await settled(page, 'done');
   assert.equal(log.state, 'done', log.error);
   assert.equal(log.panes[0].poses, 'corrected');
+  assert.deepEqual(errors, []);
+  await close();
+});
+
+test('a bag with map → odom maps at its corrected poses once read; a bag without one after it at its odometry', async () => {
+  const { page, errors, close } = await openPanel();
+  await page.setInputFiles('.map-weaver-log input[type=file]', { name: 'localised.mcap', mimeType: 'application/octet-stream', buffer: robotBag(['/scan'], 8, true) });
+  await page.waitForFunction(() => window.realLogPanel.session?.state().panes[0]?.poses === 'corrected', null, { timeout: 60_000 });
+  const localised = await settled(page, 'done');
+  assert.equal(localised.state, 'done', localised.error);
+  assert.equal(localised.panes[0].poses, 'corrected');
+  assert.equal(localised.scansDone, 8);
+  assert.equal(await page.inputValue('.map-weaver-log select[name=poses]'), 'corrected');
+  await page.setInputFiles('.map-weaver-log input[type=file]', { name: 'plain.mcap', mimeType: 'application/octet-stream', buffer: robotBag(['/scan']) });
+  await page.waitForFunction(() => window.realLogPanel.session.state().log === 'plain.mcap');
+  const plain = await settled(page, 'done');
+  assert.equal(plain.state, 'done', plain.error);
+  assert.equal(plain.panes[0].poses, 'odometry');
+  assert.equal(await page.inputValue('.map-weaver-log select[name=poses]'), 'odometry');
   assert.deepEqual(errors, []);
   await close();
 });

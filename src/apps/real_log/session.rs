@@ -125,6 +125,9 @@ pub struct RealLogSession {
     pub(super) pose_work: u64,
     /// The topics a refused read wanted a choice between (a bag's).
     pub(super) topic_choices: Option<TopicChoices>,
+    /// The poses of the log last read, once read, when the reader names
+    /// none ([`PoseSourceKind::own_of`]).
+    pub(super) read_own_poses: Option<PoseSourceKind>,
 }
 
 impl Default for RealLogSession {
@@ -152,6 +155,7 @@ impl RealLogSession {
             budget_cells: DEFAULT_TILE_BUDGET_CELLS,
             pose_work: MAX_POSE_WORK,
             topic_choices: None,
+            read_own_poses: None,
         }
     }
 
@@ -194,6 +198,7 @@ impl RealLogSession {
     /// settings is dropped.
     pub fn open(&mut self, bytes: Vec<u8>, name: &str) {
         self.log = Some(name.to_string());
+        self.read_own_poses = None;
         self.bytes_total = bytes.len();
         self.planning = None;
         self.pending = None;
@@ -227,11 +232,16 @@ impl RealLogSession {
         }
     }
 
-    /// The poses the log being read is mapped at when the reader names
-    /// none ([`crate::io::LogFormat::own_poses`]), or `None` without a log
-    /// being read.
+    /// The poses the log is mapped at when the reader names none: while
+    /// it is being read, its format's ([`crate::io::LogFormat::own_poses`]);
+    /// once read, its own ([`PoseSourceKind::own_of`]: a ROS 2 bag's
+    /// corrected poses where it carries a `map → odom` transform, which
+    /// only its read finds); `None` without a log.
     pub fn own_poses(&self) -> Option<PoseSourceKind> {
-        self.loader.as_ref().map(|l| l.format().own_poses())
+        match &self.loader {
+            Some(l) => Some(l.format().own_poses()),
+            None => self.read_own_poses,
+        }
     }
 
     /// Reads up to `max_scans` more laser lines (and at most the reader's
@@ -285,6 +295,7 @@ impl RealLogSession {
             return Err(self.read_failed(e));
         }
         let scans = loader.into_scans();
+        self.read_own_poses = Some(PoseSourceKind::own_of(&scans));
         let extent = self.read_extent.take().map(|(_, _, e)| e);
         self.planning = Some((
             PanePlanning::new(

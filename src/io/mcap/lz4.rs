@@ -5,10 +5,14 @@
 //! `u32` size whose top bit marks a block stored as it is, an end mark of
 //! 0 and optional checksums. A block of a linked frame may refer to the
 //! 64 KiB before it. (The checksums are not verified: the chunk's CRC-32
-//! covers what the frames inflate to.)
+//! covers what the frames inflate to.) A skippable frame (a magic number
+//! `0x184D2A50` to `0x184D2A5F`, a little-endian `u32` size, that many
+//! bytes of the writer's own) is passed over, as the format says.
 
 /// The magic number of an LZ4 frame.
 const MAGIC: u32 = 0x184d_2204;
+/// The magic numbers of a skippable frame, less their last four bits.
+const SKIPPABLE: u32 = 0x184d_2a50;
 /// How far back a linked block may refer.
 const WINDOW: usize = 64 << 10;
 
@@ -47,7 +51,7 @@ impl Lz4Frames {
                 if *at == input.len() {
                     return Ok(true);
                 }
-                self.frame = Some(Self::header(input, at)?);
+                self.frame = Self::header(input, at)?;
                 continue;
             };
             let size = u32_at(input, *at).ok_or("a block size past the end")?;
@@ -88,8 +92,19 @@ impl Lz4Frames {
         Ok(false)
     }
 
-    fn header(input: &[u8], at: &mut usize) -> Result<Frame, &'static str> {
+    /// The header of the frame at `*at`, read past; `None` for a
+    /// skippable frame, passed over whole.
+    fn header(input: &[u8], at: &mut usize) -> Result<Option<Frame>, &'static str> {
         let magic = u32_at(input, *at).ok_or("a frame header past the end")?;
+        if magic & !0xf == SKIPPABLE {
+            let past = "a skippable frame past the end";
+            let size = u32_at(input, *at + 4).ok_or(past)?;
+            *at = (*at + 8)
+                .checked_add(size as usize)
+                .filter(|&e| e <= input.len())
+                .ok_or(past)?;
+            return Ok(None);
+        }
         if magic != MAGIC {
             return Err("no LZ4 frame magic number");
         }
@@ -118,10 +133,10 @@ impl Lz4Frames {
             return Err("a frame header past the end");
         }
         *at += len;
-        Ok(Frame {
+        Ok(Some(Frame {
             block_max,
             block_checksum: flags & 0x10 != 0,
             content_checksum: flags & 0x04 != 0,
-        })
+        }))
     }
 }

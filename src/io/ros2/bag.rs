@@ -5,7 +5,7 @@
 //! transforms gathered), then the scans placed, each at the odometry
 //! interpolated at its stamp and moved by the laser's mount.
 
-use super::frames::{compose, odometry_at, pose, StaticTree};
+use super::frames::{compose, odometry_at, pose, MapLink, MapLinks, StaticTree};
 use super::messages::{decode_transforms, Kind, LaserScan, Odometry};
 use super::schema;
 use super::table::{IdTable, MAX_IDS};
@@ -86,17 +86,25 @@ pub struct BagLoader {
     moving_tree: StaticTree,
     /// True when the mount came from `/tf`.
     mount_from_tf: bool,
-    /// `(parent, child)` of the transforms of `/tf` from a `map` frame.
-    map_links: Vec<String>,
+    /// The transforms of `/tf` from the `map` frame.
+    map_links: MapLinks,
     frames: Vec<String>,
     pending: Vec<PendingScan>,
     ranges: Vec<f32>,
     last_scan_stamp: Option<f64>,
     messages: usize,
+    /// Readings dropped by REP 117: NaN (invalid), and `-inf` or below
+    /// `range_min` (too close); scans with no other reading, skipped.
     invalid_readings: usize,
+    close_readings: usize,
+    unmeasured_scans: usize,
     skipped: (usize, Option<usize>),
-    /// The odometry chosen and the laser's mount in each scan frame.
-    placing: Option<(u16, Vec<[f64; 3]>)>,
+    /// The odometry chosen, the laser's mount in each scan frame, and the
+    /// odometry frame's pose in `map` ([`MapLink`]) where the bag has one.
+    placing: Option<(u16, Vec<[f64; 3]>, Option<MapLink>)>,
+    /// Scans outside the stamps of the `map` transforms (their nearest
+    /// taken).
+    map_held: usize,
     stage: Stage,
     scans: ScanLog,
     failure: Option<OccError>,
@@ -119,13 +127,16 @@ impl BagLoader {
             tree: StaticTree::default(),
             moving_tree: StaticTree::default(),
             mount_from_tf: false,
-            map_links: Vec::new(),
+            map_links: MapLinks::default(),
             frames: Vec::new(),
             pending: Vec::new(),
             ranges: Vec::new(),
             last_scan_stamp: None,
             messages: 0,
             invalid_readings: 0,
+            close_readings: 0,
+            unmeasured_scans: 0,
+            map_held: 0,
             skipped: (0, None),
             placing: None,
             stage: Stage::Reading,
@@ -413,11 +424,12 @@ impl BagLoader {
                         self.tree.add(&t.parent, &t.child, t.pose);
                     } else if t.parent != "map" {
                         self.moving_tree.add(&t.parent, &t.child, t.pose);
-                    } else if t.parent == "map"
-                        && self.map_links.len() < 8
-                        && !self.map_links.contains(&quoted(&t.child))
-                    {
-                        self.map_links.push(quoted(&t.child));
+                    } else if !self.map_links.add(t.child, t.stamp, t.pose) {
+                        return Err(self.bad_message(
+                            channel,
+                            place,
+                            "out of memory keeping the map-frame transforms",
+                        ));
                     }
                 }
                 Ok(())
@@ -427,9 +439,11 @@ impl BagLoader {
 
     /// Keeps a scan's readings by REP 117: `+inf` and readings past
     /// `range_max` are no-returns (kept at `range_max`, which the store
-    /// reads as the laser's maximum); `-inf`, NaN and readings below
-    /// `range_min` are not measurements and are kept as no-returns too,
-    /// and counted.
+    /// reads as the laser's maximum: they clear); `-inf` and readings below
+    /// `range_min` (an object too close to measure) and NaN (invalid) say
+    /// nothing of the cells along the beam, so they are dropped (kept as
+    /// NaN, the store's "no measurement", [`ScanRecord::ranges`]) and
+    /// counted; a scan with no other reading is skipped.
     fn keep_scan(&mut self, scan: LaserScan, channel: u16, place: Place) -> Result<()> {
         if let Some(last) = self.last_scan_stamp {
             if scan.stamp < last {
@@ -455,16 +469,25 @@ impl BagLoader {
         }
         let max = scan.range_max as f32;
         let range_from = self.ranges.len();
+        let dropped = self.invalid_readings + self.close_readings;
         for &r in &scan.ranges {
-            let kept = if r.is_nan() || r < scan.range_min {
+            let kept = if r.is_nan() {
                 self.invalid_readings += 1;
-                max
+                f32::NAN
+            } else if r < scan.range_min || r < 0.0 {
+                self.close_readings += 1;
+                f32::NAN
             } else if r > scan.range_max {
                 max
             } else {
                 r as f32
             };
             self.ranges.push(kept);
+        }
+        if beams > 0 && self.invalid_readings + self.close_readings - dropped == beams {
+            self.ranges.truncate(range_from);
+            self.unmeasured_scans += 1;
+            return Ok(());
         }
         let frame = match self.frames.iter().position(|f| *f == scan.frame) {
             Some(i) => i,
@@ -506,7 +529,7 @@ impl BagLoader {
         if self.scan_channel != Some(scan) || self.pending.is_empty() {
             return Err(self.no_scans());
         }
-        let Some((samples, _, child)) = self.odometry.get(odom) else {
+        let Some((samples, odom_frame, child)) = self.odometry.get(odom) else {
             return Err(OccError::State(format!(
                 "the bag's odometry topic {} has no messages: the scans cannot be placed",
                 quoted(self.channels.get(odom).map_or("", |c| c.topic.as_str()))
@@ -537,13 +560,17 @@ impl BagLoader {
             })?;
             mounts.push(mount);
         }
-        self.placing = Some((odom, mounts));
+        // The odometry frame in `map`: a `/tf` link from `map` to it or to
+        // a frame the static transforms (else `/tf`'s last) lead from to
+        // it, or `map` itself in `/tf_static`.
+        let map_link = (self.map_links).link_to(odom_frame, &self.tree, &self.moving_tree);
+        self.placing = Some((odom, mounts, map_link));
         Ok(())
     }
 
     /// Places up to `most` more scans; true once all are.
     fn place(&mut self, next: usize, most: usize) -> Result<usize> {
-        let Some((odom, mounts)) = &self.placing else {
+        let Some((odom, mounts, map_link)) = &self.placing else {
             return Ok(self.pending.len());
         };
         let Some((samples, _, _)) = self.odometry.get(*odom) else {
@@ -557,7 +584,16 @@ impl BagLoader {
                 self.skipped.1.get_or_insert(p.origin);
                 continue;
             };
-            let laser = pose(compose(at, mounts[p.frame]));
+            let laser = compose(at, mounts[p.frame]);
+            // The corrected pose: the odometry frame's pose in `map` at the
+            // scan's stamp (interpolated as the odometry is, as tf2 looks a
+            // transform up; the nearest outside their stamps), then the
+            // odometry's laser pose in it.
+            let corrected = map_link.map(|link| {
+                let (in_map, held) = self.map_links.at(link, p.stamp);
+                self.map_held += usize::from(held);
+                compose(in_map, laser)
+            });
             let ranges: Vec<f64> = self.ranges[p.range_from..p.range_from + p.beams]
                 .iter()
                 .map(|&r| r as f64)
@@ -565,8 +601,8 @@ impl BagLoader {
             let record = ScanRecord {
                 origin: p.origin,
                 stamp: Some(p.stamp),
-                pose: laser,
-                odometry: Some(laser),
+                pose: pose(corrected.unwrap_or(laser)),
+                odometry: Some(pose(laser)),
                 ranges: &ranges,
                 first_bearing: p.first,
                 bearing_step: p.step,
@@ -596,16 +632,22 @@ impl BagLoader {
         let mount = self
             .placing
             .as_ref()
-            .and_then(|(_, m)| m.first().copied())
+            .and_then(|(_, m, _)| m.first().copied())
             .unwrap_or_default();
         self.scans.set_mount(pose(mount));
         self.scans.set_pose_kinds(LogPoseKinds {
-            reference: false,
+            reference: self.corrected(),
             odometry: true,
         });
         self.pending = Vec::new();
         self.ranges = Vec::new();
         self.stage = Stage::Done;
+    }
+
+    /// True when the scans have corrected poses: the bag gives the odometry
+    /// frame's pose in `map`.
+    fn corrected(&self) -> bool {
+        matches!(self.placing, Some((_, _, Some(_))))
     }
 
     fn fail(&mut self, e: OccError) -> OccError {
@@ -666,10 +708,16 @@ impl BagLoader {
         if let Some(w) = self.reader.warning() {
             parts.push(w.to_string());
         }
-        if self.invalid_readings > 0 {
+        if self.invalid_readings + self.close_readings > 0 {
             parts.push(format!(
-                "{} readings are no measurement by REP 117 (NaN, -inf or below range_min) and are kept as no-returns",
-                self.invalid_readings
+                "by REP 117, {} readings too close to measure (-inf or below range_min) and {} invalid ones (NaN) are dropped, and {} scans left with none skipped",
+                self.close_readings, self.invalid_readings, self.unmeasured_scans
+            ));
+        }
+        if self.map_held > 0 {
+            parts.push(format!(
+                "{} scans lie outside the stamps of the map \u{2192} odometry transforms and take the nearest",
+                self.map_held
             ));
         }
         if let (n, Some(first)) = self.skipped {
@@ -683,10 +731,10 @@ impl BagLoader {
                     .into(),
             );
         }
-        if !self.map_links.is_empty() {
+        if !self.map_links.is_empty() && !self.corrected() {
             parts.push(format!(
-                "the bag's map-frame transforms (map \u{2192} {}) are not read: its scans are mapped at odometry poses",
-                self.map_links.join(", map \u{2192} ")
+                "the bag's map-frame transforms ({}) lead to no odometry frame: its scans have no corrected poses",
+                self.map_links.describe()
             ));
         }
         (!parts.is_empty()).then(|| parts.join(". "))

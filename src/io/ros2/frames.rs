@@ -1,10 +1,13 @@
 //! Frames and time: the laser's mount from the static transforms (a chain
-//! of any length from the odometry's child frame to the scan's frame) and
-//! the odometry interpolated at a scan's stamp.
+//! of any length from the odometry's child frame to the scan's frame), the
+//! odometry interpolated at a scan's stamp, and the odometry frame's pose
+//! in `map` ([`MapLinks`]) at a scan's stamp, where the bag has one.
 
 use crate::geometry::{wrap_angle, Pose};
 
-/// `a` then `b` (`b` given in `a`'s frame).
+/// `a` then `b` (`b` given in `a`'s frame). Not inlined: a few calls per
+/// scan, and each inlined copy costs the wasm its size.
+#[inline(never)]
 pub fn compose(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     let (s, c) = a[2].sin_cos();
     [
@@ -108,4 +111,94 @@ pub fn odometry_at(samples: &[(f64, [f64; 3])], t: f64) -> Option<[f64; 3]> {
     }
     let before = samples.get(i.checked_sub(1)?)?;
     Some(interpolate(*before, *after, t))
+}
+
+/// The most child frames of `map` kept (a bag has one: its odometry frame).
+const MAX_MAP_LINKS: usize = 8;
+
+/// The transforms of `/tf` from the `map` frame: per child frame (at most
+/// [`MAX_MAP_LINKS`]), its poses in `map`, in stamp order.
+#[derive(Debug, Clone, Default)]
+pub struct MapLinks {
+    links: Vec<(String, Samples)>,
+}
+
+/// Stamped planar poses, in stamp order.
+type Samples = Vec<(f64, [f64; 3])>;
+
+/// How the odometry frame lies in `map`: the `/tf` link from `map` (its
+/// index in the kept links; `None` where `/tf_static` gives `map` itself),
+/// then the fixed chain from that link's child to the odometry frame.
+pub type MapLink = (Option<usize>, [f64; 3]);
+
+impl MapLinks {
+    /// Keeps `map → child` at `stamp`: false when memory runs out. Kept in
+    /// time order, for the interpolation: a transform stamped before its
+    /// link's last is passed over, as is a link past the first
+    /// [`MAX_MAP_LINKS`].
+    pub fn add(&mut self, child: String, stamp: f64, pose: [f64; 3]) -> bool {
+        let links = &mut self.links;
+        let i = match links.iter().position(|l| l.0 == child) {
+            Some(i) => i,
+            None if links.len() < MAX_MAP_LINKS => {
+                links.push((child, Vec::new()));
+                links.len() - 1
+            }
+            None => return true,
+        };
+        let samples = &mut links[i].1;
+        if samples.last().is_some_and(|l| stamp < l.0) {
+            return true;
+        }
+        if samples.try_reserve(1).is_err() {
+            return false;
+        }
+        samples.push((stamp, pose));
+        true
+    }
+
+    /// How the odometry frame `frame` lies in `map`: a link from `map` to
+    /// it or to a frame the static transforms (else `/tf`'s last, `moving`)
+    /// lead from to it, or `map` itself in the static transforms.
+    pub fn link_to(&self, frame: &str, tree: &StaticTree, moving: &StaticTree) -> Option<MapLink> {
+        for (i, (link, _)) in self.links.iter().enumerate() {
+            let chain = tree.pose_of(link, frame);
+            if let Some(p) = chain.or(moving.pose_of(link, frame)) {
+                return Some((Some(i), p));
+            }
+        }
+        tree.pose_of("map", frame).map(|p| (None, p))
+    }
+
+    /// The odometry frame's pose in `map` at `t` by `link`, interpolated
+    /// between the link's transforms around `t` as the odometry is (as tf2
+    /// looks a transform up), and whether `t` lay outside their stamps
+    /// (the nearest then taken: the stamp moved to the first or the last).
+    pub fn at(&self, (link, chain): MapLink, t: f64) -> ([f64; 3], bool) {
+        // Every kept link has a transform (it is kept with its first).
+        let Some((_, samples)) = link.and_then(|i| self.links.get(i)) else {
+            return (chain, false);
+        };
+        let (first, last) = (samples[0].0, samples[samples.len() - 1].0);
+        let moved = t.max(first).min(last);
+        let in_map = odometry_at(samples, moved).unwrap_or_default();
+        (compose(in_map, chain), moved != t)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.links.is_empty()
+    }
+
+    /// The links kept, for messages (`map → "odom", …`).
+    pub fn describe(&self) -> String {
+        let mut out = String::new();
+        for (link, _) in &self.links {
+            if !out.is_empty() {
+                out += ", ";
+            }
+            out += "map \u{2192} ";
+            out += &crate::io::mcap::quoted(link);
+        }
+        out
+    }
 }

@@ -24,14 +24,24 @@
 //! stamp is skipped and counted in the warning, and a bag where no scan
 //! has any is refused. The log's poses are odometry (the odometry frame
 //! is the map's frame): [`crate::sensors::LogPoseKinds`] says they are
-//! its own odometry, not reference poses.
+//! its own odometry, not reference poses, unless the bag carries a
+//! map-frame pose: a `map → odom` transform (the parent frame `map`, the
+//! child the odometry's frame, or a frame the static transforms lead from
+//! to it) on `/tf`, or `/tf_static`'s fixed one. Then each scan's
+//! reference (corrected) pose is that transform at the scan's stamp,
+//! interpolated between the two around it as the odometry is (as tf2
+//! looks a transform up: a localiser's correction spreads over the time
+//! between two of its transforms, as the drift it corrects grew; outside
+//! them, the nearest, named in the warning), composed with the scan's
+//! odometry pose; the odometry stays the log's own.
 //!
 //! Ranges follow REP 117: `+inf` is no return (it only clears, as a
 //! CARMEN no-return does), as is a reading past `range_max`; both are
 //! kept at `range_max`, the laser's maximum the store reads no-returns by.
-//! `-inf` (too close), NaN (invalid) and readings below `range_min` are no
-//! measurement; the store has no mark for "no measurement", so they are
-//! kept as no-returns as well and counted in the read's warning.
+//! `-inf` and readings below `range_min` (an object too close to measure)
+//! and NaN (invalid) say nothing of the cells along their beam: they are
+//! dropped (the store's "no measurement") and counted by kind in the
+//! read's warning, and a scan with no reading left is skipped.
 //! `angle_increment` may be negative (the beams then run clockwise).
 //!
 //! Stamps that run backwards (a scan's or an odometry message's before
