@@ -22,8 +22,11 @@ function hasGraph(panel) {
  * graph; turning it on or off draws the panes again from their last views.
  */
 export function poseGraphControl(panel) {
-  const key = (color, text) => el('span', { class: 'map-weaver-log-key' },
-    el('span', { class: 'map-weaver-log-swatch map-weaver-log-path', style: `border-top-color: ${color}`, 'aria-hidden': 'true' }), text);
+  const key = (color, text) => {
+    const swatch = el('span', { class: 'map-weaver-log-swatch map-weaver-log-path', 'aria-hidden': 'true' });
+    swatch.style.borderTopColor = color; // through the CSSOM: the page's policy refuses style attributes
+    return el('span', { class: 'map-weaver-log-key' }, swatch, text);
+  };
   const legend = el('span', { class: 'occgrid-caption map-weaver-log-graph-legend', hidden: true },
     key(LOCAL_COLOR, 'local matches'), ' ', key(LOOP_COLOR, 'loop closures'));
   const control = toggle('pose graph', false, (on) => {
@@ -65,11 +68,11 @@ export function drawPoseGraph(ctx, panel, k, unit) {
   const [nodes, locals, loops] = g;
   ctx.save();
   ctx.lineCap = 'round';
-  strokeSegments(ctx, g, 3 + 2 * nodes, locals, LOCAL_COLOR, 1.5 * unit);
+  strokeSegments(ctx, g, 3 + 2 * nodes, locals, LOCAL_COLOR, unit);
   ctx.fillStyle = NODE_COLOR;
   const r = 1.5 * unit;
   for (let i = 3, end = 3 + 2 * nodes; i < end; i += 2) ctx.fillRect(g[i] - r, g[i + 1] - r, 2 * r, 2 * r);
-  strokeSegments(ctx, g, 3 + 2 * nodes + 4 * locals, loops, LOOP_COLOR, 2.5 * unit);
+  strokeSegments(ctx, g, 3 + 2 * nodes + 4 * locals, loops, LOOP_COLOR, 1.25 * unit);
   ctx.restore();
 }
 

@@ -10,7 +10,7 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen]
 impl RealLogSession {
     /// Pane `pane`'s pose graph over the scans placed so far, in image
-    /// units, or `null` for a pane without one (any source but SLAM): a
+    /// units, or `undefined` for a pane without one (any source but SLAM): a
     /// Float32Array `[nodes, locals, loops, u, v, … (nodes points), u0,
     /// v0, u1, v1, … (locals segments, then loops segments)]`.
     #[wasm_bindgen(js_name = poseGraph)]
@@ -23,7 +23,7 @@ impl RealLogSession {
     /// scans placed so far: a Float64Array `[scans, placed, ateM,
     /// scanErrorM]` (the aligned absolute trajectory error, and the last
     /// counted scan's position error under that alignment, metres; `scans`
-    /// of `placed` counted, a bounded number more each call), or `null`
+    /// of `placed` counted, a bounded number more each call), or `undefined`
     /// when the log has no corrected poses, for the pane at them, and
     /// before its first scan.
     #[wasm_bindgen(js_name = poseError)]
