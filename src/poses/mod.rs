@@ -34,7 +34,7 @@ mod slam;
 mod start;
 
 pub use matched_path::{MatchedPath, StepReport};
-pub use pose_error::{Alignment, AlignmentSums};
+pub use pose_error::{Alignment, AlignmentSums, GrowingAlignment};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };

@@ -118,6 +118,48 @@ impl AlignmentSums {
     }
 }
 
+/// The sums of a growing path's first `counted` positions, taken at one
+/// revision of its poses ([`super::PoseSource::revision`]): a path that
+/// grows scan by scan adds its new scans, one whose poses were revised (or
+/// that went back) starts again.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GrowingAlignment {
+    revision: u64,
+    counted: usize,
+    sums: AlignmentSums,
+}
+
+impl GrowingAlignment {
+    /// The alignment of the first `placed` poses of `estimated` onto
+    /// `reference` (at `revision`), counting at most `max_new` more of
+    /// them: the alignment of those counted, and how many that is.
+    pub fn advance(
+        &mut self,
+        revision: u64,
+        estimated: &[Pose],
+        reference: &[Pose],
+        placed: usize,
+        max_new: usize,
+    ) -> Option<(Alignment, usize)> {
+        let placed = placed.min(estimated.len()).min(reference.len());
+        if self.revision != revision || self.counted > placed {
+            *self = Self {
+                revision,
+                ..Self::default()
+            };
+        }
+        let end = placed.min(self.counted.saturating_add(max_new));
+        for (p, q) in estimated[self.counted..end]
+            .iter()
+            .zip(&reference[self.counted..end])
+        {
+            self.sums.add_poses(p, q);
+        }
+        self.counted = end;
+        Some((self.sums.alignment()?, end))
+    }
+}
+
 impl Alignment {
     /// The distance, metres, between estimated position `p` moved by the
     /// alignment and its reference position `q`.
@@ -240,6 +282,42 @@ mod tests {
                 .sqrt();
             assert!(worse >= a.rms);
         }
+    }
+
+    #[test]
+    fn a_growing_path_is_counted_a_bounded_number_of_scans_a_call() {
+        let pose = |p: &[f64; 2]| Pose {
+            x: p[0],
+            y: p[1],
+            theta: 0.0,
+        };
+        let q: Vec<Pose> = path().iter().map(pose).collect();
+        let mut p = q.clone();
+        for (k, p) in p.iter_mut().enumerate() {
+            p.x += if k % 2 == 0 { 0.03 } else { -0.03 };
+        }
+        let whole = {
+            let (pp, qq): (Vec<[f64; 2]>, Vec<[f64; 2]>) = p
+                .iter()
+                .zip(&q)
+                .map(|(a, b)| ([a.x, a.y], [b.x, b.y]))
+                .unzip();
+            sums(&pp[..40], &qq[..40]).alignment().unwrap()
+        };
+        let mut g = GrowingAlignment::default();
+        // 40 placed, 15 a call: 15, 30, then all 40, and no further.
+        let counted: Vec<usize> = (0..4)
+            .map(|_| g.advance(0, &p, &q, 40, 15).unwrap().1)
+            .collect();
+        assert_eq!(counted, [15, 30, 40, 40]);
+        let (a, _) = g.advance(0, &p, &q, 40, 15).unwrap();
+        assert_eq!(a, whole);
+        // Revised poses start again; so does a path that went back.
+        assert_eq!(g.advance(1, &p, &q, 40, 15).unwrap().1, 15);
+        assert_eq!(g.advance(1, &p, &q, 10, 15).unwrap().1, 10);
+        assert!(GrowingAlignment::default()
+            .advance(0, &p, &q, 0, 15)
+            .is_none());
     }
 
     #[test]

@@ -102,7 +102,7 @@ pub struct LogPane {
     /// work only grows.
     earlier_work: u64,
     /// The pose error's sums so far (`slam_view.rs`).
-    pub(super) pose_error: super::slam_view::PoseErrorTally,
+    pub(super) pose_error: crate::poses::GrowingAlignment,
 }
 
 /// What a pose source of a pane is started with under `settings`.

@@ -3,12 +3,12 @@
 //! nodes, local edges and loop closures in image units) and the pose error
 //! against the log's corrected poses ([`LogPane::pose_error`]: the aligned
 //! absolute trajectory error over the scans placed so far,
-//! [`crate::poses::AlignmentSums`]). The chapter maps with known poses;
+//! [`crate::poses::GrowingAlignment`]). The chapter maps with known poses;
 //! these two say what doing without them costs, and what closing loops
 //! wins back.
 
 use super::pane::LogPane;
-use crate::poses::{AlignmentSums, PoseSourceKind};
+use crate::poses::PoseSourceKind;
 use crate::slam::Edge;
 
 /// Most scans one [`LogPane::pose_error`] call adds to its sums: a few
@@ -20,15 +20,6 @@ pub const ERROR_SCANS_PER_CALL: usize = 200_000;
 /// drawn.
 pub const GRAPH_NODES_DRAWN: usize = 4_096;
 pub const GRAPH_LOCAL_SEGMENTS: usize = 32_768;
-
-/// The sums of a pane's pose error so far, and the poses they were taken
-/// at (the source's revision).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct PoseErrorTally {
-    revision: u64,
-    counted: usize,
-    sums: AlignmentSums,
-}
 
 /// A pane's pose error against the log's corrected poses.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,32 +58,15 @@ impl LogPane {
         }
         let reference = self.scans().reference_poses()?;
         let poses = self.poses();
-        let placed = self
-            .progress()
-            .scans_done
-            .min(poses.len())
-            .min(reference.len());
+        let placed = self.progress().scans_done;
         let revision = self.source.revision();
         let mut tally = self.pose_error;
-        if tally.revision != revision || tally.counted > placed {
-            tally = PoseErrorTally {
-                revision,
-                ..PoseErrorTally::default()
-            };
-        }
-        let end = placed.min(tally.counted + ERROR_SCANS_PER_CALL);
-        for (p, q) in poses[tally.counted..end]
-            .iter()
-            .zip(&reference[tally.counted..end])
-        {
-            tally.sums.add_poses(p, q);
-        }
-        tally.counted = end;
-        let view = tally.sums.alignment().map(|a| {
-            let (p, q) = (poses[end - 1], reference[end - 1]);
+        let found = tally.advance(revision, poses, reference, placed, ERROR_SCANS_PER_CALL);
+        let view = found.map(|(a, scans)| {
+            let (p, q) = (poses[scans - 1], reference[scans - 1]);
             PoseErrorView {
-                scans: end,
-                placed,
+                scans,
+                placed: placed.min(poses.len()).min(reference.len()),
                 ate_m: a.rms,
                 scan_error_m: a.error_at([p.x, p.y], [q.x, q.y]),
             }
