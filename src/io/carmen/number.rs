@@ -48,8 +48,59 @@ fn special(body: &[u8]) -> Option<f64> {
 }
 
 /// Digits, an optional point and digits (at least one digit in all), an
-/// optional exponent: the value, rounded.
+/// optional exponent: the value, rounded. A number of at most 19
+/// significant digits is read in one pass without allocating (a log holds
+/// millions); any other goes to [`long_decimal`].
 fn decimal(body: &[u8]) -> Option<f64> {
+    let (mut m, mut significant, mut fraction, mut seen) = (0u64, 0u32, 0i64, false);
+    let mut i = 0;
+    let mut after_point = false;
+    while let Some(&b) = body.get(i) {
+        match b {
+            b'0'..=b'9' => {
+                seen = true;
+                fraction += i64::from(after_point);
+                if significant > 0 || b != b'0' {
+                    significant += 1;
+                    m = m.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                }
+            }
+            b'.' if !after_point => after_point = true,
+            _ => break,
+        }
+        i += 1;
+    }
+    let mut exponent = 0i64;
+    if seen && significant <= 19 && i < body.len() && (body[i] | 0x20) == b'e' {
+        let (negative, digits) = match body.get(i + 1) {
+            Some(b'-') => (true, &body[i + 2..]),
+            Some(b'+') => (false, &body[i + 2..]),
+            _ => (false, &body[i + 1..]),
+        };
+        if digits.is_empty() || digits.len() > 4 || !digits.iter().all(u8::is_ascii_digit) {
+            return long_decimal(body);
+        }
+        exponent = digits.iter().fold(0, |e, &d| e * 10 + i64::from(d - b'0'));
+        if negative {
+            exponent = -exponent;
+        }
+        i = body.len();
+    }
+    let e10 = exponent - fraction;
+    if !seen || i < body.len() || significant > 19 || m > 1 << 53 || !(-22..=22).contains(&e10) {
+        return long_decimal(body);
+    }
+    let m = m as f64;
+    Some(if e10 >= 0 {
+        m * POW10[e10 as usize]
+    } else {
+        m / POW10[(-e10) as usize]
+    })
+}
+
+/// [`decimal`] for any number: its significant digits kept (up to
+/// [`KEPT_DIGITS`]), then read exactly.
+fn long_decimal(body: &[u8]) -> Option<f64> {
     let mut digits: Vec<u8> = Vec::new();
     let (mut truncated, mut seen, mut point_shift) = (false, false, 0i64);
     let mut i = 0;
