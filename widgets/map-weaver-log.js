@@ -31,6 +31,7 @@ import { drawViews, dpr, paintPane } from './lib/log-view.js';
 import { floatingReadout, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
 import { topicChooser } from './lib/topic-chooser.js';
+import { poseGraphControl } from './lib/pose-graph-layer.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -233,6 +234,7 @@ export class RealLogPanel {
     // lifted finger leaves at once: the tapped cell stays to be read.)
     this.canvas.addEventListener('pointerleave', (e) => { if (e.pointerType === 'mouse' && !this.cursor()) this.clearCell(); });
     this.viewStatus = el('p', { class: 'map-weaver-log-view occgrid-readout' });
+    this.poseGraph = poseGraphControl(this);
     // The maps beside the operated one (the corrected map beside a
     // dead-reckoned one): drawn whole, not operated (hover, zoom, cursor,
     // scrub and export act on the first pane).
@@ -262,7 +264,7 @@ export class RealLogPanel {
       el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },
         Object.values(this.controls).map((c) => c.root)),
       this.progress, this.status, this.timing,
-      this.switcher.root, this.stage, mapLegend(), this.viewStatus,
+      this.switcher.root, this.stage, mapLegend(), this.poseGraph.root, this.viewStatus,
       el('div', { class: 'occgrid-controls' }, this.scrub.root, this.exportButton),
       this.readout, this.counts, modelNote(),
       readingCaption());

@@ -1,11 +1,13 @@
 //! Bindings for real CARMEN logs: the session behind Map Weaver's
 //! real-log mode ([`RealLogSession`], the same name as the core session it
 //! wraps): reading, settings, the build, the robot and the exports here,
-//! the view and the keyboard cursor of a pane in [`view`]. Every method
+//! the view and the keyboard cursor of a pane in [`view`], the pose graph
+//! and the pose error of a pane in [`slam_view`]. Every method
 //! converts its JavaScript arguments to plain Rust values first, then
 //! delegates: one call into the core session, or into the pane it picks
 //! by index ([`app::RealLogSession::pane`]).
 
+mod slam_view;
 mod view;
 
 use super::{

@@ -28,11 +28,13 @@ mod corrected;
 mod dead_reckoning;
 mod matched_path;
 mod odometry;
+mod pose_error;
 mod scan_matched;
 mod slam;
 mod start;
 
 pub use matched_path::{MatchedPath, StepReport};
+pub use pose_error::{Alignment, AlignmentSums, GrowingAlignment};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
@@ -113,6 +115,12 @@ pub trait PoseSource {
     /// The loop closures a source that closes loops (SLAM) has found so
     /// far; `None` for one that closes none.
     fn loop_closures(&self) -> Option<usize> {
+        None
+    }
+
+    /// The pose graph of a source that keeps one (SLAM: its nodes, local
+    /// edges and loop closures), for a page to draw; `None` for the others.
+    fn pose_graph(&self) -> Option<&crate::slam::PoseGraph> {
         None
     }
 

@@ -114,6 +114,10 @@ impl PoseSource for Slam {
         Some(self.builder.closures())
     }
 
+    fn pose_graph(&self) -> Option<&crate::slam::PoseGraph> {
+        Some(&self.builder.graph)
+    }
+
     fn settling(&self) -> bool {
         self.builder.is_settling()
     }

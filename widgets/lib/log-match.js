@@ -18,11 +18,12 @@ function matched(state, k) {
 
 /**
  * The path to draw on pane `k`: a scan-matched pane's poses are found as
- * its scans are matched, so its path is read again from the core at each
- * drawing; any other pane's (`path`, read once at layout) stays.
+ * its scans are matched (a SLAM pane's also move when its graph is
+ * optimised), so its path is read again from the core at each drawing;
+ * any other pane's (`path`, read once at layout) stays.
  */
 export function livePath(panel, k, path) {
-  return matched(panel.state, k) ? panel.session.pathPixels(k) : path;
+  return matched(panel.state, k) || panel.state?.panes?.[k]?.poses === 'slam' ? panel.session.pathPixels(k) : path;
 }
 
 /** Square dots of half-width `r` at the flat `[u0, v0, u1, v1, …]` points. */

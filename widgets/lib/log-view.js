@@ -1,11 +1,13 @@
 // The views of Map Weaver's real-log panel drawn on its canvases: each
 // pane's view drawn by the core a band of rows per task (the picture on
 // screen stays until the new one is whole), then painted with the laser's
-// path, the robot, the scan match and the keyboard cursor over it. The
+// path, the robot, the scan match, the pose graph (on request) and the
+// keyboard cursor over it, and the pose error under the maps. The
 // core computes every pixel of the map (`renderViewWithin`); this module
 // only sequences the calls and draws the overlays.
 import { drawMapImage, drawPath, drawRobot, outlineCell } from './layers.js';
 import { drawMatch, livePath } from './log-match.js';
+import { drawPoseGraph, showPoseError } from './pose-graph-layer.js';
 
 /** Map cells sampled per drawing call: a view is drawn in bands of rows (the zoomed-out campus samples 17 M cells in a 1200 × 900 view, 45 ms in one call). */
 const VIEW_BAND_SAMPLES = 2_000_000;
@@ -54,7 +56,8 @@ function drawBand(panel, k, quick) {
 
 /**
  * Draws pane `k`'s view `v` (`ptr` its pixels) on `canvas`, the laser's
- * path so far with the robot, the scan match and `cursor` (if any),
+ * path so far with the robot, the scan match, the pose graph (when asked
+ * for) and `cursor` (if any),
  * through the view's transform, their widths in screen pixels at any zoom.
  */
 export function paintPane(panel, canvas, k, ptr, v, path, cursor = null) {
@@ -71,6 +74,8 @@ export function paintPane(panel, canvas, k, ptr, v, path, cursor = null) {
     });
   }
   drawMatch(ctx, panel, k, unit);
+  drawPoseGraph(ctx, panel, k, unit);
+  if (k === 0) showPoseError(panel);
   if (cursor) outlineCell(ctx, 1, cursor, { color: CURSOR_COLOR, lineWidth: 2 * unit, pad: 2 * unit });
   ctx.restore();
 }

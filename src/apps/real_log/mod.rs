@@ -32,6 +32,7 @@ mod planning;
 mod provenance;
 mod session;
 mod settings;
+mod slam_view;
 mod surface;
 mod view;
 
@@ -44,6 +45,7 @@ pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, SettingLimits, HIT_RATIO, MAX_SEED,
     NO_RETURN_REACH,
 };
+pub use slam_view::{PoseErrorView, ERROR_SCANS_PER_CALL, GRAPH_LOCAL_SEGMENTS, GRAPH_NODES_DRAWN};
 pub use view::{GeometryReport, ViewLegend, CURSOR_LONG_STEPS, CURSOR_STEP_PX};
 
 use crate::poses::PoseSourceKind;

@@ -101,6 +101,8 @@ pub struct LogPane {
     /// The work of maps built at poses since revised, so that a build's
     /// work only grows.
     earlier_work: u64,
+    /// The pose error's sums so far (`slam_view.rs`).
+    pub(super) pose_error: crate::poses::GrowingAlignment,
 }
 
 /// What a pose source of a pane is started with under `settings`.
@@ -232,6 +234,7 @@ impl LogPane {
             },
             revision: 0,
             earlier_work: 0,
+            pose_error: Default::default(),
         })
     }
 

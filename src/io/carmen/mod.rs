@@ -110,6 +110,7 @@
 
 mod lines;
 mod loader;
+mod number;
 mod parse;
 mod source;
 

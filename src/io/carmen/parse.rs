@@ -149,8 +149,9 @@ fn as_written(token: &[u8]) -> String {
     format!("{cut}{}", if was_cut { "…" } else { "" })
 }
 
+/// A number as `str::parse::<f64>` reads it ([`super::number`]).
 fn parse_f64(token: &[u8]) -> Option<f64> {
-    std::str::from_utf8(token).ok()?.parse().ok()
+    super::number::parse_f64(token)
 }
 
 /// The fields of one laser line, parsed left to right; errors are messages
