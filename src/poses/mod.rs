@@ -36,7 +36,7 @@ pub use matched_path::{MatchedPath, StepReport};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
-pub use slam::Slam;
+pub use slam::{Slam, LOOP_SEARCH_ALLOWANCE};
 pub use start::{SourceStart, COPIES_PER_UNIT};
 
 use crate::error::{invalid, Result};
@@ -113,6 +113,13 @@ pub trait PoseSource {
     /// The loop closures a source that closes loops (SLAM) has found so
     /// far; `None` for one that closes none.
     fn loop_closures(&self) -> Option<usize> {
+        None
+    }
+
+    /// Why the source locates no more scans, once it has refused to (a
+    /// SLAM source past its bound of work, [`PoseSource::work_bound`]):
+    /// a build then stops there and says so.
+    fn refusal(&self) -> Option<&crate::error::OccError> {
         None
     }
 

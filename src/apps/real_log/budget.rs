@@ -262,13 +262,18 @@ pub(super) fn check_pose_bound(
         return Ok(());
     }
     let n = scans.len() as u64;
+    // What fits: the bound grows with the scans (a scan's share of it is
+    // the same, but for SLAM's finished submaps), and sources that know
+    // their poses cost nothing. (A coarser resolution shrinks the share of
+    // a scan's search, but at a million scans not by enough to fit.)
+    let fit = (budget as u128 * n as u128 / (bound as u128).max(1)) as u64;
     Err(invalid(
         "poses",
         format!("\"{}\" over {n} scans", kind.name()),
         format!(
             "a log whose poses cost at most {budget} units of work (cell updates) to find: \
              these {n} scans could cost up to {bound} ({} a scan); \
-             fewer scans, a coarser resolution, a shorter range cap or poses known in advance",
+             map it at the log's own poses or dead-reckoned ones, or cut it to at most {fit} scans",
             bound / n.max(1)
         ),
     ))
