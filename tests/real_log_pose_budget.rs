@@ -509,3 +509,78 @@ fn time_per_unit_measured() {
         );
     }
 }
+
+/// SLAM's work on each shared log at 5 cm, seed 1, by part, beside its
+/// bound (run with `cargo test --release --test real_log_pose_budget --
+/// --ignored --nocapture slam_work_measured`; `OCCGRID_DATASETS` names the
+/// folder of the logs, `LOGS` a comma-separated list of their file names):
+/// the local matches, the insertion into submaps and their finishing, and
+/// the loop search and optimisation together.
+#[test]
+#[ignore = "a measurement"]
+fn slam_work_measured() {
+    use occgrid::poses::ScanMatching;
+    use occgrid::slam::SlamBuilder;
+    let dir = std::env::var("OCCGRID_DATASETS")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    let names = std::env::var("LOGS").unwrap_or_else(|_| {
+        "intel-corrected.log.gz,aces-corrected.log.gz,fhw-corrected.log.gz,\
+         freiburg-101-corrected.log.gz,freiburg-campus-corrected.log.gz,\
+         infinite-corridor-corrected.log.gz,intel-perfect.mcap,intel-noisy.mcap,aces-noisy.mcap"
+            .into()
+    });
+    let defaults = LogMapSettings::default();
+    let source_settings = SourceSettings {
+        seed: 1,
+        noise: OdometryParams::WHEELS,
+        matching: match_settings(defaults.range_cap),
+        resolution: defaults.resolution,
+    };
+    for name in names.split(',') {
+        let bytes = std::fs::read(format!("{dir}/{name}")).unwrap();
+        // A bag is read at its own odometry, a CARMEN log at its poses.
+        let own = if name.ends_with(".mcap") {
+            PoseSourceKind::Odometry
+        } else {
+            PoseSourceKind::Corrected
+        };
+        let mut s = RealLogSession::new(bytes);
+        s.configure(settings(own)).unwrap();
+        read_all(&mut s).unwrap();
+        let log = s.pane(0).unwrap().scans().clone();
+        let bound = PoseSourceKind::Slam
+            .starting(&log, &source_settings)
+            .unwrap()
+            .work_bound(&log)
+            .unwrap();
+        let odometry = ScanMatching::odometry_of(&log, 1, &OdometryParams::WHEELS);
+        let s = &source_settings;
+        let mut b = SlamBuilder::new(odometry, s.noise, s.matching, s.resolution).unwrap();
+        let (mut matched, mut inserted, mut settled) = (0u64, 0u64, 0u64);
+        let t = Instant::now();
+        for k in 0..log.len() {
+            let w = b.work();
+            let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);
+            b.locate_scan(&log.scan(k).unwrap(), laser_max).unwrap();
+            inserted += b.work() - w;
+            matched += match_work(b.last_match());
+            let w = b.work();
+            b.settle_within(u64::MAX);
+            settled += b.work() - w;
+        }
+        let total = matched + inserted + settled;
+        println!(
+            "{name}: {} scans, {:.1} s; matched {matched:.2e}, inserted and finished {inserted:.2e}, \
+             searched and optimised {settled:.2e}, {} closures: {total:.2e} of its bound {bound:.2e}",
+            log.len(),
+            t.elapsed().as_secs_f64(),
+            b.closures(),
+            total = total as f64,
+            bound = bound as f64,
+            matched = matched as f64,
+            inserted = inserted as f64,
+            settled = settled as f64,
+        );
+        assert!(total <= bound);
+    }
+}

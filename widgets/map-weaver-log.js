@@ -66,6 +66,12 @@ const READOUT_HINT = 'Point at a cell (or focus the map and use the arrow keys) 
 const CURSOR_HINT = 'Arrow keys move a cursor cell (Shift: ten steps) whose values are read out below the map; the map follows it. + and − zoom about it, 0 shows the whole map; the mouse wheel or a pinch zooms, a drag pans.';
 /** The most device pixels the map canvas gets (the core's view bound is 4,194,304). */
 const MAX_VIEW_PIXELS = 4_000_000;
+/**
+ * The core's advice when it refuses a pose source for what finding the poses
+ * would cost (the last clause of its message: what fits; a coarser resolution
+ * does little for that work), or `null` for any other refusal.
+ */
+const poseAdvice = (error) => (/^(?:invalid poses: .*; ([^;]*)\)|the pose source .* passed its bound .*; ([^;]*))$/s.exec(error ?? '') ?? []).slice(1).find(Boolean) ?? null;
 /** Zoom per key press, and per 100 px of wheel. */
 const KEY_ZOOM = 1.5;
 const WHEEL_ZOOM_PER_PX = Math.log(1.5) / 100;
@@ -503,11 +509,14 @@ export class RealLogPanel {
     } else if (state.state === 'planning') {
       this.status.textContent = 'Planning the maps at the new settings…';
     } else if (state.state === 'awaiting-settings') {
-      this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
+      const advice = poseAdvice(state.error);
+      this.status.textContent = advice
+        ? `${name} is read; its poses would cost too much to find: ${advice}.`
+        : `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
     } else if (state.state === 'failed') {
-      this.status.textContent = state.failed === 'build'
-        ? 'The map stopped short: choose a coarser resolution.'
-        : `Could not read ${name}.`;
+      const advice = poseAdvice(state.error);
+      this.status.textContent = state.failed !== 'build' ? `Could not read ${name}.`
+        : advice ? `The map stopped short: its poses cost more than their bound: ${advice}.` : 'The map stopped short: choose a coarser resolution.';
     } else if (state.state === 'building' && main) {
       this.status.textContent = `Mapping: scan ${count(main.scansDone)} of ${count(main.scansTarget)}…`;
     }

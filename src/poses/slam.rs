@@ -349,3 +349,104 @@ impl PoseSource for Slam {
         self.refused.as_ref()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::scan_match::MatchSettings;
+    use crate::sensors::odometry::OdometryParams;
+
+    fn log(scans: usize) -> ScanLog {
+        let mut text = String::new();
+        for k in 0..scans {
+            let x = k as f64 * 0.05;
+            text.push_str(&format!(
+                "FLASER 4 1.0 1.5 2.0 2.5 {x} 0.0 0.3 {x} 0.0 0.3 {k} h {k}\n"
+            ));
+        }
+        crate::io::carmen::read_scans(text.as_bytes()).unwrap()
+    }
+
+    fn slam(log: &ScanLog, bound: u64) -> Slam {
+        let settings = SourceSettings {
+            seed: 1,
+            noise: OdometryParams::WHEELS,
+            matching: MatchSettings::default(),
+            resolution: 0.05,
+        };
+        let path = log.poses().to_vec();
+        Slam::of_path((path.clone(), path), &settings, bound).unwrap()
+    }
+
+    fn locate(source: &mut Slam, log: &ScanLog, k: usize) -> Result<Pose> {
+        let scan = log.scan(k).unwrap();
+        let none = crate::grid::TiledGrid::new(
+            crate::geometry::GridGeometry::new(8, 8, 0.05, 0.0, 0.0).unwrap(),
+            crate::grid::FilterSettings {
+                prior: 0.5,
+                clamp: 3.5,
+            },
+            64,
+        )
+        .unwrap();
+        source.locate(k, &scan, f64::INFINITY, &none)
+    }
+
+    /// Past its bound the source locates no more scans, and says so by
+    /// name, with the bound; a reset starts it afresh.
+    #[test]
+    fn past_its_bound_slam_refuses_by_name_and_figure() {
+        let log = log(6);
+        let mut unbounded = slam(&log, u64::MAX);
+        locate(&mut unbounded, &log, 0).unwrap();
+        // A bound scan 0's insertion passes.
+        let bound = unbounded.work() - 1;
+        assert!(bound > 4, "scan 0's insertion is work");
+        let mut source = slam(&log, bound);
+        locate(&mut source, &log, 0).unwrap();
+        let e = locate(&mut source, &log, 1).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!(
+                "the pose source slam passed its bound of {bound} units of work"
+            )) && e.contains("at scan 1"),
+            "{e}"
+        );
+        assert_eq!(source.refusal().map(|r| r.to_string()), Some(e.clone()));
+        assert_eq!(locate(&mut source, &log, 1).unwrap_err().to_string(), e);
+        source.reset();
+        assert!(source.refusal().is_none());
+        assert!(locate(&mut source, &log, 0).is_ok());
+    }
+
+    /// A reset hands out the odometry at once, and makes its copies in
+    /// steps; the poses found again are the same, bit for bit.
+    #[test]
+    fn a_reset_restarts_in_steps_to_the_same_poses() {
+        let log = log(30);
+        let mut source = slam(&log, u64::MAX);
+        let mut first = Vec::new();
+        for k in 0..log.len() {
+            first.push(locate(&mut source, &log, k).unwrap());
+            while source.settling() {
+                source.settle_within(0);
+            }
+        }
+        let found = source.poses().to_vec();
+        source.reset();
+        assert!(source.settling());
+        assert_eq!(source.poses(), log.poses());
+        assert_eq!(source.work(), 0);
+        while source.settling() {
+            source.settle_within(0);
+        }
+        assert!(source.work() > 0, "the copies are counted");
+        assert_eq!(source.poses(), log.poses());
+        for (k, pose) in first.iter().enumerate() {
+            assert_eq!(locate(&mut source, &log, k).unwrap(), *pose);
+            while source.settling() {
+                source.settle_within(0);
+            }
+        }
+        assert_eq!(source.poses(), &found[..]);
+    }
+}
