@@ -439,6 +439,11 @@ fn one_beam_log_calls_measured() {
             );
             continue;
         }
+        println!(
+            "{poses:?}: {n} scans read in {:?}, longest read call {:.1} ms",
+            t.elapsed(),
+            longest_read as f64 / 1e6
+        );
         let t = Instant::now();
         let (mut longest, mut calls) = (0, 0);
         loop {
