@@ -395,7 +395,8 @@ fn cpu_ns() -> u64 {
 /// The million-scan log read and built natively in calls of the page's
 /// first budget (run with `SCANS=1000000 cargo test --release --test
 /// real_log_pose_budget -- --ignored --nocapture`; `WRITE=PATH` keeps the
-/// log; `POSES=scan-matched,corrected` measures those sources only): the
+/// log; `POSES=scan-matched,corrected` measures those sources only;
+/// `POSE_BUDGET` the pose budget, unbounded at 18446744073709551615): the
 /// longest read and build calls, in CPU time.
 #[test]
 #[ignore = "a measurement"]
@@ -408,6 +409,8 @@ fn one_beam_log_calls_measured() {
     };
     let n = env("SCANS", 100_000) as usize;
     let budget = env("BUDGET", 250_000);
+    // (`POSE_BUDGET` another pose budget: 18446744073709551615 for none.)
+    let pose_budget = env("POSE_BUDGET", MAX_POSE_WORK);
     let bytes = one_beam_log(n);
     if let Ok(path) = std::env::var("WRITE") {
         std::fs::write(path, &bytes).unwrap();
@@ -417,7 +420,7 @@ fn one_beam_log_calls_measured() {
         if !chosen.is_empty() && !chosen.split(',').any(|n| n == poses.name()) {
             continue;
         }
-        let mut s = RealLogSession::new(bytes.clone());
+        let mut s = RealLogSession::with_pose_work_budget(bytes.clone(), pose_budget);
         s.configure(settings(poses)).unwrap();
         let t = Instant::now();
         let mut longest_read = 0;

@@ -19,8 +19,9 @@
 //! of poses per step ([`PoseSource::settle_within`]).
 
 use super::scan_matched::path_work_bound;
-use super::start::{copy_some, COPIES_PER_UNIT};
-use super::{PoseSource, PoseSourceKind, SourceInfo, SourceSettings, MATCH_DRIFT_MARGIN};
+use super::{
+    PoseSource, PoseSourceKind, SourceInfo, SourceSettings, COPIES_PER_UNIT, MATCH_DRIFT_MARGIN,
+};
 use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::mapping::scan_match::{MatchMap, MatchSettings};
@@ -188,7 +189,14 @@ impl Slam {
         let least = RESTART_STEP_POSES.div_ceil(COPIES_PER_UNIT);
         let units = usize::try_from(max_units).unwrap_or(usize::MAX).max(least);
         let odometry = self.builder.odometry();
-        let mut spent = copy_some(odometry, &mut r.odometry, units);
+        // The fresh copy first (room for all of it reserved at once).
+        let k0 = r.odometry.len();
+        let end = odometry
+            .len()
+            .min(k0.saturating_add(units.saturating_mul(COPIES_PER_UNIT)));
+        r.odometry.reserve_exact(odometry.len() - k0);
+        r.odometry.extend_from_slice(&odometry[k0..end]);
+        let mut spent = (end - k0).div_ceil(COPIES_PER_UNIT);
         let left = units.saturating_sub(spent);
         if r.odometry.len() == odometry.len() && left > 0 {
             let end = r.dirty.min(
@@ -356,29 +364,47 @@ mod tests {
     use crate::mapping::scan_match::MatchSettings;
     use crate::sensors::odometry::OdometryParams;
 
-    fn log(scans: usize) -> ScanLog {
-        let mut text = String::new();
-        for k in 0..scans {
-            let x = k as f64 * 0.05;
-            text.push_str(&format!(
-                "FLASER 4 1.0 1.5 2.0 2.5 {x} 0.0 0.3 {x} 0.0 0.3 {k} h {k}\n"
-            ));
+    /// Scans of four beams, 5 cm apart along a line, and their poses.
+    struct Log(Vec<Scan>);
+
+    impl Log {
+        fn poses(&self) -> Vec<Pose> {
+            self.0.iter().map(|s| s.pose()).collect()
         }
-        crate::io::carmen::read_scans(text.as_bytes()).unwrap()
+        fn len(&self) -> usize {
+            self.0.len()
+        }
+        fn scan(&self, k: usize) -> Option<Scan> {
+            self.0.get(k).cloned()
+        }
     }
 
-    fn slam(log: &ScanLog, bound: u64) -> Slam {
+    fn log(scans: usize) -> Log {
+        let bearings = vec![-0.6, -0.2, 0.2, 0.6];
+        Log((0..scans)
+            .map(|k| {
+                let pose = Pose {
+                    x: k as f64 * 0.05,
+                    y: 0.0,
+                    theta: 0.3,
+                };
+                Scan::new(pose, vec![1.0, 1.5, 2.0, 2.5], bearings.clone()).unwrap()
+            })
+            .collect())
+    }
+
+    fn slam(log: &Log, bound: u64) -> Slam {
         let settings = SourceSettings {
             seed: 1,
             noise: OdometryParams::WHEELS,
             matching: MatchSettings::default(),
             resolution: 0.05,
         };
-        let path = log.poses().to_vec();
+        let path = log.poses();
         Slam::of_path((path.clone(), path), &settings, bound).unwrap()
     }
 
-    fn locate(source: &mut Slam, log: &ScanLog, k: usize) -> Result<Pose> {
+    fn locate(source: &mut Slam, log: &Log, k: usize) -> Result<Pose> {
         let scan = log.scan(k).unwrap();
         let none = crate::grid::TiledGrid::new(
             crate::geometry::GridGeometry::new(8, 8, 0.05, 0.0, 0.0).unwrap(),
@@ -434,13 +460,13 @@ mod tests {
         let found = source.poses().to_vec();
         source.reset();
         assert!(source.settling());
-        assert_eq!(source.poses(), log.poses());
+        assert_eq!(source.poses(), &log.poses()[..]);
         assert_eq!(source.work(), 0);
         while source.settling() {
             source.settle_within(0);
         }
         assert!(source.work() > 0, "the copies are counted");
-        assert_eq!(source.poses(), log.poses());
+        assert_eq!(source.poses(), &log.poses()[..]);
         for (k, pose) in first.iter().enumerate() {
             assert_eq!(locate(&mut source, &log, k).unwrap(), *pose);
             while source.settling() {

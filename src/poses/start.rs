@@ -192,7 +192,7 @@ impl SourceStart {
 /// Copies up to `max_units` units' worth of `from` past the end of `to`
 /// (room for all of `from` reserved at once, so that no step copies the
 /// poses before); returns the units spent.
-pub(super) fn copy_some(from: &[Pose], to: &mut Vec<Pose>, max_units: usize) -> usize {
+fn copy_some(from: &[Pose], to: &mut Vec<Pose>, max_units: usize) -> usize {
     let k0 = to.len();
     if k0 >= from.len() {
         return 0;
