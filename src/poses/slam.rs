@@ -82,7 +82,9 @@ const RESTART_STEP_POSES: usize = 4096;
 ///   optimised: [`LOOP_SEARCH_ALLOWANCE`] searches of a whole submap each
 ///   (the loop search's cost grows with the submaps near a scan, which no
 ///   plan knows before the path is found: an allowance the source keeps,
-///   not a bound of the search).
+///   not a bound of the search);
+/// - the two copies of the path a reset makes again, [`COPIES_PER_UNIT`]
+///   poses to a unit (a step's last unit perhaps not full).
 pub(super) fn work_bound(settings: &MatchSettings, resolution: f64, log: &ScanLog) -> u64 {
     let n = log.len() as u64;
     let local = path_work_bound(settings, resolution, log);
@@ -101,10 +103,12 @@ pub(super) fn work_bound(settings: &MatchSettings, resolution: f64, log: &ScanLo
     let loops = searches
         .saturating_mul(LOOP_SEARCH_ALLOWANCE)
         .saturating_mul(cells.saturating_mul(SEARCH_HALF_UNITS_PER_CELL) / 2);
+    let copies = 2 * (n.div_ceil(COPIES_PER_UNIT as u64) + 1);
     local
         .saturating_add(inserted)
         .saturating_add(finished)
         .saturating_add(loops)
+        .saturating_add(copies)
 }
 
 /// SLAM as a pose source.
