@@ -6,7 +6,8 @@
 //! scores, so that a call of one-beam scans is as long as any other.
 
 use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK};
-use occgrid::poses::{match_work, PoseSourceKind};
+use occgrid::poses::{match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT};
+use occgrid::sensors::odometry::OdometryParams;
 use std::time::Instant;
 
 /// The hostile log's length: a million scans.
@@ -102,6 +103,98 @@ fn a_log_whose_matching_passes_the_budget_is_refused_by_its_figure_and_the_budge
     assert_eq!(s.state().scans_done, scans);
 }
 
+/// SLAM over the same 2,000-scan share against the same share of the
+/// budget: its bound (the scan-matched source's matching, the insertion
+/// into submaps, and an allowance for the loop search and the
+/// optimisation) is refused when the panes are planned, before its path
+/// is made, by name, with the figure and the budget; a log of a million
+/// one-beam scans at SLAM was otherwise mapped for as long as it took.
+#[test]
+fn a_slam_log_whose_work_passes_the_budget_is_refused_by_its_figure_and_the_budget() {
+    let scans = 2000;
+    let budget = MAX_POSE_WORK / (MILLION / scans) as u64;
+    let mut s = RealLogSession::with_pose_work_budget(one_beam_log(scans), budget);
+    s.configure(settings(PoseSourceKind::Slam)).unwrap();
+    let (_, total, error) = read_in_calls(&mut s, 1 << 16);
+    let message = error.expect("SLAM is refused");
+    assert!(
+        message.contains("invalid poses: \"slam\" over 2000 scans"),
+        "{message}"
+    );
+    assert!(
+        message.contains(&format!("at most {budget} units")),
+        "{message}"
+    );
+    let bound: u64 = message
+        .split("could cost up to ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("the figure is named: {message}"));
+    assert!(bound > budget, "{message}");
+    // The million-scan log passes the whole budget by as much.
+    assert!(bound * (MILLION / scans) as u64 > MAX_POSE_WORK);
+    // What fits is said: the scans that would, and poses known in advance.
+    let fit = budget as u128 * scans as u128 / bound as u128;
+    assert!(
+        message.contains(&format!("or cut it to at most {fit} scans")),
+        "{message}"
+    );
+    assert!(message.contains("the log's own poses"), "{message}");
+    // Refused before its path was made: the lines read, little more.
+    assert!(
+        total < scans + scans / 10,
+        "{total} units to read {scans} scans and refuse them"
+    );
+    assert_eq!(s.stage(), Stage::AwaitingSettings);
+}
+
+/// The sizes of the shared logs (scans, beams a scan: the Intel lab and
+/// its bags, ACES and its bag, FHW, Freiburg 101, the campus, the Infinite
+/// Corridor) at the real-log defaults: SLAM's bound and the scan matcher's
+/// fit the budget, SLAM's with room for its loop search (the campus, the
+/// largest, is bounded at under 1.9e10).
+#[test]
+fn the_shared_logs_sizes_fit_the_pose_budget_in_every_source() {
+    let defaults = LogMapSettings::default();
+    let source_settings = SourceSettings {
+        seed: 1,
+        noise: OdometryParams::WHEELS,
+        matching: match_settings(defaults.range_cap),
+        resolution: defaults.resolution,
+    };
+    let mut largest = (0, 0);
+    for (scans, beams) in [
+        (910, 180),
+        (440, 180),
+        (488, 180),
+        (292, 360),
+        (2008, 360),
+        (1941, 180),
+    ] {
+        let log = occgrid::io::carmen::read_scans(&creeping_log(scans, beams, 5.0)[..]).unwrap();
+        assert_eq!((log.len(), log.beams()), (scans, scans * beams));
+        let bound = |kind: PoseSourceKind| {
+            kind.starting(&log, &source_settings)
+                .unwrap()
+                .work_bound(&log)
+                .unwrap()
+        };
+        let (slam, matched) = (
+            bound(PoseSourceKind::Slam),
+            bound(PoseSourceKind::ScanMatched),
+        );
+        assert!(
+            slam <= MAX_POSE_WORK && matched <= MAX_POSE_WORK,
+            "{scans} scans of {beams} beams: SLAM {slam}, scan matching {matched}"
+        );
+        // SLAM matches as the scan matcher does, and searches loops besides.
+        assert!(slam > 2 * matched, "{slam} against {matched}");
+        largest = largest.max((slam, scans));
+    }
+    assert_eq!(largest.1, 2008, "the campus is the largest");
+}
+
 /// Reads `session` to its end in calls of `max_scans`: the most work a
 /// call reported, the work of all of them (a refused call's as the read's
 /// report keeps it), and the error of the last.
@@ -134,25 +227,41 @@ fn read_in_calls(session: &mut RealLogSession, max_scans: usize) -> (usize, usiz
 /// lines read, the two dead-reckoned paths (the scan-matched pane's and
 /// the dead-reckoned one's) and the dead-reckoned pane's walk of its
 /// extent.
+///
+/// SLAM's pane makes two copies of its path too (the odometry its graph
+/// starts from, the poses it hands out): in the steps of the read, counted,
+/// never in the call that takes the started source (which copied both at
+/// once). (Its bound is past the budget at this length: the test's budget
+/// is unbounded.)
 #[test]
 fn no_read_call_starts_every_pose_of_a_long_log() {
     let scans = 10_000;
     let bytes = one_beam_log(scans);
-    for max_scans in [1, 97, 4096] {
-        let mut s = RealLogSession::new(bytes.clone());
-        s.configure(settings(PoseSourceKind::ScanMatched)).unwrap();
-        let (longest, total, error) = read_in_calls(&mut s, max_scans);
-        assert_eq!(error, None);
-        assert!(
-            longest <= max_scans,
-            "a call of {max_scans} scans worked {longest}"
-        );
-        assert!(
-            total >= 4 * scans,
-            "{total} units reported for {scans} scans read, two paths dead-reckoned and one walked"
-        );
-        assert_eq!(s.panes().len(), 3);
-        assert_eq!(s.stage(), Stage::Building);
+    for poses in [PoseSourceKind::ScanMatched, PoseSourceKind::Slam] {
+        for max_scans in [1, 97, 4096] {
+            let mut s = RealLogSession::with_pose_work_budget(bytes.clone(), u64::MAX);
+            s.configure(settings(poses)).unwrap();
+            let (longest, total, error) = read_in_calls(&mut s, max_scans);
+            assert_eq!(error, None);
+            assert!(
+                longest <= max_scans,
+                "{poses:?}: a call of {max_scans} scans worked {longest}"
+            );
+            assert!(
+                total >= 4 * scans,
+                "{total} units reported for {scans} scans read, two paths dead-reckoned and one walked"
+            );
+            if poses == PoseSourceKind::Slam {
+                // The corrected pane's copy and SLAM's second copy.
+                let copies = 2 * (scans / COPIES_PER_UNIT);
+                assert!(
+                    total >= 4 * scans + copies,
+                    "{total} units reported: SLAM's copy of its path is not counted"
+                );
+            }
+            assert_eq!(s.panes().len(), 3);
+            assert_eq!(s.stage(), Stage::Building);
+        }
     }
     // New settings plan in bounded calls too.
     let mut s = RealLogSession::new(bytes);
@@ -190,6 +299,48 @@ fn a_refused_pane_stops_the_plan() {
         "{total} units to read {scans} scans and refuse them"
     );
     assert_eq!(s.stage(), Stage::AwaitingSettings);
+}
+
+/// Seeking back restarts a SLAM pane from its first scan: its odometry
+/// copied again for a fresh graph, and the poses it hands out set back.
+/// Over a long log that is a long copy: it is done in the build's calls
+/// that follow, a bounded step each and counted in their work, not in the
+/// seek (which copied every pose at once, uncounted); and the poses found
+/// again are the same, bit for bit.
+#[test]
+fn seeking_back_restarts_slam_in_bounded_calls() {
+    let scans = 20_000;
+    let built = 100;
+    let mut s = RealLogSession::with_pose_work_budget(one_beam_log(scans), u64::MAX);
+    s.configure(settings(PoseSourceKind::Slam)).unwrap();
+    read_all(&mut s).unwrap();
+    s.seek(built).unwrap();
+    while !s.build_slice(1 << 22).unwrap().finished {}
+    let first: Vec<_> = s.panes()[0].poses()[..built].to_vec();
+    assert_eq!(s.panes()[0].progress().scans_done, built);
+
+    s.seek(0).unwrap();
+    let slam = |s: &RealLogSession| s.panes()[0].progress();
+    assert!(!slam(&s).finished, "the restart is work left");
+    let (mut calls, mut longest, mut before) = (0, 0, slam(&s).work);
+    while !s.build_slice(1).unwrap().finished {
+        let p = slam(&s);
+        longest = longest.max(p.work - before);
+        before = p.work;
+        calls += 1;
+    }
+    let copies = (scans / COPIES_PER_UNIT) as u64;
+    assert!(
+        slam(&s).work >= copies,
+        "{} units counted for copying {scans} poses",
+        slam(&s).work
+    );
+    assert!(calls >= 4, "{calls} calls");
+    assert!(longest < copies / 2, "a call worked {longest} units");
+
+    s.seek(built).unwrap();
+    while !s.build_slice(1 << 22).unwrap().finished {}
+    assert_eq!(s.panes()[0].poses()[..built], first[..]);
 }
 
 /// A candidate of the search costs a unit at least, whatever its points:
@@ -244,7 +395,8 @@ fn cpu_ns() -> u64 {
 /// The million-scan log read and built natively in calls of the page's
 /// first budget (run with `SCANS=1000000 cargo test --release --test
 /// real_log_pose_budget -- --ignored --nocapture`; `WRITE=PATH` keeps the
-/// log; `POSES=scan-matched,corrected` measures those sources only): the
+/// log; `POSES=scan-matched,corrected` measures those sources only;
+/// `POSE_BUDGET` the pose budget, unbounded at 18446744073709551615): the
 /// longest read and build calls, in CPU time.
 #[test]
 #[ignore = "a measurement"]
@@ -257,6 +409,8 @@ fn one_beam_log_calls_measured() {
     };
     let n = env("SCANS", 100_000) as usize;
     let budget = env("BUDGET", 250_000);
+    // (`POSE_BUDGET` another pose budget: 18446744073709551615 for none.)
+    let pose_budget = env("POSE_BUDGET", MAX_POSE_WORK);
     let bytes = one_beam_log(n);
     if let Ok(path) = std::env::var("WRITE") {
         std::fs::write(path, &bytes).unwrap();
@@ -266,7 +420,7 @@ fn one_beam_log_calls_measured() {
         if !chosen.is_empty() && !chosen.split(',').any(|n| n == poses.name()) {
             continue;
         }
-        let mut s = RealLogSession::new(bytes.clone());
+        let mut s = RealLogSession::with_pose_work_budget(bytes.clone(), pose_budget);
         s.configure(settings(poses)).unwrap();
         let t = Instant::now();
         let mut longest_read = 0;
@@ -288,6 +442,11 @@ fn one_beam_log_calls_measured() {
             );
             continue;
         }
+        println!(
+            "{poses:?}: {n} scans read in {:?}, longest read call {:.1} ms",
+            t.elapsed(),
+            longest_read as f64 / 1e6
+        );
         let t = Instant::now();
         let (mut longest, mut calls) = (0, 0);
         loop {
@@ -356,5 +515,80 @@ fn time_per_unit_measured() {
             c.2, log.beams(), c.0 as f64 / c.1 as f64, c.1 as f64 / c.2 as f64,
             ns / units, units / m.2 as f64, ns / m.2 as f64 / 1e3, 100.0 * units / bound as f64
         );
+    }
+}
+
+/// SLAM's work on each shared log at 5 cm, seed 1, by part, beside its
+/// bound (run with `cargo test --release --test real_log_pose_budget --
+/// --ignored --nocapture slam_work_measured`; `OCCGRID_DATASETS` names the
+/// folder of the logs, `LOGS` a comma-separated list of their file names):
+/// the local matches, the insertion into submaps and their finishing, and
+/// the loop search and optimisation together.
+#[test]
+#[ignore = "a measurement"]
+fn slam_work_measured() {
+    use occgrid::poses::ScanMatching;
+    use occgrid::slam::SlamBuilder;
+    let dir = std::env::var("OCCGRID_DATASETS")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/datasets").into());
+    let names = std::env::var("LOGS").unwrap_or_else(|_| {
+        "intel-corrected.log.gz,aces-corrected.log.gz,fhw-corrected.log.gz,\
+         freiburg-101-corrected.log.gz,freiburg-campus-corrected.log.gz,\
+         infinite-corridor-corrected.log.gz,intel-perfect.mcap,intel-noisy.mcap,aces-noisy.mcap"
+            .into()
+    });
+    let defaults = LogMapSettings::default();
+    let source_settings = SourceSettings {
+        seed: 1,
+        noise: OdometryParams::WHEELS,
+        matching: match_settings(defaults.range_cap),
+        resolution: defaults.resolution,
+    };
+    for name in names.split(',') {
+        let bytes = std::fs::read(format!("{dir}/{name}")).unwrap();
+        // A bag is read at its own odometry, a CARMEN log at its poses.
+        let own = if name.ends_with(".mcap") {
+            PoseSourceKind::Odometry
+        } else {
+            PoseSourceKind::Corrected
+        };
+        let mut s = RealLogSession::new(bytes);
+        s.configure(settings(own)).unwrap();
+        read_all(&mut s).unwrap();
+        let log = s.pane(0).unwrap().scans().clone();
+        let bound = PoseSourceKind::Slam
+            .starting(&log, &source_settings)
+            .unwrap()
+            .work_bound(&log)
+            .unwrap();
+        let odometry = ScanMatching::odometry_of(&log, 1, &OdometryParams::WHEELS);
+        let s = &source_settings;
+        let mut b = SlamBuilder::new(odometry, s.noise, s.matching, s.resolution).unwrap();
+        let (mut matched, mut inserted, mut settled) = (0u64, 0u64, 0u64);
+        let t = Instant::now();
+        for k in 0..log.len() {
+            let w = b.work();
+            let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);
+            b.locate_scan(&log.scan(k).unwrap(), laser_max).unwrap();
+            inserted += b.work() - w;
+            matched += match_work(b.last_match());
+            let w = b.work();
+            b.settle_within(u64::MAX);
+            settled += b.work() - w;
+        }
+        let total = matched + inserted + settled;
+        println!(
+            "{name}: {} scans, {:.1} s; matched {matched:.2e}, inserted and finished {inserted:.2e}, \
+             searched and optimised {settled:.2e}, {} closures: {total:.2e} of its bound {bound:.2e}",
+            log.len(),
+            t.elapsed().as_secs_f64(),
+            b.closures(),
+            total = total as f64,
+            bound = bound as f64,
+            matched = matched as f64,
+            inserted = inserted as f64,
+            settled = settled as f64,
+        );
+        assert!(total <= bound);
     }
 }

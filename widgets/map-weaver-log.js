@@ -32,6 +32,7 @@ import { floatingReadout, mapStage, placeReadout } from './lib/cell-pointer.js';
 import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
 import { topicChooser } from './lib/topic-chooser.js';
 import { poseGraphControl } from './lib/pose-graph-layer.js';
+import { statusText } from './lib/log-status.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -501,21 +502,8 @@ export class RealLogPanel {
     if (!full) return;
     this.progress.value = state.progress;
     const main = state.panes[MAIN];
-    const read = state.read;
-    const name = this.reading ?? this.name;
-    if (state.state === 'reading') {
-      this.status.textContent = `Reading ${name}: ${count(read?.records ?? 0)} ${read?.recordName ?? 'records'}, ${count(read?.scans ?? 0)} scans…`;
-    } else if (state.state === 'planning') {
-      this.status.textContent = 'Planning the maps at the new settings…';
-    } else if (state.state === 'awaiting-settings') {
-      this.status.textContent = `${name} is read; choose a coarser resolution or a shorter z_max to map it.`;
-    } else if (state.state === 'failed') {
-      this.status.textContent = state.failed === 'build'
-        ? 'The map stopped short: choose a coarser resolution.'
-        : `Could not read ${name}.`;
-    } else if (state.state === 'building' && main) {
-      this.status.textContent = `Mapping: scan ${count(main.scansDone)} of ${count(main.scansTarget)}…`;
-    }
+    const text = statusText(state, this.reading ?? this.name);
+    if (text !== null) this.status.textContent = text;
     if (main && (state.state === 'building' || state.state === 'done')) this.scrub.set(main.scansDone);
     // The maps can be scrubbed whenever there are maps, but not while a log
     // is read; exported only once built to the scan chosen (never a map cut

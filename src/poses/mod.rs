@@ -38,7 +38,7 @@ pub use pose_error::{Alignment, AlignmentSums, GrowingAlignment};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
-pub use slam::Slam;
+pub use slam::{Slam, LOOP_SEARCH_ALLOWANCE};
 pub use start::{SourceStart, COPIES_PER_UNIT};
 
 use crate::error::{invalid, Result};
@@ -121,6 +121,13 @@ pub trait PoseSource {
     /// The pose graph of a source that keeps one (SLAM: its nodes, local
     /// edges and loop closures), for a page to draw; `None` for the others.
     fn pose_graph(&self) -> Option<&crate::slam::PoseGraph> {
+        None
+    }
+
+    /// Why the source locates no more scans, once it has refused to (a
+    /// SLAM source past its bound of work, [`PoseSource::work_bound`]):
+    /// a build then stops there and says so.
+    fn refusal(&self) -> Option<&crate::error::OccError> {
         None
     }
 

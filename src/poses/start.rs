@@ -5,6 +5,9 @@
 //! a log is read, never makes a million poses in one call
 //! (docs/ARCHITECTURE.md, "Real logs"). [`PoseSourceKind::start`] is the
 //! same start run to its end: one path, bit for bit, however it is cut.
+//! A source that finds its poses (scan matching, SLAM) also has its
+//! second copy of the path made here, so that its making costs no walk
+//! of the poses.
 
 use super::scan_matched::path_work_bound;
 use super::{corrected, dead_reckoning, odometry, scan_matched, slam};
@@ -38,8 +41,9 @@ pub struct SourceStart {
     kind: PoseSourceKind,
     settings: SourceSettings,
     path: Path,
-    /// A scan-matched source's matcher (its settings checked when the
-    /// start begins) and the second copy of its path it finds poses in.
+    /// A scan-matched or SLAM source's matcher (its settings checked when
+    /// the start begins) and the second copy of its path it finds poses
+    /// in.
     matcher: Option<(ScanMatcher, Vec<Pose>)>,
 }
 
@@ -68,11 +72,10 @@ impl PoseSourceKind {
                 odometry::check_has_odometry(log)?;
                 (copy(true), None)
             }
-            Self::ScanMatched => {
+            Self::ScanMatched | Self::Slam => {
                 let matcher = ScanMatcher::for_resolution(settings.matching, settings.resolution)?;
                 (corrected_odometry(), Some((matcher, Vec::new())))
             }
-            Self::Slam => (corrected_odometry(), None),
         };
         Ok(SourceStart {
             kind: self,
@@ -90,15 +93,15 @@ impl SourceStart {
     }
 
     /// The most work finding the poses of `log` may cost the source, where
-    /// known before its path is (a scan matcher's,
+    /// known before its path is (a scan matcher's or SLAM's,
     /// [`PoseSource::work_bound`]); `None` until the source is started.
     pub fn work_bound(&self, log: &ScanLog) -> Option<u64> {
         let (matcher, _) = self.matcher.as_ref()?;
-        Some(path_work_bound(
-            matcher.settings(),
-            self.settings.resolution,
-            log,
-        ))
+        let (settings, resolution) = (matcher.settings(), self.settings.resolution);
+        Some(match self.kind {
+            PoseSourceKind::Slam => slam::work_bound(settings, resolution, log),
+            _ => path_work_bound(settings, resolution, log),
+        })
     }
 
     /// Makes up to `max_units` units of the path over `log` (the log the
@@ -142,7 +145,7 @@ impl SourceStart {
     }
 
     /// True once the path over `log` is made: [`Self::finish`] then costs
-    /// no walk of the poses (but for SLAM's own copies of its path).
+    /// no walk of the poses.
     pub fn is_done(&self, log: &ScanLog) -> bool {
         let n = log.len();
         self.path_len() == n && self.matcher.as_ref().is_none_or(|(_, c)| c.len() == n)
@@ -173,7 +176,15 @@ impl SourceStart {
                 s.matching,
                 s.resolution,
             )?),
-            (PoseSourceKind::Slam, _) => Box::new(slam::Slam::from_odometry(path, s)?),
+            (PoseSourceKind::Slam, Some((matcher, poses))) => {
+                let bound = slam::work_bound(matcher.settings(), s.resolution, log);
+                Box::new(slam::Slam::of_path((path, poses), s, bound)?)
+            }
+            // (Not reached: a SLAM start has its matcher.)
+            (PoseSourceKind::Slam, None) => {
+                let bound = slam::work_bound(&s.matching, s.resolution, log);
+                Box::new(slam::Slam::of_path((path.clone(), path), s, bound)?)
+            }
         })
     }
 }

@@ -33,7 +33,10 @@ pub const UNITS_PER_NEW_CELL: u64 = 2;
 /// the most; the largest log of the corpus, the Freiburg campus (2,008
 /// scans of 360 beams), is bounded at 2.9e9 at 5 cm, and its matching
 /// costs a sixth of that. A log of a million one-beam scans, bounded at
-/// 3.5e11, is refused when its panes are planned, not matched for minutes. (A source that knows
+/// 3.5e11, is refused when its panes are planned, not matched for minutes.
+/// SLAM's bound adds its submaps and an allowance for its loop search
+/// ([`crate::poses::LOOP_SEARCH_ALLOWANCE`]): the campus at 1.9e10 at 5 cm,
+/// the Intel log at 7.5e9 (its search and optimisation spent 3.4e9). (A source that knows
 /// its poses costs nothing here; what inserting the scans costs is
 /// bounded by the scans a log may keep, [`crate::io::LogBudget`].)
 pub const MAX_POSE_WORK: u64 = 20_000_000_000;
@@ -262,13 +265,18 @@ pub(super) fn check_pose_bound(
         return Ok(());
     }
     let n = scans.len() as u64;
+    // What fits: the bound grows with the scans (a scan's share of it is
+    // the same, but for SLAM's finished submaps), and sources that know
+    // their poses cost nothing. (A coarser resolution shrinks the share of
+    // a scan's search, but at a million scans not by enough to fit.)
+    let fit = (budget as u128 * n as u128 / (bound as u128).max(1)) as u64;
     Err(invalid(
         "poses",
         format!("\"{}\" over {n} scans", kind.name()),
         format!(
             "a log whose poses cost at most {budget} units of work (cell updates) to find: \
              these {n} scans could cost up to {bound} ({} a scan); \
-             fewer scans, a coarser resolution, a shorter range cap or poses known in advance",
+             map it at the log's own poses or dead-reckoned ones, or cut it to at most {fit} scans",
             bound / n.max(1)
         ),
     ))

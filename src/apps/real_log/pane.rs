@@ -390,6 +390,11 @@ impl LogPane {
         }
         if self.source.settling() {
             self.source.settle_within(0);
+            if let Some(e) = self.source.refusal() {
+                // Past what finding the poses may cost: said, not built on.
+                self.failure = Some(e.clone());
+                return;
+            }
             if self.source.revision() != self.revision {
                 self.follow_revision();
             }
