@@ -60,38 +60,12 @@ const RECENT_SCANS: usize = 3 * SUBMAP_SCANS;
 /// still agree, and how many scans back a partner is looked for.
 const AGREEMENT: [f64; 2] = [0.25, 0.05];
 const AGREEMENT_SCANS: usize = 12;
-/// Spreads of an accepted local match across the walls it is sharpest
-/// against ([`match_sigma`]) and of a loop closure (metres,
+/// Spreads of an accepted local match and of a loop closure (metres,
 /// metres, radians).
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
-
-/// The spreads (forward, left, turn; in the frame of the scan before) of
-/// an accepted local match whose fit has `curvature` (the map's frame),
-/// predicted with the position spread `prior_spread`: [`MATCH_SIGMA`]
-/// across the walls the fit is sharpest against, and along a direction
-/// the walls do not pin (down a featureless corridor) what the fit and the
-/// odometry's prediction together say, so that the optimiser stretches a
-/// corridor rather than bend its walls to close a loop.
-fn match_sigma(curvature: &[[f64; 2]; 2], prior_spread: f64, heading: f64) -> [f64; 3] {
-    let [[a, b], [_, d]] = *curvature;
-    let largest = 0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt();
-    if !(largest > 0.0 && largest.is_finite() && prior_spread > 0.0) {
-        return MATCH_SIGMA;
-    }
-    // Fit information scaled so its sharpest direction has MATCH_SIGMA,
-    // plus the prediction's, inverted to a covariance.
-    let k = 1.0 / (largest * MATCH_SIGMA[0] * MATCH_SIGMA[0]);
-    let prior = 1.0 / (prior_spread * prior_spread);
-    let (ia, ib, id) = (a * k + prior, b * k, d * k + prior);
-    let det = ia * id - ib * ib;
-    let (ca, cb, cd) = (id / det, -ib / det, ia / det);
-    let (s, c) = heading.sin_cos();
-    let along = |u: [f64; 2]| (u[0] * u[0] * ca + 2.0 * u[0] * u[1] * cb + u[1] * u[1] * cd).sqrt();
-    [along([c, s]), along([-s, c]), MATCH_SIGMA[2]]
-}
 
 /// A loop-search match waiting for a partner.
 #[derive(Debug, Clone, Copy)]
@@ -286,11 +260,7 @@ impl SlamBuilder {
             let node = compose(&self.graph.nodes[k - 1], motion);
             self.graph.nodes.push(node);
             let sigma = if report.accepted {
-                match_sigma(
-                    &report.curvature,
-                    prediction.position_spread,
-                    self.local[k - 1].theta,
-                )
+                MATCH_SIGMA
             } else {
                 [
                     prediction.position_spread,
@@ -485,40 +455,5 @@ impl SlamBuilder {
                 return !self.is_settling();
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_local_edge_is_loose_only_along_what_the_walls_do_not_pin() {
-        // Walls across x only (a corridor along y), the odometry's
-        // prediction good to 0.3 m.
-        let corridor = [[4.0, 0.0], [0.0, 0.0]];
-        let close = |a: f64, b: f64| (a - b).abs() < 1e-3;
-        // Heading along x: forward is pinned, left is the odometry's.
-        let s = match_sigma(&corridor, 0.3, 0.0);
-        assert!(
-            s[0] < MATCH_SIGMA[0] && close(s[0], MATCH_SIGMA[0]),
-            "{s:?}"
-        );
-        assert!(close(s[1], 0.3), "{s:?}");
-        // Heading along y: the same, in the robot's own frame.
-        let s = match_sigma(&corridor, 0.3, std::f64::consts::FRAC_PI_2);
-        assert!(close(s[0], 0.3) && close(s[1], MATCH_SIGMA[0]), "{s:?}");
-        // Walls all round pin both ways alike.
-        let room = match_sigma(&[[4.0, 0.0], [0.0, 4.0]], 0.3, 0.7);
-        assert!(
-            close(room[0], room[1]) && close(room[0], MATCH_SIGMA[0]),
-            "{room:?}"
-        );
-        // A fit with no curvature to read keeps the fixed spreads.
-        assert_eq!(match_sigma(&[[0.0; 2]; 2], 0.3, 0.0), MATCH_SIGMA);
-        assert_eq!(
-            match_sigma(&[[f64::NAN, 0.0], [0.0, 1.0]], 0.3, 0.0),
-            MATCH_SIGMA
-        );
     }
 }

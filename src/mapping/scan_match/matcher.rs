@@ -70,10 +70,6 @@ pub struct MatchReport {
     pub iterations: usize,
     /// Map cells read into the coarse levels.
     pub cells_read: usize,
-    /// The accepted fit's curvature in position (`mean J_i^T J_i`, the
-    /// map's frame; zero when no match was accepted): its shape says
-    /// which directions the walls in view pin.
-    pub curvature: [[f64; 2]; 2],
 }
 
 impl MatchReport {
@@ -92,7 +88,6 @@ impl MatchReport {
             candidates: 0,
             iterations: 0,
             cells_read: 0,
-            curvature: [[0.0; 2]; 2],
         }
     }
 }
@@ -192,7 +187,6 @@ impl ScanMatcher {
             candidates: 0,
             iterations: 0,
             cells_read: 0,
-            curvature: [[0.0; 2]; 2],
         };
         report.predicted_score = report.score;
         if points.is_empty() {
@@ -295,7 +289,6 @@ impl ScanMatcher {
         {
             report.fit = pose;
             report.pose = prediction.update(&pose, refined.curvature, &s);
-            report.curvature = refined.curvature;
             report.score = score;
             report.accepted = true;
         }
