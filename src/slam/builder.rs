@@ -64,6 +64,10 @@ const AGREEMENT_SCANS: usize = 12;
 /// metres, radians).
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
+/// The least multiply–adds of the optimiser a settling step runs (about a
+/// tenth of a millisecond natively): one Gauss–Newton iteration of a long
+/// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
+const OPTIMIZER_STEP_WORK: u64 = 1 << 16;
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
 
@@ -430,9 +434,10 @@ impl SlamBuilder {
     }
 
     /// Runs the loop search under way a submap a step, then the
-    /// optimisation whole iterations at a time ([`Optimizer::run_within`]),
-    /// until this call's work reaches `budget` (in cell updates; at least
-    /// one step); once the optimisation has converged the revision rises.
+    /// optimisation a slice of an iteration at a time
+    /// ([`Optimizer::run_within`]), until this call's work reaches `budget`
+    /// (in cell updates; at least one step); once the optimisation has
+    /// converged the revision rises.
     /// True when neither is left under way.
     pub fn settle_within(&mut self, budget: u64) -> bool {
         let start = self.work();
@@ -441,8 +446,14 @@ impl SlamBuilder {
             if self.searching.is_some() {
                 self.search_step();
             } else if let Some(optimizer) = self.optimizing.as_mut() {
-                // The optimiser counts multiply–adds, eight to a cell update.
-                let left = budget.saturating_sub(spent).saturating_mul(8);
+                // The optimiser counts multiply–adds, eight to a cell update;
+                // a step of at least OPTIMIZER_STEP_WORK, so that a caller
+                // asking for a step at a time (a budget of 0) gets one worth
+                // the asking.
+                let left = budget
+                    .saturating_sub(spent)
+                    .saturating_mul(8)
+                    .max(OPTIMIZER_STEP_WORK);
                 if optimizer.run_within(&mut self.graph, left) {
                     self.work += optimizer.work() / 8;
                     self.optimizing = None;
