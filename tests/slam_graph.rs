@@ -130,11 +130,7 @@ fn lapped(laps: usize) -> PoseGraph {
     let lap: Vec<Pose> = ring()
         .windows(2)
         .flat_map(|w| {
-            let mid = pose(
-                0.5 * (w[0].x + w[1].x),
-                0.5 * (w[0].y + w[1].y),
-                w[0].theta,
-            );
+            let mid = pose(0.5 * (w[0].x + w[1].x), 0.5 * (w[0].y + w[1].y), w[0].theta);
             [w[0], mid]
         })
         .collect();

@@ -316,11 +316,7 @@ impl LoopGrid {
     }
 
     /// The best candidate of every heading refined: the match, if any.
-    fn finish_search(
-        &self,
-        search: &mut SearchUnderWay,
-        points: &[[f64; 2]],
-    ) -> Option<LoopMatch> {
+    fn finish_search(&self, search: &mut SearchUnderWay, points: &[[f64; 2]]) -> Option<LoopMatch> {
         let (_, hi, dx, dy) = search.best?;
         let res = self.resolution;
         let predicted = search.predicted;

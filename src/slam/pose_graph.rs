@@ -261,7 +261,10 @@ impl Optimizer {
                     Stage::Zeroing(system)
                 };
             }
-            Stage::Assembling { mut system, mut next } => {
+            Stage::Assembling {
+                mut system,
+                mut next,
+            } => {
                 while next < graph.edges.len() {
                     let e = &graph.edges[next];
                     if e.active {
