@@ -165,11 +165,12 @@ async function collect() {
     c.longest_ms = Math.max(c.longest_ms, ms);
   }
   // Each build call's work against the budget it was given (the trace's
-  // `['build', ms, budget, work, scans]`): what bounds a call whatever
-  // else the machine runs.
-  let overBudget = null;
+  // `['build', ms, budget, work, scans]`): what a call did past its budget
+  // is the last step's work (a call stops after the step that reaches the
+  // budget), what bounds a call whatever else the machine runs.
+  let pastBudget = null;
   for (const [what, , budget, work] of realLog?.trace ?? []) {
-    if (what === 'build' && budget > 0 && work >= 0) overBudget = Math.max(overBudget ?? 0, work / budget);
+    if (what === 'build' && work >= 0) pastBudget = Math.max(pastBudget ?? 0, work - budget);
   }
   for (const c of Object.values(calls)) {
     c.ms = Math.round(c.ms * 10) / 10;
@@ -181,7 +182,8 @@ async function collect() {
     ms: w.tEnd - w.t0,
     longest: during.length ? Math.max(...during.map(([, ms]) => ms)) : null,
     longTasks,
-    overBudget,
+    pastBudget,
+    budgets: (realLog?.trace ?? []).filter(([what]) => what === 'build').map(([, , budget]) => budget),
     memoryBytes: memory.buffer.byteLength,
     scans: num(/of ([\d,]+) scans/),
     beams: num(/([\d,]+) beams/),
@@ -255,9 +257,12 @@ async function measure(openPage, file, poses) {
     // The median run's calls into the core by kind (read, build, draw):
     // their count, total and longest milliseconds.
     calls: middle.calls,
-    // The most work a build call did for its budget, over all runs (1: to
-    // the unit; a call stops after the step that reaches its budget).
-    build_work_per_budget: runs.some((r) => r.overBudget !== null) ? round(Math.max(...runs.map((r) => r.overBudget ?? 0)), 2) : null,
+    // The most work a build call did past its budget, over all runs (in
+    // the core's units: a cell update), against the median budget of the
+    // median run's calls: one step's work, small beside a slice when
+    // every step is bounded.
+    build_past_budget: runs.some((r) => r.pastBudget !== null) ? Math.max(...runs.map((r) => r.pastBudget ?? 0)) : null,
+    build_median_budget: middle.budgets.length ? median(middle.budgets) : null,
     // Every run's long tasks (50 ms and over), longest first, each with
     // the calls into the core and the canvas uploads and strokes it held.
     long_tasks: runs.flatMap((r) => r.longTasks).sort((a, b) => b.ms - a.ms).slice(0, 8),
