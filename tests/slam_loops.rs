@@ -246,7 +246,7 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
         model: LogCellModel::LogOdds,
         ..LogMapSettings::default()
     };
-    // Built again at a fifth of the budget: below a whole submap's loop
+    // Built again at half the budget: below a whole submap's loop
     // search or optimiser iteration, which are cut into smaller steps.
     let build = |budget: u64| {
         let mut pane = LogPane::new(log.clone(), settings).unwrap();
@@ -272,7 +272,7 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
         );
         pane
     };
-    build(BUDGET / 5);
+    build(BUDGET / 2);
     let pane = build(BUDGET);
     // The poses of SLAM run with every optimisation in one call.
     let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);

@@ -183,6 +183,15 @@ async function collect() {
     longest: during.length ? Math.max(...during.map(([, ms]) => ms)) : null,
     longTasks,
     pastBudget,
+    // The longest build call and the two before it, `[ms, budget, work,
+    // scans]`: a long call with its work near its budget is the machine's
+    // load, or a budget sized from cheaper work before it.
+    longestBuild: (() => {
+      const builds = (realLog?.trace ?? []).filter(([what]) => what === 'build');
+      let at = -1;
+      builds.forEach(([, ms], i) => { if (at < 0 || ms > builds[at][1]) at = i; });
+      return at < 0 ? null : builds.slice(Math.max(0, at - 2), at + 1).map(([, ms, budget, work, scans]) => [Math.round(ms), budget, work, scans]);
+    })(),
     budgets: (realLog?.trace ?? []).filter(([what]) => what === 'build').map(([, , budget]) => budget),
     memoryBytes: memory.buffer.byteLength,
     scans: num(/of ([\d,]+) scans/),
@@ -263,6 +272,7 @@ async function measure(openPage, file, poses) {
     // every step is bounded.
     build_past_budget: runs.some((r) => r.pastBudget !== null) ? Math.max(...runs.map((r) => r.pastBudget ?? 0)) : null,
     build_median_budget: middle.budgets.length ? median(middle.budgets) : null,
+    longest_build: [...runs].sort((a, b) => (b.longestBuild?.at(-1)?.[0] ?? 0) - (a.longestBuild?.at(-1)?.[0] ?? 0))[0].longestBuild,
     // Every run's long tasks (50 ms and over), longest first, each with
     // the calls into the core and the canvas uploads and strokes it held.
     long_tasks: runs.flatMap((r) => r.longTasks).sort((a, b) => b.ms - a.ms).slice(0, 8),
