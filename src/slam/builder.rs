@@ -402,9 +402,13 @@ impl SlamBuilder {
         }
         if let Some((i, mut under_way)) = search.current.take() {
             let s = &self.submaps[i];
-            let grid = s.finished.as_ref().expect("a submap searched is finished");
-            let Some(found) = grid.continue_search(&mut under_way, &self.loop_points, budget)
-            else {
+            // A submap's search begins only once it is finished, and a
+            // finished submap stays so: `None` never comes here.
+            let found = match &s.finished {
+                Some(grid) => grid.continue_search(&mut under_way, &self.loop_points, budget),
+                None => Some(None),
+            };
+            let Some(found) = found else {
                 search.current = Some((i, under_way));
                 self.searching = Some(search);
                 return;
