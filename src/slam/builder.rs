@@ -66,6 +66,12 @@ const AGREEMENT_SCANS: usize = 12;
 /// metres, radians).
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
+/// The optimiser's multiply–adds to a unit of work (a cell update): the
+/// envelope Cholesky's inner products run at about 1.6 million
+/// multiply–adds a millisecond in the page's wasm, a cell update at 30 to
+/// 70 thousand a millisecond (docs/BENCHMARKS.md, W6), so that a build
+/// call sized in units from a call of cell updates takes about as long.
+const MULTIPLY_ADDS_PER_UNIT: u64 = 32;
 /// The least multiply–adds of the optimiser a settling step runs (about a
 /// tenth of a millisecond natively): one Gauss–Newton iteration of a long
 /// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
@@ -204,7 +210,12 @@ impl SlamBuilder {
             .as_ref()
             .and_then(|s| s.current.as_ref())
             .map_or(0, |(_, under_way)| under_way.work / 8);
-        self.work + searched + self.optimizing.as_ref().map_or(0, |o| o.work() / 8)
+        self.work
+            + searched
+            + self
+                .optimizing
+                .as_ref()
+                .map_or(0, |o| o.work() / MULTIPLY_ADDS_PER_UNIT)
     }
 
     /// Whether a loop search or an optimisation is under way
@@ -483,16 +494,15 @@ impl SlamBuilder {
                 let left = budget.saturating_sub(spent).saturating_mul(8);
                 self.search_step(left);
             } else if let Some(optimizer) = self.optimizing.as_mut() {
-                // The optimiser counts multiply–adds, eight to a cell update;
-                // a step of at least OPTIMIZER_STEP_WORK, so that a caller
-                // asking for a step at a time (a budget of 0) gets one worth
-                // the asking.
+                // The optimiser counts multiply–adds; a step of at least
+                // OPTIMIZER_STEP_WORK, so that a caller asking for a step
+                // at a time (a budget of 0) gets one worth the asking.
                 let left = budget
                     .saturating_sub(spent)
-                    .saturating_mul(8)
+                    .saturating_mul(MULTIPLY_ADDS_PER_UNIT)
                     .max(OPTIMIZER_STEP_WORK);
                 if optimizer.run_within(&mut self.graph, left) {
-                    self.work += optimizer.work() / 8;
+                    self.work += optimizer.work() / MULTIPLY_ADDS_PER_UNIT;
                     self.optimizing = None;
                     self.revision += 1;
                 }
