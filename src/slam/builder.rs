@@ -67,11 +67,12 @@ const AGREEMENT_SCANS: usize = 12;
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
 /// The optimiser's multiply–adds to a unit of work (a cell update): the
-/// envelope Cholesky's inner products run at about 1.6 million
-/// multiply–adds a millisecond in the page's wasm, a cell update at 30 to
-/// 70 thousand a millisecond (docs/BENCHMARKS.md, W6), so that a build
-/// call sized in units from a call of cell updates takes about as long.
-const MULTIPLY_ADDS_PER_UNIT: u64 = 32;
+/// envelope Cholesky's inner products take about 0.8 ns a multiply–add
+/// natively, a cell update 10 to 16 ns (budget.rs), so that a build call
+/// sized in units from a call of cell updates takes about as long on the
+/// optimiser (at 8 to a unit, a slice of optimisation took half the time
+/// of one of cell updates, and the slice after it, sized from it, twice).
+const MULTIPLY_ADDS_PER_UNIT: u64 = 16;
 /// The least multiply–adds of the optimiser a settling step runs (about a
 /// tenth of a millisecond natively): one Gauss–Newton iteration of a long
 /// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
