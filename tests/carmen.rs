@@ -713,6 +713,18 @@ fn the_intel_map_built_in_chunks_equals_the_one_call_build_and_the_w1_occupied_c
     let (u, v) = geo.world_to_grid(first.x, first.y);
     assert!((path[0] as f64 - u).abs() < 1e-3);
     assert!((path[1] as f64 - (geo.height() as f64 - v)).abs() < 1e-3);
+    // A path grown a piece at a time is the whole one, bit for bit; a
+    // piece past the scans is cut at the last.
+    let pieces: Vec<f32> = [(0, 300), (300, 301), (301, 910), (910, 5000)]
+        .iter()
+        .flat_map(|&(a, b)| whole.path_in_pixels_between(a, b))
+        .collect();
+    assert_eq!(
+        pieces.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+        path.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    );
+    assert!(whole.path_in_pixels_between(700, 600).is_empty());
+    assert!(whole.path_in_pixels_between(2000, 3000).is_empty());
 }
 
 #[test]

@@ -1,10 +1,12 @@
 //! The pose graph's optimiser: a small graph whose answer is known, one
 //! optimisation spread over budgeted calls against one call, bit for bit,
-//! and a wrong closure between twin corridors switched off while a right
-//! one closes the loop.
+//! a budgeted call that stays within its budget though one iteration is
+//! many budgets long, and a wrong closure between twin corridors switched
+//! off while a right one closes the loop.
 
 use occgrid::geometry::Pose;
 use occgrid::mapping::scan_match::relative_motion;
+use occgrid::slam::pose_graph::ZEROED_PER_STEP;
 use occgrid::slam::{Edge, Optimizer, PoseGraph, RobustSettings};
 
 fn pose(x: f64, y: f64, theta: f64) -> Pose {
@@ -117,6 +119,79 @@ fn budgeted_optimisation_equals_one_call_bit_for_bit() {
         );
     }
     assert!(rms(&one.nodes, &truth) < rms(&drifting(&truth).nodes, &truth));
+}
+
+/// The ring driven `laps` times, a pose every half metre, each link
+/// drifting as in [`drifting`], and every fourth pose of a lap after the
+/// first closed against the same place on the first lap: rows that reach
+/// far back, so that the envelope is wide and one iteration costs many
+/// million multiply–adds.
+fn lapped(laps: usize) -> PoseGraph {
+    let lap: Vec<Pose> = ring()
+        .windows(2)
+        .flat_map(|w| {
+            let mid = pose(0.5 * (w[0].x + w[1].x), 0.5 * (w[0].y + w[1].y), w[0].theta);
+            [w[0], mid]
+        })
+        .collect();
+    let truth: Vec<Pose> = (0..laps).flat_map(|_| lap.iter().copied()).collect();
+    let mut g = drifting(&truth);
+    for k in lap.len()..truth.len() {
+        if k % 4 == 0 {
+            let i = k % lap.len();
+            g.edges.push(Edge::new(
+                i,
+                k,
+                relative_motion(&truth[i], &truth[k]),
+                [0.05, 0.05, 0.02],
+                true,
+            ));
+        }
+    }
+    g
+}
+
+#[test]
+fn every_budgeted_call_stays_within_twice_its_budget_though_an_iteration_is_longer() {
+    let mut one = lapped(3);
+    let mut sliced = one.clone();
+    let mut o = Optimizer::new(RobustSettings::default());
+    o.run(&mut one);
+    assert!(o.is_finished() && !o.failed && o.iterations > 1);
+    // An eighth of an iteration's mean work: every iteration is many
+    // budgets long, so a call that ran whole iterations would pass it.
+    let budget = o.work() / o.iterations as u64 / 8;
+    assert!(
+        budget >= 4 * ZEROED_PER_STEP as u64,
+        "a graph big enough: {} multiply-adds in {} iterations",
+        o.work(),
+        o.iterations
+    );
+    let mut s = Optimizer::new(RobustSettings::default());
+    let (mut calls, mut longest) = (0usize, 0u64);
+    loop {
+        let before = s.work();
+        let finished = s.run_within(&mut sliced, budget);
+        longest = longest.max(s.work() - before);
+        calls += 1;
+        assert!(calls < 100_000, "the budgeted optimisation ends");
+        if finished {
+            break;
+        }
+    }
+    assert!(
+        longest <= 2 * budget,
+        "a call did {longest} multiply-adds, its budget {budget}"
+    );
+    assert!(calls >= 4 * o.iterations, "{calls} calls");
+    assert_eq!(s.work(), o.work());
+    assert_eq!(s.iterations, o.iterations);
+    for (a, b) in one.nodes.iter().zip(&sliced.nodes) {
+        assert_eq!(
+            [a.x.to_bits(), a.y.to_bits(), a.theta.to_bits()],
+            [b.x.to_bits(), b.y.to_bits(), b.theta.to_bits()]
+        );
+    }
 }
 
 #[test]

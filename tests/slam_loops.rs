@@ -219,8 +219,9 @@ fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
 
 /// A SLAM pane built in calls of a bounded budget, as the page builds it:
 /// no call's work passes the budget by more than one step's (a scan
-/// located and inserted, a submap searched for a loop, one optimiser
-/// iteration, or a scan inserted again at revised poses), though the loop's optimisations each move every
+/// located and inserted, a precomputed grid or one heading of a submap's
+/// loop search, a slice of an optimiser iteration, or a scan inserted
+/// again at revised poses), though the loop's optimisations each move every
 /// scan; and the result is the one-call build's: the poses bit for bit
 /// those of SLAM run scan by scan with each optimisation in one call, the
 /// map the map of every scan at them.
@@ -235,7 +236,7 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
     use occgrid::poses::{match_settings, PoseSourceKind};
     /// About 12 ms of work natively (10 to 16 ns a unit: budget.rs), above
     /// the most one step of this log costs (a scan of 360 beams matched
-    /// and inserted, a submap searched for a loop, an optimiser iteration).
+    /// and inserted, a step of a loop search or of an optimiser iteration).
     const BUDGET: u64 = 1_000_000;
     let world = ring_world();
     let truth = route();
@@ -245,27 +246,34 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
         model: LogCellModel::LogOdds,
         ..LogMapSettings::default()
     };
-    let mut pane = LogPane::new(log.clone(), settings).unwrap();
-    let (mut calls, mut longest, mut rebuilt) = (0usize, 0u64, false);
-    let mut last_done = 0;
-    loop {
-        let before = pane.progress().work;
-        let p = pane.advance_within(usize::MAX, BUDGET);
-        assert!(pane.failure().is_none());
-        calls += 1;
-        longest = longest.max(p.work - before);
-        rebuilt |= p.scans_done < last_done;
-        last_done = p.scans_done;
-        if p.finished {
-            break;
+    // Built again at half the budget: below a whole submap's loop
+    // search or optimiser iteration, which are cut into smaller steps.
+    let build = |budget: u64| {
+        let mut pane = LogPane::new(log.clone(), settings).unwrap();
+        let (mut calls, mut longest, mut rebuilt) = (0usize, 0u64, false);
+        let mut last_done = 0;
+        loop {
+            let before = pane.progress().work;
+            let p = pane.advance_within(usize::MAX, budget);
+            assert!(pane.failure().is_none());
+            calls += 1;
+            longest = longest.max(p.work - before);
+            rebuilt |= p.scans_done < last_done;
+            last_done = p.scans_done;
+            if p.finished {
+                break;
+            }
         }
-    }
-    eprintln!("{calls} calls, the longest {longest} units of a budget of {BUDGET}");
-    assert!(rebuilt, "the map was built again at revised poses");
-    assert!(
-        longest < 2 * BUDGET,
-        "a call did {longest} units of work, its budget {BUDGET}"
-    );
+        eprintln!("{calls} calls, the longest {longest} units of a budget of {budget}");
+        assert!(rebuilt, "the map was built again at revised poses");
+        assert!(
+            longest < 2 * budget,
+            "a call did {longest} units of work, its budget {budget}"
+        );
+        pane
+    };
+    build(BUDGET / 2);
+    let pane = build(BUDGET);
     // The poses of SLAM run with every optimisation in one call.
     let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
     let mut one_call = SlamBuilder::new(

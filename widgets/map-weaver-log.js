@@ -33,6 +33,7 @@ import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
 import { topicChooser } from './lib/topic-chooser.js';
 import { poseGraphControl } from './lib/pose-graph-layer.js';
 import { statusText } from './lib/log-status.js';
+import { buildPace } from './lib/build-pace.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -402,7 +403,7 @@ export class RealLogPanel {
           const did = next.work - s.work;
           this.trace.push(['build', ms, cells, did, next.scansDone]);
           // A rebuild restarted the count: no duration to learn from.
-          if (did > 0) this.sliceCells = nextChunk(cells, ms, did);
+          if (did > 0) this.sliceCells = (this.buildPace ??= buildPace(SLICE_MS)).next(cells, ms, did);
           msPerScan = ms / Math.max(1, next.panes[MAIN].scansDone - last.scansDone);
           const remaining = (next.scansTarget - next.scansDone) * msPerScan;
           if (next.finished || (performance.now() - drawn > Math.max(DRAW_EVERY_MS, REDRAW_SPACING * (this.redrawMs ?? 0)) && remaining > DRAW_EVERY_MS)) {

@@ -196,6 +196,21 @@ impl RealLogSession {
         Ok(self.session.pane(pane)?.path_in_pixels())
     }
 
+    /// The laser positions of scans `from..to` on pane `pane` (clipped to
+    /// its scans), `[x0, y0, ...]`: a growing path's new part.
+    #[wasm_bindgen(js_name = pathPixelsBetween)]
+    pub fn path_pixels_between(
+        &self,
+        pane: JsValue,
+        from: JsValue,
+        to: JsValue,
+    ) -> Result<Vec<f32>, JsError> {
+        let pane = index_from_js("pane", &pane)?;
+        let from = index_from_js("from", &from)?;
+        let to = index_from_js("to", &to)?;
+        Ok(self.session.pane(pane)?.path_in_pixels_between(from, to))
+    }
+
     /// The robot at scan `k` over pane `pane`: `{ x, y, heading }` in image
     /// units, the heading an image angle (radians clockwise on screen).
     #[wasm_bindgen(js_name = robotAt)]

@@ -20,12 +20,14 @@
 //! of Olson 2009, "Recognizing places using spectrally clustered local
 //! matches"). The graph is optimised when closures have been added, every
 //! `OPTIMIZE_EVERY` scans and at the last scan; every optimisation raises
-//! the revision, which tells a map built at the old poses to rebuild. An
-//! optimisation may run in slices of bounded work
-//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::settle_within`]): the
-//! next scan waits for it, so the poses are bit for bit those of one call.
+//! the revision, which tells a map built at the old poses to rebuild. A
+//! loop search and an optimisation may run in slices of bounded work
+//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::settle_within`]), each
+//! slice stopping inside a submap's search or an optimiser iteration if
+//! need be: the next scan waits for them, so the poses are bit for bit
+//! those of one call.
 
-use super::loop_search::LoopWindow;
+use super::loop_search::{LoopWindow, SearchUnderWay};
 use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
 use super::submap::Submap;
 use crate::error::Result;
@@ -64,6 +66,17 @@ const AGREEMENT_SCANS: usize = 12;
 /// metres, radians).
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
+/// The optimiser's multiply–adds to a unit of work (a cell update): the
+/// envelope Cholesky's inner products take about 0.8 ns a multiply–add
+/// natively, a cell update 10 to 16 ns (budget.rs), so that a build call
+/// sized in units from a call of cell updates takes about as long on the
+/// optimiser (at 8 to a unit, a slice of optimisation took half the time
+/// of one of cell updates, and the slice after it, sized from it, twice).
+const MULTIPLY_ADDS_PER_UNIT: u64 = 16;
+/// The least multiply–adds of the optimiser a settling step runs (about a
+/// tenth of a millisecond natively): one Gauss–Newton iteration of a long
+/// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
+const OPTIMIZER_STEP_WORK: u64 = 1 << 16;
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
 
@@ -77,13 +90,16 @@ struct Candidate {
 }
 
 /// A loop search under way: scan `scan`'s points against the finished
-/// submaps from `next` on, the best match so far.
+/// submaps from `next` on (the one before, `current`, perhaps searched
+/// part way), the best match so far.
 #[derive(Debug, Clone)]
 struct LoopSearch {
     scan: usize,
     window: LoopWindow,
     here: Pose,
     next: usize,
+    /// The submap being searched, and how far its search has got.
+    current: Option<(usize, SearchUnderWay)>,
     best: Option<(f64, Candidate)>,
 }
 
@@ -190,7 +206,17 @@ impl SlamBuilder {
     /// Work since the start besides the local matches, in cell updates
     /// (an optimisation under way counted as far as it has got).
     pub fn work(&self) -> u64 {
-        self.work + self.optimizing.as_ref().map_or(0, |o| o.work() / 8)
+        let searched = self
+            .searching
+            .as_ref()
+            .and_then(|s| s.current.as_ref())
+            .map_or(0, |(_, under_way)| under_way.work / 8);
+        self.work
+            + searched
+            + self
+                .optimizing
+                .as_ref()
+                .map_or(0, |o| o.work() / MULTIPLY_ADDS_PER_UNIT)
     }
 
     /// Whether a loop search or an optimisation is under way
@@ -346,39 +372,65 @@ impl SlamBuilder {
             window: Self::window(self.since_closure),
             here: self.graph.nodes[k],
             next: 0,
+            current: None,
             best: None,
         });
     }
 
     /// The search under way against its next finished submap near the
-    /// scan (a bounded step); once every submap is searched, its closures
-    /// kept and the optimisation due started.
-    fn search_step(&mut self) {
+    /// scan, or on with the one part searched, until the search's work in
+    /// this call reaches `budget` points read (a bounded step: a
+    /// precomputed grid of the submap, or one heading's branch and bound;
+    /// [`super::loop_search::LoopGrid::continue_search`]); once every
+    /// submap is searched, its closures kept and the optimisation due
+    /// started.
+    fn search_step(&mut self, budget: u64) {
         let Some(mut search) = self.searching.take() else {
             return;
         };
         let (k, here, window) = (search.scan, search.here, search.window);
-        while let Some(s) = self.submaps.get(search.next) {
-            search.next += 1;
-            let Some(grid) = &s.finished else { continue };
-            if s.last + RECENT_SCANS > k {
-                continue;
+        if search.current.is_none() {
+            while let Some(s) = self.submaps.get(search.next) {
+                search.next += 1;
+                let Some(grid) = &s.finished else { continue };
+                if s.last + RECENT_SCANS > k {
+                    continue;
+                }
+                // Near: one of its scans within the window and a few metres.
+                let near = (s.anchor..=s.last).any(|j| {
+                    let p = &self.graph.nodes[j];
+                    (p.x - here.x).hypot(p.y - here.y) <= window.linear + 5.0
+                });
+                if !near {
+                    continue;
+                }
+                let anchor_local = self.local[s.anchor];
+                let anchor_global = self.graph.nodes[s.anchor];
+                let predicted = compose(&anchor_local, relative_motion(&anchor_global, &here));
+                let begun = grid.begin_search(&self.loop_points, &predicted, &window);
+                search.current = Some((search.next - 1, begun));
+                break;
             }
-            // Near: one of its scans within the window and a few metres.
-            let near = (s.anchor..=s.last).any(|j| {
-                let p = &self.graph.nodes[j];
-                (p.x - here.x).hypot(p.y - here.y) <= window.linear + 5.0
-            });
-            if !near {
-                continue;
-            }
-            let anchor_local = self.local[s.anchor];
-            let anchor_global = self.graph.nodes[s.anchor];
-            let predicted = compose(&anchor_local, relative_motion(&anchor_global, &here));
-            let (found, work) = grid.search(&self.loop_points, &predicted, &window);
-            self.work += work / 8;
+        }
+        if let Some((i, mut under_way)) = search.current.take() {
+            let s = &self.submaps[i];
+            // A submap's search begins only once it is finished, and a
+            // finished submap stays so: `None` never comes here.
+            let found = match &s.finished {
+                Some(grid) => grid.continue_search(&mut under_way, &self.loop_points, budget),
+                None => Some(None),
+            };
+            let Some(found) = found else {
+                search.current = Some((i, under_way));
+                self.searching = Some(search);
+                return;
+            };
+            // The whole search's work, counted once it is over.
+            self.work += under_way.work / 8;
             if let Some(found) = found {
                 if search.best.as_ref().is_none_or(|(b, _)| *b < found.score) {
+                    let anchor_local = self.local[s.anchor];
+                    let anchor_global = self.graph.nodes[s.anchor];
                     let measurement = relative_motion(&anchor_local, &found.pose);
                     let placed = compose(&anchor_global, measurement);
                     search.best = Some((
@@ -391,8 +443,6 @@ impl SlamBuilder {
                     ));
                 }
             }
-            // One submap searched a step.
-            break;
         }
         if search.next < self.submaps.len() {
             self.searching = Some(search);
@@ -429,22 +479,31 @@ impl SlamBuilder {
         }
     }
 
-    /// Runs the loop search under way a submap a step, then the
-    /// optimisation whole iterations at a time ([`Optimizer::run_within`]),
-    /// until this call's work reaches `budget` (in cell updates; at least
-    /// one step); once the optimisation has converged the revision rises.
+    /// Runs the loop search under way a slice of a submap's search at a
+    /// time, then the optimisation a slice of an iteration at a time
+    /// ([`Optimizer::run_within`]), until this call's work reaches `budget`
+    /// (in cell updates; at least one step); once the optimisation has
+    /// converged the revision rises.
     /// True when neither is left under way.
     pub fn settle_within(&mut self, budget: u64) -> bool {
         let start = self.work();
         loop {
             let spent = self.work() - start;
             if self.searching.is_some() {
-                self.search_step();
-            } else if let Some(optimizer) = self.optimizing.as_mut() {
-                // The optimiser counts multiply–adds, eight to a cell update.
+                // The search counts points read, eight to a cell update; a
+                // step of at least one precomputed grid or one heading.
                 let left = budget.saturating_sub(spent).saturating_mul(8);
+                self.search_step(left);
+            } else if let Some(optimizer) = self.optimizing.as_mut() {
+                // The optimiser counts multiply–adds; a step of at least
+                // OPTIMIZER_STEP_WORK, so that a caller asking for a step
+                // at a time (a budget of 0) gets one worth the asking.
+                let left = budget
+                    .saturating_sub(spent)
+                    .saturating_mul(MULTIPLY_ADDS_PER_UNIT)
+                    .max(OPTIMIZER_STEP_WORK);
                 if optimizer.run_within(&mut self.graph, left) {
-                    self.work += optimizer.work() / 8;
+                    self.work += optimizer.work() / MULTIPLY_ADDS_PER_UNIT;
                     self.optimizing = None;
                     self.revision += 1;
                 }

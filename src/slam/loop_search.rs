@@ -46,6 +46,30 @@ pub struct LoopMatch {
     pub candidates: u64,
 }
 
+/// A search under way ([`LoopGrid::begin_search`]): the precomputed grids
+/// made so far, the next heading, the best candidate so far.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchUnderWay {
+    predicted: Pose,
+    min_score: f64,
+    /// The heading step, and the steps either way of the prediction.
+    dtheta: f64,
+    headings: i64,
+    /// Cells either way in x and y.
+    wxy: i64,
+    /// The grids of depth `1..=levels.len()`.
+    levels: Vec<Vec<u8>>,
+    /// The next heading searched, in steps from the prediction.
+    heading: i64,
+    /// (sum of the points' bytes, heading, dx, dy) of the best so far.
+    best: Option<(f64, i64, i64, i64)>,
+    candidates: u64,
+    /// Points read so far (four reads a cell for each precomputed grid).
+    pub work: u64,
+    /// Nothing (left) to search: no points, no cells, or refined already.
+    empty: bool,
+}
+
 /// The search window around a predicted pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoopWindow {
@@ -66,42 +90,38 @@ impl LoopGrid {
         level[iy as usize * self.width + ix as usize] as u32
     }
 
-    /// The grids of depth `1..=DEPTH`: each cell the highest of the
-    /// `2^h x 2^h` cells from it, by a sliding maximum along rows then
-    /// columns of the grid one depth up (`2^(h-1)` apart).
-    fn precompute(&self) -> Vec<Vec<u8>> {
+    /// The grid of depth `depth` (1 to `DEPTH`) from `prev`, the one of
+    /// depth `depth - 1` (the cells themselves at depth 1): each cell the
+    /// highest of the `2^depth x 2^depth` cells from it, by a sliding
+    /// maximum along rows then columns of `prev` (`2^(depth-1)` apart).
+    fn next_level(&self, prev: &[u8], depth: usize) -> Vec<u8> {
         let (w, h) = (self.width, self.height);
-        let mut levels: Vec<Vec<u8>> = Vec::with_capacity(DEPTH);
-        for depth in 1..=DEPTH {
-            let prev = levels.last().unwrap_or(&self.cells);
-            let shift = 1usize << (depth - 1);
-            let mut rows = vec![0u8; w * h];
-            for y in 0..h {
-                for x in 0..w {
-                    let a = prev[y * w + x];
-                    let b = if x + shift < w {
-                        prev[y * w + x + shift]
-                    } else {
-                        0
-                    };
-                    rows[y * w + x] = a.max(b);
-                }
+        let shift = 1usize << (depth - 1);
+        let mut rows = vec![0u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let a = prev[y * w + x];
+                let b = if x + shift < w {
+                    prev[y * w + x + shift]
+                } else {
+                    0
+                };
+                rows[y * w + x] = a.max(b);
             }
-            let mut out = vec![0u8; w * h];
-            for y in 0..h {
-                for x in 0..w {
-                    let a = rows[y * w + x];
-                    let b = if y + shift < h {
-                        rows[(y + shift) * w + x]
-                    } else {
-                        0
-                    };
-                    out[y * w + x] = a.max(b);
-                }
-            }
-            levels.push(out);
         }
-        levels
+        let mut out = vec![0u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let a = rows[y * w + x];
+                let b = if y + shift < h {
+                    rows[(y + shift) * w + x]
+                } else {
+                    0
+                };
+                out[y * w + x] = a.max(b);
+            }
+        }
+        out
     }
 
     /// Bilinear read of the bytes at world `(x, y)`, 0 to 1.
@@ -124,16 +144,29 @@ impl LoopGrid {
 
     /// Searches `points` (sensor frame) around `predicted` (in this
     /// submap's frame) within `window`: the best match scoring at least
-    /// the window's least score, or `None`.
+    /// the window's least score, or `None`; and the work, in points read.
     pub fn search(
         &self,
         points: &[[f64; 2]],
         predicted: &Pose,
         window: &LoopWindow,
     ) -> (Option<LoopMatch>, u64) {
-        if points.is_empty() || self.cells.is_empty() {
-            return (None, 0);
+        let mut search = self.begin_search(points, predicted, window);
+        loop {
+            if let Some(found) = self.continue_search(&mut search, points, u64::MAX) {
+                return (found, search.work);
+            }
         }
+    }
+
+    /// A search of `points` as [`Self::search`] makes it, not yet begun:
+    /// [`Self::continue_search`] runs it a bounded step at a time.
+    pub fn begin_search(
+        &self,
+        points: &[[f64; 2]],
+        predicted: &Pose,
+        window: &LoopWindow,
+    ) -> SearchUnderWay {
         let res = self.resolution;
         let reach = points
             .iter()
@@ -146,100 +179,162 @@ impl LoopGrid {
             .acos()
             .max(1e-4);
         let headings = (window.angular / dtheta).ceil() as i64;
-        let wxy = (window.linear / res).ceil() as i64;
-        let levels = self.precompute();
-        let top = 1i64 << DEPTH;
-        let mut work = (self.cells.len() * DEPTH * 4) as u64;
-        let mut candidates = 0u64;
-        let n = points.len() as f64;
-        let min_total = window.min_score * 255.0 * n;
-        let mut best: Option<(f64, i64, i64, i64)> = None; // (sum, heading, dx, dy)
-        let mut cells: Vec<(i64, i64)> = Vec::with_capacity(points.len());
-        for hi in -headings..=headings {
-            let theta = predicted.theta + hi as f64 * dtheta;
-            let (s, c) = theta.sin_cos();
-            cells.clear();
-            for p in points {
-                let x = predicted.x + c * p[0] - s * p[1];
-                let y = predicted.y + s * p[0] + c * p[1];
-                cells.push((
-                    ((x - self.origin[0]) / res).floor() as i64,
-                    ((y - self.origin[1]) / res).floor() as i64,
-                ));
+        SearchUnderWay {
+            predicted: *predicted,
+            min_score: window.min_score,
+            dtheta,
+            headings,
+            wxy: (window.linear / res).ceil() as i64,
+            levels: Vec::with_capacity(DEPTH),
+            heading: -headings,
+            best: None,
+            candidates: 0,
+            work: 0,
+            empty: points.is_empty() || self.cells.is_empty(),
+        }
+    }
+
+    /// Goes on with `search` (begun by [`Self::begin_search`] on this grid
+    /// and these `points`) until its work in this call reaches `budget`, a
+    /// step at a time: one precomputed grid (four reads a cell), or the
+    /// branch and bound of one heading. The match (or `None`) once the
+    /// search is over, `search.work` then its whole work; the steps are the
+    /// ones [`Self::search`] takes in one call, in the same order, so the
+    /// match is the same bit for bit.
+    pub fn continue_search(
+        &self,
+        search: &mut SearchUnderWay,
+        points: &[[f64; 2]],
+        budget: u64,
+    ) -> Option<Option<LoopMatch>> {
+        if search.empty {
+            return Some(None);
+        }
+        let limit = search.work.saturating_add(budget);
+        loop {
+            if search.levels.len() < DEPTH {
+                let depth = search.levels.len() + 1;
+                let level = self.next_level(search.levels.last().unwrap_or(&self.cells), depth);
+                search.levels.push(level);
+                search.work += (self.cells.len() * 4) as u64;
+            } else if search.heading <= search.headings {
+                let hi = search.heading;
+                search.heading += 1;
+                let candidates = self.search_heading(search, points, hi);
+                search.candidates += candidates;
+                search.work += candidates * points.len() as u64;
+            } else {
+                return Some(self.finish_search(search, points));
             }
-            let score = |depth: usize, dx: i64, dy: i64| -> u64 {
-                let level: &[u8] = if depth == 0 {
-                    &self.cells
-                } else {
-                    &levels[depth - 1]
-                };
-                // A window starting left of (below) the grid but reaching
-                // into it is bounded by the grid's first column (row),
-                // whose window holds its part.
-                let reach = 1i64 << depth;
-                let pull = |v: i64| if v < 0 && v > -reach { 0 } else { v };
-                cells
-                    .iter()
-                    .map(|&(x, y)| self.value(pull(x + dx), pull(y + dy), level) as u64)
-                    .sum()
-            };
-            // Roots: offsets every 2^DEPTH cells over the window.
-            let mut stack: Vec<(u64, usize, i64, i64)> = Vec::new();
-            let mut roots = Vec::new();
-            let mut y = -wxy;
-            while y <= wxy {
-                let mut x = -wxy;
-                while x <= wxy {
-                    roots.push((score(DEPTH, x, y), DEPTH, x, y));
-                    candidates += 1;
-                    x += top;
-                }
-                y += top;
-            }
-            // Lowest first on the stack, so the best is taken first.
-            roots.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
-            stack.extend(roots);
-            while let Some((bound, depth, x, y)) = stack.pop() {
-                let beaten = best.is_some_and(|b| bound as f64 <= b.0);
-                if beaten || (bound as f64) < min_total {
-                    continue;
-                }
-                if depth == 0 {
-                    best = Some((bound as f64, hi, x, y));
-                    continue;
-                }
-                let half = 1i64 << (depth - 1);
-                let mut children = Vec::with_capacity(4);
-                for (cx, cy) in [(x, y), (x + half, y), (x, y + half), (x + half, y + half)] {
-                    if cx > wxy || cy > wxy {
-                        continue;
-                    }
-                    children.push((score(depth - 1, cx, cy), depth - 1, cx, cy));
-                    candidates += 1;
-                }
-                children.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
-                stack.extend(children);
+            if search.work >= limit {
+                return None;
             }
         }
-        work += candidates * points.len() as u64;
-        let Some((_, hi, dx, dy)) = best else {
-            return (None, work);
+    }
+
+    /// Branch and bound over the offsets of heading `hi` (steps of
+    /// `dtheta` from the prediction), the best so far kept in `search`:
+    /// the candidates scored.
+    fn search_heading(&self, search: &mut SearchUnderWay, points: &[[f64; 2]], hi: i64) -> u64 {
+        let res = self.resolution;
+        let predicted = search.predicted;
+        let wxy = search.wxy;
+        let levels = &search.levels;
+        let top = 1i64 << DEPTH;
+        let mut candidates = 0u64;
+        let n = points.len() as f64;
+        let min_total = search.min_score * 255.0 * n;
+        let mut best = search.best;
+        let theta = predicted.theta + hi as f64 * search.dtheta;
+        let (s, c) = theta.sin_cos();
+        let cells: Vec<(i64, i64)> = points
+            .iter()
+            .map(|p| {
+                let x = predicted.x + c * p[0] - s * p[1];
+                let y = predicted.y + s * p[0] + c * p[1];
+                (
+                    ((x - self.origin[0]) / res).floor() as i64,
+                    ((y - self.origin[1]) / res).floor() as i64,
+                )
+            })
+            .collect();
+        let score = |depth: usize, dx: i64, dy: i64| -> u64 {
+            let level: &[u8] = if depth == 0 {
+                &self.cells
+            } else {
+                &levels[depth - 1]
+            };
+            // A window starting left of (below) the grid but reaching
+            // into it is bounded by the grid's first column (row),
+            // whose window holds its part.
+            let reach = 1i64 << depth;
+            let pull = |v: i64| if v < 0 && v > -reach { 0 } else { v };
+            cells
+                .iter()
+                .map(|&(x, y)| self.value(pull(x + dx), pull(y + dy), level) as u64)
+                .sum()
         };
+        // Roots: offsets every 2^DEPTH cells over the window.
+        let mut stack: Vec<(u64, usize, i64, i64)> = Vec::new();
+        let mut roots = Vec::new();
+        let mut y = -wxy;
+        while y <= wxy {
+            let mut x = -wxy;
+            while x <= wxy {
+                roots.push((score(DEPTH, x, y), DEPTH, x, y));
+                candidates += 1;
+                x += top;
+            }
+            y += top;
+        }
+        // Lowest first on the stack, so the best is taken first.
+        roots.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
+        stack.extend(roots);
+        while let Some((bound, depth, x, y)) = stack.pop() {
+            let beaten = best.is_some_and(|b: (f64, i64, i64, i64)| bound as f64 <= b.0);
+            if beaten || (bound as f64) < min_total {
+                continue;
+            }
+            if depth == 0 {
+                best = Some((bound as f64, hi, x, y));
+                continue;
+            }
+            let half = 1i64 << (depth - 1);
+            let mut children = Vec::with_capacity(4);
+            for (cx, cy) in [(x, y), (x + half, y), (x, y + half), (x + half, y + half)] {
+                if cx > wxy || cy > wxy {
+                    continue;
+                }
+                children.push((score(depth - 1, cx, cy), depth - 1, cx, cy));
+                candidates += 1;
+            }
+            children.sort_by(|a, b| a.0.cmp(&b.0).then((a.2, a.3).cmp(&(b.2, b.3))));
+            stack.extend(children);
+        }
+        search.best = best;
+        candidates
+    }
+
+    /// The best candidate of every heading refined: the match, if any.
+    fn finish_search(&self, search: &mut SearchUnderWay, points: &[[f64; 2]]) -> Option<LoopMatch> {
+        let (_, hi, dx, dy) = search.best?;
+        let res = self.resolution;
+        let predicted = search.predicted;
         let coarse = Pose {
             x: predicted.x + dx as f64 * res,
             y: predicted.y + dy as f64 * res,
-            theta: predicted.theta + hi as f64 * dtheta,
+            theta: predicted.theta + hi as f64 * search.dtheta,
         };
-        let (pose, score, refined) = self.refine(points, coarse, res, dtheta);
-        work += refined * points.len() as u64;
-        (
-            Some(LoopMatch {
-                pose,
-                score,
-                candidates: candidates + refined,
-            }),
-            work,
-        )
+        let (pose, score, refined) = self.refine(points, coarse, res, search.dtheta);
+        search.work += refined * points.len() as u64;
+        // Refined once: a later call finds the search over.
+        search.best = None;
+        search.empty = true;
+        Some(LoopMatch {
+            pose,
+            score,
+            candidates: search.candidates + refined,
+        })
     }
 
     /// The best of the poses a quarter cell and a quarter heading step
@@ -328,5 +423,33 @@ mod tests {
             "{found:?}"
         );
         assert!(found.pose.theta.abs() < 0.01, "{found:?}");
+        // The same search a bounded step at a time: the same match, bit
+        // for bit, and the same work; no call past its budget by more than
+        // one step (a precomputed grid, or one heading).
+        let budget = 30_000;
+        let step = (grid.cells.len() * 4) as u64;
+        let mut sliced = grid.begin_search(&points, &predicted, &window);
+        let (mut calls, mut before) = (0, 0);
+        let again = loop {
+            let done = grid.continue_search(&mut sliced, &points, budget);
+            calls += 1;
+            assert!(
+                sliced.work - before < budget + step,
+                "{} in a call",
+                sliced.work - before
+            );
+            before = sliced.work;
+            if let Some(again) = done {
+                break again;
+            }
+        };
+        assert!(calls > DEPTH, "{calls} calls");
+        let again = again.expect("the same match");
+        assert_eq!(
+            [again.pose.x, again.pose.y, again.pose.theta, again.score].map(f64::to_bits),
+            [found.pose.x, found.pose.y, found.pose.theta, found.score].map(f64::to_bits)
+        );
+        assert_eq!(again.candidates, found.candidates);
+        assert_eq!(sliced.work, grid.search(&points, &predicted, &window).1);
     }
 }

@@ -21,10 +21,15 @@
 //! No dependency: nothing is added to the wasm but this file's code.
 //!
 //! Work is counted in multiply–adds of the factorisation and the
-//! assembly, so a caller can bound a call ([`Optimizer::run_within`]);
-//! every iteration is the same arithmetic in the same order whatever the
-//! budget, so an optimisation spread over budgeted calls ends bit for bit
-//! where one call ends.
+//! assembly, so a caller can bound a call ([`Optimizer::run_within`]). A
+//! call may stop inside an iteration: between two edges added to the
+//! normal equations, two entries of the factor (George and Liu's row-by-row
+//! envelope Cholesky, one entry an inner product over the envelope), two
+//! rows of a triangular solve; on a graph of ten thousand scans with wide
+//! loops one iteration is some hundred million multiply–adds, a step at
+//! most a row's few thousand. Every iteration is the same arithmetic in the
+//! same order whatever the budget, so an optimisation spread over budgeted
+//! calls ends bit for bit where one call ends.
 
 // The block and envelope loops index rows and columns as the matrix
 // algebra writes them.
@@ -139,11 +144,50 @@ impl PoseGraph {
     }
 }
 
-/// Where an optimisation is: the iteration of the round, and the work so far.
+/// Values zeroed per step while the normal equations are laid out (each
+/// counts one multiply–add).
+pub const ZEROED_PER_STEP: usize = 1 << 14;
+
+/// Where the Gauss–Newton iteration under way is: each stage goes a bounded
+/// step at a time (an edge added, an entry of the factor, a row of a
+/// triangular solve), so that no step does more than a row's work.
+#[derive(Debug, Clone, Default, PartialEq)]
+enum Stage {
+    /// No iteration under way: the next step starts one (or ends the round).
+    #[default]
+    Between,
+    /// The envelope laid out, its values being zeroed.
+    Zeroing(System),
+    /// Edges from `next` on still to add to the normal equations.
+    Assembling { system: System, next: usize },
+    /// The factor's rows before `row` done, and row `row`'s columns before
+    /// `col` (its envelope starts at `first[row]`).
+    Factoring {
+        system: System,
+        row: usize,
+        col: usize,
+    },
+    /// `L y = -b`: rows before `row` solved.
+    Forward {
+        system: System,
+        y: Vec<f64>,
+        row: usize,
+    },
+    /// `Lᵀ x = y`: rows from `row` on solved (the rows go down to 0).
+    Backward {
+        system: System,
+        y: Vec<f64>,
+        row: usize,
+    },
+}
+
+/// Where an optimisation is: the iteration of the round, how far that
+/// iteration has got, and the work so far.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Optimizer {
     settings: RobustSettings,
     iteration: usize,
+    stage: Stage,
     finished: bool,
     /// Multiply–adds since the start.
     work: u64,
@@ -173,55 +217,184 @@ impl Optimizer {
 
     /// Runs to the end, in one call.
     pub fn run(&mut self, graph: &mut PoseGraph) {
-        while !self.run_within(graph, 0) {}
+        while !self.run_within(graph, u64::MAX) {}
     }
 
-    /// Runs whole iterations until this call's work reaches `budget`
-    /// (at least one iteration, when any is left): true once finished.
+    /// Runs until this call's work reaches `budget` multiply–adds (at
+    /// least one step: an edge added, an entry of the factor, a row of a
+    /// solve, a block of values zeroed, when any is left), stopping inside
+    /// an iteration if need be: a call does at most its budget and one
+    /// step's work (a row's, or [`ZEROED_PER_STEP`]). True once finished.
+    /// The nodes move only at the end of an iteration, and every iteration
+    /// is the same arithmetic in the same order however it is cut, so an
+    /// optimisation spread over budgeted calls ends bit for bit where one
+    /// call ends.
     pub fn run_within(&mut self, graph: &mut PoseGraph, budget: u64) -> bool {
         let start = self.work;
-        while !self.finished {
-            self.iterate(graph);
-            if self.work - start >= budget {
-                break;
+        let limit = start.saturating_add(budget);
+        loop {
+            self.advance(graph, limit);
+            if self.finished || self.work >= limit && self.work > start {
+                return self.finished;
             }
         }
-        self.finished
     }
 
-    /// One Gauss–Newton iteration, or the gate at the end of a round.
-    fn iterate(&mut self, graph: &mut PoseGraph) {
+    /// Goes on with the stage under way until the work reaches `limit` or
+    /// the stage ends (at least one unit of it: an edge, an entry, a row).
+    fn advance(&mut self, graph: &mut PoseGraph, limit: u64) {
+        match std::mem::take(&mut self.stage) {
+            Stage::Between => self.begin(graph),
+            Stage::Zeroing(mut system) => {
+                let total = system.start[system.b.len()];
+                loop {
+                    let more = ZEROED_PER_STEP.min(total - system.values.len());
+                    system.values.resize(system.values.len() + more, 0.0);
+                    self.work += more as u64;
+                    if system.values.len() == total || self.work >= limit {
+                        break;
+                    }
+                }
+                self.stage = if system.values.len() == total {
+                    Stage::Assembling { system, next: 0 }
+                } else {
+                    Stage::Zeroing(system)
+                };
+            }
+            Stage::Assembling {
+                mut system,
+                mut next,
+            } => {
+                while next < graph.edges.len() {
+                    let e = &graph.edges[next];
+                    if e.active {
+                        system.add_edge(e, &graph.nodes, &self.settings);
+                    }
+                    next += 1;
+                    self.work += EDGE_WORK;
+                    if self.work >= limit {
+                        break;
+                    }
+                }
+                self.stage = if next == graph.edges.len() {
+                    Stage::Factoring {
+                        col: system.first[0],
+                        system,
+                        row: 0,
+                    }
+                } else {
+                    Stage::Assembling { system, next }
+                };
+            }
+            Stage::Factoring {
+                mut system,
+                mut row,
+                mut col,
+            } => {
+                let dim = system.b.len();
+                while row < dim {
+                    let (work, positive) = system.factor_entry(row, col);
+                    self.work += work;
+                    if !positive {
+                        self.failed = true;
+                        self.end_iteration(graph, 0.0);
+                        return;
+                    }
+                    col += 1;
+                    if col > row {
+                        row += 1;
+                        col = system.first.get(row).copied().unwrap_or(0);
+                    }
+                    if self.work >= limit {
+                        break;
+                    }
+                }
+                self.stage = if row == dim {
+                    let y = system.b.iter().map(|v| -v).collect();
+                    Stage::Forward { system, y, row: 0 }
+                } else {
+                    Stage::Factoring { system, row, col }
+                };
+            }
+            Stage::Forward {
+                system,
+                mut y,
+                mut row,
+            } => {
+                let dim = y.len();
+                while row < dim {
+                    self.work += system.forward_row(row, &mut y);
+                    row += 1;
+                    if self.work >= limit {
+                        break;
+                    }
+                }
+                self.stage = if row == dim {
+                    Stage::Backward {
+                        system,
+                        y,
+                        row: dim,
+                    }
+                } else {
+                    Stage::Forward { system, y, row }
+                };
+            }
+            Stage::Backward {
+                system,
+                mut y,
+                mut row,
+            } => {
+                while row > 0 {
+                    row -= 1;
+                    self.work += system.backward_row(row, &mut y);
+                    if self.work >= limit {
+                        break;
+                    }
+                }
+                if row == 0 {
+                    let step = Self::apply(graph, &y);
+                    self.end_iteration(graph, step);
+                } else {
+                    self.stage = Stage::Backward { system, y, row };
+                }
+            }
+        }
+    }
+
+    /// Starts the next Gauss–Newton iteration of the round (laying out the
+    /// normal equations' envelope), or, past the round's last, ends it.
+    fn begin(&mut self, graph: &mut PoseGraph) {
         if graph.nodes.len() < 2 {
             self.finished = true;
             return;
         }
-        let step = if self.iteration < self.settings.max_iterations {
+        if self.iteration < self.settings.max_iterations {
             self.iteration += 1;
             self.iterations += 1;
-            let mut system = System::assemble(graph, &self.settings);
-            self.work += system.work;
-            let solved = system.solve();
-            self.work += system.work;
-            match solved {
-                Some(dx) => {
-                    let mut largest: f64 = 0.0;
-                    for (k, node) in graph.nodes.iter_mut().enumerate().skip(1) {
-                        let d = &dx[3 * (k - 1)..3 * k];
-                        node.x += d[0];
-                        node.y += d[1];
-                        node.theta = wrap_angle(node.theta + d[2]);
-                        largest = largest.max(d[0].abs()).max(d[1].abs()).max(d[2].abs());
-                    }
-                    largest
-                }
-                None => {
-                    self.failed = true;
-                    0.0
-                }
-            }
+            self.stage = Stage::Zeroing(System::lay_out(graph));
         } else {
-            0.0
-        };
+            self.end_iteration(graph, 0.0);
+        }
+    }
+
+    /// Moves every node but the first by its share of `dx`: the largest
+    /// change of a coordinate.
+    fn apply(graph: &mut PoseGraph, dx: &[f64]) -> f64 {
+        let mut largest: f64 = 0.0;
+        for (k, node) in graph.nodes.iter_mut().enumerate().skip(1) {
+            let d = &dx[3 * (k - 1)..3 * k];
+            node.x += d[0];
+            node.y += d[1];
+            node.theta = wrap_angle(node.theta + d[2]);
+            largest = largest.max(d[0].abs()).max(d[1].abs()).max(d[2].abs());
+        }
+        largest
+    }
+
+    /// An iteration ended with its largest `step`: the round goes on while
+    /// the nodes move; once it has converged, the gate.
+    fn end_iteration(&mut self, graph: &mut PoseGraph, step: f64) {
+        self.stage = Stage::Between;
         if step > self.settings.tolerance {
             return;
         }
@@ -249,21 +422,27 @@ impl Optimizer {
     }
 }
 
+/// Multiply–adds counted for an edge added to the normal equations (its
+/// error, Jacobians and blocks), active or not.
+const EDGE_WORK: u64 = 60;
+
 /// The normal equations `H dx = -b` over nodes `1..n` (node 0 fixed), `H`
 /// stored by rows over its envelope.
+#[derive(Debug, Clone, Default, PartialEq)]
 struct System {
     /// First column of each row's envelope.
     first: Vec<usize>,
-    /// Where each row starts in `values`.
+    /// Where each row starts in `values`; one more, the envelope's size.
     start: Vec<usize>,
+    /// The envelope's values by rows (filled by [`Stage::Zeroing`]).
     values: Vec<f64>,
     b: Vec<f64>,
-    /// Multiply–adds of the last assembly or solve.
-    work: u64,
 }
 
 impl System {
-    fn assemble(graph: &PoseGraph, robust: &RobustSettings) -> Self {
+    /// The envelope of the graph's active edges, its values not yet
+    /// allocated.
+    fn lay_out(graph: &PoseGraph) -> Self {
         let n = graph.nodes.len() - 1;
         let dim = 3 * n;
         // Each node's row reaches back to its lowest neighbour.
@@ -284,18 +463,12 @@ impl System {
             total += r + 1 - f;
         }
         start.push(total);
-        let mut s = Self {
+        Self {
             first,
             start,
-            values: vec![0.0; total],
+            values: Vec::with_capacity(total),
             b: vec![0.0; dim],
-            work: 0,
-        };
-        for e in graph.edges.iter().filter(|e| e.active) {
-            s.add_edge(e, &graph.nodes, robust);
         }
-        s.work = graph.edges.len() as u64 * 60 + total as u64;
-        s
     }
 
     fn at(&mut self, r: usize, c: usize) -> &mut f64 {
@@ -349,53 +522,51 @@ impl System {
         }
     }
 
-    /// Factors `H = L Lᵀ` in place over the envelope and solves for the
-    /// step; `None` when `H` is not positive definite.
-    fn solve(&mut self) -> Option<Vec<f64>> {
-        let dim = self.b.len();
-        let mut work = 0u64;
-        for r in 0..dim {
-            let fr = self.first[r];
-            for c in fr..=r {
-                let fc = self.first[c];
-                let k0 = fr.max(fc);
-                let (rs, cs) = (self.start[r], self.start[c]);
-                let mut sum = self.values[rs + c - fr];
-                for k in k0..c {
-                    sum -= self.values[rs + k - fr] * self.values[cs + k - fc];
-                }
-                work += (c - k0) as u64 + 1;
-                if c < r {
-                    sum /= self.values[cs + c - fc];
-                } else if sum > 0.0 && sum.is_finite() {
-                    sum = sum.sqrt();
-                } else {
-                    self.work = work;
-                    return None;
-                }
-                self.values[rs + c - fr] = sum;
-            }
+    /// Entry `(r, c)` of the factor `H = L Lᵀ`, in place over the
+    /// envelope (rows before `r` and the entries of row `r` before `c`
+    /// factored already): its multiply–adds, and false when `H` is not
+    /// positive definite (the entry left as it was).
+    fn factor_entry(&mut self, r: usize, c: usize) -> (u64, bool) {
+        let (fr, fc) = (self.first[r], self.first[c]);
+        let k0 = fr.max(fc);
+        let (rs, cs) = (self.start[r], self.start[c]);
+        let mut sum = self.values[rs + c - fr];
+        for k in k0..c {
+            sum -= self.values[rs + k - fr] * self.values[cs + k - fc];
         }
-        // L y = -b, then Lᵀ x = y.
-        let mut y: Vec<f64> = self.b.iter().map(|v| -v).collect();
-        for r in 0..dim {
-            let (fr, rs) = (self.first[r], self.start[r]);
-            let mut sum = y[r];
-            for k in fr..r {
-                sum -= self.values[rs + k - fr] * y[k];
-            }
-            y[r] = sum / self.values[rs + r - fr];
+        let work = (c - k0) as u64 + 1;
+        if c < r {
+            sum /= self.values[cs + c - fc];
+        } else if sum > 0.0 && sum.is_finite() {
+            sum = sum.sqrt();
+        } else {
+            return (work, false);
         }
-        for r in (0..dim).rev() {
-            let (fr, rs) = (self.first[r], self.start[r]);
-            y[r] /= self.values[rs + r - fr];
-            let xr = y[r];
-            for k in fr..r {
-                y[k] -= self.values[rs + k - fr] * xr;
-            }
+        self.values[rs + c - fr] = sum;
+        (work, true)
+    }
+
+    /// Row `r` of `L y = -b` (`y` holding `-b` past the rows solved): its
+    /// multiply–adds, the row's envelope.
+    fn forward_row(&self, r: usize, y: &mut [f64]) -> u64 {
+        let (fr, rs) = (self.first[r], self.start[r]);
+        let mut sum = y[r];
+        for k in fr..r {
+            sum -= self.values[rs + k - fr] * y[k];
         }
-        self.work = work + 2 * self.values.len() as u64;
-        Some(y)
+        y[r] = sum / self.values[rs + r - fr];
+        (self.start[r + 1] - rs) as u64
+    }
+
+    /// Row `r` of `Lᵀ x = y` (rows past `r` solved): its multiply–adds.
+    fn backward_row(&self, r: usize, y: &mut [f64]) -> u64 {
+        let (fr, rs) = (self.first[r], self.start[r]);
+        y[r] /= self.values[rs + r - fr];
+        let xr = y[r];
+        for k in fr..r {
+            y[k] -= self.values[rs + k - fr] * xr;
+        }
+        (self.start[r + 1] - rs) as u64
     }
 }
 

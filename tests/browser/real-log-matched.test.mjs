@@ -55,6 +55,25 @@ for (const [log, scans, shot] of [['aces-corrected.log.gz', 440, 'real-log-aces-
         if (line?.dataset.building === 'true') window.matchLines.push({ ...line.dataset });
       }).observe(document.querySelector('.map-weaver-log'), { subtree: true, childList: true, attributes: true, characterData: true });
     });
+    // The scan-matched path's points the page copies out of the core, and
+    // the paintings of its pane (each draws the robot once).
+    await page.evaluate(() => {
+      const proto = window.realLogPanel.core.RealLogSession.prototype;
+      window.pathReads = { points: 0, paints: 0 };
+      for (const name of ['pathPixels', 'pathPixelsBetween']) {
+        const read = proto[name];
+        proto[name] = function (pane, ...rest) {
+          const out = read.call(this, pane, ...rest);
+          if (pane === 0) window.pathReads.points += out.length / 2;
+          return out;
+        };
+      }
+      const robotAt = proto.robotAt;
+      proto.robotAt = function (pane, k) {
+        if (pane === 0) window.pathReads.paints++;
+        return robotAt.call(this, pane, k);
+      };
+    });
     await page.setInputFiles('.map-weaver-log input[type=file]', path.join(DATASETS, log));
     // Part way through, the match drawn over the map being built.
     await page.waitForFunction((n) => window.matchLines.some((l) => Number(l.scan) >= n), Math.floor(scans / 3), { timeout: 120_000 });
@@ -81,6 +100,12 @@ for (const [log, scans, shot] of [['aces-corrected.log.gz', 440, 'real-log-aces-
     t.diagnostic(`file to maps ${done.totalMs} ms; long tasks: ${longTasks.length ? longTasks.join(', ') : 'none (all under 50)'} ms`);
     t.diagnostic(`${lines.length} match drawings while building; ${(await page.evaluate(() => window.realLogPanel.trace.filter(([w]) => w === 'build').length))} build slices`);
     assert.ok(lines.length >= 1, 'the match was drawn while building');
+    // Its path grew by the scans matched since the last painting: read
+    // whole once at layout, then each point once, however often painted.
+    const reads = await page.evaluate(() => window.pathReads);
+    t.diagnostic(`path points read ${reads.points} over ${reads.paints} paintings`);
+    assert.ok(reads.paints >= 3, `painted ${reads.paints} times`);
+    assert.ok(reads.points <= 3 * scans, `${reads.points} path points read for ${scans} scans`);
     assert.ok(lines.every((l) => Number(l.scan) < scans));
     const last = await page.locator('.map-weaver-log-match').textContent();
     assert.match(last, new RegExp(`^scan ${(scans - 1).toLocaleString('en-US')} `));

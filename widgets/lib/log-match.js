@@ -5,6 +5,7 @@
 // session's `matchView`); this module only draws and words them.
 import { el, fixed } from './ui.js';
 import { drawRobot } from './layers.js';
+import { grownPath } from './log-path.js';
 
 const MATCHED = 'scan-matched';
 const POINT_COLOR = '#d95f02';
@@ -18,12 +19,15 @@ function matched(state, k) {
 
 /**
  * The path to draw on pane `k`: a scan-matched pane's poses are found as
- * its scans are matched (a SLAM pane's also move when its graph is
- * optimised), so its path is read again from the core at each drawing;
- * any other pane's (`path`, read once at layout) stays.
+ * its scans are matched, so its path grows at each drawing by the scans
+ * matched since the last; a SLAM pane's poses also move when its graph is
+ * optimised, so its path is read again whole; any other pane's (`path`,
+ * read once at layout) stays.
  */
 export function livePath(panel, k, path) {
-  return matched(panel.state, k) || panel.state?.panes?.[k]?.poses === 'slam' ? panel.session.pathPixels(k) : path;
+  if (panel.state?.panes?.[k]?.poses === 'slam') return panel.session.pathPixels(k);
+  if (!matched(panel.state, k)) return path;
+  return grownPath(panel.session, k, path, panel.state.panes[k].scansDone);
 }
 
 /** Square dots of half-width `r` at the flat `[u0, v0, u1, v1, …]` points. */

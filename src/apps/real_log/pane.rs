@@ -357,8 +357,8 @@ impl LogPane {
     /// integrated when any is left (and `max_scans` is not 0).
     ///
     /// A step of a source that revises its poses (SLAM) may instead be a
-    /// submap of its loop search, an optimiser iteration, or a scan of the
-    /// map built again at the revised poses: `max_scans` counts steps.
+    /// slice of its loop search or of an optimiser iteration, or a scan of
+    /// the map built again at the revised poses: `max_scans` counts steps.
     pub fn advance_within(&mut self, max_scans: usize, max_cells: u64) -> BuildProgress {
         let start = self.progress().work;
         let mut steps = 0;
@@ -374,8 +374,9 @@ impl LogPane {
     }
 
     /// One step of bounded work: while the map is built again at revised
-    /// poses, its next scan; while the source settles its poses, a slice of
-    /// that (one optimiser iteration); otherwise scan `done` located by its
+    /// poses, its next scan; while the source settles its poses, a bounded
+    /// slice of that (a grid or heading of a loop search, a few rows of an
+    /// optimiser iteration); otherwise scan `done` located by its
     /// source and inserted where the source put it.
     pub(super) fn integrate_next(&mut self) {
         if self.inserted < self.done {

@@ -108,6 +108,16 @@ impl LogPane {
         self.map.path_pixels(self.poses())
     }
 
+    /// The laser positions of scans `from..to` alone (clipped to the
+    /// scans there are), as [`Self::path_in_pixels`] gives them: a page
+    /// that keeps a growing path asks only for the scans located since it
+    /// last asked, not for every scan at every drawing.
+    pub fn path_in_pixels_between(&self, from: usize, to: usize) -> Vec<f32> {
+        let poses = self.poses();
+        let to = to.min(poses.len());
+        self.map.path_pixels(&poses[from.min(to)..to])
+    }
+
     /// The robot at scan `k` in image units, heading as an image angle
     /// (see [`crate::render::overlay`]), or `None` past the last scan.
     pub fn robot_at(&self, k: usize) -> Option<RobotMark> {
