@@ -20,7 +20,7 @@ pub struct BrierDifference {
     pub left_closer: usize,
     /// Region cells whose squared error is smaller in the right map.
     pub right_closer: usize,
-    /// Region cells the two maps score alike (within [`TIE`]).
+    /// Region cells the two maps score alike (within `TIE`).
     pub tied: usize,
     /// The mean over the region of (right's squared error - left's): the
     /// right Brier score minus the left one.
@@ -32,7 +32,7 @@ pub struct BrierDifference {
 pub const TIE: f64 = 1e-6;
 
 /// Left map closer: Okabe & Ito's blue, a pair a colour-blind reader tells
-/// apart from [`RIGHT_CLOSER`].
+/// apart from `RIGHT_CLOSER`.
 pub const LEFT_CLOSER: [u8; 3] = [0, 114, 178];
 /// Right map closer: Okabe & Ito's vermillion.
 pub const RIGHT_CLOSER: [u8; 3] = [213, 94, 0];
@@ -91,9 +91,9 @@ impl Weaver {
 
     /// Draws the per-cell difference as an RGBA image (width x height x 4,
     /// north up, like a pane's map): a region cell the left map scores
-    /// better in [`LEFT_CLOSER`], the right map [`RIGHT_CLOSER`], deeper
-    /// the larger the gap, white where they tie ([`ALIKE_OCCUPIED`] on an
-    /// occupied cell); [`NOT_SCORED`] gray outside the region. `None` when the panes' cells differ.
+    /// better in `LEFT_CLOSER`, the right map `RIGHT_CLOSER`, deeper
+    /// the larger the gap, white where they tie (`ALIKE_OCCUPIED` on an
+    /// occupied cell); `NOT_SCORED` gray outside the region. `None` when the panes' cells differ.
     pub fn draw_brier_difference(&mut self) -> Option<&[u8]> {
         let [a, b] = &self.panes;
         if a.geometry != b.geometry {
