@@ -137,3 +137,42 @@ fn a_bag_is_mapped_at_its_own_odometry_and_a_carmen_log_at_its_corrected_poses()
     let s = RealLogSession::new(carmen);
     assert_eq!(s.own_poses(), Some(PoseSourceKind::Corrected));
 }
+
+/// A page sizes each read call from the work the last one reports, in
+/// scans. A bag keeps no scan until every message is read (its scans are
+/// placed at the odometry after): its read calls report the scans they
+/// decoded, then those they placed, each at most the call's budget,
+/// never nothing while the reading goes on (before, every call of the
+/// reading reported 0, and the page's calls were sized at random).
+#[test]
+fn a_bags_read_calls_report_the_scans_they_decoded_and_placed() {
+    let (bag, _) = robot_bag(&BagSpec {
+        scans: 40,
+        ..BagSpec::default()
+    });
+    let mut s = RealLogSession::new(bag);
+    s.configure(LogMapSettings {
+        poses: PoseSourceKind::Odometry,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    let mut works = Vec::new();
+    loop {
+        let report = s.read(4).unwrap();
+        works.push(report.work);
+        if report.progress.finished {
+            break;
+        }
+    }
+    assert!(works.iter().all(|&w| w <= 4), "{works:?}");
+    // Each scan decoded once and placed once; a call that only passed
+    // over other messages (the summary, the last odometry) may count none.
+    let total: usize = works.iter().sum();
+    assert!(total >= 80, "total {total}: {works:?}");
+    let idle = works.iter().filter(|&&w| w == 0).count();
+    assert!(
+        idle <= 2,
+        "{idle} calls of {} reported no work: {works:?}",
+        works.len()
+    );
+}

@@ -162,6 +162,14 @@ pub trait LogSource {
     fn progress(&self) -> LoadProgress;
     /// The scans read so far.
     fn scans(&self) -> &ScanLog;
+    /// Passes over scans so far: each scan counts once when it is decoded
+    /// and once more for each later pass over it (a bag decodes its scans
+    /// while it reads every message, and places them at the odometry once
+    /// all are read), so that a read call's work is counted in scans while
+    /// none is kept yet, and a page sizes the next call by it.
+    fn scan_steps(&self) -> usize {
+        self.scans().len()
+    }
     /// The scans read, the reader dropped.
     fn into_scans(self: Box<Self>) -> ScanLog;
     /// Why a file read to its end without a scan cannot be mapped, in the

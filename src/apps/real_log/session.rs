@@ -34,7 +34,8 @@ pub struct ReadReport {
     #[serde(flatten)]
     pub progress: LoadProgress,
     pub bytes_total: usize,
-    /// The call's work, in scans: the scans it read (each scan's share of
+    /// The call's work, in scans: the scans it read or placed
+    /// ([`crate::io::LogSource::scan_steps`]; each scan's share of
     /// the map's extent is grown as it is read) and the scans its planning
     /// of the panes walked, and the poses it made starting their sources
     /// ([`crate::poses::SourceStart::step`]'s units); at most the call's
@@ -269,12 +270,14 @@ impl RealLogSession {
                 "no log to read: open one first".into()
             }));
         };
-        let scans_before = loader.scans().len();
+        // Counted in passes over scans, not scans kept: a bag keeps none
+        // until every message is read.
+        let steps_before = loader.scan_steps();
         let progress = match loader.read(max_scans) {
             Ok(p) => p,
             Err(e) => return Err(self.read_failed(e)),
         };
-        let read = progress.scans - scans_before;
+        let read = loader.scan_steps() - steps_before;
         self.grow_read_extent();
         let finished = progress.finished;
         let mut report = ReadReport {

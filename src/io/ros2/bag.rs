@@ -90,6 +90,8 @@ pub struct BagLoader {
     map_links: MapLinks,
     frames: Vec<String>,
     pending: Vec<PendingScan>,
+    /// Scans decoded plus scans placed so far ([`LogSource::scan_steps`]).
+    scan_steps: usize,
     ranges: Vec<f32>,
     last_scan_stamp: Option<f64>,
     messages: usize,
@@ -130,6 +132,7 @@ impl BagLoader {
             map_links: MapLinks::default(),
             frames: Vec::new(),
             pending: Vec::new(),
+            scan_steps: 0,
             ranges: Vec::new(),
             last_scan_stamp: None,
             messages: 0,
@@ -496,6 +499,7 @@ impl BagLoader {
                 self.frames.len() - 1
             }
         };
+        self.scan_steps += 1;
         self.pending.push(PendingScan {
             origin: self.messages,
             place,
@@ -577,6 +581,7 @@ impl BagLoader {
             return Ok(self.pending.len());
         };
         let end = (next + most).min(self.pending.len());
+        self.scan_steps += end - next;
         for k in next..end {
             let p = self.pending[k];
             let Some(at) = odometry_at(samples, p.stamp) else {
@@ -773,6 +778,10 @@ impl LogSource for BagLoader {
 
     fn scans(&self) -> &ScanLog {
         &self.scans
+    }
+
+    fn scan_steps(&self) -> usize {
+        self.scan_steps
     }
 
     fn into_scans(self: Box<Self>) -> ScanLog {
