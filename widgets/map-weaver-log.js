@@ -260,7 +260,7 @@ export class RealLogPanel {
 
     this.root = el('div', { class: 'map-weaver-log', dataset: { state: 'idle' } },
       el('div', { class: 'map-weaver-log-source occgrid-controls', role: 'group', 'aria-label': 'log to map', dataset: { controls: 'log-source' } },
-        el('div', { class: 'occgrid-control' }, el('label', { for: fileId }, 'Open a CARMEN log'), this.fileInput),
+        el('div', { class: 'occgrid-control' }, el('label', { for: fileId }, 'Open a CARMEN log or ROS 2 bag'), this.fileInput),
         this.datasetMenu.root),
       this.topicChooser.root,
       el('div', { class: 'occgrid-controls', role: 'group', 'aria-label': 'grid and inverse model settings', dataset: { controls: 'log-settings' } },

@@ -421,7 +421,7 @@ test('Map Weaver’s real-log mode is driven by keyboard alone', async () => {
   await until(page, (s) => document.querySelector(`${s} .map-weaver-log select[name=dataset] option[value="intel-corrected.log.gz"]`), W);
 
   // The file input opens the file chooser from the keyboard.
-  await tabTo(page, W, 'input[type=file]', 'Open a CARMEN log');
+  await tabTo(page, W, 'input[type=file]', 'Open a CARMEN log or ROS 2 bag');
   assert.equal(await page.evaluate(() => document.activeElement?.type), 'file');
   await page.keyboard.press('Space');
   const chooser = await chooserOpened;
