@@ -53,6 +53,16 @@ fn settings(poses: PoseSourceKind) -> LogMapSettings {
     }
 }
 
+/// The figure a pose refusal names: what the log's poses could cost.
+fn named_bound(message: &str) -> u64 {
+    message
+        .split("could cost up to ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("the figure is named: {message}"))
+}
+
 /// A 2,000-scan share of the million-scan log, against the same share of
 /// the budget: scan matching it is refused when its panes are planned,
 /// naming the source, what it could cost and the budget; the poses known in
@@ -73,12 +83,7 @@ fn a_log_whose_matching_passes_the_budget_is_refused_by_its_figure_and_the_budge
         message.contains(&format!("at most {budget} units")),
         "{message}"
     );
-    let bound: u64 = message
-        .split("could cost up to ")
-        .nth(1)
-        .and_then(|t| t.split(' ').next())
-        .and_then(|t| t.parse().ok())
-        .unwrap_or_else(|| panic!("the figure is named: {message}"));
+    let bound = named_bound(&message);
     assert!(bound > budget, "{message}");
     // The whole million-scan log passes the whole budget by as much.
     assert!(bound * (MILLION / scans) as u64 > MAX_POSE_WORK);
@@ -125,12 +130,7 @@ fn a_slam_log_whose_work_passes_the_budget_is_refused_by_its_figure_and_the_budg
         message.contains(&format!("at most {budget} units")),
         "{message}"
     );
-    let bound: u64 = message
-        .split("could cost up to ")
-        .nth(1)
-        .and_then(|t| t.split(' ').next())
-        .and_then(|t| t.parse().ok())
-        .unwrap_or_else(|| panic!("the figure is named: {message}"));
+    let bound = named_bound(&message);
     assert!(bound > budget, "{message}");
     // The million-scan log passes the whole budget by as much.
     assert!(bound * (MILLION / scans) as u64 > MAX_POSE_WORK);
