@@ -6,7 +6,9 @@
 //! scores, so that a call of one-beam scans is as long as any other.
 
 use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK};
-use occgrid::poses::{match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT};
+use occgrid::poses::{
+    match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT, LOCAL_MATCH_UNITS,
+};
 use occgrid::sensors::odometry::OdometryParams;
 use std::time::Instant;
 
@@ -571,7 +573,7 @@ fn slam_work_measured() {
             let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);
             b.locate_scan(&log.scan(k).unwrap(), laser_max).unwrap();
             inserted += b.work() - w;
-            matched += match_work(b.last_match());
+            matched += match_work(b.last_match()) * LOCAL_MATCH_UNITS;
             let w = b.work();
             b.settle_within(u64::MAX);
             settled += b.work() - w;

@@ -38,7 +38,7 @@ pub use pose_error::{Alignment, AlignmentSums, GrowingAlignment};
 pub use scan_matched::{
     match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
 };
-pub use slam::{Slam, LOOP_SEARCH_ALLOWANCE};
+pub use slam::{Slam, LOCAL_MATCH_UNITS, LOOP_SEARCH_ALLOWANCE};
 pub use start::{SourceStart, COPIES_PER_UNIT};
 
 use crate::error::{invalid, Result};

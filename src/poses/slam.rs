@@ -26,7 +26,7 @@ use crate::error::{OccError, Result};
 use crate::geometry::Pose;
 use crate::mapping::scan_match::{MatchMap, MatchSettings};
 use crate::sensors::{Scan, ScanLog};
-use crate::slam::builder::{LOOP_EVERY, SUBMAP_SCANS};
+use crate::slam::builder::{FINISHED_CELL_UNITS, LOOP_EVERY, SUBMAP_SCANS, SUBMAP_UPDATE_UNITS};
 use crate::slam::SlamBuilder;
 
 pub(super) const INFO: SourceInfo = SourceInfo {
@@ -47,14 +47,20 @@ pub(super) const INFO: SourceInfo = SourceInfo {
 };
 
 /// The loop search's and the optimisation's allowance, in searches of a
-/// whole submap per loop search: each search of a finished submap first
-/// builds its seven grids of maxima, 3.5 units a cell
-/// ([`crate::slam::loop_search`]), and the search itself costs less than
-/// that on the shared logs. At 5 cm the shared logs spend from 0.3 (ACES)
-/// to 1.1 (Intel: a small building walked for long, most submaps near
-/// every scan) of them on searching and optimising together, the largest
-/// log (the Freiburg campus) 0.8.
-pub const LOOP_SEARCH_ALLOWANCE: u64 = 2;
+/// whole submap per loop search: a search of a finished submap may have
+/// to make its seven grids of maxima, 3.5 units a cell
+/// ([`crate::slam::loop_search`]), though a submap keeps them between
+/// searches while memory allows. At 5 cm, searching and optimising
+/// together spend 0.12 of one (Intel) to 0.39 (the Freiburg campus, whose
+/// submaps are the largest and are made again most often); before the
+/// grids were kept, 1.1 and 0.8.
+pub const LOOP_SEARCH_ALLOWANCE: u64 = 1;
+
+/// Units a local match counts, per unit of [`super::match_work`]: a match
+/// against a submap takes about 21 ns a unit natively (Intel and the
+/// campus), twice the real-log map's cell update, which a page's call is
+/// sized by.
+pub const LOCAL_MATCH_UNITS: u64 = 2;
 
 /// Units of work a cell of a submap costs a loop search (the grids of
 /// maxima, eq. 14 of Hess et al. 2016: seven depths, four reads a cell, eight
@@ -71,13 +77,15 @@ const RESTART_STEP_POSES: usize = 4096;
 /// of a cell update (what [`PoseSource::work`] counts):
 ///
 /// - every scan but the first matched against a submap, at the most
-///   [`super::match_work_bound`] allows (as the scan-matched source);
+///   [`super::match_work_bound`] allows (as the scan-matched source),
+///   [`LOCAL_MATCH_UNITS`] a unit of it;
 /// - every scan inserted into the two growing submaps, a beam updating at
 ///   most the cells of a line twice as long as the matcher's range (and
-///   the no-return reach) and a metre more, and the laser's own cell;
+///   the no-return reach) and a metre more, and the laser's own cell,
+///   `SUBMAP_UPDATE_UNITS` a cell update;
 /// - a submap started every `SUBMAP_SCANS / 2` scans, each finished once
-///   (a quarter of a unit a cell of its grid, at most `2 (maxRange + 5) /
-///   resolution` cells a side);
+///   (`FINISHED_CELL_UNITS` a cell of its grid, at most `2 (maxRange + 5)
+///   / resolution` cells a side);
 /// - every `LOOP_EVERY`-th scan searched for a loop and the graph
 ///   optimised: [`LOOP_SEARCH_ALLOWANCE`] searches of a whole submap each
 ///   (the loop search's cost grows with the submaps near a scan, which no
@@ -87,18 +95,18 @@ const RESTART_STEP_POSES: usize = 4096;
 ///   poses to a unit (a step's last unit perhaps not full).
 pub(super) fn work_bound(settings: &MatchSettings, resolution: f64, log: &ScanLog) -> u64 {
     let n = log.len() as u64;
-    let local = path_work_bound(settings, resolution, log);
+    let local = path_work_bound(settings, resolution, log).saturating_mul(LOCAL_MATCH_UNITS);
     let beam_reach = settings.max_range.max(5.0) + 1.0;
     let per_beam = (2.0 * beam_reach / resolution).ceil() as u64 + 2;
     let inserted = (log.beams() as u64)
         .saturating_mul(per_beam)
         .saturating_add(n)
-        .saturating_mul(2);
+        .saturating_mul(2 * SUBMAP_UPDATE_UNITS);
     // The side of a submap's grid (`Submap::start`: at least 64 cells).
     let side = ((2.0 * (settings.max_range + 5.0) / resolution).ceil() as u64).max(64);
     let cells = side.saturating_mul(side);
     let submaps = n / (SUBMAP_SCANS as u64 / 2) + 1;
-    let finished = submaps.saturating_mul(cells / 4);
+    let finished = submaps.saturating_mul(cells.saturating_mul(FINISHED_CELL_UNITS));
     let searches = n.div_ceil(LOOP_EVERY as u64);
     let loops = searches
         .saturating_mul(LOOP_SEARCH_ALLOWANCE)
@@ -287,7 +295,7 @@ impl PoseSource for Slam {
         self.check_bound(k)?;
         let revision = self.builder.revision();
         let pose = self.builder.locate_scan(scan, laser_max)?;
-        self.match_work += super::match_work(self.builder.last_match());
+        self.match_work += super::match_work(self.builder.last_match()) * LOCAL_MATCH_UNITS;
         if self.builder.revision() != revision {
             self.take_poses();
         } else if let Some(p) = self.poses.get_mut(k) {

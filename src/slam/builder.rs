@@ -66,17 +66,30 @@ const AGREEMENT_SCANS: usize = 12;
 /// metres, radians).
 const MATCH_SIGMA: [f64; 3] = [0.02, 0.02, 0.004];
 const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
-/// The optimiser's multiply–adds to a unit of work (a cell update): the
-/// envelope Cholesky's inner products take about 0.8 ns a multiply–add
-/// natively, a cell update 10 to 16 ns (budget.rs), so that a build call
-/// sized in units from a call of cell updates takes about as long on the
-/// optimiser (at 8 to a unit, a slice of optimisation took half the time
-/// of one of cell updates, and the slice after it, sized from it, twice).
-const MULTIPLY_ADDS_PER_UNIT: u64 = 16;
+/// The optimiser's multiply–adds to a unit of work (a cell update), and
+/// the units a submap's cell update and a finished submap's cell count:
+/// so that every kind of SLAM's work takes about as long a unit as the
+/// real-log map's cell update (10 to 16 ns natively, budget.rs), and a
+/// page's call sized from the calls before it lasts as long whatever work
+/// it meets. Measured natively over Intel's SLAM pane: an optimiser's
+/// multiply–add 1.1 ns (the nodes in the envelope order, short rows), a
+/// submap's cell update 21 to 29 ns (the campus, Intel), a finished
+/// submap's cell 16 ns (read from its tiles, kept as a byte); counted one
+/// to a unit, they made calls of the same budget last 10 to 36 ms.
+const MULTIPLY_ADDS_PER_UNIT: u64 = 10;
+pub const SUBMAP_UPDATE_UNITS: u64 = 2;
+pub const FINISHED_CELL_UNITS: u64 = 1;
 /// The least multiply–adds of the optimiser a settling step runs (about a
 /// tenth of a millisecond natively): one Gauss–Newton iteration of a long
 /// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
 const OPTIMIZER_STEP_WORK: u64 = 1 << 16;
+/// Most bytes the finished submaps' grids of maxima may hold together
+/// ([`super::loop_search::LoopGrid`] keeps them between searches): those
+/// searched least recently are dropped first. A submap's grids are seven
+/// bytes a cell of its box (a 30 m laser's submap: up to 1,400 cells a
+/// side, 14 MB). Intel natively: 10.3 s at 32 MB, 8.1 s at 64, 7.6 s at
+/// 128, 30 s making them anew for every search.
+const LOOP_LEVEL_BYTES: usize = 64 << 20;
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
 
@@ -132,6 +145,10 @@ pub struct SlamBuilder {
     last_match: MatchReport,
     points: ScanPoints,
     loop_points: Vec<[f64; 2]>,
+    /// Bytes the finished submaps' grids of maxima hold, and loop searches
+    /// of a submap ended so far.
+    level_bytes: usize,
+    searches_ended: u64,
 }
 
 impl SlamBuilder {
@@ -175,6 +192,8 @@ impl SlamBuilder {
             }),
             points: ScanPoints::default(),
             loop_points: Vec::new(),
+            level_bytes: 0,
+            searches_ended: 0,
         })
     }
 
@@ -335,14 +354,14 @@ impl SlamBuilder {
             s.cover(&placed, reach);
             if let Some(grid) = s.grid.as_mut() {
                 let stats = self.inserter.insert(grid, &placed, laser_max);
-                self.work += stats.cells_updated as u64;
+                self.work += stats.cells_updated as u64 * SUBMAP_UPDATE_UNITS;
             }
             s.scans += 1;
             s.last = k;
             if s.scans >= SUBMAP_SCANS {
                 s.finish();
                 if let Some(g) = &s.finished {
-                    self.work += (g.width * g.height) as u64 / 4;
+                    self.work += (g.width * g.height) as u64 * FINISHED_CELL_UNITS;
                 }
             }
         }
@@ -379,7 +398,8 @@ impl SlamBuilder {
 
     /// The search under way against its next finished submap near the
     /// scan, or on with the one part searched, until the search's work in
-    /// this call reaches `budget` points read (a bounded step: a
+    /// this call reaches `budget` reads (weighed as
+    /// [`super::loop_search::SearchUnderWay::work`] weighs them; a bounded step: a
     /// precomputed grid of the submap, or one heading's branch and bound;
     /// [`super::loop_search::LoopGrid::continue_search`]); once every
     /// submap is searched, its closures kept and the optimisation due
@@ -413,31 +433,40 @@ impl SlamBuilder {
             }
         }
         if let Some((i, mut under_way)) = search.current.take() {
-            let s = &self.submaps[i];
+            let s = &mut self.submaps[i];
             // A submap's search begins only once it is finished, and a
             // finished submap stays so: `None` never comes here.
-            let found = match &s.finished {
-                Some(grid) => grid.continue_search(&mut under_way, &self.loop_points, budget),
-                None => Some(None),
+            let (found, made) = match s.finished.as_mut() {
+                Some(grid) => {
+                    let before = grid.level_bytes();
+                    let found = grid.continue_search(&mut under_way, &self.loop_points, budget);
+                    (found, grid.level_bytes() - before)
+                }
+                None => (Some(None), 0),
             };
+            let anchor = s.anchor;
+            self.level_bytes += made;
             let Some(found) = found else {
                 search.current = Some((i, under_way));
                 self.searching = Some(search);
                 return;
             };
+            self.searches_ended += 1;
+            self.submaps[i].searched = self.searches_ended;
+            self.keep_level_budget(i);
             // The whole search's work, counted once it is over.
             self.work += under_way.work / 8;
             if let Some(found) = found {
                 if search.best.as_ref().is_none_or(|(b, _)| *b < found.score) {
-                    let anchor_local = self.local[s.anchor];
-                    let anchor_global = self.graph.nodes[s.anchor];
+                    let anchor_local = self.local[anchor];
+                    let anchor_global = self.graph.nodes[anchor];
                     let measurement = relative_motion(&anchor_local, &found.pose);
                     let placed = compose(&anchor_global, measurement);
                     search.best = Some((
                         found.score,
                         Candidate {
                             scan: k,
-                            edge: Edge::new(s.anchor, k, measurement, LOOP_SIGMA, true),
+                            edge: Edge::new(anchor, k, measurement, LOOP_SIGMA, true),
                             placed,
                         },
                     ));
@@ -452,6 +481,27 @@ impl SlamBuilder {
             self.keep_agreeing(k, candidate);
         }
         self.start_due_optimization(k);
+    }
+
+    /// Drops the grids of maxima of the submaps searched least recently
+    /// (never those of submap `keep`, just searched) until they hold at
+    /// most [`LOOP_LEVEL_BYTES`].
+    fn keep_level_budget(&mut self, keep: usize) {
+        while self.level_bytes > LOOP_LEVEL_BYTES {
+            let oldest = self
+                .submaps
+                .iter_mut()
+                .enumerate()
+                .filter(|(j, s)| {
+                    *j != keep && s.finished.as_ref().is_some_and(|g| g.level_bytes() > 0)
+                })
+                .min_by_key(|(_, s)| s.searched);
+            let Some((_, s)) = oldest else { break };
+            if let Some(grid) = s.finished.as_mut() {
+                self.level_bytes -= grid.level_bytes();
+                grid.drop_levels();
+            }
+        }
     }
 
     /// Scan `k`'s best loop match: an edge with its partner, an earlier
@@ -490,8 +540,9 @@ impl SlamBuilder {
         loop {
             let spent = self.work() - start;
             if self.searching.is_some() {
-                // The search counts points read, eight to a cell update; a
-                // step of at least one precomputed grid or one heading.
+                // The search counts reads of a grid of maxima being made
+                // (and others by their cost in those), eight to a cell
+                // update; a step of at least one grid made or one heading.
                 let left = budget.saturating_sub(spent).saturating_mul(8);
                 self.search_step(left);
             } else if let Some(optimizer) = self.optimizing.as_mut() {

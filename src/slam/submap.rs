@@ -28,6 +28,9 @@ pub struct Submap {
     pub last: usize,
     pub grid: Option<TiledGrid>,
     pub finished: Option<LoopGrid>,
+    /// When its last loop search ended, in searches of any submap: the
+    /// least recent drops its grids of maxima first.
+    pub searched: u64,
     /// The box its scans' poses and beam ends span (world, metres): the
     /// only cells a finished grid is read over.
     bounds: [f64; 4],
@@ -50,6 +53,7 @@ impl Submap {
             last: anchor,
             grid: Some(TiledGrid::new(geometry, filter, side * side)?),
             finished: None,
+            searched: 0,
             bounds: [pose.x, pose.y, pose.x, pose.y],
         })
     }
@@ -108,13 +112,7 @@ impl Submap {
             }
         }
         if x0 > x1 || y0 > y1 {
-            self.finished = Some(LoopGrid {
-                origin: g.origin(),
-                resolution: g.resolution(),
-                width: 0,
-                height: 0,
-                cells: known,
-            });
+            self.finished = Some(LoopGrid::new(g.origin(), g.resolution(), 0, 0, known));
             return;
         }
         let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
@@ -131,12 +129,12 @@ impl Submap {
                 known.push(byte);
             }
         }
-        self.finished = Some(LoopGrid {
-            origin: [ox + x0 as f64 * res, oy + y0 as f64 * res],
-            resolution: res,
-            width: bw,
-            height: bh,
-            cells: known,
-        });
+        self.finished = Some(LoopGrid::new(
+            [ox + x0 as f64 * res, oy + y0 as f64 * res],
+            res,
+            bw,
+            bh,
+            known,
+        ));
     }
 }
