@@ -112,6 +112,12 @@ pub trait PoseSource {
         0
     }
 
+    /// Whether the poses of scans already located may change later (a
+    /// SLAM source): a map built at them keeps where it put each scan.
+    fn revises(&self) -> bool {
+        false
+    }
+
     /// The loop closures a source that closes loops (SLAM) has found so
     /// far; `None` for one that closes none.
     fn loop_closures(&self) -> Option<usize> {

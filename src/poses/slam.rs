@@ -369,6 +369,10 @@ impl PoseSource for Slam {
         self.revision_base + self.builder.revision()
     }
 
+    fn revises(&self) -> bool {
+        true
+    }
+
     fn refusal(&self) -> Option<&OccError> {
         self.refused.as_ref()
     }

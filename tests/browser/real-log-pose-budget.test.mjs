@@ -1,5 +1,5 @@
 // Map Weaver's real-log panel in Chromium, a log whose poses would cost
-// past the pose budget to find (a few thousand one-beam scans at SLAM):
+// past the pose budget to find (six thousand one-beam scans at SLAM):
 // refused once read, and the status line says what helps (the core's
 // advice: poses known in advance, or the scans that fit), not a coarser
 // resolution, which does little for that work; poses known in advance then
@@ -11,7 +11,7 @@ import { openPage, shutdown } from './harness.mjs';
 after(shutdown);
 
 const PAGE = '/test-fixtures/real-log.html';
-const SCANS = 4000;
+const SCANS = 6000;
 
 /** `scans` FLASER lines of one beam 1.5 m ahead, creeping round a circle of 2 m. */
 function oneBeamLog(scans) {

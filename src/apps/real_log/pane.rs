@@ -26,6 +26,16 @@ use crate::sensors::odometry::OdometryParams;
 use crate::sensors::{Scan, ScanLog};
 use std::sync::Arc;
 
+/// How far a revision may move a scan of a pane's map, in cells, before
+/// the map is built again at once (see `LogPane::follow_revision`), and
+/// the reach at which a scan's turn is measured: a wall 10 m off moves by
+/// its turn times 10 m.
+const SHOWN_SHIFT_CELLS: f64 = 1.0;
+const SHIFT_REACH: f64 = 10.0;
+/// A revision rebuilds the map only once one scan in this many of those
+/// in it was located since the last rebuild (`LogPane::follow_revision`).
+const REBUILD_SHARE: usize = 4;
+
 /// The output size a pane's view starts at, pixels, until a page sets its
 /// own.
 pub const DEFAULT_VIEW_SIZE: (usize, usize) = (480, 360);
@@ -98,6 +108,15 @@ pub struct LogPane {
     pub(super) tally: TileTally,
     /// The source's revision the map is built at ([`PoseSource::revision`]).
     revision: u64,
+    /// Where each scan of the map was inserted, for a source that revises
+    /// its poses (empty for the others).
+    built_at: Vec<Pose>,
+    /// The map was kept through a revision (see [`Self::follow_revision`]):
+    /// it is built again once the source has its last word, so that the
+    /// finished map is the one of its poses.
+    stale: bool,
+    /// Scans located when the map was last emptied to be built again.
+    rebuilt_at: usize,
     /// The work of maps built at poses since revised, so that a build's
     /// work only grows.
     earlier_work: u64,
@@ -233,6 +252,9 @@ impl LogPane {
                 TileTally::new(t.occupied_above(), t.free_below())
             },
             revision: 0,
+            built_at: Vec::new(),
+            stale: false,
+            rebuilt_at: 0,
             earlier_work: 0,
             pose_error: Default::default(),
         })
@@ -306,22 +328,66 @@ impl LogPane {
         self.inserted = 0;
         self.revision = self.source.revision();
         self.earlier_work = 0;
+        self.built_at.clear();
+        self.stale = false;
+        self.rebuilt_at = 0;
     }
 
     /// The source's poses revised: the map is emptied, to be built again
     /// from the first scan at them a scan a step ([`Self::integrate_next`]),
     /// so that no step holds the whole rebuild.
+    ///
+    /// While the source goes on, a revision keeps the map, marked stale,
+    /// when it moves no scan of the map by more than [`SHOWN_SHIFT_CELLS`]
+    /// (a reader would see no wall move), or when fewer than one scan in
+    /// [`REBUILD_SHARE`] of those in the map was located since it was last
+    /// built again: each rebuild integrates every scan so far again, and a
+    /// rebuild at every revision cost Intel's SLAM pane 34 rebuilds, a
+    /// third of its build; spaced so, the rebuilds together integrate at
+    /// most about `REBUILD_SHARE` times the log's scans. Once the source
+    /// has its last word, a stale map is built again.
     fn follow_revision(&mut self) {
         self.revision = self.source.revision();
+        let recent = self.done - self.rebuilt_at;
+        if !self.source.settling()
+            && self.done < self.target
+            && (recent * REBUILD_SHARE < self.inserted || !self.moved_visibly())
+        {
+            self.stale = true;
+            return;
+        }
+        self.rebuild();
+    }
+
+    /// The map emptied, to be built again at the source's poses.
+    fn rebuild(&mut self) {
         self.earlier_work = self.progress().work - self.source.work();
         self.map.reset();
         self.inserted = 0;
+        self.built_at.clear();
+        self.stale = false;
+        self.rebuilt_at = self.done;
+    }
+
+    /// Whether some scan of the map now lies more than
+    /// [`SHOWN_SHIFT_CELLS`] from where it was inserted: its position's
+    /// move plus its heading's turn at [`SHIFT_REACH`] metres.
+    fn moved_visibly(&self) -> bool {
+        let limit = SHOWN_SHIFT_CELLS * self.settings.settings().resolution;
+        self.built_at.iter().zip(self.poses()).any(|(a, b)| {
+            (a.x - b.x).hypot(a.y - b.y)
+                + SHIFT_REACH * crate::geometry::wrap_angle(a.theta - b.theta).abs()
+                > limit
+        })
     }
 
     /// Whether the map shows the target's scans at the source's final
     /// word on their poses: nothing left to locate, settle or rebuild.
     fn caught_up(&self) -> bool {
-        self.done >= self.target && self.inserted == self.done && !self.source.settling()
+        self.done >= self.target
+            && self.inserted == self.done
+            && !self.source.settling()
+            && !self.stale
     }
 
     /// Heads the build for `scans` integrated scans (a scrub position).
@@ -402,6 +468,9 @@ impl LogPane {
             return;
         }
         if self.done >= self.target {
+            if self.stale {
+                self.rebuild();
+            }
             return;
         }
         let k = self.done;
@@ -443,6 +512,10 @@ impl LogPane {
     /// failure said) when its beams reach past the tile budget.
     fn insert(&mut self, k: usize, scan: &Scan) -> bool {
         let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
+        if self.source.revises() {
+            self.built_at.truncate(k);
+            self.built_at.push(scan.pose());
+        }
         self.reserved = reserve_ahead(self.grid().bytes_allocated(), self.reserved);
         self.map.insert(&mut self.inserter, scan, laser_max);
         if self.grid().refused() {
