@@ -1,10 +1,11 @@
 // The pace of the real-log panel's build calls: each call's budget, in the
 // core's units of work, sized from how fast the last few calls went. The
-// units cost unlike times (a cell update against a pass of a loop search's
-// precomputed grids, or the pose graph's multiply-adds, three times
-// cheaper), so a budget sized from the last call alone, after a call of
-// cheap units, runs two or three times past its slice on dear ones: the
-// slowest of the last few calls sizes the next (docs/BENCHMARKS.md, W6).
+// core counts each kind of work at about a cell update's time (SLAM's local
+// matches, submaps, loop search and optimiser weighed so), yet a unit's
+// time still varies with the work and the memory it touches (natively 7 to
+// 29 ns across SLAM's kinds), so a budget sized from the last call alone
+// can run past its slice when dearer work follows: the slowest of the last
+// few calls sizes the next (docs/BENCHMARKS.md, W6).
 
 /** Calls whose pace is remembered. */
 const REMEMBERED = 4;
