@@ -84,8 +84,8 @@ const RESTART_STEP_POSES: usize = 4096;
 ///   the no-return reach) and a metre more, and the laser's own cell,
 ///   `SUBMAP_UPDATE_UNITS` a cell update;
 /// - a submap started every `SUBMAP_SCANS / 2` scans, each finished once
-///   (`FINISHED_CELL_UNITS` a cell of its grid, at most `2 (maxRange + 5)
-///   / resolution` cells a side);
+///   (two passes over at most its grid, `FINISHED_CELL_UNITS` a cell
+///   read, at most `2 (maxRange + 5) / resolution` cells a side);
 /// - every `LOOP_EVERY`-th scan searched for a loop and the graph
 ///   optimised: [`LOOP_SEARCH_ALLOWANCE`] searches of a whole submap each
 ///   (the loop search's cost grows with the submaps near a scan, which no
@@ -106,7 +106,7 @@ pub(super) fn work_bound(settings: &MatchSettings, resolution: f64, log: &ScanLo
     let side = ((2.0 * (settings.max_range + 5.0) / resolution).ceil() as u64).max(64);
     let cells = side.saturating_mul(side);
     let submaps = n / (SUBMAP_SCANS as u64 / 2) + 1;
-    let finished = submaps.saturating_mul(cells.saturating_mul(FINISHED_CELL_UNITS));
+    let finished = submaps.saturating_mul(cells.saturating_mul(2 * FINISHED_CELL_UNITS));
     let searches = n.div_ceil(LOOP_EVERY as u64);
     let loops = searches
         .saturating_mul(LOOP_SEARCH_ALLOWANCE)

@@ -73,9 +73,11 @@ const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
 /// page's call sized from the calls before it lasts as long whatever work
 /// it meets. Measured natively over Intel's SLAM pane: an optimiser's
 /// multiply–add 1.1 ns (the nodes in the envelope order, short rows), a
-/// submap's cell update 21 to 29 ns (the campus, Intel), a finished
-/// submap's cell 16 ns (read from its tiles, kept as a byte); counted one
-/// to a unit, they made calls of the same budget last 10 to 36 ms.
+/// submap's cell update 21 to 29 ns (the campus, Intel), a closed
+/// submap's cell read on its way to bytes (the box of its scans, then the
+/// box of its known cells kept as bytes) about 8 to 16 ns; counted one to
+/// a unit (the closed cells a quarter), they made calls of the same budget
+/// last 10 to 36 ms.
 const MULTIPLY_ADDS_PER_UNIT: u64 = 10;
 pub const SUBMAP_UPDATE_UNITS: u64 = 2;
 pub const FINISHED_CELL_UNITS: u64 = 1;
@@ -90,6 +92,11 @@ const OPTIMIZER_STEP_WORK: u64 = 1 << 16;
 /// side, 14 MB). Intel natively: 10.3 s at 32 MB, 8.1 s at 64, 7.6 s at
 /// 128, 30 s making them anew for every search.
 const LOOP_LEVEL_BYTES: usize = 64 << 20;
+/// The least cells of a closed submap a settling step reads on their way
+/// to bytes (about a millisecond natively): a page's build steps a source
+/// with a budget of nothing, and a step per row of a campus submap made
+/// its SLAM pane 40 % slower.
+const FINISH_STEP_CELLS: u64 = 1 << 16;
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
 
@@ -145,6 +152,8 @@ pub struct SlamBuilder {
     last_match: MatchReport,
     points: ScanPoints,
     loop_points: Vec<[f64; 2]>,
+    /// Submaps closed and not yet made into bytes, oldest first.
+    closing: Vec<usize>,
     /// Bytes the finished submaps' grids of maxima hold, and loop searches
     /// of a submap ended so far.
     level_bytes: usize,
@@ -192,6 +201,7 @@ impl SlamBuilder {
             }),
             points: ScanPoints::default(),
             loop_points: Vec::new(),
+            closing: Vec::new(),
             level_bytes: 0,
             searches_ended: 0,
         })
@@ -241,7 +251,7 @@ impl SlamBuilder {
     /// Whether a loop search or an optimisation is under way
     /// ([`Self::settle_within`]).
     pub fn is_settling(&self) -> bool {
-        self.searching.is_some() || self.optimizing.is_some()
+        !self.closing.is_empty() || self.searching.is_some() || self.optimizing.is_some()
     }
 
     /// The odometry this builder starts from.
@@ -335,8 +345,10 @@ impl SlamBuilder {
         }
     }
 
-    /// Inserts scan `k` at `local` into the growing submaps, finishing the
-    /// full one and starting the next halfway.
+    /// Inserts scan `k` at `local` into the growing submaps, closing the
+    /// full one (made into bytes by [`Self::settle_within`], a slice of
+    /// rows at a time: a campus submap's grid is up to 1,400 cells a side)
+    /// and starting the next halfway.
     fn insert(&mut self, k: usize, scan: &Scan, local: &Pose, laser_max: f64) -> Result<()> {
         let growing = self.submaps.iter().filter(|s| s.grid.is_some()).count();
         let newest_half = self
@@ -350,7 +362,10 @@ impl SlamBuilder {
         }
         let placed = scan.with_pose(*local)?;
         let reach = self.matcher.settings().max_range.min(laser_max);
-        for s in self.submaps.iter_mut().filter(|s| s.grid.is_some()) {
+        for (i, s) in self.submaps.iter_mut().enumerate() {
+            if s.grid.is_none() {
+                continue;
+            }
             s.cover(&placed, reach);
             if let Some(grid) = s.grid.as_mut() {
                 let stats = self.inserter.insert(grid, &placed, laser_max);
@@ -359,10 +374,8 @@ impl SlamBuilder {
             s.scans += 1;
             s.last = k;
             if s.scans >= SUBMAP_SCANS {
-                s.finish();
-                if let Some(g) = &s.finished {
-                    self.work += (g.width * g.height) as u64 * FINISHED_CELL_UNITS;
-                }
+                s.close();
+                self.closing.push(i);
             }
         }
         Ok(())
@@ -529,17 +542,28 @@ impl SlamBuilder {
         }
     }
 
-    /// Runs the loop search under way a slice of a submap's search at a
+    /// Makes the closed submaps into bytes a slice of rows at a time, runs
+    /// the loop search under way a slice of a submap's search at a
     /// time, then the optimisation a slice of an iteration at a time
     /// ([`Optimizer::run_within`]), until this call's work reaches `budget`
     /// (in cell updates; at least one step); once the optimisation has
     /// converged the revision rises.
-    /// True when neither is left under way.
+    /// True when none is left under way.
     pub fn settle_within(&mut self, budget: u64) -> bool {
         let start = self.work();
         loop {
             let spent = self.work() - start;
-            if self.searching.is_some() {
+            if let Some(&i) = self.closing.first() {
+                // A closed submap made into bytes, whole rows at a time,
+                // at least FINISH_STEP_CELLS a step.
+                let left =
+                    (budget.saturating_sub(spent) / FINISHED_CELL_UNITS).max(FINISH_STEP_CELLS);
+                let (read, done) = self.submaps[i].finish_within(left);
+                self.work += read * FINISHED_CELL_UNITS;
+                if done {
+                    self.closing.remove(0);
+                }
+            } else if self.searching.is_some() {
                 // The search counts reads of a grid of maxima being made
                 // (and others by their cost in those), eight to a cell
                 // update; a step of at least one grid made or one heading.

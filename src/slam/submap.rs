@@ -28,6 +28,8 @@ pub struct Submap {
     pub last: usize,
     pub grid: Option<TiledGrid>,
     pub finished: Option<LoopGrid>,
+    /// Its grid while it is made into bytes, once full.
+    closing: Option<Closing>,
     /// When its last loop search ended, in searches of any submap: the
     /// least recent drops its grids of maxima first.
     pub searched: u64,
@@ -53,6 +55,7 @@ impl Submap {
             last: anchor,
             grid: Some(TiledGrid::new(geometry, filter, side * side)?),
             finished: None,
+            closing: None,
             searched: 0,
             bounds: [pose.x, pose.y, pose.x, pose.y],
         })
@@ -78,8 +81,15 @@ impl Submap {
     }
 
     /// The grid kept as bytes over the box of its known cells; the grid
-    /// dropped.
+    /// dropped ([`Self::close`] and [`Self::finish_within`] in one call).
     pub fn finish(&mut self) {
+        self.close();
+        while !self.finish_within(u64::MAX).1 {}
+    }
+
+    /// Stops the submap growing: its grid is set aside to be made into
+    /// bytes by [`Self::finish_within`], a slice of rows at a time.
+    pub fn close(&mut self) {
         let Some(grid) = self.grid.take() else {
             return;
         };
@@ -91,50 +101,176 @@ impl Submap {
         let cell =
             |v: f64, o: f64, n: usize| (((v - o) / res).floor().max(0.0) as usize).min(n - 1);
         let pad = 0.5;
-        let (cx0, cy0) = (
+        let scan = [
             cell(self.bounds[0] - pad, ox, w),
             cell(self.bounds[1] - pad, oy, h),
-        );
-        let (cx1, cy1) = (
             cell(self.bounds[2] + pad, ox, w),
             cell(self.bounds[3] + pad, oy, h),
-        );
-        let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
-        let mut known = Vec::new();
-        for iy in cy0..=cy1 {
+        ];
+        self.closing = Some(Closing {
+            grid,
+            scan,
+            known: [usize::MAX, usize::MAX, 0, 0],
+            row: scan[1],
+            bytes: None,
+        });
+    }
+
+    /// Whether the submap is closed but not yet finished.
+    pub fn is_closing(&self) -> bool {
+        self.closing.is_some()
+    }
+
+    /// Goes on making the closed grid into bytes, whole rows at a time,
+    /// until the cells read reach `max_cells` (at least one row): first
+    /// the box of its scans, for the box of its known cells, then that box
+    /// as bytes. The cells read, and true once finished (the grid then
+    /// dropped). Cut anywhere, the bytes are those of one call.
+    pub fn finish_within(&mut self, max_cells: u64) -> (u64, bool) {
+        let Some(c) = self.closing.as_mut() else {
+            return (0, true);
+        };
+        let mut read = 0u64;
+        let [cx0, _, cx1, cy1] = c.scan;
+        while c.bytes.is_none() && c.row <= cy1 {
+            let iy = c.row;
             for ix in cx0..=cx1 {
-                if grid.updates_at(ix, iy).is_some_and(|u| u > 0) {
-                    x0 = x0.min(ix);
-                    y0 = y0.min(iy);
-                    x1 = x1.max(ix);
-                    y1 = y1.max(iy);
+                if c.grid.updates_at(ix, iy).is_some_and(|u| u > 0) {
+                    c.known[0] = c.known[0].min(ix);
+                    c.known[1] = c.known[1].min(iy);
+                    c.known[2] = c.known[2].max(ix);
+                    c.known[3] = c.known[3].max(iy);
+                }
+            }
+            c.row += 1;
+            read += (cx1 - cx0 + 1) as u64;
+            if c.row > cy1 {
+                let [x0, y0, x1, y1] = c.known;
+                let cells = if x0 > x1 || y0 > y1 {
+                    0
+                } else {
+                    (x1 - x0 + 1) * (y1 - y0 + 1)
+                };
+                c.bytes = Some(Vec::with_capacity(cells));
+                c.row = y0;
+            }
+            if read >= max_cells {
+                return (read, false);
+            }
+        }
+        let g = *c.grid.geometry();
+        let [x0, y0, x1, y1] = c.known;
+        if x0 <= x1 && y0 <= y1 {
+            let bytes = c.bytes.as_mut().expect("the box of known cells is found");
+            while c.row <= y1 {
+                let iy = c.row;
+                for ix in x0..=x1 {
+                    let byte = match (c.grid.updates_at(ix, iy), c.grid.log_odds_at(ix, iy)) {
+                        (Some(u), Some(l)) if u > 0 => {
+                            let p = 1.0 / (1.0 + (-(l as f64)).exp());
+                            (p * 255.0).round() as u8
+                        }
+                        _ => 0,
+                    };
+                    bytes.push(byte);
+                }
+                c.row += 1;
+                read += (x1 - x0 + 1) as u64;
+                if c.row <= y1 && read >= max_cells {
+                    return (read, false);
                 }
             }
         }
-        if x0 > x1 || y0 > y1 {
-            self.finished = Some(LoopGrid::new(g.origin(), g.resolution(), 0, 0, known));
-            return;
+        let c = self.closing.take().expect("a closed submap");
+        let res = g.resolution();
+        let [ox, oy] = g.origin();
+        let known = c.bytes.unwrap_or_default();
+        self.finished = Some(if x0 > x1 || y0 > y1 {
+            LoopGrid::new(g.origin(), res, 0, 0, known)
+        } else {
+            LoopGrid::new(
+                [ox + x0 as f64 * res, oy + y0 as f64 * res],
+                res,
+                x1 - x0 + 1,
+                y1 - y0 + 1,
+                known,
+            )
+        });
+        (read, true)
+    }
+}
+
+/// A closed submap's grid being made into bytes ([`Submap::finish_within`]).
+#[derive(Debug, Clone)]
+struct Closing {
+    grid: TiledGrid,
+    /// The box of the submap's scans, cells `[x0, y0, x1, y1]`.
+    scan: [usize; 4],
+    /// The box of its known cells found so far (empty while `x0 > x1`).
+    known: [usize; 4],
+    /// The next row read: of the scans' box, then of the known box.
+    row: usize,
+    /// The known box's bytes, once that box is found.
+    bytes: Option<Vec<u8>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::inverse::HandCraftedParams;
+    use crate::mapping::insertion::{ScanInserter, ScanInsertion};
+    use crate::mapping::walls::WallModel;
+
+    /// A submap of three scans in a room, closed.
+    fn closed() -> Submap {
+        let pose = Pose::new(1.0, 2.0, 0.3).unwrap();
+        let mut s = Submap::start(0, &pose, 9.0, 0.05).unwrap();
+        let mut inserter = ScanInserter::new(ScanInsertion {
+            model: HandCraftedParams::laser(8.0),
+            no_return_reach: 5.0,
+            walls: WallModel::Incidence,
+            between_beams: false,
+        })
+        .unwrap();
+        let bearings: Vec<f64> = (0..181).map(|i| (i as f64 - 90.0).to_radians()).collect();
+        for k in 0..3 {
+            let ranges = bearings
+                .iter()
+                .map(|b: &f64| 2.0 + 0.5 * (3.0 * b + k as f64).sin().abs())
+                .collect();
+            let at = Pose::new(1.0 + 0.1 * k as f64, 2.0, 0.3).unwrap();
+            let scan = Scan::new(at, ranges, bearings.clone()).unwrap();
+            s.cover(&scan, 8.0);
+            inserter.insert(s.grid.as_mut().unwrap(), &scan, 8.0);
         }
-        let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
-        known.reserve(bw * bh);
-        for iy in y0..=y1 {
-            for ix in x0..=x1 {
-                let byte = match (grid.updates_at(ix, iy), grid.log_odds_at(ix, iy)) {
-                    (Some(u), Some(l)) if u > 0 => {
-                        let p = 1.0 / (1.0 + (-(l as f64)).exp());
-                        (p * 255.0).round() as u8
-                    }
-                    _ => 0,
-                };
-                known.push(byte);
+        s.close();
+        s
+    }
+
+    /// Made into bytes a few rows a call or in one call: the same grid,
+    /// and every cell read counted once whatever the slices.
+    #[test]
+    fn a_closed_submap_finished_in_slices_is_the_one_finished_at_once() {
+        let mut whole = closed();
+        let (whole_read, done) = whole.finish_within(u64::MAX);
+        assert!(done && !whole.is_closing() && whole.grid.is_none());
+        let mut sliced = closed();
+        let (mut read, mut calls) = (0, 0);
+        loop {
+            let (r, done) = sliced.finish_within(100);
+            read += r;
+            calls += 1;
+            if done {
+                break;
             }
         }
-        self.finished = Some(LoopGrid::new(
-            [ox + x0 as f64 * res, oy + y0 as f64 * res],
-            res,
-            bw,
-            bh,
-            known,
-        ));
+        assert!(calls > 10, "{calls} calls");
+        assert_eq!(read, whole_read);
+        let (a, b) = (whole.finished.unwrap(), sliced.finished.unwrap());
+        assert!(
+            a.width > 10 && a.cells.iter().any(|&v| v > 200),
+            "a room's walls"
+        );
+        assert_eq!(a, b);
     }
 }

@@ -349,8 +349,7 @@ impl LogPane {
     fn follow_revision(&mut self) {
         self.revision = self.source.revision();
         let recent = self.done - self.rebuilt_at;
-        if !self.source.settling()
-            && self.done < self.target
+        if self.done < self.target
             && (recent * REBUILD_SHARE < self.inserted || !self.moved_visibly())
         {
             self.stale = true;
