@@ -80,13 +80,6 @@ impl Submap {
         }
     }
 
-    /// The grid kept as bytes over the box of its known cells; the grid
-    /// dropped ([`Self::close`] and [`Self::finish_within`] in one call).
-    pub fn finish(&mut self) {
-        self.close();
-        while !self.finish_within(u64::MAX).1 {}
-    }
-
     /// Stops the submap growing: its grid is set aside to be made into
     /// bytes by [`Self::finish_within`], a slice of rows at a time.
     pub fn close(&mut self) {
