@@ -5,7 +5,9 @@
 //! budget), and a build call's budget counts every candidate a match
 //! scores, so that a call of one-beam scans is as long as any other.
 
-use occgrid::apps::real_log::{LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK};
+use occgrid::apps::real_log::{
+    LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK, START_UNITS_PER_PASS,
+};
 use occgrid::poses::{
     match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT, LOCAL_MATCH_UNITS,
 };
@@ -249,15 +251,18 @@ fn no_read_call_starts_every_pose_of_a_long_log() {
                 longest <= max_scans,
                 "{poses:?}: a call of {max_scans} scans worked {longest}"
             );
+            // A scan read and a scan walked are a unit each, the poses of
+            // a source's start START_UNITS_PER_PASS to a unit.
+            let paths = 2 * (scans / START_UNITS_PER_PASS);
             assert!(
-                total >= 4 * scans,
+                total >= 2 * scans + paths,
                 "{total} units reported for {scans} scans read, two paths dead-reckoned and one walked"
             );
             if poses == PoseSourceKind::Slam {
                 // The corrected pane's copy and SLAM's second copy.
-                let copies = 2 * (scans / COPIES_PER_UNIT);
+                let copies = 2 * (scans / COPIES_PER_UNIT) / START_UNITS_PER_PASS;
                 assert!(
-                    total >= 4 * scans + copies,
+                    total >= 2 * scans + paths + copies,
                     "{total} units reported: SLAM's copy of its path is not counted"
                 );
             }

@@ -33,7 +33,7 @@ import { NARROW_WIDTH, mapLegend, paneSwitcher } from './lib/log-panes.js';
 import { topicChooser } from './lib/topic-chooser.js';
 import { poseGraphControl } from './lib/pose-graph-layer.js';
 import { statusText } from './lib/log-status.js';
-import { buildPace } from './lib/build-pace.js';
+import { buildPace, readPace } from './lib/build-pace.js';
 
 const DATASET_BASE = new URL('../datasets/', import.meta.url);
 
@@ -90,15 +90,6 @@ function yieldToEventLoop() {
     waiting.push(resolve);
     channel.port2.postMessage(null);
   });
-}
-
-/**
- * The next call's budget: the work the last call did (`done`, in its units)
- * scaled to SLICE_MS by the last call's duration, and at most twice the last
- * budget `n`.
- */
-export function nextChunk(n, ms, done = n) {
-  return Math.max(1, Math.min(n * 2, Math.round((done * SLICE_MS) / Math.max(ms, 0.25))));
 }
 
 /** The fields of `settings` the panel knows (the others are dropped). */
@@ -355,8 +346,10 @@ export class RealLogPanel {
     this.job = { kind: 'load', name, t0 };
     // A first call of 32 scans: a bag's reach its first chunk (about 36
     // Intel scans to a 40 KB zstd chunk, 3-10 ms in wasm); later calls are
-    // sized from the scans each call reports (nextChunk).
+    // sized from the scans each call reports, at the pace of the read's
+    // slowest call (readPace).
     this.readBudget = 32;
+    this.readPace = readPace(SLICE_MS);
     this.show(this.session.state());
     this.drive();
   }
@@ -365,7 +358,7 @@ export class RealLogPanel {
    * Drives the session while its state is `reading` or `building`: one
    * call into the core per task (a read of a budget of scans, a build
    * slice of a budget of work, or a band of a drawing), each budget sized
-   * from the last call's duration. One loop at a time: new settings, a
+   * from the calls before it (readPace, buildPace). One loop at a time: new settings, a
    * scrub or another log change the session, and the loop follows it.
    */
   async drive() {
@@ -454,7 +447,7 @@ export class RealLogPanel {
     const ms = performance.now() - t;
     this.trace.push([planning ? 'plan' : 'read', ms, n, report.work]);
     // Sized by the work done (scans read, or walked to plan the panes).
-    this.readBudget = nextChunk(n, ms, Math.max(1, report.work));
+    this.readBudget = (this.readPace ??= readPace(SLICE_MS)).next(n, ms, Math.max(1, report.work));
     // The read log's own poses, unless the reader chose: a bag's corrected ones when its read found a map → odom transform.
     const own = report.finished && !this.posesChosen ? this.session.ownPoses() : null;
     if (own && own !== this.settings.poses) { this.settings = { ...this.settings, poses: own }; this.syncControls(); this.applySettings(); }

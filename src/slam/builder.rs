@@ -423,7 +423,7 @@ impl SlamBuilder {
     /// scan, or on with the one part searched, until the search's work in
     /// this call reaches `budget` reads (weighed as
     /// [`super::loop_search::SearchUnderWay::work`] weighs them; a bounded step: a
-    /// precomputed grid of the submap, or one heading's branch and bound;
+    /// slice of rows of a grid of maxima, or one heading's branch and bound;
     /// [`super::loop_search::LoopGrid::continue_search`]); once every
     /// submap is searched, its closures kept and the optimisation due
     /// started.
@@ -576,7 +576,7 @@ impl SlamBuilder {
             } else if self.searching.is_some() {
                 // The search counts reads of a grid of maxima being made
                 // (and others by their cost in those), eight to a cell
-                // update; a step of at least one grid made or one heading.
+                // update; a step of at least a slice of a grid made, or one heading.
                 let left = budget.saturating_sub(spent).saturating_mul(8);
                 self.search_step(left);
             } else if let Some(optimizer) = self.optimizing.as_mut() {

@@ -52,7 +52,26 @@ pub struct LoopGrid {
     pub cells: Vec<u8>,
     /// The grids of depth `1..=levels.len()` made so far.
     levels: Vec<Vec<u8>>,
+    /// The next one, while it is made a slice of rows at a time.
+    making: Option<Making>,
 }
+
+/// A grid of maxima being made ([`LoopGrid::make_level_within`]): the
+/// sliding maximum along the rows of the grid before it, `y` rows of
+/// `rows` done; then (`columns`) along its columns, `y` rows of `out` done.
+#[derive(Debug, Clone, PartialEq)]
+struct Making {
+    rows: Vec<u8>,
+    out: Vec<u8>,
+    y: usize,
+    columns: bool,
+}
+
+/// The least reads a slice of a grid of maxima being made takes (about a
+/// millisecond natively): a campus submap's grid is up to 2 million cells,
+/// 8 million reads a grid, which made in one step held a page's call
+/// 50 ms past its budget.
+const LEVEL_STEP_READS: u64 = 1 << 20;
 
 /// What a search found.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,6 +136,7 @@ impl LoopGrid {
             height,
             cells,
             levels: Vec::new(),
+            making: None,
         }
     }
 
@@ -128,6 +148,7 @@ impl LoopGrid {
     /// Drops the grids of maxima (a later search makes them again).
     pub fn drop_levels(&mut self) {
         self.levels = Vec::new();
+        self.making = None;
     }
 
     /// The bytes of a grid, world-to-byte rows bottom first.
@@ -138,38 +159,66 @@ impl LoopGrid {
         level[iy as usize * self.width + ix as usize] as u32
     }
 
-    /// The grid of depth `depth` (1 to `DEPTH`) from `prev`, the one of
-    /// depth `depth - 1` (the cells themselves at depth 1): each cell the
-    /// highest of the `2^depth x 2^depth` cells from it, by a sliding
-    /// maximum along rows then columns of `prev` (`2^(depth-1)` apart).
-    fn next_level(&self, prev: &[u8], depth: usize) -> Vec<u8> {
+    /// Makes the next grid of maxima, of depth `d = levels.len() + 1`,
+    /// from the one before (the cells themselves at depth 1), whole rows at
+    /// a time until `max_reads` reads (at least a row): each cell the
+    /// highest of the `2^d x 2^d` cells from it, by a sliding maximum along
+    /// the rows then the columns of the grid before (`2^(d-1)` apart). Once
+    /// its last row is made it joins the levels. The reads made (two a
+    /// cell a pass: four a cell in all, however it is sliced).
+    fn make_level_within(&mut self, max_reads: u64) -> u64 {
         let (w, h) = (self.width, self.height);
-        let shift = 1usize << (depth - 1);
-        let mut rows = vec![0u8; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let a = prev[y * w + x];
-                let b = if x + shift < w {
-                    prev[y * w + x + shift]
-                } else {
-                    0
+        let shift = 1usize << self.levels.len();
+        let mut m = self.making.take().unwrap_or_else(|| Making {
+            rows: vec![0u8; w * h],
+            out: Vec::new(),
+            y: 0,
+            columns: false,
+        });
+        let prev: &[u8] = self.levels.last().unwrap_or(&self.cells);
+        let mut reads = 0u64;
+        loop {
+            let y = m.y;
+            if !m.columns {
+                for x in 0..w {
+                    let a = prev[y * w + x];
+                    let b = if x + shift < w {
+                        prev[y * w + x + shift]
+                    } else {
+                        0
+                    };
+                    m.rows[y * w + x] = a.max(b);
+                }
+            } else {
+                for x in 0..w {
+                    let a = m.rows[y * w + x];
+                    let b = if y + shift < h {
+                        m.rows[(y + shift) * w + x]
+                    } else {
+                        0
+                    };
+                    m.out[y * w + x] = a.max(b);
+                }
+            }
+            reads += 2 * w as u64;
+            m.y += 1;
+            if m.y == h {
+                if m.columns {
+                    self.levels.push(m.out);
+                    return reads;
+                }
+                m = Making {
+                    out: vec![0u8; w * h],
+                    y: 0,
+                    columns: true,
+                    ..m
                 };
-                rows[y * w + x] = a.max(b);
+            }
+            if reads >= max_reads {
+                self.making = Some(m);
+                return reads;
             }
         }
-        let mut out = vec![0u8; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let a = rows[y * w + x];
-                let b = if y + shift < h {
-                    rows[(y + shift) * w + x]
-                } else {
-                    0
-                };
-                out[y * w + x] = a.max(b);
-            }
-        }
-        out
     }
 
     /// Bilinear read of the bytes at world `(x, y)`, 0 to 1.
@@ -243,9 +292,10 @@ impl LoopGrid {
 
     /// Goes on with `search` (begun by [`Self::begin_search`] on this grid
     /// and these `points`) until its work in this call reaches `budget`, a
-    /// step at a time: one precomputed grid not yet kept (four reads a
-    /// cell), or the
-    /// branch and bound of one heading. The match (or `None`) once the
+    /// step at a time: rows of a grid of maxima not yet kept (at least
+    /// `LEVEL_STEP_READS` reads, or what is left of the budget; four reads
+    /// a cell in all), or the branch and bound of one heading. The match
+    /// (or `None`) once the
     /// search is over, `search.work` then its whole work; the steps are the
     /// ones [`Self::search`] takes in one call, in the same order, so the
     /// match is the same bit for bit.
@@ -261,10 +311,8 @@ impl LoopGrid {
         let limit = search.work.saturating_add(budget);
         loop {
             if self.levels.len() < DEPTH {
-                let depth = self.levels.len() + 1;
-                let level = self.next_level(self.levels.last().unwrap_or(&self.cells), depth);
-                self.levels.push(level);
-                search.work += (self.cells.len() * 4) as u64;
+                let left = limit.saturating_sub(search.work).max(LEVEL_STEP_READS);
+                search.work += self.make_level_within(left);
             } else if search.heading <= search.headings {
                 let hi = search.heading;
                 search.heading += 1;
@@ -467,7 +515,7 @@ mod tests {
         assert!(found.pose.theta.abs() < 0.01, "{found:?}");
         // The same search a bounded step at a time: the same match, bit
         // for bit, and the same work; no call past its budget by more than
-        // one step (a precomputed grid, or one heading).
+        // one step (a slice of a grid of maxima, or one heading).
         let budget = 30_000;
         let step = (grid.cells.len() * 4) as u64;
         grid.drop_levels();
@@ -494,6 +542,36 @@ mod tests {
         );
         assert_eq!(again.candidates, found.candidates);
         assert_eq!(sliced.work, whole_work);
+    }
+
+    /// A grid of maxima made a row at a time is the one made at once, and
+    /// costs the same reads: four a cell, however it is sliced.
+    #[test]
+    fn a_grid_of_maxima_made_in_slices_is_the_one_made_at_once() {
+        let (w, h) = (97usize, 61usize);
+        let cells: Vec<u8> = (0..w * h)
+            .map(|i| ((i * 7919 + (i / w) * 104_729) % 251) as u8)
+            .collect();
+        let mut whole = LoopGrid::new([0.0, 0.0], 0.05, w, h, cells.clone());
+        let mut sliced = LoopGrid::new([0.0, 0.0], 0.05, w, h, cells);
+        for depth in 1..=DEPTH {
+            assert_eq!(whole.make_level_within(u64::MAX), (4 * w * h) as u64);
+            let (mut reads, mut slices) = (0, 0);
+            while sliced.levels.len() < depth {
+                reads += sliced.make_level_within(1);
+                slices += 1;
+            }
+            assert_eq!((reads, slices), ((4 * w * h) as u64, 2 * h));
+            assert_eq!(sliced.levels, whole.levels);
+        }
+        // A cell of depth 2 is the highest of the 4 x 4 cells from it.
+        let at = |x: usize, y: usize| whole.cells[y * w + x];
+        let highest = (0..4)
+            .flat_map(|dy| (0..4).map(move |dx| (dx, dy)))
+            .map(|(dx, dy)| at(10 + dx, 20 + dy))
+            .max()
+            .unwrap();
+        assert_eq!(whole.levels[1][20 * w + 10], highest);
     }
 
     /// A submap searched again reads the grids of maxima its first search

@@ -40,6 +40,7 @@ pub use budget::{MAX_POSE_WORK, VISITS_PER_UNIT};
 pub use map::LogGrid;
 pub use matched::MatchView;
 pub use pane::{BuildProgress, LogPane, DEFAULT_VIEW_SIZE};
+pub use planning::START_UNITS_PER_PASS;
 pub use session::{PlanReport, ReadReport, RealLogSession, CONFIGURE_SCANS, READ_SHARE};
 pub use settings::{
     CheckedSettings, LogCellModel, LogMapSettings, SettingLimits, HIT_RATIO, MAX_SEED,
