@@ -526,6 +526,8 @@ export class RealLogPanel {
     const input = this.datasetMenu.input;
     input.replaceChildren(el('option', { value: '' }, 'choose a log…'), ...logs.map(([n, label]) => el('option', { value: n }, label)));
     this.datasetMenu.root.hidden = logs.length === 0;
+    // The listing is decided (its fetch answered or failed): the logs it offers.
+    input.dataset.listed = String(logs.length);
     this.showDataset();
   }
 
