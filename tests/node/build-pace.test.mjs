@@ -32,8 +32,12 @@ test('a slow call lowers the next budget at once, and a budget is never below 1'
 // calls, the cheap run grew the budget call after call and the tile walk's
 // call ran far past its slice; sized from the slowest of the read's last
 // 32 calls, it stays in its slice.
-test("a read's calls stay in their slice after a long run of cheap units", () => {
-  const pace = readPace(25);
+/**
+ * Calls under `pace` from a budget of 32 units: 10 of lines read (40 µs a
+ * unit), 12 of cheap units (2 µs), then 10 of tile walks (37 µs): the
+ * tile walk's calls, in milliseconds.
+ */
+function campusRead(pace) {
   let n = 32;
   const call = (usPerUnit) => {
     const ms = (n * usPerUnit) / 1000;
@@ -42,19 +46,14 @@ test("a read's calls stay in their slice after a long run of cheap units", () =>
   };
   for (let i = 0; i < 10; i++) call(40);
   for (let i = 0; i < 12; i++) call(2);
-  const longest = Math.max(...Array.from({ length: 10 }, () => call(37)));
+  return Array.from({ length: 10 }, () => call(37));
+}
+
+test("a read's calls stay in their slice after a long run of cheap units", () => {
+  const longest = Math.max(...campusRead(readPace(25)));
   assert.ok(longest <= 25, `a tile walk's call took ${longest} ms`);
   // The last calls' pace alone lets it run far past its slice.
-  const recent = buildPace(25);
-  n = 32;
-  const callRecent = (usPerUnit) => {
-    const ms = (n * usPerUnit) / 1000;
-    n = recent.next(n, ms, n);
-    return ms;
-  };
-  for (let i = 0; i < 10; i++) callRecent(40);
-  for (let i = 0; i < 12; i++) callRecent(2);
-  assert.ok(callRecent(37) > 100);
+  assert.ok(campusRead(buildPace(25))[0] > 100);
 });
 
 test("one slow call of a read is forgotten 32 calls on", () => {
