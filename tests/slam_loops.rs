@@ -426,3 +426,121 @@ fn a_loop_round_hedges_that_return_from_their_leaves_closes() {
         );
     }
 }
+
+/// A corridor 60 m long and 4 m wide, posts 0.3 m thick along its walls
+/// at uneven spacing, and a wall at each end.
+fn posts_corridor() -> World {
+    use rand::Rng;
+    let length = 60.0;
+    let g = GridGeometry::new(((length + 6.0) / 0.05) as usize, 120, 0.05, 0.0, 0.0).unwrap();
+    let mut boxes = vec![
+        Rect::new(0.5, 0.5, length + 5.5, 1.0),
+        Rect::new(0.5, 4.5, length + 5.5, 5.0),
+        Rect::new(0.5, 0.5, 1.0, 5.0),
+        Rect::new(length + 5.0, 0.5, length + 5.5, 5.0),
+    ];
+    let mut rng = StdRng::seed_from_u64(3);
+    let mut x = 1.5;
+    while x < length + 4.0 {
+        let depth = rng.random_range(0.2..0.6);
+        if rng.random_bool(0.5) {
+            boxes.push(Rect::new(x, 1.0, x + 0.3, 1.0 + depth));
+        } else {
+            boxes.push(Rect::new(x, 4.5 - depth, x + 0.3, 4.5));
+        }
+        x += rng.random_range(1.0..4.0);
+    }
+    World::from_boxes(g, &boxes)
+}
+
+/// Scans of a laser that sees only ahead, as a real log's does: the half
+/// of the ring's beams within a quarter turn of the heading, in order.
+fn forward_scans(world: &World, truth: &[Pose]) -> Vec<Scan> {
+    let lidar = Lidar {
+        beams: 360,
+        z_max: 40.0,
+        sigma: 0.01,
+        first_bearing: -std::f64::consts::FRAC_PI_2,
+    };
+    let mut rng = StdRng::seed_from_u64(5);
+    let mut ranges = Vec::new();
+    truth
+        .iter()
+        .map(|p| {
+            lidar.scan_into(world, p, &mut rng, &mut ranges);
+            let ahead = lidar.beams / 2 + 1;
+            let bearings = lidar.bearings()[..ahead].to_vec();
+            Scan::new(*p, ranges[..ahead].to_vec(), bearings).unwrap()
+        })
+        .collect()
+}
+
+/// Down a corridor of posts and back, the laser looking ahead: on the way
+/// back it sees the posts' other faces, each a post's width from the faces
+/// the submaps of the way out hold. A closure that lays the one face on
+/// the other is 0.3 m off along the corridor, and closures so laid made
+/// the way out 0.6 % short (0.99406 of its length, 0.36 m in 60 m). With
+/// each cell's surface normal kept, it keeps its length to 0.2 % (1.00117)
+/// and no closure is off by a post's width.
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "400 scans mapped: minutes unoptimised, run with --release"
+)]
+fn a_corridor_driven_out_and_back_keeps_its_length() {
+    let world = posts_corridor();
+    let step = 0.3;
+    let out = 200;
+    let mut truth: Vec<Pose> = (0..=out)
+        .map(|i| Pose {
+            x: 3.0 + i as f64 * step,
+            y: 2.75,
+            theta: 0.0,
+        })
+        .collect();
+    let end = truth[out].x;
+    for i in 1..=8 {
+        truth.push(Pose {
+            x: end,
+            y: 2.75,
+            theta: std::f64::consts::PI * i as f64 / 8.0,
+        });
+    }
+    for i in 1..=out {
+        truth.push(Pose {
+            x: end - i as f64 * step,
+            y: 2.75,
+            theta: std::f64::consts::PI,
+        });
+    }
+    let scans = forward_scans(&world, &truth);
+    let mut b = SlamBuilder::new(
+        truth.clone(),
+        OdometryParams::EXACT,
+        MatchSettings::default(),
+        0.05,
+    )
+    .unwrap();
+    for s in &scans {
+        b.add_scan(s, 40.0).unwrap();
+    }
+    assert!(b.closures() > 20, "{} closures", b.closures());
+    let p = b.poses();
+    let length = (p[out].x - p[0].x).hypot(p[out].y - p[0].y);
+    let ratio = length / (truth[out].x - truth[0].x);
+    eprintln!("out and back: the way out {ratio:.5} of its length");
+    assert!(
+        (ratio - 1.0).abs() < 0.002,
+        "the way out is {ratio:.5} of its length"
+    );
+    for e in b.graph.edges.iter().filter(|e| e.robust && e.active) {
+        let t = occgrid::mapping::scan_match::relative_motion(&truth[e.from], &truth[e.to]);
+        let off = (t[0] - e.measurement[0]).hypot(t[1] - e.measurement[1]);
+        assert!(
+            off < 0.2,
+            "closure {} -> {} is {off:.3} m off",
+            e.from,
+            e.to
+        );
+    }
+}

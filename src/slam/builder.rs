@@ -27,7 +27,7 @@
 //! need be: the next scan waits for them, so the poses are bit for bit
 //! those of one call.
 
-use super::loop_search::{LoopWindow, SearchUnderWay};
+use super::loop_search::{LoopScan, LoopWindow, SearchUnderWay};
 use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
 use super::submap::Submap;
 use crate::error::Result;
@@ -161,7 +161,8 @@ pub struct SlamBuilder {
     /// What the last local match found.
     last_match: MatchReport,
     points: ScanPoints,
-    loop_points: Vec<[f64; 2]>,
+    /// The scan under loop search, its points thinned.
+    loop_scan: LoopScan,
     /// Submaps closed and not yet made into bytes, oldest first.
     closing: Vec<usize>,
     /// Bytes the finished submaps' grids of maxima hold, and loop searches
@@ -210,7 +211,7 @@ impl SlamBuilder {
                 theta: 0.0,
             }),
             points: ScanPoints::default(),
-            loop_points: Vec::new(),
+            loop_scan: LoopScan::default(),
             closing: Vec::new(),
             level_bytes: 0,
             searches_ended: 0,
@@ -405,10 +406,10 @@ impl SlamBuilder {
     /// it ([`Self::search_step`] goes through them).
     fn start_loop_search(&mut self, k: usize, scan: &Scan, laser_max: f64) {
         self.points.fill(scan, laser_max, self.matcher.settings());
-        self.points.thinned(
-            LOOP_POINT_SPACING_CELLS * self.resolution,
-            &mut self.loop_points,
-        );
+        let mut points = Vec::new();
+        self.points
+            .thinned(LOOP_POINT_SPACING_CELLS * self.resolution, &mut points);
+        self.loop_scan = LoopScan::new(points);
         self.searching = Some(LoopSearch {
             scan: k,
             window: Self::window(self.since_closure),
@@ -450,7 +451,7 @@ impl SlamBuilder {
                 let anchor_local = self.local[s.anchor];
                 let anchor_global = self.graph.nodes[s.anchor];
                 let predicted = compose(&anchor_local, relative_motion(&anchor_global, &here));
-                let begun = grid.begin_search(&self.loop_points, &predicted, &window);
+                let begun = grid.begin_search(&self.loop_scan, &predicted, &window);
                 search.current = Some((search.next - 1, begun));
                 break;
             }
@@ -462,7 +463,7 @@ impl SlamBuilder {
             let (found, made) = match s.finished.as_mut() {
                 Some(grid) => {
                     let before = grid.level_bytes();
-                    let found = grid.continue_search(&mut under_way, &self.loop_points, budget);
+                    let found = grid.continue_search(&mut under_way, &self.loop_scan, budget);
                     (found, grid.level_bytes() - before)
                 }
                 None => (Some(None), 0),

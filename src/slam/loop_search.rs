@@ -12,11 +12,18 @@
 //! every offset below it, and branches whose bound is under the best score
 //! found (or the least score accepted) are never scored.
 //!
+//! A point scores a cell only if their surfaces can be one
+//! ([`super::facing`]): a wall's two faces are never matched one on the
+//! other.
+//!
 //! The headings are searched every `δθ`, the step that moves the farthest
 //! point by about one cell (Hess et al. 2016, eq. 7); the best candidate is
 //! then refined on bilinear reads of the same bytes, a quarter cell and a
 //! quarter heading step at a time.
 
+use super::facing::{
+    pack_cell, strength, strength_facing, surface_normals, AgreementTable, Facing,
+};
 use crate::geometry::Pose;
 
 /// Depth of the coarsest precomputed grid (cells of `2^7` = 128 cells: 6.4 m
@@ -32,9 +39,43 @@ const DEPTH: usize = 7;
 const BOUND_READ_COST: u64 = 4;
 const REFINE_READ_COST: u64 = 16;
 
-/// A finished submap's cells for loop search: occupancy probabilities as
-/// bytes (255 certain), unknown cells 0, over the box of its known cells;
-/// and its grids of maxima once a search has made them.
+/// A scan's points for loop search (sensor frame, in the scan's order)
+/// and which way each one's surface faces: worked out once a scan, for
+/// every submap it is searched against.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LoopScan {
+    points: Vec<[f64; 2]>,
+    facings: Vec<Facing>,
+}
+
+impl LoopScan {
+    pub fn new(points: Vec<[f64; 2]>) -> Self {
+        let facings = points
+            .iter()
+            .zip(surface_normals(&points))
+            .map(|(p, normal)| match normal {
+                Some(angle) => Facing {
+                    angle,
+                    by_beam: false,
+                },
+                None => Facing {
+                    angle: (-p[1]).atan2(-p[0]),
+                    by_beam: true,
+                },
+            })
+            .collect();
+        Self { points, facings }
+    }
+
+    pub fn points(&self) -> &[[f64; 2]] {
+        &self.points
+    }
+}
+
+/// A finished submap's cells for loop search: occupancy probabilities and
+/// their surfaces' normals as bytes ([`pack_cell`]), unknown cells 0,
+/// over the box of its known cells; and its grids of maxima once
+/// a search has made them.
 ///
 /// A submap is searched again by every scan near it (Intel: a submap
 /// about 40 times), and making its grids cost 28 reads a cell, far more
@@ -49,6 +90,7 @@ pub struct LoopGrid {
     pub resolution: f64,
     pub width: usize,
     pub height: usize,
+    /// Bytes as [`pack_cell`] makes them.
     pub cells: Vec<u8>,
     /// The grids of depth `1..=levels.len()` made so far.
     levels: Vec<Vec<u8>>,
@@ -120,9 +162,25 @@ pub struct LoopWindow {
 }
 
 impl LoopGrid {
-    /// A grid of `width x height` bytes from `origin` (world, metres), rows
-    /// bottom first; no grids of maxima yet.
+    /// A grid of `width x height` probabilities as bytes (255 certain)
+    /// from `origin` (world, metres), rows bottom first, their surfaces'
+    /// normals not known; no grids of maxima yet.
     pub fn new(
+        origin: [f64; 2],
+        resolution: f64,
+        width: usize,
+        height: usize,
+        probabilities: Vec<u8>,
+    ) -> Self {
+        let cells = probabilities
+            .into_iter()
+            .map(|p| pack_cell(p as f64 / 255.0, 0))
+            .collect();
+        Self::from_packed(origin, resolution, width, height, cells)
+    }
+
+    /// A grid of bytes as [`pack_cell`] makes them.
+    pub fn from_packed(
         origin: [f64; 2],
         resolution: f64,
         width: usize,
@@ -151,12 +209,12 @@ impl LoopGrid {
         self.making = None;
     }
 
-    /// The bytes of a grid, world-to-byte rows bottom first.
-    fn value(&self, ix: i64, iy: i64, level: &[u8]) -> u32 {
+    /// The byte of a grid at a cell, rows bottom first (0 outside).
+    fn byte(&self, ix: i64, iy: i64, level: &[u8]) -> u8 {
         if ix < 0 || iy < 0 || ix >= self.width as i64 || iy >= self.height as i64 {
             return 0;
         }
-        level[iy as usize * self.width + ix as usize] as u32
+        level[iy as usize * self.width + ix as usize]
     }
 
     /// Makes the next grid of maxima, of depth `d = levels.len() + 1`,
@@ -221,14 +279,18 @@ impl LoopGrid {
         }
     }
 
-    /// Bilinear read of the bytes at world `(x, y)`, 0 to 1.
-    fn bilinear(&self, x: f64, y: f64) -> f64 {
+    /// Bilinear read of the probabilities at world `(x, y)`, 0 to 1, as a
+    /// point agreeing with the normals `agreeing` scores them
+    /// ([`codes_agreeing`]).
+    fn bilinear(&self, x: f64, y: f64, agreeing: u16) -> f64 {
         let fx = (x - self.origin[0]) / self.resolution - 0.5;
         let fy = (y - self.origin[1]) / self.resolution - 0.5;
         let (x0, y0) = (fx.floor(), fy.floor());
         let (tx, ty) = (fx - x0, fy - y0);
         let (ix, iy) = (x0 as i64, y0 as i64);
-        let v = |dx: i64, dy: i64| self.value(ix + dx, iy + dy, &self.cells) as f64;
+        let v = |dx: i64, dy: i64| {
+            strength_facing(self.byte(ix + dx, iy + dy, &self.cells), agreeing) as f64
+        };
         let bottom = v(0, 0) * (1.0 - tx) + v(1, 0) * tx;
         let top = v(0, 1) * (1.0 - tx) + v(1, 1) * tx;
         (bottom * (1.0 - ty) + top * ty) / 255.0
@@ -239,31 +301,32 @@ impl LoopGrid {
         self.cells.len()
     }
 
-    /// Searches `points` (sensor frame) around `predicted` (in this
+    /// Searches `scan`'s points (sensor frame) around `predicted` (in this
     /// submap's frame) within `window`: the best match scoring at least
     /// the window's least score, or `None`; and the work ([`SearchUnderWay::work`]).
     pub fn search(
         &mut self,
-        points: &[[f64; 2]],
+        scan: &LoopScan,
         predicted: &Pose,
         window: &LoopWindow,
     ) -> (Option<LoopMatch>, u64) {
-        let mut search = self.begin_search(points, predicted, window);
+        let mut search = self.begin_search(scan, predicted, window);
         loop {
-            if let Some(found) = self.continue_search(&mut search, points, u64::MAX) {
+            if let Some(found) = self.continue_search(&mut search, scan, u64::MAX) {
                 return (found, search.work);
             }
         }
     }
 
-    /// A search of `points` as [`Self::search`] makes it, not yet begun:
+    /// A search of `scan` as [`Self::search`] makes it, not yet begun:
     /// [`Self::continue_search`] runs it a bounded step at a time.
     pub fn begin_search(
         &self,
-        points: &[[f64; 2]],
+        scan: &LoopScan,
         predicted: &Pose,
         window: &LoopWindow,
     ) -> SearchUnderWay {
+        let points = scan.points();
         let res = self.resolution;
         let reach = points
             .iter()
@@ -291,7 +354,7 @@ impl LoopGrid {
     }
 
     /// Goes on with `search` (begun by [`Self::begin_search`] on this grid
-    /// and these `points`) until its work in this call reaches `budget`, a
+    /// and this `scan`) until its work in this call reaches `budget`, a
     /// step at a time: rows of a grid of maxima not yet kept (at least
     /// `LEVEL_STEP_READS` reads, or what is left of the budget; four reads
     /// a cell in all), or the branch and bound of one heading. The match
@@ -302,7 +365,7 @@ impl LoopGrid {
     pub fn continue_search(
         &mut self,
         search: &mut SearchUnderWay,
-        points: &[[f64; 2]],
+        scan: &LoopScan,
         budget: u64,
     ) -> Option<Option<LoopMatch>> {
         if search.empty {
@@ -316,11 +379,11 @@ impl LoopGrid {
             } else if search.heading <= search.headings {
                 let hi = search.heading;
                 search.heading += 1;
-                let candidates = self.search_heading(search, points, hi);
+                let candidates = self.search_heading(search, scan, hi);
                 search.candidates += candidates;
-                search.work += candidates * points.len() as u64 * BOUND_READ_COST;
+                search.work += candidates * scan.points.len() as u64 * BOUND_READ_COST;
             } else {
-                return Some(self.finish_search(search, points));
+                return Some(self.finish_search(search, scan));
             }
             if search.work >= limit {
                 return None;
@@ -331,7 +394,9 @@ impl LoopGrid {
     /// Branch and bound over the offsets of heading `hi` (steps of
     /// `dtheta` from the prediction), the best so far kept in `search`:
     /// the candidates scored.
-    fn search_heading(&self, search: &mut SearchUnderWay, points: &[[f64; 2]], hi: i64) -> u64 {
+    fn search_heading(&self, search: &mut SearchUnderWay, scan: &LoopScan, hi: i64) -> u64 {
+        let points = scan.points();
+        let agreement = AgreementTable::get();
         let res = self.resolution;
         let predicted = search.predicted;
         let wxy = search.wxy;
@@ -354,12 +419,27 @@ impl LoopGrid {
                 )
             })
             .collect();
+        // The normal codes each point may score against, worked out only
+        // if a candidate of this heading gets down to single offsets: most
+        // headings are cut off higher.
+        let agreeing = std::cell::OnceCell::new();
         let score = |depth: usize, dx: i64, dy: i64| -> u64 {
-            let level: &[u8] = if depth == 0 {
-                &self.cells
-            } else {
-                &levels[depth - 1]
-            };
+            if depth == 0 {
+                let agreeing: &Vec<u16> = agreeing.get_or_init(|| {
+                    scan.facings
+                        .iter()
+                        .map(|f| agreement.at(f, theta))
+                        .collect()
+                });
+                return cells
+                    .iter()
+                    .zip(agreeing)
+                    .map(|(&(x, y), &agreeing)| {
+                        strength_facing(self.byte(x + dx, y + dy, &self.cells), agreeing) as u64
+                    })
+                    .sum();
+            }
+            let level: &[u8] = &levels[depth - 1];
             // A window starting left of (below) the grid but reaching
             // into it is bounded by the grid's first column (row),
             // whose window holds its part.
@@ -367,7 +447,7 @@ impl LoopGrid {
             let pull = |v: i64| if v < 0 && v > -reach { 0 } else { v };
             cells
                 .iter()
-                .map(|&(x, y)| self.value(pull(x + dx), pull(y + dy), level) as u64)
+                .map(|&(x, y)| strength(self.byte(pull(x + dx), pull(y + dy), level)) as u64)
                 .sum()
         };
         // Roots: offsets every 2^DEPTH cells over the window.
@@ -412,7 +492,7 @@ impl LoopGrid {
     }
 
     /// The best candidate of every heading refined: the match, if any.
-    fn finish_search(&self, search: &mut SearchUnderWay, points: &[[f64; 2]]) -> Option<LoopMatch> {
+    fn finish_search(&self, search: &mut SearchUnderWay, scan: &LoopScan) -> Option<LoopMatch> {
         let (_, hi, dx, dy) = search.best?;
         let res = self.resolution;
         let predicted = search.predicted;
@@ -421,8 +501,8 @@ impl LoopGrid {
             y: predicted.y + dy as f64 * res,
             theta: predicted.theta + hi as f64 * search.dtheta,
         };
-        let (pose, score, refined) = self.refine(points, coarse, res, search.dtheta);
-        search.work += refined * points.len() as u64 * REFINE_READ_COST;
+        let (pose, score, refined) = self.refine(scan, coarse, res, search.dtheta);
+        search.work += refined * scan.points.len() as u64 * REFINE_READ_COST;
         // Refined once: a later call finds the search over.
         search.best = None;
         search.empty = true;
@@ -435,12 +515,18 @@ impl LoopGrid {
 
     /// The best of the poses a quarter cell and a quarter heading step
     /// apart around `start`, twice, on bilinear reads.
-    fn refine(&self, points: &[[f64; 2]], start: Pose, res: f64, dtheta: f64) -> (Pose, f64, u64) {
+    fn refine(&self, scan: &LoopScan, start: Pose, res: f64, dtheta: f64) -> (Pose, f64, u64) {
+        let (points, facings) = (scan.points(), &scan.facings);
+        let agreement = AgreementTable::get();
         let mean = |pose: &Pose| {
             let (s, c) = pose.theta.sin_cos();
             points
                 .iter()
-                .map(|p| self.bilinear(pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]))
+                .zip(facings)
+                .map(|(p, facing)| {
+                    let (x, y) = (pose.x + c * p[0] - s * p[1], pose.y + s * p[0] + c * p[1]);
+                    self.bilinear(x, y, agreement.at(facing, pose.theta))
+                })
                 .sum::<f64>()
                 / points.len() as f64
         };
@@ -496,6 +582,7 @@ mod tests {
             points.push([t - 5.0, 1.025 - 5.0]);
             points.push([1.025 - 5.0, t - 5.0]);
         }
+        let scan = LoopScan::new(points);
         let predicted = Pose {
             x: 5.4,
             y: 4.7,
@@ -506,7 +593,7 @@ mod tests {
             angular: 0.1,
             min_score: 0.5,
         };
-        let (found, whole_work) = grid.search(&points, &predicted, &window);
+        let (found, whole_work) = grid.search(&scan, &predicted, &window);
         let found = found.expect("a match");
         assert!(
             (found.pose.x - 5.0).abs() < 0.03 && (found.pose.y - 5.0).abs() < 0.03,
@@ -519,10 +606,10 @@ mod tests {
         let budget = 30_000;
         let step = (grid.cells.len() * 4) as u64;
         grid.drop_levels();
-        let mut sliced = grid.begin_search(&points, &predicted, &window);
+        let mut sliced = grid.begin_search(&scan, &predicted, &window);
         let (mut calls, mut before) = (0, 0);
         let again = loop {
-            let done = grid.continue_search(&mut sliced, &points, budget);
+            let done = grid.continue_search(&mut sliced, &scan, budget);
             calls += 1;
             assert!(
                 sliced.work - before < budget + step,
@@ -598,6 +685,7 @@ mod tests {
                 ]
             })
             .collect();
+        let scan = LoopScan::new(points);
         let predicted = Pose {
             x: 3.2,
             y: 2.9,
@@ -609,10 +697,10 @@ mod tests {
             min_score: 0.4,
         };
         assert_eq!(grid.level_bytes(), 0);
-        let (first, first_work) = grid.search(&points, &predicted, &window);
+        let (first, first_work) = grid.search(&scan, &predicted, &window);
         let made = (DEPTH * w * h * 4) as u64;
         assert_eq!(grid.level_bytes(), DEPTH * w * h);
-        let (second, second_work) = grid.search(&points, &predicted, &window);
+        let (second, second_work) = grid.search(&scan, &predicted, &window);
         let (first, second) = (first.expect("a match"), second.expect("a match"));
         assert_eq!(
             [
@@ -631,6 +719,6 @@ mod tests {
         );
         grid.drop_levels();
         assert_eq!(grid.level_bytes(), 0);
-        assert_eq!(grid.search(&points, &predicted, &window).1, first_work);
+        assert_eq!(grid.search(&scan, &predicted, &window).1, first_work);
     }
 }

@@ -7,6 +7,9 @@
 //!   while they grow, finished and kept as bytes after;
 //! - [`loop_search`]: branch and bound over precomputed maximum grids, a
 //!   scan against a finished submap over a wide window;
+//! - [`facing`]: which way the surfaces of a scan's points and of a
+//!   submap's cells face, so that a wall's two faces are never matched
+//!   one on the other;
 //! - [`pose_graph`]: the SE(2) graph of scans, local edges and robust loop
 //!   edges, optimised by Gauss–Newton over an envelope Cholesky of its own;
 //! - [`builder`]: the local trajectory and the graph, scan by scan.
@@ -15,6 +18,7 @@
 //! odometry and scans give the same poses bit for bit.
 
 pub mod builder;
+pub mod facing;
 pub mod loop_search;
 pub mod pose_graph;
 pub mod submap;

@@ -6,11 +6,16 @@
 //! first, so that a scan is always matched against a submap of at least
 //! half its scans.
 
+use super::facing::{normal_code, pack_cell, surface_normals};
 use super::loop_search::LoopGrid;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
 use crate::grid::{FilterSettings, TiledGrid};
 use crate::sensors::Scan;
+
+/// How closely a cell's returns' normals must agree (the length of their
+/// mean unit vector) for the cell to keep their mean.
+const NORMAL_CONSENSUS: f64 = 0.7;
 
 /// Most cells across a submap's grid (its tiles are allocated only where
 /// beams reach).
@@ -36,6 +41,10 @@ pub struct Submap {
     /// The box its scans' poses and beam ends span (world, metres): the
     /// only cells a finished grid is read over.
     bounds: [f64; 4],
+    /// Each return's cell (index in the growing grid) and its surface's
+    /// normal (radians, [`surface_normals`]): which side of a wall the
+    /// submap saw.
+    facing: Vec<(u32, f64)>,
 }
 
 impl Submap {
@@ -58,13 +67,34 @@ impl Submap {
             closing: None,
             searched: 0,
             bounds: [pose.x, pose.y, pose.x, pose.y],
+            facing: Vec::new(),
         })
     }
 
     /// Widens the box to `scan` at its pose, each beam cut at `reach`
-    /// metres (the insertion's cap; a no-return clears no further).
+    /// metres (the insertion's cap; a no-return clears no further), and
+    /// notes the way each return's beam travelled into its cell.
     pub fn cover(&mut self, scan: &Scan, reach: f64) {
         let p = scan.pose();
+        if let Some(grid) = &self.grid {
+            let g = grid.geometry();
+            let (s, c) = p.theta.sin_cos();
+            let returns: Vec<[f64; 2]> = scan
+                .ranges()
+                .iter()
+                .zip(scan.bearings())
+                .filter(|(r, _)| r.is_finite() && **r < reach)
+                .map(|(r, a)| [r * a.cos(), r * a.sin()])
+                .collect();
+            for (q, normal) in returns.iter().zip(surface_normals(&returns)) {
+                let Some(normal) = normal else { continue };
+                let (x, y) = (p.x + c * q[0] - s * q[1], p.y + s * q[0] + c * q[1]);
+                if let Some((ix, iy)) = g.world_to_cell(x, y) {
+                    self.facing
+                        .push(((iy * g.width() + ix) as u32, p.theta + normal));
+                }
+            }
+        }
         let b = &mut self.bounds;
         let mut widen = |x: f64, y: f64| {
             b[0] = b[0].min(x);
@@ -100,12 +130,42 @@ impl Submap {
             cell(self.bounds[2] + pad, ox, w),
             cell(self.bounds[3] + pad, oy, h),
         ];
+        // Each return's normal, on its cell and the cells round it (a wall
+        // a cell or two thick), in the order the cells are read; a cell
+        // whose normals disagree (a corner, a thin wall seen from both
+        // sides) keeps none, and any point scores it.
+        let mut spread = Vec::with_capacity(9 * self.facing.len());
+        for &(i, normal) in &self.facing {
+            let (ix, iy) = (i as usize % w, i as usize / w);
+            for ny in iy.saturating_sub(1)..=(iy + 1).min(h - 1) {
+                for nx in ix.saturating_sub(1)..=(ix + 1).min(w - 1) {
+                    spread.push(((ny * w + nx) as u32, normal));
+                }
+            }
+        }
+        self.facing = Vec::new();
+        spread.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        let mut facing: Vec<(u32, u8)> = Vec::new();
+        for run in spread.chunk_by(|a, b| a.0 == b.0) {
+            let (sx, sy) = run
+                .iter()
+                .fold((0.0, 0.0), |(x, y), (_, a)| (x + a.cos(), y + a.sin()));
+            let agreement = sx.hypot(sy) / run.len() as f64;
+            let code = if agreement >= NORMAL_CONSENSUS {
+                normal_code(sy.atan2(sx))
+            } else {
+                0
+            };
+            facing.push((run[0].0, code));
+        }
         self.closing = Some(Closing {
             grid,
             scan,
             known: [usize::MAX, usize::MAX, 0, 0],
             row: scan[1],
             bytes: None,
+            facing,
+            next_facing: 0,
         });
     }
 
@@ -158,10 +218,18 @@ impl Submap {
             while c.row <= y1 {
                 let iy = c.row;
                 for ix in x0..=x1 {
+                    let at = (iy * g.width() + ix) as u32;
+                    while c.facing.get(c.next_facing).is_some_and(|f| f.0 < at) {
+                        c.next_facing += 1;
+                    }
+                    let facing = match c.facing.get(c.next_facing) {
+                        Some(&(i, bits)) if i == at => bits,
+                        _ => 0,
+                    };
                     let byte = match (c.grid.updates_at(ix, iy), c.grid.log_odds_at(ix, iy)) {
                         (Some(u), Some(l)) if u > 0 => {
                             let p = 1.0 / (1.0 + (-(l as f64)).exp());
-                            (p * 255.0).round() as u8
+                            pack_cell(p, facing)
                         }
                         _ => 0,
                     };
@@ -179,9 +247,9 @@ impl Submap {
         let [ox, oy] = g.origin();
         let known = c.bytes.unwrap_or_default();
         self.finished = Some(if x0 > x1 || y0 > y1 {
-            LoopGrid::new(g.origin(), res, 0, 0, known)
+            LoopGrid::from_packed(g.origin(), res, 0, 0, known)
         } else {
-            LoopGrid::new(
+            LoopGrid::from_packed(
                 [ox + x0 as f64 * res, oy + y0 as f64 * res],
                 res,
                 x1 - x0 + 1,
@@ -205,6 +273,10 @@ struct Closing {
     row: usize,
     /// The known box's bytes, once that box is found.
     bytes: Option<Vec<u8>>,
+    /// The normal codes of the submap's returns' cells, in cell order, and
+    /// the first not yet passed by the rows made into bytes.
+    facing: Vec<(u32, u8)>,
+    next_facing: usize,
 }
 
 #[cfg(test)]
@@ -263,6 +335,11 @@ mod tests {
         assert!(
             a.width > 10 && a.cells.iter().any(|&v| v > 200),
             "a room's walls"
+        );
+        // The walls keep the normals of the surfaces their returns lay on.
+        assert!(
+            a.cells.iter().any(|&v| v >> 4 >= 12 && v & 0b1111 != 0),
+            "walls with normals"
         );
         assert_eq!(a, b);
     }
