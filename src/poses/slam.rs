@@ -443,13 +443,21 @@ mod tests {
     #[test]
     fn past_its_bound_slam_refuses_by_name_and_figure() {
         let log = log(6);
+        // Scan 0 located, and inserted into its submaps as the source
+        // settles.
+        let first = |source: &mut Slam| {
+            locate(source, &log, 0).unwrap();
+            while source.settling() {
+                source.settle_within(u64::MAX);
+            }
+        };
         let mut unbounded = slam(&log, u64::MAX);
-        locate(&mut unbounded, &log, 0).unwrap();
+        first(&mut unbounded);
         // A bound scan 0's insertion passes.
         let bound = unbounded.work() - 1;
         assert!(bound > 4, "scan 0's insertion is work");
         let mut source = slam(&log, bound);
-        locate(&mut source, &log, 0).unwrap();
+        first(&mut source);
         let e = locate(&mut source, &log, 1).unwrap_err().to_string();
         assert!(
             e.contains(&format!(

@@ -21,11 +21,12 @@
 //! matches"). The graph is optimised when closures have been added, every
 //! `OPTIMIZE_EVERY` scans and at the last scan; every optimisation raises
 //! the revision, which tells a map built at the old poses to rebuild. A
-//! loop search and an optimisation may run in slices of bounded work
-//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::settle_within`]), each
-//! slice stopping inside a submap's search or an optimiser iteration if
-//! need be: the next scan waits for them, so the poses are bit for bit
-//! those of one call.
+//! scan's insertion into the growing submaps, a loop search and an
+//! optimisation may run in slices of bounded work
+//! ([`SlamBuilder::locate_scan`], [`SlamBuilder::settle_within`]): a
+//! submap's insertion a slice, and a slice stopping inside a submap's
+//! search or an optimiser iteration if need be. The next scan waits for
+//! them, so the poses are bit for bit those of one call.
 
 use super::loop_search::{LoopScan, LoopWindow, SearchUnderWay};
 use super::pose_graph::{Edge, Optimizer, PoseGraph, RobustSettings};
@@ -110,6 +111,17 @@ const FINISH_STEP_CELLS: u64 = 1 << 16;
 /// Points kept for loop search: one every this many cells.
 const LOOP_POINT_SPACING_CELLS: f64 = 2.0;
 
+/// A located scan on its way into the growing submaps.
+#[derive(Debug, Clone)]
+struct PendingInsertion {
+    scan: usize,
+    /// The scan at its local pose.
+    placed: Scan,
+    laser_max: f64,
+    /// The submaps before this one have it.
+    next: usize,
+}
+
 /// A loop-search match waiting for a partner.
 #[derive(Debug, Clone, Copy)]
 struct Candidate {
@@ -153,6 +165,9 @@ pub struct SlamBuilder {
     last_optimized: usize,
     /// The loop search under way, when one runs in slices.
     searching: Option<LoopSearch>,
+    /// The last scan located, still to be inserted into the growing
+    /// submaps a submap a step ([`Self::settle_within`]).
+    inserting: Option<PendingInsertion>,
     /// The optimisation under way, when one runs in slices.
     optimizing: Option<Optimizer>,
     revision: u64,
@@ -201,6 +216,7 @@ impl SlamBuilder {
             pending: 0,
             last_optimized: 0,
             searching: None,
+            inserting: None,
             optimizing: None,
             revision: 0,
             closures: 0,
@@ -259,10 +275,13 @@ impl SlamBuilder {
                 .map_or(0, |o| o.work() / MULTIPLY_ADDS_PER_UNIT)
     }
 
-    /// Whether a loop search or an optimisation is under way
-    /// ([`Self::settle_within`]).
+    /// Whether a scan's insertion into the submaps, a loop search or an
+    /// optimisation is under way ([`Self::settle_within`]).
     pub fn is_settling(&self) -> bool {
-        !self.closing.is_empty() || self.searching.is_some() || self.optimizing.is_some()
+        self.inserting.is_some()
+            || !self.closing.is_empty()
+            || self.searching.is_some()
+            || self.optimizing.is_some()
     }
 
     /// The odometry this builder starts from.
@@ -281,10 +300,10 @@ impl SlamBuilder {
     }
 
     /// Locates the next scan as [`Self::add_scan`] does, but only starts
-    /// the loop search and the optimisation it calls for
-    /// ([`Self::settle_within`] runs them): its global pose before that
-    /// optimisation. A search or optimisation still under way is first
-    /// run to its end.
+    /// its insertion into the submaps, the loop search and the
+    /// optimisation it calls for ([`Self::settle_within`] runs them): its
+    /// global pose before that optimisation. Whatever is still under way
+    /// is first run to its end.
     pub fn locate_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
         self.settle_within(u64::MAX);
         let k = self.local.len();
@@ -316,7 +335,7 @@ impl SlamBuilder {
         self.last_match = report;
         let local = report.pose;
         self.local.push(local);
-        self.insert(k, scan, &local, laser_max)?;
+        self.begin_insertion(k, scan, &local, laser_max)?;
         // The node and its edge to the one before.
         if k == 0 {
             self.graph.nodes.push(local);
@@ -356,11 +375,18 @@ impl SlamBuilder {
         }
     }
 
-    /// Inserts scan `k` at `local` into the growing submaps, closing the
-    /// full one (made into bytes by [`Self::settle_within`], a slice of
-    /// rows at a time: a campus submap's grid is up to 1,400 cells a side)
-    /// and starting the next halfway.
-    fn insert(&mut self, k: usize, scan: &Scan, local: &Pose, laser_max: f64) -> Result<()> {
+    /// Sets scan `k` at `local` to be inserted into the growing submaps
+    /// ([`Self::insert_step`]), starting the next submap halfway through
+    /// the newest. A campus scan's beams reach 30 m into two submaps: its
+    /// insertion is as much work as its match, and each is a step of its
+    /// own, so that no page's call holds both.
+    fn begin_insertion(
+        &mut self,
+        k: usize,
+        scan: &Scan,
+        local: &Pose,
+        laser_max: f64,
+    ) -> Result<()> {
         let growing = self.submaps.iter().filter(|s| s.grid.is_some()).count();
         let newest_half = self
             .submaps
@@ -371,25 +397,48 @@ impl SlamBuilder {
             self.submaps
                 .push(Submap::start(k, local, reach, self.resolution)?);
         }
-        let placed = scan.with_pose(*local)?;
-        let reach = self.matcher.settings().max_range.min(laser_max);
-        for (i, s) in self.submaps.iter_mut().enumerate() {
-            if s.grid.is_none() {
-                continue;
-            }
-            s.cover(&placed, reach);
-            if let Some(grid) = s.grid.as_mut() {
-                let stats = self.inserter.insert(grid, &placed, laser_max);
-                self.work += stats.cells_updated as u64 * SUBMAP_UPDATE_UNITS;
-            }
-            s.scans += 1;
-            s.last = k;
-            if s.scans >= SUBMAP_SCANS {
-                s.close();
-                self.closing.push(i);
-            }
-        }
+        self.inserting = Some(PendingInsertion {
+            scan: k,
+            placed: scan.with_pose(*local)?,
+            laser_max,
+            next: 0,
+        });
         Ok(())
+    }
+
+    /// Inserts the located scan into its next growing submap, closing the
+    /// submap once full (made into bytes by [`Self::settle_within`], a
+    /// slice of rows at a time: a campus submap's grid is up to 1,400
+    /// cells a side).
+    fn insert_step(&mut self) {
+        let Some(mut pending) = self.inserting.take() else {
+            return;
+        };
+        let growing = |submaps: &[Submap], from: usize| {
+            (from..submaps.len()).find(|&i| submaps[i].grid.is_some())
+        };
+        let Some(i) = growing(&self.submaps, pending.next) else {
+            return;
+        };
+        let reach = self.matcher.settings().max_range.min(pending.laser_max);
+        let s = &mut self.submaps[i];
+        s.cover(&pending.placed, reach);
+        if let Some(grid) = s.grid.as_mut() {
+            let stats = self
+                .inserter
+                .insert(grid, &pending.placed, pending.laser_max);
+            self.work += stats.cells_updated as u64 * SUBMAP_UPDATE_UNITS;
+        }
+        s.scans += 1;
+        s.last = pending.scan;
+        if s.scans >= SUBMAP_SCANS {
+            s.close();
+            self.closing.push(i);
+        }
+        pending.next = i + 1;
+        if growing(&self.submaps, pending.next).is_some() {
+            self.inserting = Some(pending);
+        }
     }
 
     /// The loop window after `distance` metres since the last closure.
@@ -553,8 +602,9 @@ impl SlamBuilder {
         }
     }
 
-    /// Makes the closed submaps into bytes a slice of rows at a time, runs
-    /// the loop search under way a slice of a submap's search at a
+    /// Inserts the located scan into the growing submaps a submap at a
+    /// time, makes the closed submaps into bytes a slice of rows at a time,
+    /// runs the loop search under way a slice of a submap's search at a
     /// time, then the optimisation a slice of an iteration at a time
     /// ([`Optimizer::run_within`]), until this call's work reaches `budget`
     /// (in cell updates; at least one step); once the optimisation has
@@ -564,7 +614,9 @@ impl SlamBuilder {
         let start = self.work();
         loop {
             let spent = self.work() - start;
-            if let Some(&i) = self.closing.first() {
+            if self.inserting.is_some() {
+                self.insert_step();
+            } else if let Some(&i) = self.closing.first() {
                 // A closed submap made into bytes, whole rows at a time,
                 // at least FINISH_STEP_CELLS a step.
                 let left =
