@@ -73,7 +73,8 @@ impl Submap {
 
     /// Widens the box to `scan` at its pose, each beam cut at `reach`
     /// metres (the insertion's cap; a no-return clears no further), and
-    /// notes the way each return's beam travelled into its cell.
+    /// notes the normal of the surface each return lay on, by its cell
+    /// ([`surface_normals`]).
     pub fn cover(&mut self, scan: &Scan, reach: f64) {
         let p = scan.pose();
         if let Some(grid) = &self.grid {
