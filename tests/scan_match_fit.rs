@@ -147,6 +147,52 @@ fn a_scan_is_fitted_to_the_middle_of_a_thick_wall() {
     );
 }
 
+/// A match run a stage at a time (the coarse copy, the search, each
+/// hypothesis refined on the coarse levels, each refinement on the map
+/// itself), as a page runs SLAM's, ends where the match run in one call
+/// does, bit for bit, and counts its work as it goes: candidates once
+/// searched, steps once refined.
+#[test]
+fn a_match_run_a_stage_at_a_time_is_the_one_call_match() {
+    let map = room_map();
+    let mut one_call = ScanMatcher::new(MatchSettings::default()).unwrap();
+    let mut staged = ScanMatcher::new(MatchSettings::default()).unwrap();
+    assert!(staged.match_step(&map).is_none(), "nothing under way");
+    for k in 0..6 {
+        let truth = Pose {
+            x: 0.3 * k as f64 - 0.5,
+            y: 0.2 * k as f64 - 0.4,
+            theta: 0.9 * k as f64,
+        };
+        let prediction = Prediction {
+            pose: compose(&truth, [0.08, -0.05, 0.03]),
+            position_spread: 0.3,
+            heading_spread: 5f64.to_radians(),
+        };
+        let scan = room_scan(truth);
+        let whole = one_call.match_scan(&map, &scan, 81.9, &prediction).unwrap();
+        staged.begin_match(&map, &scan, 81.9, &prediction).unwrap();
+        let (mut stages, mut last) = (0, (0, 0, 0));
+        let report = loop {
+            stages += 1;
+            if let Some(r) = staged.match_step(&map) {
+                break r;
+            }
+            let u = staged.under_way().unwrap();
+            let now = (u.cells_read, u.candidates, u.iterations);
+            assert!(now.0 >= last.0 && now.1 >= last.1 && now.2 >= last.2);
+            assert_ne!(now, last, "stage {stages} did nothing it counts");
+            last = now;
+        };
+        assert!(whole.accepted, "scan {k}: {whole:?}");
+        assert_eq!(report, whole, "scan {k}");
+        // The copy, the search, at least one hypothesis, and the two
+        // refinements on the map.
+        assert!(stages >= 5, "scan {k}: {stages} stages");
+        assert!(staged.under_way().is_none());
+    }
+}
+
 /// An in-place turn reads far worse on the wheels than a drive ahead
 /// (Table 5.6's rotation noise on a turn whose direction of travel is
 /// unknown): odometry that says 140° where the robot turned 90° predicts

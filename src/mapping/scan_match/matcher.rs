@@ -23,7 +23,7 @@
 
 use super::match_map::MatchMap;
 use super::points::ScanPoints;
-use super::refine::{gauss_newton, AnchorWeights, GridField, OccupancyField};
+use super::refine::{gauss_newton, AnchorWeights, GridField, OccupancyField, Refined};
 use super::search::{correlative_search, reach_box, PlacedPoint, SearchOutcome};
 use super::window::Pyramid;
 use super::{MatchSettings, Prediction};
@@ -108,6 +108,40 @@ pub struct ScanMatcher {
     found: SearchOutcome,
     /// The points thinned for the level at hand.
     thinned: Vec<[f64; 2]>,
+    /// The match under way, when one runs a stage at a time.
+    under_way: Option<UnderWay>,
+}
+
+/// A match run a stage at a time ([`ScanMatcher::match_step`]).
+#[derive(Debug, Clone)]
+struct UnderWay {
+    prediction: Prediction,
+    /// The settings with the window the prediction asks for.
+    window: MatchSettings,
+    /// What it has found and done so far.
+    report: MatchReport,
+    stage: Stage,
+}
+
+/// The stage a match is at.
+#[derive(Debug, Clone, Copy)]
+enum Stage {
+    Pool,
+    Search,
+    /// The search's best from `next` on to refine on the coarse levels,
+    /// with the best so far.
+    RefineCoarse {
+        next: usize,
+        best: Option<(f64, Pose)>,
+    },
+    /// Refinements on the map itself from the coarse best (`next` 0) and
+    /// from the prediction (1), with the better so far.
+    RefineFine {
+        coarse_pose: Pose,
+        next: usize,
+        refined: Option<(f64, Refined)>,
+    },
+    Done,
 }
 
 impl ScanMatcher {
@@ -122,6 +156,7 @@ impl ScanMatcher {
             placed: Vec::new(),
             found: SearchOutcome::default(),
             thinned: Vec::new(),
+            under_way: None,
         })
     }
 
@@ -170,42 +205,113 @@ impl ScanMatcher {
     }
 
     fn match_points(&mut self, grid: &dyn MatchMap, prediction: &Prediction) -> MatchReport {
+        self.begin_points(grid, prediction);
+        loop {
+            if let Some(report) = self.match_step(grid) {
+                return report;
+            }
+        }
+    }
+
+    /// Starts matching `scan` as [`Self::match_scan`] does, to be carried
+    /// on a stage at a time by [`Self::match_step`] against the same,
+    /// unchanged `grid`: the coarse copy, the search, each hypothesis's
+    /// refinement on the coarse levels, and each refinement on the map
+    /// itself. On the Freiburg campus a match reads a million cells and
+    /// scores a million points, 14 ms natively at most: a stage is a
+    /// quarter of that, so that a page's call can stop between them.
+    /// Whatever match was under way is dropped.
+    pub fn begin_match(
+        &mut self,
+        grid: &dyn MatchMap,
+        scan: &Scan,
+        laser_max: f64,
+        prediction: &Prediction,
+    ) -> Result<()> {
+        self.under_way = None;
+        self.check_resolution(grid.geometry().resolution())?;
+        self.points.fill(scan, laser_max, &self.settings);
+        self.begin_points(grid, prediction);
+        Ok(())
+    }
+
+    /// What the match under way has done so far (its candidates scored,
+    /// cells read and steps taken, the work a caller counts as it goes),
+    /// `None` when none is.
+    pub fn under_way(&self) -> Option<&MatchReport> {
+        self.under_way.as_ref().map(|u| &u.report)
+    }
+
+    fn begin_points(&mut self, grid: &dyn MatchMap, prediction: &Prediction) {
         // The window as wide as the prediction's spread asks.
-        let s = self.settings.window_for(prediction);
+        let window = self.settings.window_for(prediction);
         let predicted = &prediction.pose;
-        let fine = GridField::new(grid);
         let points = self.points.points();
-        let mut report = MatchReport {
+        let score = mean_occupancy(&GridField::new(grid), points, predicted);
+        let report = MatchReport {
             pose: *predicted,
             predicted: *predicted,
             fit: *predicted,
             accepted: false,
-            score: mean_occupancy(&fine, points, predicted),
-            predicted_score: 0.0,
+            score,
+            predicted_score: score,
             overlap: 0.0,
             points: points.len(),
             candidates: 0,
             iterations: 0,
             cells_read: 0,
         };
-        report.predicted_score = report.score;
-        if points.is_empty() {
-            return report;
+        let stage = if points.is_empty() {
+            Stage::Done
+        } else {
+            Stage::Pool
+        };
+        self.under_way = Some(UnderWay {
+            prediction: *prediction,
+            window,
+            report,
+            stage,
+        });
+    }
+
+    /// The next stage of the match under way against `grid` (the grid it
+    /// began on): its report once it has ended, `None` while stages are
+    /// left (and when no match is under way).
+    pub fn match_step(&mut self, grid: &dyn MatchMap) -> Option<MatchReport> {
+        let mut u = self.under_way.take()?;
+        u.stage = match u.stage {
+            Stage::Pool => self.pool(grid, &mut u),
+            Stage::Search => self.search(&mut u),
+            Stage::RefineCoarse { next, best } => self.refine_hypothesis(&mut u, next, best),
+            Stage::RefineFine {
+                coarse_pose,
+                next,
+                refined,
+            } => self.refine_fine(grid, &mut u, coarse_pose, next, refined),
+            Stage::Done => Stage::Done,
+        };
+        if matches!(u.stage, Stage::Done) {
+            return Some(u.report);
         }
-        // The coarse copy: every cell a candidate's point can fall on,
-        // plus the search's positions and one coarse cell for the
-        // interpolation.
+        self.under_way = Some(u);
+        None
+    }
+
+    /// The coarse copy: every cell a candidate's point can fall on, plus
+    /// the search's positions and one coarse cell for the interpolation.
+    fn pool(&mut self, grid: &dyn MatchMap, u: &mut UnderWay) -> Stage {
+        let (s, predicted) = (&u.window, &u.prediction.pose);
         let g = grid.geometry();
         let res = g.resolution();
         let coarse = s.coarse_factor;
         let margin = (s.position_steps(res * coarse as f64) + 2) as f64 * res * coarse as f64;
-        let [x0, y0, x1, y1] = reach_box(self.points.points(), predicted, &s);
+        let [x0, y0, x1, y1] = reach_box(self.points.points(), predicted, s);
         let [ox, oy] = g.origin();
         let (ex, ey) = (ox + g.width() as f64 * res, oy + g.height() as f64 * res);
         // A scan that cannot reach the map has nothing to match (and a
         // pose thousands of kilometres away no cell indices).
         if !(x1 + margin > ox && x0 - margin < ex && y1 + margin > oy && y0 - margin < ey) {
-            return report;
+            return Stage::Done;
         }
         let cell = |v: f64, o: f64| ((v - o) / res).floor() as i64;
         let bounds = [
@@ -215,84 +321,134 @@ impl ScanMatcher {
             cell(y1 + margin, oy) + 1,
         ];
         self.pyramid.build(grid, bounds, coarse);
-        report.cells_read = self.pyramid.cells_read();
-        let Some(top) = self.pyramid.level(coarse) else {
-            return report;
+        u.report.cells_read = self.pyramid.cells_read();
+        if self.pyramid.level(coarse).is_some() {
+            Stage::Search
+        } else {
+            Stage::Done
+        }
+    }
+
+    /// The correlative search on the coarsest level.
+    fn search(&mut self, u: &mut UnderWay) -> Stage {
+        let s = &u.window;
+        let Some(top) = self.pyramid.level(s.coarse_factor) else {
+            return Stage::Done;
         };
         self.points
             .thinned(THINNING * top.cell_size(), &mut self.thinned);
         correlative_search(
             top,
             &self.thinned,
-            prediction,
-            &s,
+            &u.prediction,
+            s,
             s.hypotheses,
             &mut self.placed,
             &mut self.found,
         );
-        report.candidates = self.found.candidates;
-        // Each hypothesis refined on the coarse levels; the best on the
-        // finest of them (its points' evidence against its prior) is
-        // refined on the map itself, and kept if it beats the prediction
-        // there.
-        let mut best: Option<(f64, Pose)> = None;
-        for i in 0..self.found.best.len() {
-            let start = self.found.best[i].pose;
-            let (pose, evidence, iterations) = self.refine_coarse(start);
-            report.iterations += iterations;
-            let weighted = evidence + prediction.log_prior(&pose);
+        u.report.candidates = self.found.candidates;
+        Stage::RefineCoarse {
+            next: 0,
+            best: None,
+        }
+    }
+
+    /// Hypothesis `next` of the search refined on the coarse levels; the
+    /// best on the finest of them (its points' evidence against its
+    /// prior) goes on to the map itself.
+    fn refine_hypothesis(
+        &mut self,
+        u: &mut UnderWay,
+        next: usize,
+        mut best: Option<(f64, Pose)>,
+    ) -> Stage {
+        if let Some(candidate) = self.found.best.get(next) {
+            let (pose, evidence, iterations) = self.refine_coarse(candidate.pose);
+            u.report.iterations += iterations;
+            let weighted = evidence + u.prediction.log_prior(&pose);
             if best.is_none_or(|b| weighted > b.0) {
                 best = Some((weighted, pose));
             }
-        }
-        let Some((_, coarse_pose)) = best else {
-            return report;
-        };
-        // The search's best refined on the map itself, and the prediction
-        // refined there too: where the map is young or says little (down a
-        // corridor), the search's coarse cells can put the best start in
-        // another basin than the prediction's, and the better of the two
-        // fits wins, judged in the refinement's own terms: each point's
-        // evidence `1 - (1 - M)^2`, what Gauss–Newton raises (the mean
-        // match value alone can fall as a fit pulls the worst points onto
-        // the walls).
-        let n = self.points.len() as f64;
-        let evidence = |pose: &Pose| n * (1.0 - mean_residual(&fine, self.points.points(), pose));
-        let mut refined = None;
-        for start in [coarse_pose, *predicted] {
-            let r = gauss_newton(
-                &fine,
-                self.points.points(),
-                start,
-                &start,
-                self.anchor_weights(),
-                s.max_iterations,
-            );
-            report.iterations += r.iterations;
-            let weighted = evidence(&r.pose) + prediction.log_prior(&r.pose);
-            if refined.is_none_or(|(w, _)| weighted > w) {
-                refined = Some((weighted, r));
+            if next + 1 < self.found.best.len() {
+                return Stage::RefineCoarse {
+                    next: next + 1,
+                    best,
+                };
             }
         }
+        match best {
+            Some((_, coarse_pose)) => Stage::RefineFine {
+                coarse_pose,
+                next: 0,
+                refined: None,
+            },
+            None => Stage::Done,
+        }
+    }
+
+    /// The search's best refined on the map itself (`next` 0), then the
+    /// prediction refined there too (1): where the map is young or says
+    /// little (down a corridor), the search's coarse cells can put the
+    /// best start in another basin than the prediction's, and the better
+    /// of the two fits wins, judged in the refinement's own terms: each
+    /// point's evidence `1 - (1 - M)^2`, what Gauss–Newton raises (the
+    /// mean match value alone can fall as a fit pulls the worst points
+    /// onto the walls). The better kept if it beats the prediction.
+    fn refine_fine(
+        &mut self,
+        grid: &dyn MatchMap,
+        u: &mut UnderWay,
+        coarse_pose: Pose,
+        next: usize,
+        mut refined: Option<(f64, Refined)>,
+    ) -> Stage {
+        let fine = GridField::new(grid);
+        let points = self.points.points();
+        let n = points.len() as f64;
+        let evidence = |pose: &Pose| n * (1.0 - mean_residual(&fine, points, pose));
+        let predicted = u.prediction.pose;
+        let start = if next == 0 { coarse_pose } else { predicted };
+        let r = gauss_newton(
+            &fine,
+            points,
+            start,
+            &start,
+            self.anchor_weights(),
+            u.window.max_iterations,
+        );
+        u.report.iterations += r.iterations;
+        let weighted = evidence(&r.pose) + u.prediction.log_prior(&r.pose);
+        if refined.is_none_or(|(w, _)| weighted > w) {
+            refined = Some((weighted, r));
+        }
+        if next == 0 {
+            return Stage::RefineFine {
+                coarse_pose,
+                next: 1,
+                refined,
+            };
+        }
         let Some((weighted, refined)) = refined else {
-            return report;
+            return Stage::Done;
         };
-        let score = mean_occupancy(&fine, self.points.points(), &refined.pose);
+        let s = &u.window;
+        let report = &mut u.report;
+        let score = mean_occupancy(&fine, points, &refined.pose);
         let pose = refined.pose;
         // Judged where the scan ends up: a prediction that is off by many
         // degrees puts most points on cells the map has not seen, which
         // is no reason not to search.
-        report.overlap = overlap(grid, self.points.points(), &pose);
+        report.overlap = overlap(grid, points, &pose);
         if report.overlap >= s.min_overlap
             && score >= s.min_score
-            && weighted >= evidence(predicted)
+            && weighted >= evidence(&predicted)
         {
             report.fit = pose;
-            report.pose = prediction.update(&pose, refined.curvature, &s);
+            report.pose = u.prediction.update(&pose, refined.curvature, s);
             report.score = score;
             report.accepted = true;
         }
-        report
+        Stage::Done
     }
 
     fn anchor_weights(&self) -> AnchorWeights {
