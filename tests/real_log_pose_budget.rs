@@ -9,7 +9,7 @@ use occgrid::apps::real_log::{
     LogMapSettings, LogPane, RealLogSession, Stage, MAX_POSE_WORK, START_UNITS_PER_PASS,
 };
 use occgrid::poses::{
-    match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT, LOCAL_MATCH_UNITS,
+    local_match_work, match_settings, match_work, PoseSourceKind, SourceSettings, COPIES_PER_UNIT,
 };
 use occgrid::sensors::odometry::OdometryParams;
 use std::time::Instant;
@@ -578,7 +578,7 @@ fn slam_work_measured() {
             let laser_max = log.max_range(k).unwrap_or(f64::INFINITY);
             b.locate_scan(&log.scan(k).unwrap(), laser_max).unwrap();
             inserted += b.work() - w;
-            matched += match_work(b.last_match()) * LOCAL_MATCH_UNITS;
+            matched += local_match_work(b.last_match());
             let w = b.work();
             b.settle_within(u64::MAX);
             settled += b.work() - w;

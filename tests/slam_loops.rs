@@ -328,6 +328,65 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
     assert_eq!(pane.grid().to_dense().unwrap().log_odds(), fresh.log_odds());
 }
 
+/// A scan SLAM locates is matched against its submap over several of a
+/// pane's steps (the coarse copy, the search, each hypothesis's
+/// refinement, each refinement on the submap itself) and inserted into
+/// the pane's map in a step after them, so that no step holds a whole
+/// match: on the Freiburg campus a whole one took up to 16 ms natively,
+/// and a page's call that held one over 50 ms. Here the largest match
+/// counts 670,000 units ([`local_match_work`]) and the largest step
+/// 389,000 (the second scan's search, in the widest window); before, the
+/// largest step was a whole match and the scan's insertion.
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
+)]
+fn a_slam_pane_step_holds_a_stage_of_a_scan_s_match_not_the_whole_match() {
+    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::poses::{local_match_work, match_settings, PoseSourceKind};
+    let world = ring_world();
+    let truth = route();
+    let log = ring_log(&scans(&world, &truth));
+    let settings = LogMapSettings {
+        poses: PoseSourceKind::Slam,
+        model: LogCellModel::LogOdds,
+        ..LogMapSettings::default()
+    };
+    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
+    let mut one_call = SlamBuilder::new(
+        odometry,
+        OdometryParams::WHEELS,
+        match_settings(settings.range_cap),
+        settings.resolution,
+    )
+    .unwrap();
+    let mut largest_match = 0;
+    for k in 0..log.len() {
+        one_call.add_scan(&log.scan(k).unwrap(), 20.0).unwrap();
+        largest_match = largest_match.max(local_match_work(one_call.last_match()));
+    }
+    let mut pane = LogPane::new(log, settings).unwrap();
+    let (mut largest_step, mut steps) = (0, 0usize);
+    loop {
+        let before = pane.progress().work;
+        let p = pane.advance_within(1, u64::MAX);
+        assert!(pane.failure().is_none());
+        largest_step = largest_step.max(p.work - before);
+        steps += 1;
+        if p.finished {
+            break;
+        }
+    }
+    eprintln!("largest step {largest_step} units of {steps}, largest match {largest_match}");
+    assert!(
+        largest_step * 5 < largest_match * 3,
+        "a step of {largest_step} units, the largest match {largest_match}"
+    );
+    // The same poses as SLAM located scan by scan.
+    assert_eq!(pane.poses(), one_call.poses());
+}
+
 /// The ring as a park: its walls hedges a metre deep, trunks along both
 /// sides. A beam reaching a hedge returns from anywhere in its first
 /// `depth` metres (leaves), or with chance `pass` goes through to the next

@@ -36,9 +36,9 @@ mod start;
 pub use matched_path::{MatchedPath, StepReport};
 pub use pose_error::{Alignment, AlignmentSums, GrowingAlignment};
 pub use scan_matched::{
-    match_settings, match_work, match_work_bound, ScanMatching, MATCH_DRIFT_MARGIN,
+    match_settings, match_work, match_work_bound, pooled_work, ScanMatching, MATCH_DRIFT_MARGIN,
 };
-pub use slam::{Slam, LOCAL_MATCH_UNITS, LOOP_SEARCH_ALLOWANCE};
+pub use slam::{local_match_work, Slam, LOCAL_MATCH_UNITS, LOOP_SEARCH_ALLOWANCE};
 pub use start::{SourceStart, COPIES_PER_UNIT};
 
 use crate::error::{invalid, Result};
@@ -71,6 +71,20 @@ pub trait PoseSource {
     ) -> Result<Pose> {
         let _ = (scan, laser_max, map);
         Ok(self.poses().get(k).copied().unwrap_or_else(|| scan.pose()))
+    }
+
+    /// A bounded step towards locating scan `k` as [`Self::locate`]
+    /// does: the pose once found, `None` while steps are left (the call
+    /// is then made again with the same scan and map, the map unchanged).
+    /// A source whose locating is one bounded step locates at once.
+    fn locate_step(
+        &mut self,
+        k: usize,
+        scan: &Scan,
+        laser_max: f64,
+        map: &dyn MatchMap,
+    ) -> Result<Option<Pose>> {
+        self.locate(k, scan, laser_max, map).map(Some)
     }
 
     /// The poses a plan of the map walks (its extent, the tiles its beams

@@ -55,8 +55,13 @@ pub fn match_work(report: &MatchReport) -> u64 {
     let points = report.points as u64;
     let search = report.candidates as u64 * (points + CANDIDATE_POINTS) / 8;
     let refine = report.iterations as u64 * points * 4;
-    let pooled = report.cells_read as u64 / 5;
-    search + refine + pooled
+    search + refine + pooled_work(report)
+}
+
+/// The part of [`match_work`] that is the coarse copy's: a map cell
+/// pooled a fifth of a unit.
+pub fn pooled_work(report: &MatchReport) -> u64 {
+    report.cells_read as u64 / 5
 }
 
 /// What a search candidate costs besides its points (its heading's

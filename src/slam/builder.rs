@@ -88,8 +88,12 @@ const LOOP_SIGMA: [f64; 3] = [0.05, 0.05, 0.01];
 /// submap's cell read on its way to bytes (the box of its scans, then the
 /// box of its known cells kept as bytes) about 8 to 16 ns; counted one to
 /// a unit (the closed cells a quarter), they made calls of the same budget
-/// last 10 to 36 ms.
-const MULTIPLY_ADDS_PER_UNIT: u64 = 10;
+/// last 10 to 36 ms. Measured again kind by kind over the Freiburg
+/// campus's SLAM pane: the optimiser's multiply–add 1.7 ns, and a call
+/// of optimiser slices ran twice as long as the calls before it at ten to
+/// a unit; a closed submap's cell 7 ns in the first pass and 23 in the
+/// second, which counts two reads a cell ([`Submap::finish_within`]).
+const MULTIPLY_ADDS_PER_UNIT: u64 = 6;
 pub const SUBMAP_UPDATE_UNITS: u64 = 2;
 pub const FINISHED_CELL_UNITS: u64 = 1;
 /// The least multiply–adds of the optimiser a settling step runs (about a
@@ -120,6 +124,17 @@ struct PendingInsertion {
     laser_max: f64,
     /// The submaps before this one have it.
     next: usize,
+}
+
+/// A scan being located, its match against a submap run a stage at a
+/// time.
+#[derive(Debug, Clone)]
+struct PendingLocation {
+    scan: Scan,
+    laser_max: f64,
+    prediction: Prediction,
+    /// The growing submap it is matched against, if any.
+    submap: Option<usize>,
 }
 
 /// A loop-search match waiting for a partner.
@@ -170,6 +185,8 @@ pub struct SlamBuilder {
     inserting: Option<PendingInsertion>,
     /// The optimisation under way, when one runs in slices.
     optimizing: Option<Optimizer>,
+    /// The scan being located, its match run a stage at a time.
+    locating: Option<PendingLocation>,
     revision: u64,
     closures: usize,
     work: u64,
@@ -218,6 +235,7 @@ impl SlamBuilder {
             searching: None,
             inserting: None,
             optimizing: None,
+            locating: None,
             revision: 0,
             closures: 0,
             work: 0,
@@ -305,6 +323,21 @@ impl SlamBuilder {
     /// global pose before that optimisation. Whatever is still under way
     /// is first run to its end.
     pub fn locate_scan(&mut self, scan: &Scan, laser_max: f64) -> Result<Pose> {
+        self.begin_locate(scan, laser_max)?;
+        loop {
+            if let Some(pose) = self.locate_step()? {
+                return Ok(pose);
+            }
+        }
+    }
+
+    /// Starts locating the next scan as [`Self::locate_scan`] does, its
+    /// match against the submap to be run a stage at a time
+    /// ([`Self::locate_step`]; [`ScanMatcher::begin_match`]). Whatever is
+    /// under way is first run to its end, and a location begun before is
+    /// dropped.
+    pub fn begin_locate(&mut self, scan: &Scan, laser_max: f64) -> Result<()> {
+        self.locating = None;
         self.settle_within(u64::MAX);
         let k = self.local.len();
         let settings = *self.matcher.settings();
@@ -320,18 +353,64 @@ impl SlamBuilder {
             ),
         };
         // Matched against the older growing submap.
-        let report = match self
+        let submap = self
             .submaps
             .iter()
-            .find(|s| s.grid.is_some() && s.scans > 0)
-        {
-            Some(Submap {
-                grid: Some(grid), ..
-            }) if k > 0 => self
-                .matcher
-                .match_scan(grid, scan, laser_max, &prediction)?,
-            _ => MatchReport::unmatched(prediction.pose),
+            .position(|s| s.grid.is_some() && s.scans > 0)
+            .filter(|_| k > 0);
+        if let Some(grid) = submap.and_then(|i| self.submaps[i].grid.as_ref()) {
+            self.matcher
+                .begin_match(grid, scan, laser_max, &prediction)?;
+        }
+        self.locating = Some(PendingLocation {
+            scan: scan.clone(),
+            laser_max,
+            prediction,
+            submap,
+        });
+        Ok(())
+    }
+
+    /// Whether a scan's location is under way ([`Self::begin_locate`]).
+    pub fn is_locating(&self) -> bool {
+        self.locating.is_some()
+    }
+
+    /// The local match under way ([`Self::begin_locate`]): what it has
+    /// done so far.
+    pub fn match_under_way(&self) -> Option<&MatchReport> {
+        self.locating.as_ref()?;
+        self.matcher.under_way()
+    }
+
+    /// The next stage of the location begun ([`Self::begin_locate`]): the
+    /// scan's global pose once located (as [`Self::locate_scan`] returns
+    /// it), `None` while stages are left. An error when none was begun.
+    pub fn locate_step(&mut self) -> Result<Option<Pose>> {
+        let Some(pending) = self.locating.as_ref() else {
+            return Err(crate::error::OccError::State(
+                "SLAM: no scan is being located".into(),
+            ));
         };
+        let report = match pending.submap.and_then(|i| self.submaps[i].grid.as_ref()) {
+            Some(grid) => match self.matcher.match_step(grid) {
+                Some(report) => report,
+                None => return Ok(None),
+            },
+            None => MatchReport::unmatched(pending.prediction.pose),
+        };
+        let Some(pending) = self.locating.take() else {
+            return Ok(None);
+        };
+        self.place_located(&pending, report).map(Some)
+    }
+
+    /// Scan `scan` matched as `report` says: its local pose kept, its
+    /// insertion into the submaps begun, its node and edge added, and the
+    /// loop search or optimisation it calls for started.
+    fn place_located(&mut self, pending: &PendingLocation, report: MatchReport) -> Result<Pose> {
+        let (scan, laser_max, prediction) = (&pending.scan, pending.laser_max, &pending.prediction);
+        let k = self.local.len();
         self.last_match = report;
         let local = report.pose;
         self.local.push(local);

@@ -446,10 +446,20 @@ impl LogPane {
             if steps > 0 && spent.saturating_add(*estimate) > max_cells {
                 break;
             }
-            *estimate -= *estimate / 16;
+            // The estimate forgets the largest step slowly: a sixteenth a
+            // step, and for a scan located over several steps (SLAM's
+            // match, a stage a step) a sixteenth a scan, so that its
+            // largest stage is still remembered at the next scan's.
+            let located_before = self.done;
+            if kind != 2 {
+                *estimate -= *estimate / 16;
+            }
             self.integrate_next();
             let step = self.progress().work - start - spent;
             let estimate = &mut self.step_estimate[kind];
+            if kind == 2 && self.done != located_before {
+                *estimate -= *estimate / 16;
+            }
             *estimate = step.max(*estimate);
             steps += 1;
             if self.progress().work - start >= max_cells {
@@ -514,13 +524,16 @@ impl LogPane {
         let laser_max = self.scans.max_range(k).unwrap_or(f64::INFINITY);
         // The scan is read from the log once: its source locates it, and
         // it is inserted where the source put it.
+        // A source may locate a scan over several steps (SLAM's match
+        // against its submap, a stage a step).
         let placed = match self.scans.scan(k) {
             Some(scan) => {
                 let located =
                     self.source
-                        .locate(k, &scan, laser_max, self.map.grid().as_match_map());
+                        .locate_step(k, &scan, laser_max, self.map.grid().as_match_map());
                 match located {
-                    Ok(pose) => placed_at(scan, pose),
+                    Ok(Some(pose)) => placed_at(scan, pose),
+                    Ok(None) => return,
                     Err(e) => {
                         self.failure = Some(e);
                         return;
@@ -534,6 +547,13 @@ impl LogPane {
             // revised poses in the steps that follow.
             self.done += 1;
             self.follow_revision();
+            return;
+        }
+        if placed.is_some() && self.source.revises() {
+            // Inserted by the next step, at the pose just found: a SLAM
+            // step counts steps, not scans, and a campus scan's insertion
+            // is a fifth of its match.
+            self.done += 1;
             return;
         }
         if let Some(scan) = placed {
