@@ -177,6 +177,40 @@ fn ring_log(scans: &[Scan]) -> occgrid::sensors::ScanLog {
     log
 }
 
+/// The ring driven along [`route`], its log, and a real-log pane's
+/// settings at SLAM poses (log odds).
+fn ring_slam_log() -> (
+    Vec<Pose>,
+    occgrid::sensors::ScanLog,
+    occgrid::apps::real_log::LogMapSettings,
+) {
+    use occgrid::apps::real_log::{LogCellModel, LogMapSettings};
+    let truth = route();
+    let log = ring_log(&scans(&ring_world(), &truth));
+    let settings = LogMapSettings {
+        poses: occgrid::poses::PoseSourceKind::Slam,
+        model: LogCellModel::LogOdds,
+        ..LogMapSettings::default()
+    };
+    (truth, log, settings)
+}
+
+/// SLAM as a pane at `settings` runs it over the ring (from the same
+/// seeded dead reckoning, with the same matcher), fed scan by scan.
+fn one_call_slam(
+    truth: &[Pose],
+    settings: &occgrid::apps::real_log::LogMapSettings,
+) -> SlamBuilder {
+    let odometry = OdometryParams::WHEELS.dead_reckon_path(truth, settings.seed);
+    SlamBuilder::new(
+        odometry,
+        OdometryParams::WHEELS,
+        occgrid::poses::match_settings(settings.range_cap),
+        settings.resolution,
+    )
+    .unwrap()
+}
+
 /// A real-log pane at SLAM poses ends with the map of every scan at the
 /// final, optimised poses: bit for bit the map inserted afresh at them
 /// (its map was rebuilt after each optimisation, not left at the poses
@@ -187,17 +221,9 @@ fn ring_log(scans: &[Scan]) -> occgrid::sensors::ScanLog {
     ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
 )]
 fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
-    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::apps::real_log::LogPane;
     use occgrid::mapping::insertion::ScanInserter;
-    use occgrid::poses::PoseSourceKind;
-    let world = ring_world();
-    let truth = route();
-    let log = ring_log(&scans(&world, &truth));
-    let settings = LogMapSettings {
-        poses: PoseSourceKind::Slam,
-        model: LogCellModel::LogOdds,
-        ..LogMapSettings::default()
-    };
+    let (truth, log, settings) = ring_slam_log();
     let mut pane = LogPane::new(log.clone(), settings).unwrap();
     let progress = pane.advance(usize::MAX);
     assert!(progress.finished && pane.failure().is_none());
@@ -231,23 +257,15 @@ fn a_slam_pane_ends_with_the_map_at_the_optimised_poses() {
     ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
 )]
 fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
-    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
+    use occgrid::apps::real_log::LogPane;
     use occgrid::mapping::insertion::ScanInserter;
-    use occgrid::poses::{match_settings, PoseSourceKind};
     /// About 25 ms of work natively (10 to 16 ns a unit: budget.rs), above
     /// the most one step of this log costs (a scan of 360 beams matched
     /// and inserted into two submaps, one of them finished: some 1.3
     /// million units; a step of a loop search or of an optimiser
     /// iteration).
     const BUDGET: u64 = 2_000_000;
-    let world = ring_world();
-    let truth = route();
-    let log = ring_log(&scans(&world, &truth));
-    let settings = LogMapSettings {
-        poses: PoseSourceKind::Slam,
-        model: LogCellModel::LogOdds,
-        ..LogMapSettings::default()
-    };
+    let (truth, log, settings) = ring_slam_log();
     // Built again at half the budget: below a whole submap's loop
     // search or optimiser iteration, which are cut into smaller steps.
     let build = |budget: u64| {
@@ -290,14 +308,7 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
     build(BUDGET / 2);
     let (pane, rebuilds) = build(BUDGET);
     // The poses of SLAM run with every optimisation in one call.
-    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
-    let mut one_call = SlamBuilder::new(
-        odometry,
-        OdometryParams::WHEELS,
-        match_settings(settings.range_cap),
-        settings.resolution,
-    )
-    .unwrap();
+    let mut one_call = one_call_slam(&truth, &settings);
     for k in 0..log.len() {
         one_call.add_scan(&log.scan(k).unwrap(), 20.0).unwrap();
     }
@@ -343,24 +354,10 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
     ignore = "276 scans mapped with SLAM: minutes unoptimised, run with --release"
 )]
 fn a_slam_pane_step_holds_a_stage_of_a_scan_s_match_not_the_whole_match() {
-    use occgrid::apps::real_log::{LogCellModel, LogMapSettings, LogPane};
-    use occgrid::poses::{local_match_work, match_settings, PoseSourceKind};
-    let world = ring_world();
-    let truth = route();
-    let log = ring_log(&scans(&world, &truth));
-    let settings = LogMapSettings {
-        poses: PoseSourceKind::Slam,
-        model: LogCellModel::LogOdds,
-        ..LogMapSettings::default()
-    };
-    let odometry = OdometryParams::WHEELS.dead_reckon_path(&truth, settings.seed);
-    let mut one_call = SlamBuilder::new(
-        odometry,
-        OdometryParams::WHEELS,
-        match_settings(settings.range_cap),
-        settings.resolution,
-    )
-    .unwrap();
+    use occgrid::apps::real_log::LogPane;
+    use occgrid::poses::local_match_work;
+    let (truth, log, settings) = ring_slam_log();
+    let mut one_call = one_call_slam(&truth, &settings);
     let mut largest_match = 0;
     for k in 0..log.len() {
         one_call.add_scan(&log.scan(k).unwrap(), 20.0).unwrap();

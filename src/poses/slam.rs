@@ -343,7 +343,6 @@ impl PoseSource for Slam {
         let Some(pose) = located else {
             return Ok(None);
         };
-        self.match_counted = 0;
         if self.builder.revision() != revision {
             self.take_poses();
         } else if let Some(p) = self.poses.get_mut(k) {

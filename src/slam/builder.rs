@@ -387,7 +387,7 @@ impl SlamBuilder {
     /// scan's global pose once located (as [`Self::locate_scan`] returns
     /// it), `None` while stages are left. An error when none was begun.
     pub fn locate_step(&mut self) -> Result<Option<Pose>> {
-        let Some(pending) = self.locating.as_ref() else {
+        let Some(pending) = self.locating.take() else {
             return Err(crate::error::OccError::State(
                 "SLAM: no scan is being located".into(),
             ));
@@ -395,12 +395,12 @@ impl SlamBuilder {
         let report = match pending.submap.and_then(|i| self.submaps[i].grid.as_ref()) {
             Some(grid) => match self.matcher.match_step(grid) {
                 Some(report) => report,
-                None => return Ok(None),
+                None => {
+                    self.locating = Some(pending);
+                    return Ok(None);
+                }
             },
             None => MatchReport::unmatched(pending.prediction.pose),
-        };
-        let Some(pending) = self.locating.take() else {
-            return Ok(None);
         };
         self.place_located(&pending, report).map(Some)
     }
