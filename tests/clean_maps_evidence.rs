@@ -196,3 +196,74 @@ fn a_doorway_seen_at_a_grazing_angle_draws_no_sawtooth() {
     let corridor = along(b, 0.5, frame(b) - MAX_MARGIN - 0.1);
     assert_eq!(free_among(&grid, corridor.clone()), corridor.count());
 }
+
+/// Unknown cells whose four neighbours are all free, among the cells of
+/// the map inside `x0..x1` by `y0..y1` metres: floor a reader sees as
+/// observed but left gray.
+fn pinholes(grid: &CountingGrid, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> usize {
+    let g = *grid.geometry();
+    let (u0, v0) = g.world_to_grid(x0, y0);
+    let (u1, v1) = g.world_to_grid(x1, y1);
+    let gray = |u: usize, v: usize| trinary_gray(grid.model(), grid.cell_at(u, v).unwrap());
+    let (u0, v0, u1, v1) = (u0 as usize, v0 as usize, u1 as usize, v1 as usize);
+    (v0.max(1)..v1)
+        .flat_map(|v| (u0.max(1)..u1).map(move |u| (u, v)))
+        .filter(|&(u, v)| {
+            gray(u, v) != PGM_FREE
+                && gray(u, v) != PGM_OCCUPIED
+                && [(u - 1, v), (u + 1, v), (u, v - 1), (u, v + 1)]
+                    .iter()
+                    .all(|&(a, b)| gray(a, b) == PGM_FREE)
+        })
+        .count()
+}
+
+/// A courtyard seen from a doorway: open sky but for a far façade 12 m
+/// ahead that returns one beam in twelve (0.5° spacing, so 6° between
+/// returns: the no-returns between them clear nothing). Each lone return
+/// is as wide as the beam spacing (Table 9.2's `β`): its whole footprint
+/// out to its reading is free, not a line one cell wide. The robot
+/// stands in the doorway for five scans a few centimetres apart, and the
+/// lines of its scans, side by side, leave no pinholes between them.
+#[test]
+fn a_lone_return_among_no_returns_frees_its_footprint_not_a_line() {
+    let mut grid = map();
+    let spacing = 0.5_f64.to_radians();
+    let n = 121;
+    let fov = (-30.0 * spacing * 2.0, 30.0 * spacing * 2.0, n);
+    let facade = |b: f64| to_line_x(12.0, b);
+    let poses = [
+        (0.0, 0.0, 0.0),
+        (0.03, 0.02, 0.004),
+        (-0.02, 0.04, -0.003),
+        (0.01, -0.03, 0.006),
+        (0.04, -0.01, -0.005),
+    ];
+    let mut lone = Vec::new();
+    for (s, &(x, y, t)) in poses.iter().enumerate() {
+        let pose = Pose::new(x, y, t).unwrap();
+        insert(&mut grid, defaults(), pose, fov, |k, b| {
+            if k % 12 == 6 {
+                if s == 0 {
+                    lone.push(b);
+                }
+                to_line_x(12.0 - x, b + t)
+            } else {
+                NO_RETURN
+            }
+        });
+    }
+    assert!(lone.len() >= 8, "{lone:?}");
+    // The first scan's lone returns: every point within a quarter of the
+    // spacing of the axis, from 3 m out to 0.5 m short of the façade.
+    let mut footprint = Vec::new();
+    for &b in &lone {
+        for side in [-0.25, 0.25] {
+            footprint.extend(along(b + side * spacing, 3.0, facade(b) - 0.5));
+        }
+    }
+    let free = free_among(&grid, footprint.iter().copied());
+    assert_eq!(free, footprint.len(), "footprint points left unknown");
+    let holes = pinholes(&grid, (2.0, 11.5), (-6.0, 6.0));
+    assert_eq!(holes, 0, "pinholes between the lone returns' lines");
+}

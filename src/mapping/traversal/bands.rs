@@ -197,6 +197,7 @@ impl BandsPlan<'_> {
                 self.trig,
                 self.wedges,
                 |k, from| self.fans.wedge_from(k, from),
+                walkable,
                 gathered,
             );
             visits += n;

@@ -103,10 +103,13 @@ pub(super) fn beam_spans(wedges: &[Option<Wedge>], i: usize, res: f64) -> Option
 
 /// Fills the wedges of a scan (planned by [`plan_wedges`], bearings with
 /// `(sin, cos)` in `trig`; wedge `i` from `starts(i, from)` on, where a
-/// fan holds its nearer part) into `gathered` as free verdicts, and draws the
+/// fan holds its nearer part) into `gathered` as free verdicts, draws the
 /// wall between two neighbouring readings as hits
-/// ([`trace_wall_between`]); returns the cells visited and the
-/// gathering.
+/// ([`trace_wall_between`]), and fills the footprint of a return beside
+/// a beam that clears nothing ([`fill_footprint_beside_the_unseen`];
+/// `walkable` tells a reach the scan's frame holds); returns the cells
+/// visited and the gathering.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn trace_between<'a, const SEGMENTED: bool>(
     frame: &BeamFrame,
     bands: &[Option<BeamBand>],
@@ -114,9 +117,14 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
     trig: &[(f64, f64)],
     wedges: &[Option<Wedge>],
     starts: impl Fn(usize, f64) -> f64,
+    walkable: impl Fn(f64) -> bool,
     mut gathered: Gathered<'a, u8, SEGMENTED>,
 ) -> (usize, Gathered<'a, u8, SEGMENTED>) {
     let mut visits = 0;
+    let n;
+    (n, gathered) =
+        fill_footprint_beside_the_unseen(frame, bands, bearings, trig, walkable, gathered);
+    visits += n;
     for (i, wedge) in wedges.iter().enumerate() {
         let Some(wedge) = *wedge else { continue };
         let (Some(a), Some(b)) = (bands[i - 1], bands[i]) else {
@@ -170,6 +178,62 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
     (visits, gathered)
 }
 
+/// Beside a beam that clears nothing (a no-return without a return on
+/// each side near enough, [`crate::mapping::neighbour_support`]), the
+/// half of the space between the two beams on a return's side lies within
+/// half the spacing of the return's bearing: inside its footprint (Table
+/// 9.2's `β/2`, a scanner's beams as wide as their spacing), and free out
+/// to its free range (at most [`FILL_PARTED`] times where the axes part
+/// by a cell, and [`BESIDE_POST_SHORT`] cells short of the free range).
+/// Without it, a lone return among no-returns (a far wall
+/// seen through a window, a tree across a square) drew a free line one
+/// cell wide, and the lines of a few scans from nearly one place lay side
+/// by side with single gray cells between them: pinholes no reader takes
+/// for unobserved floor (docs/ARCHITECTURE.md, "Real logs"). Every cell
+/// filled lies in the wedge of a beam that returned.
+fn fill_footprint_beside_the_unseen<'a, const SEGMENTED: bool>(
+    frame: &BeamFrame,
+    bands: &[Option<BeamBand>],
+    bearings: &[f64],
+    trig: &[(f64, f64)],
+    walkable: impl Fn(f64) -> bool,
+    mut gathered: Gathered<'a, u8, SEGMENTED>,
+) -> (usize, Gathered<'a, u8, SEGMENTED>) {
+    let n = bands.len().min(bearings.len()).min(trig.len());
+    let mut visits = 0;
+    for i in 0..n {
+        let Some(beam) = bands[i] else { continue };
+        // A return (an occupied band), its reach inside the frame.
+        if !(beam.occupied_until > beam.occupied_from && walkable(beam.reach)) {
+            continue;
+        }
+        for j in [i.checked_sub(1), Some(i + 1)].into_iter().flatten() {
+            if j >= n || bands[j].is_some() {
+                continue;
+            }
+            let spacing = (bearings[j] - bearings[i]).abs();
+            if !(spacing > 0.0 && spacing <= MAX_BEAM_SPACING) {
+                continue;
+            }
+            let parted = frame.res / spacing;
+            let from = FILL_FROM_PARTED * parted;
+            let to = (FILL_PARTED * parted).min(beam.free_until - BESIDE_POST_SHORT * frame.res);
+            // The bisector's direction: the sum of the two unit vectors,
+            // scaled back to unit length.
+            let (s, c) = (trig[i].0 + trig[j].0, trig[i].1 + trig[j].1);
+            let norm = s.hypot(c);
+            if !(norm > 0.0) {
+                continue;
+            }
+            let filled;
+            (filled, gathered) =
+                fill_wedge(frame, (trig[i], (s / norm, c / norm)), from, to, gathered);
+            visits += filled;
+        }
+    }
+    (visits, gathered)
+}
+
 /// How far past a nearer reading's occupied band the space behind it
 /// starts to be filled beside it ([`fill_beside_a_post`]), metres: a door
 /// frame or a wall's end seen edge-on runs back from its edge, and filling
@@ -177,8 +241,9 @@ pub(super) fn trace_between<'a, const SEGMENTED: bool>(
 const BESIDE_POST_FROM: f64 = 0.5;
 
 /// How many cells short of the farther beam's free range the space beside
-/// a post stops ([`fill_beside_a_post`]): a wall the farther beam meets at
-/// a slant lies nearer on the post's side of its axis.
+/// a post stops ([`fill_beside_a_post`]), and a return's footprint beside
+/// a beam that clears nothing ([`fill_footprint_beside_the_unseen`]): a
+/// wall the beam meets at a slant lies nearer on one side of its axis.
 const BESIDE_POST_SHORT: f64 = 4.0;
 
 /// Past a reading nearer than both its neighbours' (a door frame's edge, a

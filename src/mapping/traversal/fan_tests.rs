@@ -56,6 +56,7 @@ fn integrate_without_fans(
         &trig,
         &wedges,
         |_, from| from,
+        walkable,
         gathered,
     );
     visits += n;
