@@ -540,6 +540,57 @@ fn one_cell_budget_bounds_a_slice_across_the_panes() {
     assert!(calls > 20, "{calls} calls");
 }
 
+/// A call the page's clock ends (`build_slice_until`, asked after each
+/// step) stops after the step at which its time is due, whatever is left
+/// of its budget of work; and however the build is cut, it ends with the
+/// maps a call of the whole build gives, byte for byte.
+#[test]
+fn a_call_ends_after_the_step_its_time_is_due_and_the_maps_do_not_change() {
+    let open = || {
+        let mut s = RealLogSession::new(corridor(40));
+        s.configure(LogMapSettings {
+            poses: PoseSourceKind::DeadReckoning,
+            seed: 4,
+            ..LogMapSettings::default()
+        })
+        .unwrap();
+        read_all(&mut s);
+        s
+    };
+    let mut whole = open();
+    while !whole.build_slice(u64::MAX).unwrap().finished {}
+    let mut timed = open();
+    let (mut calls, mut last) = (0, 0);
+    loop {
+        // The clock is due at the call's `k`th step: 1, 2 or 3 steps.
+        let k = 1 + calls % 3;
+        let mut asked = 0;
+        let state = timed
+            .build_slice_until(u64::MAX, || {
+                asked += 1;
+                asked >= k
+            })
+            .unwrap();
+        calls += 1;
+        let steps: usize = state.panes.iter().map(|p| p.progress.scans_done).sum();
+        if state.finished {
+            assert!(steps - last <= k, "call {calls}: {} steps, {k} due", steps - last);
+            break;
+        }
+        assert_eq!(steps - last, k, "call {calls}: the steps before the clock was due");
+        assert_eq!(asked, k);
+        last = steps;
+    }
+    assert!(calls > 20, "{calls} calls");
+    for pane in 0..2 {
+        let (a, b) = (
+            whole.pane(pane).unwrap().export_map(Some("m")),
+            timed.pane(pane).unwrap().export_map(Some("m")),
+        );
+        assert!(a.pgm == b.pgm && a.yaml == b.yaml, "pane {pane}");
+    }
+}
+
 /// What a scan costs, in units of a cell update: its updates, and its
 /// visits (along the beams and in the wedges between them) at
 /// `VISITS_PER_UNIT` to the unit, over every pane.

@@ -44,7 +44,11 @@ const DATASET_BASE = new URL('../datasets/', import.meta.url);
  * up to 2.4 times the pace of the calls before it: at 25 ms, tasks of 56
  * to 61 ms). Reads are sized in scans, builds in the core's units of work
  * (a cell update, or two cells visited: `work` in its state; a scan down
- * a corridor updates ten times the cells of one in an office).
+ * a corridor updates ten times the cells of one in an office), and a
+ * build call also ends after the first step past its time on the page's
+ * clock (`buildSlice`'s `withinMs`): in wasm a unit of SLAM's matching
+ * costs two to three times a cell update's, so a budget of units learnt
+ * from the maps' insertions ran long (docs/BENCHMARKS.md, W8).
  */
 const SLICE_MS = 20;
 /**
@@ -388,7 +392,7 @@ export class RealLogPanel {
           const cells = this.sliceCells ?? FIRST_SLICE_CELLS;
           let next;
           try {
-            next = this.session.buildSlice(cells);
+            next = this.session.buildSlice(cells, SLICE_MS);
           } catch (e) {
             // A map passed its tile budget (the core says how much the log
             // needs): the maps so far stay on screen.

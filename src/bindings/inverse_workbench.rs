@@ -5,7 +5,7 @@
 //! learned model with another seed; it draws what it gets.
 
 use super::{
-    budget_from_js, index_from_js, number_from_js, object_from_js, object_or_default,
+    budget_from_js, index_from_js, now_ms, number_from_js, object_from_js, object_or_default,
     optional_number_from_js, to_js,
 };
 use crate::apps::inverse_workbench::WorkbenchSession;
@@ -14,20 +14,6 @@ use crate::inverse::probes::BeamLattice;
 use crate::inverse::training;
 use crate::sensors::beam_model::{BeamModel, BeamModelParams};
 use wasm_bindgen::prelude::*;
-
-#[wasm_bindgen]
-extern "C" {
-    /// The host's monotonic clock in milliseconds (browsers and Node both
-    /// have `performance.now`): the core has no clock of its own in wasm.
-    #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
-    fn performance_now() -> Result<f64, JsValue>;
-}
-
-/// Milliseconds on the host's clock; NaN (a timing of "unknown") on a host
-/// without `performance.now`, rather than an exception through wasm.
-fn now_ms() -> f64 {
-    performance_now().unwrap_or(f64::NAN)
-}
 
 /// Both models and the last training run, held in wasm memory:
 /// [`WorkbenchSession`], and the last view's images.

@@ -3,7 +3,7 @@
 //! ([`crate::world::weaver_workloads`]) for the wasm run under Node.
 
 use super::{
-    bool_from_js, budget_from_js, coordinate_from_js, index_from_js, map_pair_to_js,
+    bool_from_js, budget_from_js, coordinate_from_js, index_from_js, map_pair_to_js, now_ms,
     number_from_js, object_or_default, patch_from_js, to_js,
 };
 use crate::apps::map_weaver::{Weaver, WeaverSettings, WeaverStart};
@@ -14,20 +14,6 @@ use wasm_bindgen::prelude::*;
 pub struct MapWeaver(Weaver);
 
 #[wasm_bindgen]
-extern "C" {
-    /// The page's monotonic clock, declared with `catch`: an exception
-    /// unwinding through the core, which holds the run borrowed, would leave it so.
-    #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
-    fn performance_now() -> Result<f64, JsValue>;
-}
-
-/// Milliseconds from the page's clock: the core's "time per scan" per pane
-/// (NaN, a time of "unknown", when the page's clock throws).
-fn page_clock() -> f64 {
-    performance_now().unwrap_or(f64::NAN)
-}
-
-#[wasm_bindgen]
 impl MapWeaver {
     /// Builds a run (and trains the learned model). `settings` may be
     /// `undefined` (the chapter's run) or an object overriding any field:
@@ -36,7 +22,7 @@ impl MapWeaver {
     pub fn new(settings: JsValue) -> Result<MapWeaver, JsError> {
         let settings = object_or_default("settings", settings, WeaverSettings::default)?;
         let mut weaver = WeaverStart::run(settings)?;
-        weaver.set_clock(Some(page_clock));
+        weaver.set_clock(Some(now_ms));
         Ok(MapWeaver(weaver))
     }
 
@@ -282,7 +268,7 @@ impl MapWeaverStart {
     /// The run, what is left of the training and of the maps done first.
     pub fn finish(&mut self) -> Result<MapWeaver, JsError> {
         let mut weaver = self.0.finish()?;
-        weaver.set_clock(Some(page_clock));
+        weaver.set_clock(Some(now_ms));
         Ok(MapWeaver(weaver))
     }
 }

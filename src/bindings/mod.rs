@@ -47,6 +47,22 @@ mod values;
 pub(crate) use objects::*;
 pub(crate) use values::*;
 
+#[wasm_bindgen]
+extern "C" {
+    /// The host's monotonic clock, declared with `catch` (browsers and Node
+    /// both have `performance.now`): the core has no clock of its own in
+    /// wasm, and an exception unwinding through a binding that holds a
+    /// session borrowed would leave it so.
+    #[wasm_bindgen(catch, js_namespace = performance, js_name = now)]
+    fn performance_now() -> Result<f64, JsValue>;
+}
+
+/// Milliseconds on the host's clock; NaN (a time of "unknown") on a host
+/// without `performance.now`, rather than an exception through wasm.
+pub(crate) fn now_ms() -> f64 {
+    performance_now().unwrap_or(f64::NAN)
+}
+
 #[wasm_bindgen(start)]
 fn start() {
     // A panic would be a bug (every input path returns errors); if one ever

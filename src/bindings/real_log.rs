@@ -11,8 +11,8 @@ mod slam_view;
 mod view;
 
 use super::{
-    budget_from_js, bytes_from_js, index_from_js, map_pair_to_js, number_from_js, object_from_js,
-    string_from_js, to_js,
+    budget_from_js, bytes_from_js, index_from_js, map_pair_to_js, now_ms, number_from_js,
+    object_from_js, optional_number_from_js, string_from_js, to_js,
 };
 use crate::apps::real_log::{self as app, LogMapSettings, SettingLimits};
 use wasm_bindgen::prelude::*;
@@ -160,11 +160,35 @@ impl RealLogSession {
     /// whole number; the scan that reaches it is finished, and at least
     /// one scan is integrated while any is left; `Infinity` for the whole
     /// build): a call's work, and so its time, is bounded whatever the
-    /// scans are like. Returns the state.
+    /// scans are like. With `withinMs` (milliseconds, more than 0), the
+    /// call also stops after the first step that ends that long after it
+    /// began on the host's clock (`performance.now`), so that it ends
+    /// within a step of its time whatever a unit of work costs on this
+    /// machine; `undefined` or `null` for no time bound. Where a call stops
+    /// does not change the maps. Returns the state.
     #[wasm_bindgen(js_name = buildSlice)]
-    pub fn build_slice(&mut self, max_cells: JsValue) -> Result<JsValue, JsError> {
+    pub fn build_slice(
+        &mut self,
+        max_cells: JsValue,
+        within_ms: JsValue,
+    ) -> Result<JsValue, JsError> {
         let max_cells = cells_from_js("maxCells", &max_cells)?;
-        to_js(&self.session.build_slice(max_cells)?)
+        let state = match optional_number_from_js("withinMs", &within_ms)? {
+            None => self.session.build_slice(max_cells)?,
+            Some(within) if within.is_nan() || within <= 0.0 => {
+                return Err(JsError::new(&format!(
+                    "invalid withinMs: {within} (expected milliseconds more than 0)"
+                )));
+            }
+            Some(within) => {
+                let start = now_ms();
+                // A clock that reads NaN (no `performance.now`) never says
+                // the time is up: the budget of work still bounds the call.
+                self.session
+                    .build_slice_until(max_cells, || now_ms() - start >= within)?
+            }
+        };
+        to_js(&state)
     }
 
     /// Scrubs every pane to `scans` integrated scans; `buildSlice` then

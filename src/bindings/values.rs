@@ -111,7 +111,6 @@ pub(crate) fn number_from_js(field: &str, value: &JsValue) -> Result<f64, JsErro
 
 /// An optional number parameter: `undefined` or `null` is `None`, anything
 /// else must be a number (see [`number_from_js`]).
-#[cfg(feature = "chapter")]
 pub(crate) fn optional_number_from_js(
     field: &str,
     value: &JsValue,

@@ -215,6 +215,7 @@ test('RealLogSession: throwing getters and proxies in settings, freeing valueOf 
   survives(s, [
     ['read', [HOSTILE], 'maxScans'],
     ['buildSlice', [HOSTILE], 'maxCells'],
+    ['buildSlice', [1, HOSTILE], 'withinMs'],
     ['seek', [HOSTILE], 'scan'],
     ['cellAt', [HOSTILE, 0, 0], 'pane'],
     ['cellAt', [0, HOSTILE, 0], 'col'],
@@ -225,7 +226,10 @@ test('RealLogSession: throwing getters and proxies in settings, freeing valueOf 
   refuses(() => s.configure({ poses: 'gps' }), 'poses', 'gps');
   refuses(() => s.configure({ seed: 2 ** 53 }), 'seed', '9007199254740992');
   s.configure({ poses: 'dead-reckoning', seed: 3 });
-  const done = s.buildSlice(Infinity);
+  // A time bound of no time, or of no number, is refused by name; the map is untouched.
+  for (const bad of [0, -5, NaN, '20']) refuses(() => s.buildSlice(Infinity, bad), 'withinMs', String(bad));
+  assert.equal(s.state().work, 0, 'a refused call built nothing');
+  const done = s.buildSlice(Infinity, 1e9);
   assert.equal(done.finished, true);
   assert.equal(done.panes.length, 2);
   assert.equal(done.scansDone, 5, 'the build saw every scan: no garbage counts');

@@ -529,6 +529,22 @@ impl RealLogSession {
     /// far stay. The tiles the call wrote are recounted at its end
     /// ([`LogPane::counts`]).
     pub fn build_slice(&mut self, max_cells: u64) -> Result<SessionState> {
+        self.build_slice_until(max_cells, || false)
+    }
+
+    /// [`Self::build_slice`], stopping early too after the first step for
+    /// which `due()` is true (asked after each step): the page's clock, so
+    /// that a call ends within one step of its time whatever a unit of
+    /// each kind of work costs on the reader's machine (the units are
+    /// weighed natively; in wasm a unit of SLAM's matching costs two to
+    /// three times a cell update's, docs/BENCHMARKS.md, W8). Where the
+    /// build stops does not change what it builds: the maps are the same
+    /// however the work is sliced.
+    pub fn build_slice_until(
+        &mut self,
+        max_cells: u64,
+        mut due: impl FnMut() -> bool,
+    ) -> Result<SessionState> {
         if self.panes.is_empty() {
             return Err(self.no_map());
         }
@@ -551,7 +567,7 @@ impl RealLogSession {
                 self.panes.iter_mut().for_each(|p| _ = p.refresh_counts());
                 return Err(e);
             }
-            if spent >= max_cells {
+            if spent >= max_cells || due() {
                 break;
             }
         }
