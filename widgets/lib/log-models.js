@@ -49,8 +49,8 @@ export function modelNote() {
     'multiplies a cell’s odds by odds(0.55), a miss by odds(0.49), within [0.1, 0.9], through lookup tables; its misses are so weak ',
     'that little of the floor would pass map_server’s free threshold (0.196), so its map is drawn, counted and exported free below ',
     'p 0.5 and occupied above it, as the exported YAML says. Under every model a beam is as wide as the beams’ spacing ',
-    '(Table 9.2’s β), so floor between two beams, nearer than both readings, is free too. Choose a second model to see both maps of ',
-    'the same log side by side.');
+    '(Table 9.2’s β), so floor between two beams, nearer than both readings, is free too, and beside a beam that saw nothing, the ',
+    'half nearer a return is free out to that reading. Choose a second model to see both maps of the same log side by side.');
 }
 
 /** How a real log's map is made from its file, in words: the panel's caption under the maps. */
