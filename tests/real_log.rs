@@ -574,10 +574,18 @@ fn a_call_ends_after_the_step_its_time_is_due_and_the_maps_do_not_change() {
         calls += 1;
         let steps: usize = state.panes.iter().map(|p| p.progress.scans_done).sum();
         if state.finished {
-            assert!(steps - last <= k, "call {calls}: {} steps, {k} due", steps - last);
+            assert!(
+                steps - last <= k,
+                "call {calls}: {} steps, {k} due",
+                steps - last
+            );
             break;
         }
-        assert_eq!(steps - last, k, "call {calls}: the steps before the clock was due");
+        assert_eq!(
+            steps - last,
+            k,
+            "call {calls}: the steps before the clock was due"
+        );
         assert_eq!(asked, k);
         last = steps;
     }

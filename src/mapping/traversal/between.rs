@@ -218,16 +218,11 @@ fn fill_footprint_beside_the_unseen<'a, const SEGMENTED: bool>(
             let parted = frame.res / spacing;
             let from = FILL_FROM_PARTED * parted;
             let to = (FILL_PARTED * parted).min(beam.free_until - BESIDE_POST_SHORT * frame.res);
-            // The bisector's direction: the sum of the two unit vectors,
-            // scaled back to unit length.
-            let (s, c) = (trig[i].0 + trig[j].0, trig[i].1 + trig[j].1);
-            let norm = s.hypot(c);
-            if !(norm > 0.0) {
+            let Some(half) = bisector(trig[i], trig[j]) else {
                 continue;
-            }
+            };
             let filled;
-            (filled, gathered) =
-                fill_wedge(frame, (trig[i], (s / norm, c / norm)), from, to, gathered);
+            (filled, gathered) = fill_wedge(frame, (trig[i], half), from, to, gathered);
             visits += filled;
         }
     }
@@ -284,14 +279,19 @@ fn fill_beside_a_post<'a, const SEGMENTED: bool>(
     if !(to > from) {
         return (0, gathered);
     }
-    // The bisector's direction: the sum of the two unit vectors, scaled
-    // back to unit length.
-    let (s, c) = (near_trig.0 + far_trig.0, near_trig.1 + far_trig.1);
-    let norm = s.hypot(c);
-    if !(norm > 0.0) {
+    let Some(half) = bisector(near_trig, far_trig) else {
         return (0, gathered);
-    }
-    fill_wedge(frame, ((s / norm, c / norm), far_trig), from, to, gathered)
+    };
+    fill_wedge(frame, (half, far_trig), from, to, gathered)
+}
+
+/// The `(sin, cos)` of the direction halfway between two bearings given
+/// as `(sin, cos)`: the sum of the two unit vectors, scaled back to unit
+/// length; `None` for opposite bearings.
+fn bisector(a: (f64, f64), b: (f64, f64)) -> Option<(f64, f64)> {
+    let (s, c) = (a.0 + b.0, a.1 + b.1);
+    let norm = s.hypot(c);
+    (norm > 0.0).then(|| (s / norm, c / norm))
 }
 
 /// Two neighbouring readings as their bands give them: the middles `z`
