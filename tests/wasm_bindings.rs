@@ -100,7 +100,9 @@ fn a_log_session_reads_maps_exports_and_reports_errors_by_line() {
     let p = s.read(JsValue::from_f64(100.0)).unwrap();
     assert_eq!(get(&p, "finished").as_bool(), Some(true));
     assert_eq!(get(&p, "scans").as_f64(), Some(2.0));
-    let b = s.build_slice(JsValue::from_f64(f64::INFINITY)).unwrap();
+    let b = s
+        .build_slice(JsValue::from_f64(f64::INFINITY), JsValue::UNDEFINED)
+        .unwrap();
     assert_eq!(get(&b, "scansDone").as_f64(), Some(2.0));
     let pair = s
         .export_map(JsValue::from_f64(0.0), "lab".into(), JsValue::UNDEFINED)

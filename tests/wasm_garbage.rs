@@ -586,7 +586,10 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
     refused(bad.read(num(10.0)), &["line"]);
     refused(bad.render_view(num(0.0)), &["not been read"]);
     refused(bad.seek(num(3.0)), &["not been read"]);
-    refused(bad.build_slice(num(f64::INFINITY)), &["not been read"]);
+    refused(
+        bad.build_slice(num(f64::INFINITY), JsValue::UNDEFINED),
+        &["not been read"],
+    );
     refused(bad.geometry(num(0.0)), &["not been read"]);
 
     // A log without laser lines.
@@ -626,8 +629,12 @@ fn garbage_log_files_are_refused_by_line_and_sessions_stay_usable() {
         geometry,
         "refused settings changed the map"
     );
-    refused(s.build_slice(num(f64::NAN)), &["maxCells"]);
-    s.build_slice(num(f64::INFINITY)).unwrap();
+    refused(
+        s.build_slice(num(f64::NAN), JsValue::UNDEFINED),
+        &["maxCells"],
+    );
+    refused(s.build_slice(num(f64::INFINITY), num(0.0)), &["withinMs"]);
+    s.build_slice(num(f64::INFINITY), num(1e9)).unwrap();
     refused(s.seek(num(1e6)), &["scan"]);
     refused(s.seek(num(-1.0)), &["scan", "-1"]);
     refused(s.seek(num(2.5)), &["scan", "2.5"]);
