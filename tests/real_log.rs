@@ -307,6 +307,20 @@ fn read_all(s: &mut RealLogSession) {
     }
 }
 
+/// A session of `corridor(n)`, read, at
+/// dead-reckoned poses (seed 4) beside the corrected ones.
+fn dead_reckoned_corridor(n: usize) -> RealLogSession {
+    let mut s = RealLogSession::new(corridor(n));
+    s.configure(LogMapSettings {
+        poses: PoseSourceKind::DeadReckoning,
+        seed: 4,
+        ..LogMapSettings::default()
+    })
+    .unwrap();
+    read_all(&mut s);
+    s
+}
+
 /// A caller that slices with a budget of 0 cells still gets somewhere: each
 /// call integrates at least one scan, so looping until finished ends.
 #[test]
@@ -546,17 +560,7 @@ fn one_cell_budget_bounds_a_slice_across_the_panes() {
 /// maps a call of the whole build gives, byte for byte.
 #[test]
 fn a_call_ends_after_the_step_its_time_is_due_and_the_maps_do_not_change() {
-    let open = || {
-        let mut s = RealLogSession::new(corridor(40));
-        s.configure(LogMapSettings {
-            poses: PoseSourceKind::DeadReckoning,
-            seed: 4,
-            ..LogMapSettings::default()
-        })
-        .unwrap();
-        read_all(&mut s);
-        s
-    };
+    let open = || dead_reckoned_corridor(40);
     let mut whole = open();
     while !whole.build_slice(u64::MAX).unwrap().finished {}
     let mut timed = open();
@@ -673,14 +677,7 @@ fn the_panel_s_limits_legend_cursor_and_export_come_from_the_pane() {
     let e = LogPane::check(&scans, &past).unwrap_err().to_string();
     assert!(e.contains("rangeCap") && e.contains("2045 cells"), "{e}");
 
-    let mut s = RealLogSession::new(corridor(5));
-    s.configure(LogMapSettings {
-        poses: PoseSourceKind::DeadReckoning,
-        seed: 4,
-        ..LogMapSettings::default()
-    })
-    .unwrap();
-    read_all(&mut s);
+    let mut s = dead_reckoned_corridor(5);
     while !s.build_slice(u64::MAX).unwrap().finished {}
     let pane = s.pane_mut(1).unwrap();
     pane.set_view_size(200, 100).unwrap();
