@@ -14,11 +14,15 @@ use occgrid::geometry::{GridGeometry, Pose};
 use occgrid::grid::cell::{Thresholds, Verdict};
 use occgrid::grid::readout::readout_at_cell;
 use occgrid::grid::stats::{count_states, count_states_between, TileTally};
-use occgrid::grid::{binary_entropy_bits, logit, CellModel, Dense, Grid, Store, Tiled};
+use occgrid::grid::{
+    binary_entropy_bits, logit, CellModel, Dense, FilterSettings, Grid, HitCount, HitCounting,
+    Store, StoredCell, Tiled, TiledGrid,
+};
 use occgrid::inverse::{HandCrafted, HandCraftedParams};
 use occgrid::io::map_server::{
     export_counts, map_server_pair, read_pgm, FREE_THRESH, OCCUPIED_THRESH,
 };
+use occgrid::mapping::traversal::RayMapper;
 use occgrid::render::map_view::MapView;
 use occgrid::render::viewport::render_grid_rgba;
 use occgrid::sensors::Scan;
@@ -28,6 +32,14 @@ use occgrid::sensors::Scan;
 struct Counts {
     hits: u8,
     misses: u8,
+}
+
+/// The counts saturate, so the store counts a cell's updates beside it.
+impl StoredCell for Counts {
+    type Updates = u32;
+    fn updates(self, beside: u32) -> u32 {
+        beside
+    }
 }
 
 /// The Beta posterior's mean of a cell's verdicts, from a uniform prior.
@@ -270,4 +282,46 @@ fn a_beta_count_cell_is_drawn_counted_and_exported_from_its_probability() {
 #[test]
 fn a_last_reading_cell_is_drawn_counted_and_exported_from_its_probability() {
     a_model_goes_through_every_consumer(LastReading);
+}
+
+/// A counting cell's visits are its updates: a tiled map of hit counting
+/// keeps nothing beside its cells (4 bytes a cell, where log odds take 8),
+/// yet every cell reads the same update count as the log-odds map built
+/// from the same scans, and the readout says so.
+#[test]
+fn a_counting_map_counts_updates_in_its_cells_and_takes_half_the_bytes() {
+    let sparse = GridGeometry::sparse(60, 50, 0.1, -3.0, -2.5).unwrap();
+    let model = HitCounting {
+        occupied_ratio: 0.25,
+    };
+    let mut counting =
+        Grid::<HitCounting, Tiled<HitCount>>::with_model(sparse, model, 1 << 20).unwrap();
+    let mut log_odds = TiledGrid::new(sparse, FilterSettings::default(), 1 << 20).unwrap();
+    let (inverse, mut mapper) = (laser(), RayMapper::new());
+    for s in [
+        scan(0.0, 0.3),
+        scan(0.4, 1.1),
+        scan(-0.3, 2.0),
+        scan(0.0, 0.3),
+    ] {
+        mapper.integrate(&mut counting, &inverse, &s);
+        mapper.integrate(&mut log_odds, &inverse, &s);
+    }
+    assert_eq!(counting.bytes_per_cell(), 4);
+    assert_eq!(log_odds.bytes_per_cell(), 8);
+    assert_eq!(
+        counting.bytes_allocated(),
+        4 * counting.cells_allocated(),
+        "nothing beside the cells"
+    );
+    let mut seen_by = [0usize; 5];
+    for i in 0..sparse.len() {
+        let (ix, iy) = sparse.cell_of_index(i);
+        let n = log_odds.updates_at(ix, iy).unwrap();
+        assert_eq!(counting.updates_at(ix, iy), Some(n), "cell {i}");
+        assert_eq!(readout_at_cell(&counting, ix, iy).unwrap().updates, n);
+        seen_by[n as usize] += 1;
+    }
+    // Cells seen by one scan, and by all four (the first pose twice).
+    assert!(seen_by[1] > 50 && seen_by[4] > 10, "{seen_by:?}");
 }

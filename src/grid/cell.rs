@@ -20,6 +20,7 @@
 //! (the tests' last-reading and Beta-count cells, `tests/cell_models.rs`)
 //! states a probability and is read through it.
 
+use super::storage::{InCell, StoredCell};
 use super::{logit, probability};
 
 /// What a verdict under thresholds is: the three states of a map, and the
@@ -82,8 +83,8 @@ impl Thresholds {
 /// has them at hand) overrides [`Self::held_log_odds`] so that the numbers
 /// derived from them are its own.
 pub trait CellModel: Clone + std::fmt::Debug + PartialEq {
-    /// What one cell holds.
-    type Cell: Copy + PartialEq + std::fmt::Debug;
+    /// What one cell holds, and how a store counts its updates.
+    type Cell: StoredCell;
 
     /// The cell nothing has measured: the third state, neither free nor
     /// occupied.
@@ -267,6 +268,17 @@ impl CellModel for LogOdds {
 pub struct HitCount {
     pub hits: u16,
     pub visits: u16,
+}
+
+/// A counting cell's visits are its updates (one per scan's verdict): no
+/// count beside it, 4 bytes a cell rather than 8. (Past 65,535 visits the
+/// count halves with the hits, see [`HitCount`].)
+impl StoredCell for HitCount {
+    type Updates = InCell;
+    #[inline(always)]
+    fn updates(self, _: InCell) -> u32 {
+        self.visits as u32
+    }
 }
 
 /// GMapping's counting model: a cell is occupied when its hits are more

@@ -28,7 +28,7 @@ pub mod stats;
 pub mod storage;
 
 pub use cell::{CellModel, HitCount, HitCounting, HitMissOdds, LogOdds};
-pub use storage::{Dense, Store, Tiled, Window};
+pub use storage::{Dense, InCell, Store, StoredCell, Tally, Tiled, Window};
 
 /// Log odds of a probability, `ln(p / (1 - p))`.
 pub fn logit(p: f64) -> f64 {
@@ -176,7 +176,7 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
         let unknown = self.model.unknown();
         if let Some((c, n)) = self.store.slot(ix, iy, unknown) {
             self.model.add(c, evidence);
-            *n += 1;
+            n.add_one();
         }
     }
 
@@ -189,9 +189,10 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
     pub fn cells_allocated(&self) -> usize {
         self.store.cells_allocated()
     }
-    /// Bytes a cell takes: the cell model's value and its update count.
+    /// Bytes a cell takes: the cell model's value and its update count
+    /// (none beside a cell that counts its updates itself).
     pub fn bytes_per_cell(&self) -> usize {
-        std::mem::size_of::<M::Cell>() + 4
+        std::mem::size_of::<M::Cell>() + std::mem::size_of::<<M::Cell as StoredCell>::Updates>()
     }
     /// Bytes the allocated cells hold.
     pub fn bytes_allocated(&self) -> usize {
@@ -264,7 +265,7 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
         for iy in 0..g.height() {
             self.store.row_runs(iy, |run| {
                 if let Some((cells, updates)) = run.cells {
-                    for (k, (&c, &u)) in cells.iter().zip(updates).enumerate() {
+                    for (k, (&c, &u)) in cells.iter().zip(updates.iter()).enumerate() {
                         if let Some((d, n)) = dense.store.slot(run.x0 + k, iy, unknown) {
                             *d = c;
                             *n = u;
@@ -363,10 +364,6 @@ impl<M: CellModel> Grid<M, Dense<M::Cell>> {
     pub fn cells(&self) -> &[M::Cell] {
         self.store.cells()
     }
-    /// How many updates each cell has received.
-    pub fn update_counts(&self) -> &[u32] {
-        self.store.updates()
-    }
     pub fn probability_at(&self, i: usize) -> f64 {
         self.model.probability(self.store.cells()[i])
     }
@@ -381,7 +378,18 @@ impl<M: CellModel> Grid<M, Dense<M::Cell>> {
     pub fn apply(&mut self, i: usize, evidence: f32) {
         let (cells, updates) = self.store.cells_mut();
         self.model.add(&mut cells[i], evidence);
-        updates[i] += 1;
+        updates[i].add_one();
+    }
+}
+
+/// A dense map whose cells count their updates beside them.
+impl<M: CellModel> Grid<M, Dense<M::Cell>>
+where
+    M::Cell: StoredCell<Updates = u32>,
+{
+    /// How many updates each cell has received.
+    pub fn update_counts(&self) -> &[u32] {
+        self.store.updates()
     }
 }
 

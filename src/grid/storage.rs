@@ -12,6 +12,11 @@
 //! storage holds (a tile never touched) reads as the model's unknown cell
 //! with no update.
 //!
+//! The update count is kept beside the cell ([`StoredCell::Updates`]: a
+//! `u32`) unless the cell counts its updates itself, as hit counting's
+//! visits do ([`InCell`], no bytes at all): a real log's map then takes
+//! half the memory.
+//!
 //! Cells are addressed by `(ix, iy)`, row 0 at the bottom. The traversal
 //! gathers a scan's verdicts in a *window* of the map (the whole map for a
 //! dense store; a square around the sensor for a tiled one, see
@@ -34,6 +39,56 @@ pub const TILE_CELLS: usize = TILE_SIDE * TILE_SIDE;
 pub const DEFAULT_TILE_BUDGET_CELLS: usize = 1 << 24;
 
 const NO_TILE: u32 = u32::MAX;
+
+/// How a cell's updates are counted beside it: one more per verdict.
+pub trait Tally: Copy + Default + PartialEq + std::fmt::Debug {
+    /// One more update.
+    fn add_one(&mut self);
+}
+
+/// An update count of its own beside the cell.
+impl Tally for u32 {
+    #[inline(always)]
+    fn add_one(&mut self) {
+        *self += 1;
+    }
+}
+
+/// Nothing beside the cell: the cell counts its updates itself. Takes no
+/// memory (a tile's counts of it allocate nothing) and counting it is no
+/// instruction.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct InCell;
+
+impl Tally for InCell {
+    #[inline(always)]
+    fn add_one(&mut self) {}
+}
+
+/// What a store holds per cell: the cell model's value, and how its
+/// updates are counted.
+pub trait StoredCell: Copy + PartialEq + std::fmt::Debug {
+    /// What is kept beside each cell to count its updates.
+    type Updates: Tally;
+    /// The updates the cell received, from the cell and what was kept
+    /// beside it.
+    fn updates(self, beside: Self::Updates) -> u32;
+}
+
+/// A plain number (log odds, an index into a table of odds) counts its
+/// updates beside it.
+macro_rules! counted_beside {
+    ($($t:ty),*) => {$(
+        impl StoredCell for $t {
+            type Updates = u32;
+            #[inline(always)]
+            fn updates(self, beside: u32) -> u32 {
+                beside
+            }
+        }
+    )*};
+}
+counted_beside!(f32, f64, u8, u16, u32);
 
 /// Part of the map in which a scan's verdicts are gathered: `stride`
 /// cells per row, its first cell at `(x0, y0)`. Window index `w` is cell
@@ -69,10 +124,10 @@ impl Window {
 /// on, or `None` where no storage holds them (every cell unknown, no
 /// update). Every reader that walks a whole map walks it in such runs, so
 /// that a tile never touched costs one test, not one per cell.
-pub struct RowRun<'a, C> {
+pub struct RowRun<'a, C: StoredCell> {
     pub x0: usize,
     pub len: usize,
-    pub cells: Option<(&'a [C], &'a [u32])>,
+    pub cells: Option<(&'a [C], &'a [C::Updates])>,
 }
 
 /// The cells holding `(ix, iy)` as one contiguous block: the block's
@@ -104,38 +159,38 @@ impl<C: Copy> Block<'_, C> {
 }
 
 /// The cells of a window, borrowed for one scan's update pass.
-pub trait WindowCells<C> {
+pub trait WindowCells<C: StoredCell> {
     /// Cell `w` of the window for an update, allocating its storage on
     /// first touch; `None` (and the store's `refused` set) past the budget.
-    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)>;
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut C::Updates)>;
 }
 
 /// A dense map's cells for an update pass: its window is the whole map,
 /// and a window index is the cell's index. Both arrays have the same
 /// length, and the compiler sees it: an index is checked once for both.
-pub struct DenseCells<'a, C> {
+pub struct DenseCells<'a, C: StoredCell> {
     cells: &'a mut [C],
-    updates: &'a mut [u32],
+    updates: &'a mut [C::Updates],
 }
 
-impl<C> WindowCells<C> for DenseCells<'_, C> {
+impl<C: StoredCell> WindowCells<C> for DenseCells<'_, C> {
     #[inline(always)]
-    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)> {
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut C::Updates)> {
         Some((&mut self.cells[w], &mut self.updates[w]))
     }
 }
 
 /// A tiled map's cells for an update pass: window indices become cells,
 /// and cells their tiles.
-pub struct TiledCells<'a, C> {
+pub struct TiledCells<'a, C: StoredCell> {
     store: &'a mut Tiled<C>,
     window: Window,
     unknown: C,
 }
 
-impl<C: Copy + PartialEq + std::fmt::Debug> WindowCells<C> for TiledCells<'_, C> {
+impl<C: StoredCell> WindowCells<C> for TiledCells<'_, C> {
     #[inline(always)]
-    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut u32)> {
+    fn slot(&mut self, w: usize) -> Option<(&mut C, &mut C::Updates)> {
         let win = &self.window;
         let (ix, iy) = (win.x0 + w % win.stride, win.y0 + w / win.stride);
         self.store.slot(ix, iy, self.unknown)
@@ -143,8 +198,9 @@ impl<C: Copy + PartialEq + std::fmt::Debug> WindowCells<C> for TiledCells<'_, C>
 }
 
 /// Where cells live. `C` is the cell model's cell; every cell also counts
-/// its updates (the hover readout's "updated n times").
-pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
+/// its updates (the hover readout's "updated n times"), beside it or in it
+/// ([`StoredCell`]).
+pub trait Store<C: StoredCell>: Clone + std::fmt::Debug + PartialEq {
     /// True when the traversal should gather a scan in a window around the
     /// sensor rather than over the whole map (a map too large to keep a
     /// scratch slot per cell).
@@ -170,14 +226,19 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
     /// Cell `(ix, iy)` for an update, allocating its storage on first
     /// touch; `None` outside the map, or (and [`Self::refused`] set) past
     /// the budget.
-    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)>;
+    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut C::Updates)>;
 
     /// The cells of row `iy` from column `ix` (a multiple of
     /// [`TILE_SIDE`]) to the east edge of its tile (or of the map), and
     /// their updates, for an update pass, allocating their storage on
     /// first touch; `None` outside the map, or (and [`Self::refused`] set)
     /// past the budget.
-    fn tile_row(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut [C], &mut [u32])>;
+    fn tile_row(
+        &mut self,
+        ix: usize,
+        iy: usize,
+        unknown: C,
+    ) -> Option<(&mut [C], &mut [C::Updates])>;
 
     /// Row `iy` of the map in runs, west to east.
     fn row_runs(&self, iy: usize, f: impl FnMut(RowRun<'_, C>));
@@ -207,7 +268,7 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
         &mut self,
         cells: impl Iterator<Item = (usize, usize, I)>,
         unknown: C,
-        mut f: impl FnMut(I, Option<(&mut C, &mut u32)>),
+        mut f: impl FnMut(I, Option<(&mut C, &mut C::Updates)>),
     ) {
         for (ix, iy, item) in cells {
             f(item, self.slot(ix, iy, unknown));
@@ -217,32 +278,33 @@ pub trait Store<C: Copy>: Clone + std::fmt::Debug + PartialEq {
 
 /// One array over the whole map.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Dense<C> {
+pub struct Dense<C: StoredCell> {
     width: usize,
     height: usize,
     cells: Vec<C>,
-    updates: Vec<u32>,
+    updates: Vec<C::Updates>,
 }
 
-impl<C: Copy> Dense<C> {
+impl<C: StoredCell> Dense<C> {
     /// Every cell, row-major from the bottom row.
     pub fn cells(&self) -> &[C] {
         &self.cells
     }
-    pub fn updates(&self) -> &[u32] {
+    /// What is kept beside every cell to count its updates.
+    pub fn updates(&self) -> &[C::Updates] {
         &self.updates
     }
     /// Both arrays, for a caller that updates many cells by index; the
     /// update counts are cut to the cells' length so that the compiler
     /// checks one index for both.
     #[inline(always)]
-    pub fn cells_mut(&mut self) -> (&mut [C], &mut [u32]) {
+    pub fn cells_mut(&mut self) -> (&mut [C], &mut [C::Updates]) {
         let n = self.cells.len();
         (&mut self.cells, &mut self.updates[..n])
     }
 }
 
-impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
+impl<C: StoredCell> Store<C> for Dense<C> {
     const WINDOWED: bool = false;
 
     fn fresh(geometry: &GridGeometry, unknown: C, _budget_cells: usize) -> Result<Self> {
@@ -258,14 +320,15 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
             width: geometry.width(),
             height: geometry.height(),
             cells: vec![unknown; geometry.len()],
-            updates: vec![0; geometry.len()],
+            updates: vec![C::Updates::default(); geometry.len()],
         })
     }
 
     #[inline]
     fn get(&self, ix: usize, iy: usize) -> Option<(C, u32)> {
         let i = iy * self.width + ix;
-        Some((*self.cells.get(i)?, *self.updates.get(i)?))
+        let c = *self.cells.get(i)?;
+        Some((c, c.updates(*self.updates.get(i)?)))
     }
 
     type Writer<'a>
@@ -281,7 +344,7 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
     }
 
     #[inline]
-    fn tile_row(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut [C], &mut [u32])> {
+    fn tile_row(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut [C], &mut [C::Updates])> {
         if ix >= self.width || iy >= self.height {
             return None;
         }
@@ -293,7 +356,7 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
         ))
     }
 
-    fn slot(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut C, &mut u32)> {
+    fn slot(&mut self, ix: usize, iy: usize, _: C) -> Option<(&mut C, &mut C::Updates)> {
         let i = iy * self.width + ix;
         let (cells, updates) = self.cells_mut();
         Some((cells.get_mut(i)?, updates.get_mut(i)?))
@@ -336,15 +399,15 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Dense<C> {
 
     fn reset(&mut self, unknown: C) {
         self.cells.fill(unknown);
-        self.updates.fill(0);
+        self.updates.fill(C::Updates::default());
     }
 }
 
 /// One tile's cells, row-major from its bottom row.
 #[derive(Debug, Clone)]
-struct Tile<C> {
+struct Tile<C: StoredCell> {
     cells: Box<[C]>,
-    updates: Box<[u32]>,
+    updates: Box<[C::Updates]>,
     /// True once written since the last [`Tiled::take_touched`].
     touched: bool,
 }
@@ -352,7 +415,7 @@ struct Tile<C> {
 /// Square tiles of [`TILE_SIDE`] cells, allocated on first touch, at most
 /// a budget of them.
 #[derive(Debug, Clone)]
-pub struct Tiled<C> {
+pub struct Tiled<C: StoredCell> {
     width: usize,
     height: usize,
     tiles_x: usize,
@@ -372,7 +435,7 @@ pub struct Tiled<C> {
 
 /// Two stores are equal when they hold the same cells in the same tiles
 /// (which tiles were written since a count was kept is no part of a map).
-impl<C: PartialEq> PartialEq for Tiled<C> {
+impl<C: StoredCell> PartialEq for Tiled<C> {
     fn eq(&self, other: &Self) -> bool {
         let same_tile = |(a, b): (&Tile<C>, &Tile<C>)| a.cells == b.cells && a.updates == b.updates;
         (
@@ -400,7 +463,7 @@ pub fn tiles_of(geometry: &GridGeometry) -> (usize, usize) {
     )
 }
 
-impl<C: Copy> Tiled<C> {
+impl<C: StoredCell> Tiled<C> {
     #[inline(always)]
     fn tile_of(&self, ix: usize, iy: usize) -> usize {
         (iy >> TILE_SHIFT) * self.tiles_x + (ix >> TILE_SHIFT)
@@ -420,7 +483,7 @@ impl<C: Copy> Tiled<C> {
         &mut self,
         k: usize,
         unknown: C,
-    ) -> Option<(&mut [C; TILE_CELLS], &mut [u32; TILE_CELLS])> {
+    ) -> Option<(&mut [C; TILE_CELLS], &mut [C::Updates; TILE_CELLS])> {
         let tile = self.written_tile(k, unknown)?;
         Some((
             (&mut tile.cells[..]).try_into().ok()?,
@@ -442,7 +505,7 @@ impl<C: Copy> Tiled<C> {
             t = self.tiles.len() as u32;
             self.tiles.push(Tile {
                 cells: vec![unknown; TILE_CELLS].into_boxed_slice(),
-                updates: vec![0; TILE_CELLS].into_boxed_slice(),
+                updates: vec![C::Updates::default(); TILE_CELLS].into_boxed_slice(),
                 touched: false,
             });
             self.index[k] = t;
@@ -493,7 +556,7 @@ impl<C: Copy> Tiled<C> {
     }
 }
 
-impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
+impl<C: StoredCell> Store<C> for Tiled<C> {
     const WINDOWED: bool = true;
 
     fn fresh(geometry: &GridGeometry, _: C, budget_cells: usize) -> Result<Self> {
@@ -520,7 +583,8 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
             NO_TILE => None,
             t => {
                 let (tile, o) = (&self.tiles[t as usize], Self::offset(ix, iy));
-                Some((tile.cells[o], tile.updates[o]))
+                let c = tile.cells[o];
+                Some((c, c.updates(tile.updates[o])))
             }
         }
     }
@@ -540,7 +604,12 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
     }
 
     #[inline(always)]
-    fn tile_row(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut [C], &mut [u32])> {
+    fn tile_row(
+        &mut self,
+        ix: usize,
+        iy: usize,
+        unknown: C,
+    ) -> Option<(&mut [C], &mut [C::Updates])> {
         if ix >= self.width || iy >= self.height {
             return None;
         }
@@ -553,7 +622,7 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
     }
 
     #[inline(always)]
-    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut u32)> {
+    fn slot(&mut self, ix: usize, iy: usize, unknown: C) -> Option<(&mut C, &mut C::Updates)> {
         if ix >= self.width || iy >= self.height {
             return None;
         }
@@ -573,12 +642,12 @@ impl<C: Copy + PartialEq + std::fmt::Debug> Store<C> for Tiled<C> {
         &mut self,
         cells: impl Iterator<Item = (usize, usize, I)>,
         unknown: C,
-        mut f: impl FnMut(I, Option<(&mut C, &mut u32)>),
+        mut f: impl FnMut(I, Option<(&mut C, &mut C::Updates)>),
     ) {
-        type TileCells<'t, C> = (&'t mut [C; TILE_CELLS], &'t mut [u32; TILE_CELLS]);
+        type TileCells<'t, C, U> = (&'t mut [C; TILE_CELLS], &'t mut [U; TILE_CELLS]);
         let (width, height, tiles_x) = (self.width, self.height, self.tiles_x);
         let mut key = usize::MAX;
-        let mut tile: Option<TileCells<'_, C>> = None;
+        let mut tile: Option<TileCells<'_, C, C::Updates>> = None;
         for (ix, iy, item) in cells {
             if ix >= width || iy >= height {
                 f(item, None);

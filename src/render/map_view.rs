@@ -25,7 +25,7 @@
 use crate::error::Result;
 use crate::geometry::GridGeometry;
 use crate::grid::stats::MapScores;
-use crate::grid::{binary_entropy_bits, probability, CellModel, Grid, Store};
+use crate::grid::{binary_entropy_bits, probability, CellModel, Grid, Store, StoredCell};
 use std::sync::OnceLock;
 
 use super::gray::{gray_level, probability_gray, thresholds, UNKNOWN_GRAY};
@@ -144,7 +144,7 @@ pub struct MapView<C = f32> {
     dirty: Vec<(u32, C)>,
 }
 
-impl<C: Copy + PartialEq> MapView<C> {
+impl<C: StoredCell> MapView<C> {
     /// A view of maps with `geometry`, scored against `truth`, with a
     /// Brier region of the cells in `region` (indices).
     pub fn new(geometry: &GridGeometry, truth: &[bool], region: &[usize]) -> Result<Self> {

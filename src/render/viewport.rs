@@ -12,7 +12,7 @@
 
 use crate::error::{invalid, OccError, Result};
 use crate::geometry::GridGeometry;
-use crate::grid::{CellModel, Grid, Store};
+use crate::grid::{CellModel, Grid, Store, StoredCell};
 
 use super::gray::UNKNOWN_GRAY;
 
@@ -389,7 +389,7 @@ struct TileRow<'a, C> {
     cells: Option<&'a [C]>,
 }
 
-impl<'a, C: Copy> TileRow<'a, C> {
+impl<'a, C: StoredCell> TileRow<'a, C> {
     fn at<S: Store<C>>(store: &'a S, ix: usize, iy: usize, lookups: &mut usize) -> Self {
         *lookups += 1;
         let b = store.block(ix, iy);

@@ -268,8 +268,11 @@ fn as_log_odds<M: CellModel>(grid: &Grid<M, Tiled<M::Cell>>) -> Result<LogOddsGr
         },
     )?;
     let (_, store) = out.model_and_store();
-    for (i, (&c, &n)) in dense.cells().iter().zip(dense.update_counts()).enumerate() {
+    for i in 0..g.len() {
         let (ix, iy) = g.cell_of_index(i);
+        let Some((c, n)) = dense.cell_and_updates_at(ix, iy) else {
+            continue;
+        };
         if let Some((l, u)) = store.slot(ix, iy, 0.0) {
             *l = m.log_odds(c);
             *u = n;

@@ -19,7 +19,7 @@
 //!   map (what a wide cone needs).
 
 use crate::geometry::raster::{Cursor, Walk};
-use crate::grid::storage::WindowCells;
+use crate::grid::storage::{StoredCell, Tally, WindowCells};
 use crate::grid::{CellModel, Grid, Store, Window};
 use crate::inverse::{AxisProfile, InverseModel};
 
@@ -319,7 +319,7 @@ trait Slot: Copy + PartialEq {
         self,
         model: &C,
         cell: &mut C::Cell,
-        updates: &mut u32,
+        updates: &mut <C::Cell as StoredCell>::Updates,
         evidence: ScanEvidence,
     );
     /// Merges `v` into every slot of `row`.
@@ -387,7 +387,7 @@ impl Slot for u8 {
         self,
         model: &C,
         cell: &mut C::Cell,
-        updates: &mut u32,
+        updates: &mut <C::Cell as StoredCell>::Updates,
         evidence: ScanEvidence,
     ) {
         if self & Code::Occupied as u8 != 0 {
@@ -395,7 +395,7 @@ impl Slot for u8 {
         } else {
             model.miss(cell, evidence.free)
         }
-        *updates += 1;
+        updates.add_one();
     }
 }
 
@@ -416,11 +416,11 @@ impl Slot for f32 {
         self,
         model: &C,
         cell: &mut C::Cell,
-        updates: &mut u32,
+        updates: &mut <C::Cell as StoredCell>::Updates,
         _: ScanEvidence,
     ) {
         model.add(cell, self);
-        *updates += 1;
+        updates.add_one();
     }
 }
 

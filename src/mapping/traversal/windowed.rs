@@ -2,7 +2,7 @@
 //! into a map cell without a hardware division.
 
 use super::{ScanEvidence, Slot, SEGMENT};
-use crate::grid::storage::WindowCells;
+use crate::grid::storage::{Tally, WindowCells};
 use crate::grid::{CellModel, Store, Window};
 
 /// `w / d` by one multiplication and a shift, exact for `w < 2^25` and
@@ -126,7 +126,7 @@ pub(super) fn settle_segments<T: Slot, C: CellModel, S: Store<C::Cell>>(
                             {
                                 for (cell, u) in cells.iter_mut().zip(updates) {
                                     model.miss(cell, evidence.free);
-                                    *u += 1;
+                                    u.add_one();
                                 }
                                 *lanes = [T::UNTOUCHED; 8];
                                 count += 8;
