@@ -100,13 +100,15 @@ pub const FINISHED_CELL_UNITS: u64 = 1;
 /// tenth of a millisecond natively): one Gauss–Newton iteration of a long
 /// log is far more, and is run a slice at a time ([`Optimizer::run_within`]).
 const OPTIMIZER_STEP_WORK: u64 = 1 << 16;
-/// Most bytes the finished submaps' grids of maxima may hold together
-/// ([`super::loop_search::LoopGrid`] keeps them between searches): those
-/// searched least recently are dropped first. A submap's grids are seven
-/// bytes a cell of its box (a 30 m laser's submap: up to 1,400 cells a
-/// side, 14 MB). Intel natively: 10.3 s at 32 MB, 8.1 s at 64, 7.6 s at
-/// 128, 30 s making them anew for every search.
-const LOOP_LEVEL_BYTES: usize = 64 << 20;
+/// Most bytes the finished submaps' grids for searching may hold together
+/// ([`super::loop_search::LoopGrid`] keeps them between searches: its
+/// restored bytes and grids of maxima): those searched least recently are
+/// dropped first. A submap's grids are eight bytes a cell of its box (a
+/// 30 m laser's submap: up to 1,400 cells a side, 16 MB). Intel natively,
+/// with the grids of maxima alone: 10.3 s at 32 MB, 8.1 s at 64, 7.6 s at
+/// 128, 30 s making them anew for every search; 72 MB keeps as many
+/// submaps ready as 64 MB of grids of maxima did.
+const LOOP_SEARCH_BYTES: usize = 72 << 20;
 /// The least cells of a closed submap a settling step reads on their way
 /// to bytes (about a millisecond natively): a page's build steps a source
 /// with a budget of nothing, and a step per row of a campus submap made
@@ -197,9 +199,9 @@ pub struct SlamBuilder {
     loop_scan: LoopScan,
     /// Submaps closed and not yet made into bytes, oldest first.
     closing: Vec<usize>,
-    /// Bytes the finished submaps' grids of maxima hold, and loop searches
-    /// of a submap ended so far.
-    level_bytes: usize,
+    /// Bytes the finished submaps' grids for searching hold, and loop
+    /// searches of a submap ended so far.
+    search_bytes: usize,
     searches_ended: u64,
 }
 
@@ -247,7 +249,7 @@ impl SlamBuilder {
             points: ScanPoints::default(),
             loop_scan: LoopScan::default(),
             closing: Vec::new(),
-            level_bytes: 0,
+            search_bytes: 0,
             searches_ended: 0,
         })
     }
@@ -590,14 +592,14 @@ impl SlamBuilder {
             // finished submap stays so: `None` never comes here.
             let (found, made) = match s.finished.as_mut() {
                 Some(grid) => {
-                    let before = grid.level_bytes();
+                    let before = grid.search_bytes();
                     let found = grid.continue_search(&mut under_way, &self.loop_scan, budget);
-                    (found, grid.level_bytes() - before)
+                    (found, grid.search_bytes() - before)
                 }
                 None => (Some(None), 0),
             };
             let anchor = s.anchor;
-            self.level_bytes += made;
+            self.search_bytes += made;
             let Some(found) = found else {
                 search.current = Some((i, under_way));
                 self.searching = Some(search);
@@ -605,7 +607,7 @@ impl SlamBuilder {
             };
             self.searches_ended += 1;
             self.submaps[i].searched = self.searches_ended;
-            self.keep_level_budget(i);
+            self.keep_search_budget(i);
             // The whole search's work, counted once it is over.
             self.work += under_way.work / 8;
             if let Some(found) = found {
@@ -635,23 +637,23 @@ impl SlamBuilder {
         self.start_due_optimization(k);
     }
 
-    /// Drops the grids of maxima of the submaps searched least recently
-    /// (never those of submap `keep`, just searched) until they hold at
-    /// most [`LOOP_LEVEL_BYTES`].
-    fn keep_level_budget(&mut self, keep: usize) {
-        while self.level_bytes > LOOP_LEVEL_BYTES {
+    /// Drops the grids for searching of the submaps searched least
+    /// recently (never those of submap `keep`, just searched) until they
+    /// hold at most [`LOOP_SEARCH_BYTES`].
+    fn keep_search_budget(&mut self, keep: usize) {
+        while self.search_bytes > LOOP_SEARCH_BYTES {
             let oldest = self
                 .submaps
                 .iter_mut()
                 .enumerate()
                 .filter(|(j, s)| {
-                    *j != keep && s.finished.as_ref().is_some_and(|g| g.level_bytes() > 0)
+                    *j != keep && s.finished.as_ref().is_some_and(|g| g.search_bytes() > 0)
                 })
                 .min_by_key(|(_, s)| s.searched);
             let Some((_, s)) = oldest else { break };
             if let Some(grid) = s.finished.as_mut() {
-                self.level_bytes -= grid.level_bytes();
-                grid.drop_levels();
+                self.search_bytes -= grid.search_bytes();
+                grid.drop_search_grids();
             }
         }
     }

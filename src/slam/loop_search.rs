@@ -24,6 +24,7 @@
 use super::facing::{
     pack_cell, strength, strength_facing, surface_normals, AgreementTable, Facing,
 };
+use super::packed_rows::PackedRows;
 use crate::geometry::Pose;
 
 /// Depth of the coarsest precomputed grid (cells of `2^7` = 128 cells: 6.4 m
@@ -77,12 +78,16 @@ impl LoopScan {
 /// over the box of its known cells; and its grids of maxima once
 /// a search has made them.
 ///
+/// At rest its bytes are kept run-length coded ([`PackedRows`], a
+/// quarter of their size on the campus); a search restores them first, a
+/// slice of rows at a time (one read a cell).
+///
 /// A submap is searched again by every scan near it (Intel: a submap
 /// about 40 times), and making its grids cost 28 reads a cell, far more
 /// than a search's branch and bound: they are made once and kept
-/// (Hess et al. 2016 precompute them once a submap is finished) until
-/// their holder drops them to keep within a memory budget
-/// ([`Self::drop_levels`]).
+/// (Hess et al. 2016 precompute them once a submap is finished), with the
+/// restored bytes, until their holder drops them to keep within a memory
+/// budget ([`Self::drop_search_grids`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoopGrid {
     /// World coordinates of the corner of cell `(0, 0)`.
@@ -90,8 +95,12 @@ pub struct LoopGrid {
     pub resolution: f64,
     pub width: usize,
     pub height: usize,
-    /// Bytes as [`pack_cell`] makes them.
-    pub cells: Vec<u8>,
+    /// Bytes as [`pack_cell`] makes them, coded.
+    packed: PackedRows,
+    /// The same bytes restored, `restored` rows of them so far (all of
+    /// them once a search has begun; none at rest).
+    cells: Vec<u8>,
+    restored: usize,
     /// The grids of depth `1..=levels.len()` made so far.
     levels: Vec<Vec<u8>>,
     /// The next one, while it is made a slice of rows at a time.
@@ -179,7 +188,7 @@ impl LoopGrid {
         Self::from_packed(origin, resolution, width, height, cells)
     }
 
-    /// A grid of bytes as [`pack_cell`] makes them.
+    /// A grid of bytes as [`pack_cell`] makes them, put to rest.
     pub fn from_packed(
         origin: [f64; 2],
         resolution: f64,
@@ -187,26 +196,75 @@ impl LoopGrid {
         height: usize,
         cells: Vec<u8>,
     ) -> Self {
+        let (width, height) = if cells.len() == width * height {
+            (width, height)
+        } else {
+            (0, 0)
+        };
         Self {
             origin,
             resolution,
             width,
             height,
-            cells,
+            packed: PackedRows::pack(&cells, width),
+            cells: Vec::new(),
+            restored: 0,
             levels: Vec::new(),
             making: None,
         }
     }
 
-    /// Bytes the grids of maxima made so far hold.
-    pub fn level_bytes(&self) -> usize {
-        self.levels.iter().map(Vec::len).sum()
+    /// Bytes held for searching: the restored bytes and the grids of
+    /// maxima made so far.
+    pub fn search_bytes(&self) -> usize {
+        self.cells.len() + self.levels.iter().map(Vec::len).sum::<usize>()
     }
 
-    /// Drops the grids of maxima (a later search makes them again).
-    pub fn drop_levels(&mut self) {
+    /// Drops the restored bytes and the grids of maxima (a later search
+    /// makes them again), keeping the coded bytes.
+    pub fn drop_search_grids(&mut self) {
+        self.cells = Vec::new();
+        self.restored = 0;
         self.levels = Vec::new();
         self.making = None;
+    }
+
+    /// Every byte, rows bottom first: a copy decoded from the coded bytes.
+    pub fn unpacked(&self) -> Vec<u8> {
+        let w = self.width;
+        let mut out = vec![0; w * self.height];
+        for (y, row) in out.chunks_exact_mut(w.max(1)).enumerate() {
+            self.packed.unpack_row(y, row);
+        }
+        out
+    }
+
+    /// True once every row of the bytes is restored.
+    fn is_restored(&self) -> bool {
+        self.restored == self.height
+    }
+
+    /// Restores rows of the bytes until `max_reads` reads (at least a
+    /// row, one read a cell): the reads made.
+    fn restore_within(&mut self, max_reads: u64) -> u64 {
+        let w = self.width;
+        if self.cells.len() != w * self.height {
+            self.cells = vec![0; w * self.height];
+            self.restored = 0;
+        }
+        let mut reads = 0;
+        while self.restored < self.height {
+            let y = self.restored;
+            if let Some(row) = self.cells.get_mut(y * w..(y + 1) * w) {
+                self.packed.unpack_row(y, row);
+            }
+            self.restored += 1;
+            reads += w as u64;
+            if reads >= max_reads {
+                break;
+            }
+        }
+        reads
     }
 
     /// The byte of a grid at a cell, rows bottom first (0 outside).
@@ -296,9 +354,9 @@ impl LoopGrid {
         (bottom * (1.0 - ty) + top * ty) / 255.0
     }
 
-    /// Bytes held.
+    /// Bytes held: coded, and for searching.
     pub fn bytes(&self) -> usize {
-        self.cells.len()
+        self.packed.bytes() + self.search_bytes()
     }
 
     /// Searches `scan`'s points (sensor frame) around `predicted` (in this
@@ -349,7 +407,7 @@ impl LoopGrid {
             best: None,
             candidates: 0,
             work: 0,
-            empty: points.is_empty() || self.cells.is_empty(),
+            empty: points.is_empty() || self.width * self.height == 0,
         }
     }
 
@@ -373,8 +431,10 @@ impl LoopGrid {
         }
         let limit = search.work.saturating_add(budget);
         loop {
-            if self.levels.len() < DEPTH {
-                let left = limit.saturating_sub(search.work).max(LEVEL_STEP_READS);
+            let left = limit.saturating_sub(search.work).max(LEVEL_STEP_READS);
+            if !self.is_restored() {
+                search.work += self.restore_within(left);
+            } else if self.levels.len() < DEPTH {
                 search.work += self.make_level_within(left);
             } else if search.heading <= search.headings {
                 let hi = search.heading;
@@ -604,8 +664,8 @@ mod tests {
         // for bit, and the same work; no call past its budget by more than
         // one step (a slice of a grid of maxima, or one heading).
         let budget = 30_000;
-        let step = (grid.cells.len() * 4) as u64;
-        grid.drop_levels();
+        let step = (w * h * 4) as u64;
+        grid.drop_search_grids();
         let mut sliced = grid.begin_search(&scan, &predicted, &window);
         let (mut calls, mut before) = (0, 0);
         let again = loop {
@@ -641,6 +701,14 @@ mod tests {
             .collect();
         let mut whole = LoopGrid::new([0.0, 0.0], 0.05, w, h, cells.clone());
         let mut sliced = LoopGrid::new([0.0, 0.0], 0.05, w, h, cells);
+        assert_eq!(whole.restore_within(u64::MAX), (w * h) as u64);
+        let (mut reads, mut slices) = (0, 0);
+        while !sliced.is_restored() {
+            reads += sliced.restore_within(1);
+            slices += 1;
+        }
+        assert_eq!((reads, slices), ((w * h) as u64, h));
+        assert_eq!(sliced.cells, whole.cells);
         for depth in 1..=DEPTH {
             assert_eq!(whole.make_level_within(u64::MAX), (4 * w * h) as u64);
             let (mut reads, mut slices) = (0, 0);
@@ -696,10 +764,11 @@ mod tests {
             angular: 0.08,
             min_score: 0.4,
         };
-        assert_eq!(grid.level_bytes(), 0);
+        assert_eq!(grid.search_bytes(), 0);
         let (first, first_work) = grid.search(&scan, &predicted, &window);
-        let made = (DEPTH * w * h * 4) as u64;
-        assert_eq!(grid.level_bytes(), DEPTH * w * h);
+        // The bytes restored (a read a cell), the grids made (four a cell).
+        let made = ((1 + 4 * DEPTH) * w * h) as u64;
+        assert_eq!(grid.search_bytes(), (1 + DEPTH) * w * h);
         let (second, second_work) = grid.search(&scan, &predicted, &window);
         let (first, second) = (first.expect("a match"), second.expect("a match"));
         assert_eq!(
@@ -717,8 +786,8 @@ mod tests {
             first_work - made,
             "the second search made no grid"
         );
-        grid.drop_levels();
-        assert_eq!(grid.level_bytes(), 0);
+        grid.drop_search_grids();
+        assert_eq!(grid.search_bytes(), 0);
         assert_eq!(grid.search(&scan, &predicted, &window).1, first_work);
     }
 }

@@ -7,6 +7,7 @@
 //!   while they grow, finished and kept as bytes after;
 //! - [`loop_search`]: branch and bound over precomputed maximum grids, a
 //!   scan against a finished submap over a wide window;
+//! - [`packed_rows`]: a finished submap's bytes run-length coded at rest;
 //! - [`facing`]: which way the surfaces of a scan's points and of a
 //!   submap's cells face, so that a wall's two faces are never matched
 //!   one on the other;
@@ -20,6 +21,7 @@
 pub mod builder;
 pub mod facing;
 pub mod loop_search;
+pub mod packed_rows;
 pub mod pose_graph;
 pub mod submap;
 
