@@ -729,7 +729,34 @@ mod tests {
         assert_eq!(whole.levels[1][20 * w + 10], highest);
     }
 
-    /// A submap searched again reads the grids of maxima its first search
+    /// At rest a grid keeps its bytes coded: a room's walls in a box of
+    /// unknown take a small share of its cells. A search restores them
+    /// (and makes its grids of maxima); dropping those leaves the coded
+    /// bytes, from which the next search restores the same cells.
+    #[test]
+    fn a_grid_at_rest_keeps_its_bytes_coded_and_a_search_restores_them() {
+        let (w, h) = (400usize, 300usize);
+        let mut cells = vec![0u8; w * h];
+        for i in 100..300 {
+            cells[120 * w + i] = 250;
+            cells[(i - 50) * w + 100] = 250;
+        }
+        for y in 121..250 {
+            cells[y * w + 101..y * w + 300].fill(12);
+        }
+        let mut grid = LoopGrid::new([0.0, 0.0], 0.05, w, h, cells.clone());
+        let at_rest = grid.bytes();
+        assert!(at_rest < w * h / 20, "{at_rest} bytes of {}", w * h);
+        assert_eq!(grid.search_bytes(), 0);
+        let restored = (w * h) as u64;
+        assert_eq!(grid.restore_within(u64::MAX), restored);
+        let packed = |v: u8| pack_cell(v as f64 / 255.0, 0);
+        assert!(grid.cells.iter().zip(&cells).all(|(&c, &v)| c == packed(v)));
+        assert_eq!(grid.cells, grid.unpacked());
+        grid.drop_search_grids();
+        assert_eq!(grid.bytes(), at_rest);
+    }
+
     /// made: the same match bit for bit, at the work of the branch and
     /// bound alone; once dropped, they are made again.
     #[test]
