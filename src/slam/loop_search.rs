@@ -267,12 +267,17 @@ impl LoopGrid {
         reads
     }
 
-    /// The byte of a grid at a cell, rows bottom first (0 outside).
+    /// The byte of a grid at a cell, rows bottom first (0 outside). (A
+    /// negative index is a huge unsigned one: one comparison a side.)
+    #[inline(always)]
     fn byte(&self, ix: i64, iy: i64, level: &[u8]) -> u8 {
-        if ix < 0 || iy < 0 || ix >= self.width as i64 || iy >= self.height as i64 {
+        if ix as u64 >= self.width as u64 || iy as u64 >= self.height as u64 {
             return 0;
         }
-        level[iy as usize * self.width + ix as usize]
+        level
+            .get(iy as usize * self.width + ix as usize)
+            .copied()
+            .unwrap_or(0)
     }
 
     /// Makes the next grid of maxima, of depth `d = levels.len() + 1`,
@@ -468,16 +473,26 @@ impl LoopGrid {
         let mut best = search.best;
         let theta = predicted.theta + hi as f64 * search.dtheta;
         let (s, c) = theta.sin_cos();
-        let cells: Vec<(i64, i64)> = points
+        // Each point's cell, and its place among the scan's points. A
+        // point that no offset of the window brings within reach of the
+        // grid reads 0 at every depth and is left out: the sums are the
+        // same, and on the campus a search's points fall outside the
+        // submap's box as often as in it.
+        let (w, h) = (self.width as i64, self.height as i64);
+        let near = |v: i64, side: i64| v > -top - wxy && v < side + wxy;
+        let cells: Vec<(i64, i64, usize)> = points
             .iter()
-            .map(|p| {
+            .enumerate()
+            .map(|(k, p)| {
                 let x = predicted.x + c * p[0] - s * p[1];
                 let y = predicted.y + s * p[0] + c * p[1];
                 (
                     ((x - self.origin[0]) / res).floor() as i64,
                     ((y - self.origin[1]) / res).floor() as i64,
+                    k,
                 )
             })
+            .filter(|&(x, y, _)| near(x, w) && near(y, h))
             .collect();
         // The normal codes each point may score against, worked out only
         // if a candidate of this heading gets down to single offsets: most
@@ -486,15 +501,15 @@ impl LoopGrid {
         let score = |depth: usize, dx: i64, dy: i64| -> u64 {
             if depth == 0 {
                 let agreeing: &Vec<u16> = agreeing.get_or_init(|| {
-                    scan.facings
+                    cells
                         .iter()
-                        .map(|f| agreement.at(f, theta))
+                        .map(|&(_, _, k)| agreement.at(&scan.facings[k], theta))
                         .collect()
                 });
                 return cells
                     .iter()
                     .zip(agreeing)
-                    .map(|(&(x, y), &agreeing)| {
+                    .map(|(&(x, y, _), &agreeing)| {
                         strength_facing(self.byte(x + dx, y + dy, &self.cells), agreeing) as u64
                     })
                     .sum();
@@ -505,10 +520,13 @@ impl LoopGrid {
             // whose window holds its part.
             let reach = 1i64 << depth;
             let pull = |v: i64| if v < 0 && v > -reach { 0 } else { v };
-            cells
+            // The bytes' probabilities summed in sixteenths, then scaled
+            // once ([`strength`]).
+            let sixteenths: u64 = cells
                 .iter()
-                .map(|&(x, y)| strength(self.byte(pull(x + dx), pull(y + dy), level)) as u64)
-                .sum()
+                .map(|&(x, y, _)| (self.byte(pull(x + dx), pull(y + dy), level) >> 4) as u64)
+                .sum();
+            sixteenths * strength(1 << 4) as u64
         };
         // Roots: offsets every 2^DEPTH cells over the window.
         let mut stack: Vec<(u64, usize, i64, i64)> = Vec::new();

@@ -10,7 +10,7 @@ use super::facing::{normal_code, pack_cell, surface_normals};
 use super::loop_search::LoopGrid;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
-use crate::grid::{FilterSettings, TiledGrid};
+use crate::grid::{CellModel, FilterSettings, Store, TiledGrid};
 use crate::sensors::Scan;
 
 /// How closely a cell's returns' normals must agree (the length of their
@@ -193,13 +193,30 @@ impl Submap {
         let [cx0, _, cx1, cy1] = c.scan;
         while c.bytes.is_none() && c.row <= cy1 {
             let iy = c.row;
-            for ix in cx0..=cx1 {
-                if c.grid.updates_at(ix, iy).is_some_and(|u| u > 0) {
-                    c.known[0] = c.known[0].min(ix);
-                    c.known[1] = c.known[1].min(iy);
-                    c.known[2] = c.known[2].max(ix);
-                    c.known[3] = c.known[3].max(iy);
+            // The row's first and last updated cells within the scans' box,
+            // a tile's run at a time (a tile never touched has none).
+            let mut first_last: Option<(usize, usize)> = None;
+            c.grid.store().row_runs(iy, |run| {
+                let Some((_, updates)) = run.cells else {
+                    return;
+                };
+                let (a, b) = (run.x0.max(cx0), (run.x0 + run.len).min(cx1 + 1));
+                let Some(updates) = updates.get(a.saturating_sub(run.x0)..b.saturating_sub(run.x0))
+                else {
+                    return;
+                };
+                let first = updates.iter().position(|&u| u > 0);
+                let last = updates.iter().rposition(|&u| u > 0);
+                if let (Some(f), Some(l)) = (first, last) {
+                    let (f, l) = (a + f, a + l);
+                    first_last = Some(first_last.map_or((f, l), |(f0, l0)| (f0.min(f), l0.max(l))));
                 }
+            });
+            if let Some((f, l)) = first_last {
+                c.known[0] = c.known[0].min(f);
+                c.known[1] = c.known[1].min(iy);
+                c.known[2] = c.known[2].max(l);
+                c.known[3] = c.known[3].max(iy);
             }
             c.row += 1;
             read += (cx1 - cx0 + 1) as u64;
@@ -221,26 +238,42 @@ impl Submap {
         let [x0, y0, x1, y1] = c.known;
         if x0 <= x1 && y0 <= y1 {
             let bytes = c.bytes.as_mut().expect("the box of known cells is found");
+            let model = *c.grid.model();
             while c.row <= y1 {
                 let iy = c.row;
-                for ix in x0..=x1 {
-                    let at = (iy * g.width() + ix) as u32;
-                    while c.facing.get(c.next_facing).is_some_and(|f| f.0 < at) {
-                        c.next_facing += 1;
+                let (facing, next_facing) = (&c.facing, &mut c.next_facing);
+                // The row's cells a tile's run at a time: a cell never
+                // updated (or in a tile never touched) is 0.
+                c.grid.store().row_runs(iy, |run| {
+                    let (a, b) = (run.x0.max(x0), (run.x0 + run.len).min(x1 + 1));
+                    if a >= b {
+                        return;
                     }
-                    let facing = match c.facing.get(c.next_facing) {
-                        Some(&(i, bits)) if i == at => bits,
-                        _ => 0,
+                    let Some((cells, updates)) = run.cells else {
+                        bytes.resize(bytes.len() + (b - a), 0);
+                        return;
                     };
-                    let byte = match (c.grid.updates_at(ix, iy), c.grid.log_odds_at(ix, iy)) {
-                        (Some(u), Some(l)) if u > 0 => {
-                            let p = 1.0 / (1.0 + (-(l as f64)).exp());
-                            pack_cell(p, facing)
+                    let span = a - run.x0..b - run.x0;
+                    for (k, (&cell, &u)) in
+                        cells[span.clone()].iter().zip(&updates[span]).enumerate()
+                    {
+                        if u == 0 {
+                            bytes.push(0);
+                            continue;
                         }
-                        _ => 0,
-                    };
-                    bytes.push(byte);
-                }
+                        let at = (iy * g.width() + a + k) as u32;
+                        while facing.get(*next_facing).is_some_and(|f| f.0 < at) {
+                            *next_facing += 1;
+                        }
+                        let normal = match facing.get(*next_facing) {
+                            Some(&(i, bits)) if i == at => bits,
+                            _ => 0,
+                        };
+                        let l = model.log_odds(cell);
+                        let p = 1.0 / (1.0 + (-(l as f64)).exp());
+                        bytes.push(pack_cell(p, normal));
+                    }
+                });
                 c.row += 1;
                 read += 2 * (x1 - x0 + 1) as u64;
                 if c.row <= y1 && read >= max_cells {
