@@ -70,21 +70,40 @@ pub fn quadratic_bspline(
     v: f64,
     mut value: impl FnMut(i64, i64) -> f64,
 ) -> (f64, [f64; 2]) {
+    quadratic_bspline_of_patch(u, v, |i, j| {
+        // (Saturating: a point absurdly far away reads the cells at the
+        // end of the index range, outside any map.)
+        let mut patch = [[0.0; 3]; 3];
+        for (b, row) in patch.iter_mut().enumerate() {
+            for (a, c) in row.iter_mut().enumerate() {
+                *c = value(
+                    i.saturating_add(a as i64 - 1),
+                    j.saturating_add(b as i64 - 1),
+                );
+            }
+        }
+        patch
+    })
+}
+
+/// [`quadratic_bspline`] with the 3 x 3 values read at once: `patch(i,
+/// j)` gives the values of the cells around cell `(i, j)`, `[b][a]` that
+/// of cell `(i + a - 1, j + b - 1)`, so that a reader finds their storage
+/// once rather than once a cell. The same arithmetic in the same order.
+pub fn quadratic_bspline_of_patch(
+    u: f64,
+    v: f64,
+    patch: impl FnOnce(i64, i64) -> [[f64; 3]; 3],
+) -> (f64, [f64; 2]) {
     let (tu, tv) = (u - 0.5, v - 0.5);
     let (i, j) = (tu.round(), tv.round());
     let (wu, du) = bspline_weights(tu - i);
     let (wv, dv) = bspline_weights(tv - j);
-    let (i, j) = (i as i64, j as i64);
+    let values = patch(i as i64, j as i64);
     let (mut f, mut gx, mut gy) = (0.0, 0.0, 0.0);
-    for b in 0..3 {
+    for (b, cells) in values.iter().enumerate() {
         let (mut row, mut row_dx) = (0.0, 0.0);
-        for a in 0..3 {
-            // (Saturating: a point absurdly far away reads the cells at
-            // the end of the index range, outside any map.)
-            let c = value(
-                i.saturating_add(a as i64 - 1),
-                j.saturating_add(b as i64 - 1),
-            );
+        for (a, &c) in cells.iter().enumerate() {
             row += wu[a] * c;
             row_dx += du[a] * c;
         }

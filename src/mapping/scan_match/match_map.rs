@@ -19,6 +19,12 @@ pub trait MatchMap {
     /// Cell `(ix, iy)`'s log odds, `None` outside the map (a cell no tile
     /// holds reads as unknown).
     fn log_odds_at(&self, ix: usize, iy: usize) -> Option<f32>;
+    /// The log odds of the 3 x 3 cells around `(ix, iy)`, `[b][a]` those
+    /// of cell `(ix + a - 1, iy + b - 1)`, `None` for a cell outside the
+    /// map: a refinement's smooth reading of the map
+    /// ([`crate::grid::sample::quadratic_bspline_of_patch`]), its storage
+    /// found once for the nine cells where one block holds them all.
+    fn log_odds_around(&self, ix: i64, iy: i64) -> [[Option<f32>; 3]; 3];
     /// Whether cell `(ix, iy)` was measured (`false` outside the map).
     fn is_measured(&self, ix: usize, iy: usize) -> bool;
     /// Pools the cells `[x0, x1) x [y0, y1)` (`cells`, all inside the map) two by
@@ -42,6 +48,44 @@ impl<M: CellModel, S: Store<M::Cell>> MatchMap for Grid<M, S> {
     fn log_odds_at(&self, ix: usize, iy: usize) -> Option<f32> {
         let m = self.model();
         self.cell_at(ix, iy).map(|c| m.log_odds(c))
+    }
+
+    fn log_odds_around(&self, ix: i64, iy: i64) -> [[Option<f32>; 3]; 3] {
+        let m = self.model();
+        let mut out = [[None; 3]; 3];
+        let (w, h) = (self.geometry().width(), self.geometry().height());
+        let (x0, y0) = (ix.wrapping_sub(1), iy.wrapping_sub(1));
+        let whole = x0 >= 0 && y0 >= 0 && x0 < ix && y0 < iy;
+        if whole && ((x0 + 2) as usize) < w && ((y0 + 2) as usize) < h {
+            let (x0, y0) = (x0 as usize, y0 as usize);
+            let block = self.store().block(x0, y0);
+            if block.holds(x0 + 2, y0 + 2) {
+                let unknown = m.log_odds(m.unknown());
+                for (b, row) in out.iter_mut().enumerate() {
+                    for (a, l) in row.iter_mut().enumerate() {
+                        *l = Some(
+                            block
+                                .cell(x0 + a, y0 + b)
+                                .map_or(unknown, |c| m.log_odds(c)),
+                        );
+                    }
+                }
+                return out;
+            }
+        }
+        // Near a block's edge or the map's: cell by cell.
+        for (b, row) in out.iter_mut().enumerate() {
+            for (a, l) in row.iter_mut().enumerate() {
+                let (x, y) = (
+                    ix.saturating_add(a as i64 - 1),
+                    iy.saturating_add(b as i64 - 1),
+                );
+                if x >= 0 && y >= 0 {
+                    *l = self.log_odds_at(x as usize, y as usize);
+                }
+            }
+        }
+        out
     }
 
     fn is_measured(&self, ix: usize, iy: usize) -> bool {
@@ -102,6 +146,57 @@ impl<M: CellModel, S: Store<M::Cell>> MatchMap for Grid<M, S> {
                 x = bx1;
             }
             y = next_y;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::GridGeometry;
+    use crate::grid::{FilterSettings, LogOddsGrid, TiledGrid};
+
+    /// The nine cells around any cell read at once are the nine read one
+    /// by one: inside a tile, across tiles' edges, beside a tile never
+    /// touched, at the map's edges and past them, dense or tiled.
+    #[test]
+    fn the_cells_around_a_cell_are_read_as_each_alone() {
+        let settings = FilterSettings {
+            prior: 0.5,
+            clamp: 9.0,
+        };
+        let (w, h) = (150, 70);
+        let mut dense =
+            LogOddsGrid::new(GridGeometry::new(w, h, 0.1, 0.0, 0.0).unwrap(), settings).unwrap();
+        let sparse = GridGeometry::sparse(w, h, 0.1, 0.0, 0.0).unwrap();
+        let mut tiled = TiledGrid::new(sparse, settings, 1 << 20).unwrap();
+        // Cells written everywhere but in the tile from column 64, row 0.
+        for iy in 0..h {
+            for ix in (0..w).filter(|&ix| !(64..128).contains(&ix) || iy >= 64) {
+                let e = ((ix * 7 + iy * 13) % 11) as f32 * 0.3 - 1.5;
+                dense.apply_at(ix, iy, e);
+                tiled.apply_at(ix, iy, e);
+            }
+        }
+        let grids: [&dyn MatchMap; 2] = [&dense, &tiled];
+        for grid in grids {
+            for iy in -2..h as i64 + 2 {
+                for ix in -2..w as i64 + 2 {
+                    let around = grid.log_odds_around(ix, iy);
+                    for (b, row) in around.iter().enumerate() {
+                        for (a, &l) in row.iter().enumerate() {
+                            let (x, y) = (ix + a as i64 - 1, iy + b as i64 - 1);
+                            let alone = if x < 0 || y < 0 {
+                                None
+                            } else {
+                                grid.log_odds_at(x as usize, y as usize)
+                            };
+                            assert_eq!(l, alone, "({x}, {y}) around ({ix}, {iy})");
+                        }
+                    }
+                }
+            }
+            assert_eq!(grid.log_odds_around(i64::MIN, i64::MAX), [[None; 3]; 3]);
         }
     }
 }

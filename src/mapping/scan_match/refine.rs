@@ -18,7 +18,7 @@
 use super::match_map::MatchMap;
 use super::window::{match_value, FieldSample, PooledLevel};
 use crate::geometry::{wrap_angle, Pose};
-use crate::grid::sample::quadratic_bspline;
+use crate::grid::sample::quadratic_bspline_of_patch;
 use nalgebra::{Matrix3, Vector3};
 
 /// A map's match value read at any world point, with its gradient.
@@ -34,7 +34,8 @@ impl OccupancyField for PooledLevel {
 }
 
 /// A map itself as a field: its cells' match values read smoothly
-/// ([`quadratic_bspline`]); a cell outside the map counts as unknown (0).
+/// ([`crate::grid::sample::quadratic_bspline`]); a cell outside the map
+/// counts as unknown (0).
 pub struct GridField<'a> {
     grid: &'a dyn MatchMap,
     l_unknown: f32,
@@ -46,15 +47,6 @@ impl<'a> GridField<'a> {
             grid,
             l_unknown: grid.unknown_log_odds(),
         }
-    }
-
-    fn value(&self, ix: i64, iy: i64) -> f64 {
-        if ix < 0 || iy < 0 {
-            return 0.0;
-        }
-        self.grid
-            .log_odds_at(ix as usize, iy as usize)
-            .map_or(0.0, |l| match_value(l, self.l_unknown))
     }
 }
 
@@ -69,7 +61,12 @@ impl OccupancyField for GridField<'_> {
                 gradient: [0.0; 2],
             };
         }
-        let (value, [gx, gy]) = quadratic_bspline(u, v, |i, j| self.value(i, j));
+        let (value, [gx, gy]) = quadratic_bspline_of_patch(u, v, |i, j| {
+            let lu = self.l_unknown;
+            self.grid
+                .log_odds_around(i, j)
+                .map(|row| row.map(|l| l.map_or(0.0, |l| match_value(l, lu))))
+        });
         let per_metre = 1.0 / g.resolution();
         FieldSample {
             value,
