@@ -184,6 +184,42 @@ pub fn pack_cell(probability: f64, normal: u8) -> u8 {
     (sixteenths << 4) | (normal & 0b1111)
 }
 
+/// [`pack_cell`] of the probability of log odds `l`, `1 / (1 + e^-l)`,
+/// found among the log odds where the sixteenths round up rather than
+/// by an exponential and a rounding per cell (each a library call in
+/// wasm: 1.3 s of the campus's SLAM under Node, finishing submaps). Log
+/// odds within a hair of a boundary take the exponential: the byte is
+/// [`pack_cell`]'s bit for bit.
+pub fn pack_log_odds(l: f32, normal: u8) -> u8 {
+    let exact = || pack_cell(1.0 / (1.0 + (-(l as f64)).exp()), normal);
+    if !l.is_finite() {
+        return exact();
+    }
+    let rounds_up = SixteenthsBounds::get();
+    let l = l as f64;
+    let n = rounds_up.0.partition_point(|&b| b <= l);
+    let near = |k: usize| rounds_up.0.get(k).is_some_and(|&b| (b - l).abs() < 1e-9);
+    if near(n) || n > 0 && near(n - 1) {
+        return exact();
+    }
+    ((n as u8) << 4) | (normal & 0b1111)
+}
+
+/// The log odds at which [`pack_cell`]'s sixteenths step from `n` to
+/// `n + 1`: those of the probability `(n + 0.5) / 15`.
+struct SixteenthsBounds([f64; 15]);
+
+impl SixteenthsBounds {
+    fn get() -> &'static Self {
+        static BOUNDS: std::sync::OnceLock<SixteenthsBounds> = std::sync::OnceLock::new();
+        BOUNDS.get_or_init(|| {
+            Self(std::array::from_fn(|n| {
+                crate::grid::logit((n as f64 + 0.5) / 15.0)
+            }))
+        })
+    }
+}
+
 /// A byte's probability, 0 to 255.
 pub(super) fn strength(byte: u8) -> u32 {
     (byte >> 4) as u32 * 17
@@ -203,6 +239,31 @@ pub(super) fn strength_facing(byte: u8, agreeing: u16) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Log odds packed from their boundaries are packed as the
+    /// exponential packs them: across the clamp's range, at every
+    /// boundary and a few representable values either side of each.
+    #[test]
+    fn log_odds_pack_as_their_probabilities_do() {
+        let exact = |l: f32, normal: u8| pack_cell(1.0 / (1.0 + (-(l as f64)).exp()), normal);
+        let mut values: Vec<f32> = (-40_000..=40_000).map(|k| k as f32 * 2.5e-4).collect();
+        for &b in &SixteenthsBounds::get().0 {
+            let b = b as f32;
+            let mut up = b;
+            let mut down = b;
+            for _ in 0..64 {
+                values.extend([up, down]);
+                (up, down) = (up.next_up(), down.next_down());
+            }
+        }
+        values.extend([f32::INFINITY, f32::NEG_INFINITY, 0.0, -0.0, 50.0, -50.0]);
+        for l in values {
+            for normal in [0, 5, 15] {
+                assert_eq!(pack_log_odds(l, normal), exact(l, normal), "{l}");
+            }
+        }
+        assert_eq!(pack_log_odds(0.0, 0) >> 4, 8, "one half rounds up");
+    }
 
     /// A wall ahead of the sensor has its normal pointing back at it, from
     /// its returns' neighbours; a lone return's points back along its beam.

@@ -6,7 +6,7 @@
 //! first, so that a scan is always matched against a submap of at least
 //! half its scans.
 
-use super::facing::{normal_code, pack_cell, surface_normals};
+use super::facing::{normal_code, pack_log_odds, surface_normals};
 use super::loop_search::LoopGrid;
 use crate::error::Result;
 use crate::geometry::{GridGeometry, Pose};
@@ -269,9 +269,7 @@ impl Submap {
                             Some(&(i, bits)) if i == at => bits,
                             _ => 0,
                         };
-                        let l = model.log_odds(cell);
-                        let p = 1.0 / (1.0 + (-(l as f64)).exp());
-                        bytes.push(pack_cell(p, normal));
+                        bytes.push(pack_log_odds(model.log_odds(cell), normal));
                     }
                 });
                 c.row += 1;

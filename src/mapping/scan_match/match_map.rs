@@ -7,7 +7,7 @@
 //! inside [`MatchMap::pool_pairs`], one call per scan.
 
 use crate::geometry::GridGeometry;
-use crate::grid::{CellModel, Grid, Store};
+use crate::grid::{larger, CellModel, Grid, Store};
 
 /// A map a scan can be matched against: what a pose source reads of the
 /// map built so far.
@@ -128,15 +128,15 @@ impl<M: CellModel, S: Store<M::Cell>> MatchMap for Grid<M, S> {
                             let pairs = run.chunks_exact(2);
                             let odd = pairs.remainder().first().copied();
                             for (o, pair) in pooled.iter_mut().zip(pairs) {
-                                *o = o.max(m.log_odds(pair[0]).max(m.log_odds(pair[1])));
+                                *o = larger(*o, larger(m.log_odds(pair[0]), m.log_odds(pair[1])));
                             }
                             if let (Some(c), Some(o)) = (odd, pooled.last_mut()) {
-                                *o = o.max(m.log_odds(c));
+                                *o = larger(*o, m.log_odds(c));
                             }
                         }
                         None => {
                             for o in pooled.iter_mut() {
-                                *o = o.max(unknown);
+                                *o = larger(*o, unknown);
                             }
                         }
                     }

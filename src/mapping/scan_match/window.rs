@@ -12,6 +12,7 @@
 //! interpolated is each cell's [`match_value`], not its probability.
 
 use super::match_map::MatchMap;
+use crate::grid::larger;
 
 /// What a cell of log odds `l` is worth to a match: how sure the map is
 /// that a wall is there, `max(0, 2 p - 1) = max(0, tanh((l - l_u) / 2))`
@@ -33,7 +34,14 @@ pub fn match_value(l: f32, l_unknown: f32) -> f64 {
     let x = 0.5 * (l - l_unknown) as f64;
     if x > 0.0 {
         let x2 = x * x;
-        (x * (15.0 + x2) / (15.0 + 6.0 * x2)).min(1.0)
+        // (Not `f64::min`: a call in wasm, see [`larger`]; a NaN, from an
+        // infinite `l`, reads 1 either way.)
+        let v = x * (15.0 + x2) / (15.0 + 6.0 * x2);
+        if v < 1.0 {
+            v
+        } else {
+            1.0
+        }
     } else {
         0.0
     }
@@ -240,10 +248,10 @@ impl Pyramid {
             let (r0, r1) = (2 * j * fx, (2 * j + 1) * fx);
             for i in 0..coarser.nx {
                 let c = 2 * i;
-                let l = finer.log_odds[r0 + c]
-                    .max(finer.log_odds[r0 + c + 1])
-                    .max(finer.log_odds[r1 + c])
-                    .max(finer.log_odds[r1 + c + 1]);
+                let l = larger(
+                    larger(finer.log_odds[r0 + c], finer.log_odds[r0 + c + 1]),
+                    larger(finer.log_odds[r1 + c], finer.log_odds[r1 + c + 1]),
+                );
                 coarser.log_odds.push(l);
             }
         }
