@@ -280,7 +280,7 @@ impl<M: CellModel, S: Store<M::Cell>> Grid<M, S> {
         for iy in 0..g.height() {
             self.store.row_runs(iy, |run| {
                 if let Some((cells, updates)) = run.cells {
-                    for (k, (&c, &u)) in cells.iter().zip(updates.iter()).enumerate() {
+                    for (k, (&c, &u)) in cells.iter().zip(updates).enumerate() {
                         if let Some((d, n)) = dense.store.slot(run.x0 + k, iy, unknown) {
                             *d = c;
                             *n = u;

@@ -88,7 +88,7 @@ macro_rules! counted_beside {
         }
     )*};
 }
-counted_beside!(f32, f64, u8, u16, u32);
+counted_beside!(f32, u8, u16);
 
 /// Part of the map in which a scan's verdicts are gathered: `stride`
 /// cells per row, its first cell at `(x0, y0)`. Window index `w` is cell

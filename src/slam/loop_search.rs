@@ -230,7 +230,8 @@ impl LoopGrid {
     }
 
     /// Every byte, rows bottom first: a copy decoded from the coded bytes.
-    pub fn unpacked(&self) -> Vec<u8> {
+    #[cfg(test)]
+    pub(super) fn unpacked(&self) -> Vec<u8> {
         let w = self.width;
         let mut out = vec![0; w * self.height];
         for (y, row) in out.chunks_exact_mut(w.max(1)).enumerate() {

@@ -20,7 +20,6 @@ const MOST_REPEAT: usize = 130;
 /// Rows of bytes, each coded on its own.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PackedRows {
-    width: usize,
     code: Vec<u8>,
     /// Where each row's code starts in `code`, and one past the last.
     starts: Vec<u32>,
@@ -39,11 +38,7 @@ impl PackedRows {
             starts.push(code.len() as u32);
         }
         code.shrink_to_fit();
-        Self {
-            width,
-            code,
-            starts,
-        }
+        Self { code, starts }
     }
 
     /// Rows held.
@@ -87,11 +82,6 @@ impl PackedRows {
             }
         }
     }
-
-    /// Bytes a row holds.
-    pub fn width(&self) -> usize {
-        self.width
-    }
 }
 
 /// Appends the code of `row` to `code`.
@@ -128,9 +118,9 @@ fn pack_row(row: &[u8], code: &mut Vec<u8>) {
 mod tests {
     use super::*;
 
-    fn restored(p: &PackedRows, rows: usize) -> Vec<u8> {
-        let mut out = vec![0xAA; p.width() * rows];
-        for (y, row) in out.chunks_exact_mut(p.width()).enumerate() {
+    fn restored(p: &PackedRows, width: usize) -> Vec<u8> {
+        let mut out = vec![0xAA; width * p.rows()];
+        for (y, row) in out.chunks_exact_mut(width).enumerate() {
             p.unpack_row(y, row);
         }
         out
@@ -157,7 +147,7 @@ mod tests {
             .collect();
         let p = PackedRows::pack(&cells, w);
         assert_eq!(p.rows(), h);
-        assert_eq!(restored(&p, h), cells);
+        assert_eq!(restored(&p, w), cells);
         // A row of one byte takes two bytes a 130.
         let one = PackedRows::pack(&vec![0; w], w);
         assert_eq!(one.code.len(), 2 * w.div_ceil(MOST_REPEAT));

@@ -196,13 +196,8 @@ impl Submap {
             // The row's first and last updated cells within the scans' box,
             // a tile's run at a time (a tile never touched has none).
             let mut first_last: Option<(usize, usize)> = None;
-            c.grid.store().row_runs(iy, |run| {
-                let Some((_, updates)) = run.cells else {
-                    return;
-                };
-                let (a, b) = (run.x0.max(cx0), (run.x0 + run.len).min(cx1 + 1));
-                let Some(updates) = updates.get(a.saturating_sub(run.x0)..b.saturating_sub(run.x0))
-                else {
+            runs_between(&c.grid, iy, cx0, cx1, |a, _, cells| {
+                let Some((_, updates)) = cells else {
                     return;
                 };
                 let first = updates.iter().position(|&u| u > 0);
@@ -244,19 +239,12 @@ impl Submap {
                 let (facing, next_facing) = (&c.facing, &mut c.next_facing);
                 // The row's cells a tile's run at a time: a cell never
                 // updated (or in a tile never touched) is 0.
-                c.grid.store().row_runs(iy, |run| {
-                    let (a, b) = (run.x0.max(x0), (run.x0 + run.len).min(x1 + 1));
-                    if a >= b {
-                        return;
-                    }
-                    let Some((cells, updates)) = run.cells else {
-                        bytes.resize(bytes.len() + (b - a), 0);
+                runs_between(&c.grid, iy, x0, x1, |a, n, cells| {
+                    let Some((cells, updates)) = cells else {
+                        bytes.resize(bytes.len() + n, 0);
                         return;
                     };
-                    let span = a - run.x0..b - run.x0;
-                    for (k, (&cell, &u)) in
-                        cells[span.clone()].iter().zip(&updates[span]).enumerate()
-                    {
+                    for (k, (&cell, &u)) in cells.iter().zip(updates).enumerate() {
                         if u == 0 {
                             bytes.push(0);
                             continue;
@@ -296,6 +284,29 @@ impl Submap {
         });
         (read, true)
     }
+}
+
+/// Row `iy` of `grid` from column `x0` to `x1` (inclusive), a tile's run
+/// at a time: `f(first column, cells in the run, its cells and updates)`,
+/// the cells `None` for a tile never touched.
+fn runs_between(
+    grid: &TiledGrid,
+    iy: usize,
+    x0: usize,
+    x1: usize,
+    mut f: impl FnMut(usize, usize, Option<(&[f32], &[u32])>),
+) {
+    grid.store().row_runs(iy, |run| {
+        let (a, b) = (run.x0.max(x0), (run.x0 + run.len).min(x1 + 1));
+        if a >= b {
+            return;
+        }
+        let span = a - run.x0..b - run.x0;
+        let cells = run
+            .cells
+            .and_then(|(c, u)| Some((c.get(span.clone())?, u.get(span)?)));
+        f(a, b - a, cells)
+    });
 }
 
 /// A closed submap's grid being made into bytes ([`Submap::finish_within`]).

@@ -11,8 +11,8 @@ use crate::geometry::{GridGeometry, Pose};
 use crate::grid::readout::{readout_at_pixel, CellReadout};
 use crate::grid::stats::{StateCounts, TileTally};
 use crate::grid::{
-    CellModel, FilterSettings, Grid, HitCount, HitCounting, HitMissOdds, LogOddsGrid, Store, Tiled,
-    TiledGrid,
+    CellModel, FilterSettings, Grid, HitCount, HitCounting, HitMissOdds, LogOddsGrid, Store,
+    StoredCell, Tiled, TiledGrid,
 };
 use crate::io::map_server::MapServerPair;
 #[cfg(any(not(target_arch = "wasm32"), feature = "bench"))]
@@ -268,14 +268,12 @@ fn as_log_odds<M: CellModel>(grid: &Grid<M, Tiled<M::Cell>>) -> Result<LogOddsGr
         },
     )?;
     let (_, store) = out.model_and_store();
-    for i in 0..g.len() {
+    let updates = dense.store().updates();
+    for (i, (&c, &n)) in dense.cells().iter().zip(updates).enumerate() {
         let (ix, iy) = g.cell_of_index(i);
-        let Some((c, n)) = dense.cell_and_updates_at(ix, iy) else {
-            continue;
-        };
         if let Some((l, u)) = store.slot(ix, iy, 0.0) {
             *l = m.log_odds(c);
-            *u = n;
+            *u = c.updates(n);
         }
     }
     Ok(out)
