@@ -340,15 +340,15 @@ impl PoseSource for Slam {
         };
         self.match_work += so_far.saturating_sub(self.match_counted);
         self.match_counted = so_far;
-        let Some(pose) = located else {
-            return Ok(None);
-        };
+        // Beginning the scan settled what the scan before left (an
+        // optimisation among it): its revision is taken here, in the
+        // stage that saw it, whether or not the match is done.
         if self.builder.revision() != revision {
             self.take_poses();
-        } else if let Some(p) = self.poses.get_mut(k) {
+        } else if let (Some(pose), Some(p)) = (located, self.poses.get_mut(k)) {
             *p = pose;
         }
-        Ok(Some(pose))
+        Ok(located)
     }
 
     fn loop_closures(&self) -> Option<usize> {
