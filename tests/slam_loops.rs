@@ -342,10 +342,11 @@ fn a_slam_pane_built_in_budgeted_calls_keeps_every_call_within_its_budget() {
 /// poses drives it): the optimisations then run when the next scan is
 /// begun, inside a match of several stages, and after every scan the
 /// poses it hands out are the graph's, bit for bit; at the end they are
-/// those of the same SLAM run with a scan added at a time. Before, a revision raised as a
-/// scan was begun was seen by no stage of its match: the poses handed out
-/// stayed where each scan was first put (on the ACES log natively 2 m
-/// apart from the graph's, 0.66 m aligned ATE against the graph's 0.08).
+/// those of the same SLAM run with a scan added at a time. Before, a
+/// revision raised as a scan was begun was seen by no stage of its match:
+/// the poses handed out stayed where each scan was first put (on the ACES
+/// log natively 2 m apart from the graph's, 0.66 m aligned ATE against
+/// the graph's 0.08).
 #[test]
 #[cfg_attr(
     debug_assertions,
